@@ -1,0 +1,136 @@
+#include "common.h"
+
+#include <standin/log.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <mutex>
+#include <unistd.h>
+
+namespace standin::cli {
+
+int fail(const Status& status) { return fail(status.message()); }
+
+int fail(const std::string& message)
+{
+    std::fprintf(stderr, "standin: %s\n", message.c_str());
+    return k_exit_failure;
+}
+
+void add_view_options(CLI::App& command, ViewArgs& args)
+{
+    command.add_option("--size", args.size, "Image size WIDTHxHEIGHT")->capture_default_str();
+    command.add_option("--azimuth", args.azimuth, "Camera azimuth in degrees around +Y (0 looks from +Z)")
+        ->capture_default_str();
+    command.add_option("--elevation", args.elevation, "Camera elevation in degrees, -90..90")->capture_default_str();
+    command.add_option("--distance", args.distance,
+                       "Camera distance relative to the base distance radius/sin(fov/2), where the bounding "
+                       "sphere just fills the view (seed 003)")
+        ->capture_default_str();
+    auto* fov = command.add_option("--fov", args.fov, "Vertical field of view in degrees (perspective)")
+                    ->capture_default_str();
+    command.add_flag("--ortho", args.ortho, "Orthographic projection instead of perspective")->excludes(fov);
+    command.add_option("--light-azimuth", args.light_azimuth,
+                       "Light direction azimuth in degrees (default: above-left of the camera)");
+    command.add_option("--light-elevation", args.light_elevation, "Light direction elevation in degrees");
+}
+
+Status parse_view(const ViewArgs& args, int& width, int& height, OrbitView& view)
+{
+    char x = 0;
+    char rest = 0;
+    if (std::sscanf(args.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || (x != 'x' && x != 'X'))
+        return error(StatusCode::invalid_argument, "--size: expected WIDTHxHEIGHT, got '" + args.size + "'");
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        return error(StatusCode::invalid_argument, "--size: " + args.size + " out of range 1x1..16384x16384");
+    if (!std::isfinite(args.azimuth)) return error(StatusCode::invalid_argument, "--azimuth: must be a finite number");
+    if (!(args.elevation >= -90.0f && args.elevation <= 90.0f))
+        return error(StatusCode::invalid_argument, "--elevation: must be within -90..90 degrees");
+    if (!(args.distance > 0.0f && args.distance <= 1e4f))
+        return error(StatusCode::invalid_argument, "--distance: must be within (0, 10000]");
+    if (!(args.fov > 0.5f && args.fov < 179.0f))
+        return error(StatusCode::invalid_argument, "--fov: must be within (0.5, 179) degrees");
+    bool has_light_az = !std::isnan(args.light_azimuth), has_light_el = !std::isnan(args.light_elevation);
+    if (has_light_az != has_light_el)
+        return error(StatusCode::invalid_argument, "--light-azimuth and --light-elevation go together");
+    if (has_light_az && (!std::isfinite(args.light_azimuth) || !(std::abs(args.light_elevation) <= 90.0f)))
+        return error(StatusCode::invalid_argument, "--light-azimuth/--light-elevation: out of range");
+    view.azimuth_degrees = args.azimuth;
+    view.elevation_degrees = args.elevation;
+    view.distance_rel = args.distance;
+    view.fov_y_degrees = args.fov;
+    view.orthographic = args.ortho;
+    return Status::ok();
+}
+
+Light light_for(const ViewArgs& args, const Camera& camera)
+{
+    if (!std::isnan(args.light_azimuth)) return light_from_angles(args.light_azimuth, args.light_elevation);
+    return default_light(camera);
+}
+
+void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coarse)
+{
+    command.add_option("--march", options.march,
+                       "Billboard ray march: 'exact' (default: exact height-field crossing) or 'seed' (the "
+                       "paper's linear march with a hit range)")
+        ->check(CLI::IsMember({"exact", "seed"}))
+        ->capture_default_str();
+    command.add_option("--steps", options.steps, "Seed march: steps along the box diagonal (seed: 100)")
+        ->capture_default_str();
+    command.add_option("--hit-range", options.hit_range,
+                       "Seed march: hit range e as a fraction of the box depth (seed: 0.01; 0.02 fills holes)")
+        ->capture_default_str();
+    command.add_flag("--no-coarse", no_coarse, "Do not fill holes with the package's coarse mesh");
+    command.add_option("--style", options.style,
+                       "View atlas: 'corrected' (default: 3 views blended, depth intersected per pixel), "
+                       "'octahedral-baseline' (3 views, one parallax step) or 'seed' (nearest view, no correction)")
+        ->check(CLI::IsMember({"corrected", "octahedral-baseline", "seed"}))
+        ->capture_default_str();
+}
+
+Status check_render_options(const RenderOptions& options)
+{
+    if (options.steps < 1 || options.steps > 10000)
+        return error(StatusCode::invalid_argument, "--steps: must be within 1..10000");
+    if (!(options.hit_range > 0.0f && options.hit_range <= 1.0f))
+        return error(StatusCode::invalid_argument, "--hit-range: must be within (0, 1]");
+    return Status::ok();
+}
+
+Progress stderr_progress()
+{
+    const char* forced = std::getenv("STANDIN_PROGRESS");
+    bool show = forced ? std::string(forced) == "1" : ::isatty(2) != 0;
+    if (!show) return Progress();
+    struct State {
+        std::mutex mutex;
+        std::chrono::steady_clock::time_point last{};
+        std::string stage;
+    };
+    auto state = std::make_shared<State>();
+    return Progress([state](const std::string& stage, double fraction) {
+        std::lock_guard lock(state->mutex);
+        auto now = std::chrono::steady_clock::now();
+        bool done = fraction >= 1.0;
+        if (!done && stage == state->stage && now - state->last < std::chrono::milliseconds(100)) return;
+        state->last = now;
+        state->stage = stage;
+        std::fprintf(stderr, "\r%-40s %5.1f%%%s", stage.c_str(), 100.0 * fraction, done ? "\n" : "");
+        std::fflush(stderr);
+    });
+}
+
+void install_log_sink(bool verbose)
+{
+    set_log_sink([verbose](LogLevel level, const std::string& message) {
+        if (level == LogLevel::debug && !verbose) return;
+        if (level == LogLevel::info && !verbose) return;
+        const char* prefix = level == LogLevel::warning ? "warning: " : level == LogLevel::error ? "error: " : "";
+        std::fprintf(stderr, "standin: %s%s\n", prefix, message.c_str());
+    });
+}
+
+} // namespace standin::cli

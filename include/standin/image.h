@@ -1,0 +1,43 @@
+// Images in memory and as PNG files. Rows are stored top row first, as PNG stores them.
+#pragma once
+
+#include <standin/status.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace standin {
+
+// 8 bits per channel, RGBA, sRGB-encoded colour and linear alpha.
+struct ImageRGBA8 {
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> pixels; // width * height * 4
+
+    ImageRGBA8() = default;
+    ImageRGBA8(int w, int h) : width(w), height(h), pixels(std::size_t(w) * h * 4, 0) {}
+    std::uint8_t* at(int x, int y) { return &pixels[(std::size_t(y) * width + x) * 4]; }
+    const std::uint8_t* at(int x, int y) const { return &pixels[(std::size_t(y) * width + x) * 4]; }
+    bool empty() const { return width == 0 || height == 0; }
+};
+
+// 16 bits per channel, RGBA (normal + depth maps of 16-bit packages).
+struct ImageRGBA16 {
+    int width = 0, height = 0;
+    std::vector<std::uint16_t> pixels; // width * height * 4
+
+    ImageRGBA16() = default;
+    ImageRGBA16(int w, int h) : width(w), height(h), pixels(std::size_t(w) * h * 4, 0) {}
+    std::uint16_t* at(int x, int y) { return &pixels[(std::size_t(y) * width + x) * 4]; }
+    const std::uint16_t* at(int x, int y) const { return &pixels[(std::size_t(y) * width + x) * 4]; }
+};
+
+// PNG writers are deterministic (fixed zlib level, no timestamps) and atomic.
+Status write_png(const ImageRGBA8& image, const std::string& path);
+Status write_png(const ImageRGBA16& image, const std::string& path);
+Result<ImageRGBA8> read_png_rgba8(const std::string& path);
+Result<ImageRGBA16> read_png_rgba16(const std::string& path);
+// Bit depth of a PNG file (8 or 16) without decoding it, for validating packages.
+Result<int> png_bit_depth(const std::string& path, int* width = nullptr, int* height = nullptr);
+
+} // namespace standin

@@ -1,0 +1,137 @@
+// The one in-memory mesh every stage of standin works on: an indexed triangle mesh with the scene
+// graph already flattened, per-vertex normals and base colour, and the textures kept so that bakers
+// can look up albedo per texel.
+#pragma once
+
+#include <standin/status.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace standin {
+
+// An 8-bit RGBA image as stored in the source file (sRGB-encoded colour, linear alpha).
+struct Texture {
+    std::string name;
+    int width = 0, height = 0;
+    std::vector<std::uint8_t> rgba; // width * height * 4, row 0 at v = 0 (OpenGL convention)
+
+    // Bilinear lookup with wrap-around addressing, returns sRGB-encoded colour in [0,1].
+    glm::vec4 sample(glm::vec2 uv) const;
+};
+
+// Colour convention: Mesh::colors already holds vertex colour x material base colour (import folds
+// base_color in), so the albedo of a point is the interpolated Mesh::colors, times the material's
+// texture at the interpolated UV when it has one. base_color is kept for reference and export; do
+// not multiply it in again. Products are taken on the stored (sRGB-encoded) values.
+struct Material {
+    std::string name;
+    glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f}; // sRGB-encoded; already folded into Mesh::colors
+    int base_color_texture = -1;                   // index into Mesh::textures, -1 for none
+};
+
+struct Bounds {
+    glm::vec3 min{0.0f}, max{0.0f};
+    glm::vec3 center() const { return 0.5f * (min + max); }
+    glm::vec3 extent() const { return max - min; }
+    float diagonal() const { return glm::length(max - min); }
+};
+
+struct BoundingSphere {
+    glm::vec3 center{0.0f};
+    float radius = 1.0f;
+};
+
+struct Mesh {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;  // unit length, one per vertex
+    std::vector<glm::vec4> colors;   // vertex colour x material base colour (sRGB-encoded), always present
+    std::vector<glm::vec2> uvs;      // empty when no material has a texture; v = 0 at the texture's row 0
+    std::vector<std::uint32_t> indices;         // three per triangle
+    std::vector<std::uint32_t> face_materials;  // one per triangle, index into materials
+    std::vector<Material> materials;            // at least one
+    std::vector<Texture> textures;
+
+    std::size_t vertex_count() const { return positions.size(); }
+    std::size_t triangle_count() const { return indices.size() / 3; }
+    bool has_texture_coordinates() const { return !uvs.empty(); }
+
+    Bounds bounds() const;
+    // The sphere around the bounding box (centre of the box, half its diagonal): cheap, stable,
+    // and the sphere the orbit cameras of seed 003 fit the view to.
+    BoundingSphere bounding_sphere() const;
+    double surface_area() const;
+    double triangle_area(std::size_t triangle) const;
+    // Albedo at a point of a triangle given barycentric weights (b1, b2) for its 2nd and 3rd vertex:
+    // the interpolated Mesh::colors (which include the material colour), times the texture at the
+    // interpolated UV when the triangle's material has one.
+    glm::vec4 albedo_at(std::size_t triangle, float b1, float b2) const;
+};
+
+// What import found worth telling the user. Nothing in here is fatal.
+struct ImportReport {
+    std::string source_path;
+    std::string format;              // file extension, lower case, without the dot
+    std::size_t degenerate_dropped = 0; // triangles with repeated corners or zero area
+    std::size_t meshes_in_scene = 0;    // triangle-mesh instances placed by the scene graph
+    std::vector<std::string> warnings;
+};
+
+struct ImportOptions {
+    // Crease angle used when the file has no normals: smooth within it, split across it.
+    float crease_angle_degrees = 80.0f;
+};
+
+// Reads any format assimp reads (OBJ, STL, OFF, glTF/GLB, COLLADA, FBX, ...; PLY with a reader of
+// our own), flattens the scene graph with its transforms, triangulates, drops degenerate triangles
+// (counted in the report) and unused vertices, and fills normals and colours. Points and lines are
+// skipped. Normals in the file are kept; where a mesh has none they are computed, smooth within
+// options.crease_angle_degrees and split across it. Colour (see Material): Mesh::colors = vertex
+// colours (white when absent) x material base or diffuse colour; a base-colour (else diffuse)
+// texture is decoded, embedded or beside the model, and kept in Mesh::textures with the UVs; a file
+// with neither materials nor vertex colours is grey 0.8. `report` may be null. Errors, each naming
+// the file: not_found (no such file), unsupported (an extension assimp does not read), bad_data
+// (corrupt file, no triangles, non-finite coordinates). A texture that cannot be loaded is a
+// warning, not an error.
+Result<Mesh> import_mesh(const std::string& path, ImportReport* report = nullptr,
+                         const ImportOptions& options = {});
+
+// Checks invariants that every later stage relies on (at least one triangle, index ranges, finite
+// values, per-vertex arrays of one size, material and texture indices). bad_data naming `what`.
+Status validate_mesh(const Mesh& mesh, const std::string& what);
+
+// The albedo at each vertex, for consumers that cannot sample textures: Mesh::colors, times the
+// texture at the vertex's UV where the material of the first triangle using the vertex has one.
+std::vector<glm::vec4> vertex_albedo(const Mesh& mesh);
+
+// Recomputes smooth per-vertex normals, area-weighted over the triangles that use each vertex (no
+// crease handling: vertices are not split). Unreferenced vertices get +z.
+void compute_smooth_normals(Mesh& mesh);
+
+// Writes a binary little-endian PLY with positions, normals and 8-bit RGBA colours (used for coarse
+// meshes in packages and for round-trip tests). The colour written is vertex_albedo(); textures and
+// UVs themselves are not written. Deterministic bytes; atomic: written to a temporary name and renamed.
+Status write_ply(const Mesh& mesh, const std::string& path);
+
+// Procedural meshes for tests and scale benchmarks, deterministic for given options. sphere: a
+// cube-sphere (equal-angle warp), every vertex at `radius`; torus: ring of `radius` with tube
+// `minor_radius` (< radius), around +y; noisy_sphere: the sphere displaced along its normal by
+// smooth value noise seeded by `seed`, at most noise_amplitude * radius. One material of `color`.
+// invalid_argument for target_triangles outside [8, 50'000'000], non-finite or non-positive sizes,
+// minor_radius >= radius (torus) or noise_amplitude outside [0, 1) (noisy_sphere).
+enum class GeneratedShape { sphere, torus, noisy_sphere };
+struct GenerateOptions {
+    GeneratedShape shape = GeneratedShape::sphere;
+    std::size_t target_triangles = 20000; // the result has about this many
+    float radius = 1.0f;
+    float minor_radius = 0.35f;   // torus only
+    float noise_amplitude = 0.08f; // noisy_sphere only, relative to radius
+    std::uint32_t seed = 1;
+    glm::vec4 color{0.8f, 0.8f, 0.8f, 1.0f};
+};
+Result<Mesh> generate_mesh(const GenerateOptions& options);
+
+} // namespace standin

@@ -1,0 +1,135 @@
+// PNG reading (stb_image) and writing (libpng, so that 16-bit maps and byte-identical output are
+// possible: fixed compression settings, no time chunk).
+#include <standin/files.h>
+#include <standin/image.h>
+
+#include <png.h>
+#include <stb_image.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+namespace standin {
+
+namespace {
+
+struct PngWriteBuffer {
+    std::string bytes;
+};
+
+void append_png_bytes(png_structp png, png_bytep data, png_size_t length)
+{
+    auto* buffer = static_cast<PngWriteBuffer*>(png_get_io_ptr(png));
+    buffer->bytes.append(reinterpret_cast<const char*>(data), length);
+}
+
+void flush_png(png_structp) {}
+
+// Encodes rows (top first) of `channels` x `bit_depth` samples; 16-bit samples are big-endian in PNG.
+Result<std::string> encode_png(int width, int height, int bit_depth, const void* pixels)
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    if (!png) return error(StatusCode::io_error, "libpng: cannot create writer");
+    png_infop info = png_create_info_struct(png);
+    PngWriteBuffer buffer;
+    std::vector<std::uint8_t> row_bytes;
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return error(StatusCode::io_error, "libpng: encoding failed");
+    }
+    png_set_write_fn(png, &buffer, append_png_bytes, flush_png);
+    png_set_compression_level(png, 6);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth, PNG_COLOR_TYPE_RGBA,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    std::size_t stride = std::size_t(width) * 4 * (bit_depth / 8);
+    row_bytes.resize(stride);
+    for (int y = 0; y < height; ++y) {
+        if (bit_depth == 8) {
+            std::memcpy(row_bytes.data(), static_cast<const std::uint8_t*>(pixels) + y * stride, stride);
+        } else {
+            const std::uint16_t* row = static_cast<const std::uint16_t*>(pixels) + std::size_t(y) * width * 4;
+            for (std::size_t i = 0; i < std::size_t(width) * 4; ++i) {
+                row_bytes[2 * i] = std::uint8_t(row[i] >> 8);
+                row_bytes[2 * i + 1] = std::uint8_t(row[i] & 0xff);
+            }
+        }
+        png_write_row(png, row_bytes.data());
+    }
+    png_write_end(png, nullptr);
+    png_destroy_write_struct(&png, &info);
+    return std::move(buffer.bytes);
+}
+
+Status check_size(int width, int height, const std::string& path)
+{
+    if (width <= 0 || height <= 0 || width > 65535 || height > 65535)
+        return error(StatusCode::invalid_argument, path + ": image size " + std::to_string(width) + "x" +
+                                                       std::to_string(height) + " cannot be written");
+    return Status::ok();
+}
+
+} // namespace
+
+Status write_png(const ImageRGBA8& image, const std::string& path)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, path));
+    Result<std::string> bytes = encode_png(image.width, image.height, 8, image.pixels.data());
+    if (!bytes) return error(bytes.status().code(), path + ": " + bytes.status().message());
+    return write_file_atomic(path, *bytes);
+}
+
+Status write_png(const ImageRGBA16& image, const std::string& path)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, path));
+    Result<std::string> bytes = encode_png(image.width, image.height, 16, image.pixels.data());
+    if (!bytes) return error(bytes.status().code(), path + ": " + bytes.status().message());
+    return write_file_atomic(path, *bytes);
+}
+
+Result<ImageRGBA8> read_png_rgba8(const std::string& path)
+{
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) return bytes.status();
+    int w = 0, h = 0, channels = 0;
+    stbi_uc* data = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), int(bytes->size()),
+                                          &w, &h, &channels, 4);
+    if (!data) return error(StatusCode::bad_data, path + ": not a readable image (" + stbi_failure_reason() + ")");
+    ImageRGBA8 image(w, h);
+    std::memcpy(image.pixels.data(), data, image.pixels.size());
+    stbi_image_free(data);
+    return image;
+}
+
+Result<ImageRGBA16> read_png_rgba16(const std::string& path)
+{
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) return bytes.status();
+    int w = 0, h = 0, channels = 0;
+    stbi_us* data = stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), int(bytes->size()),
+                                             &w, &h, &channels, 4);
+    if (!data) return error(StatusCode::bad_data, path + ": not a readable image (" + stbi_failure_reason() + ")");
+    ImageRGBA16 image(w, h);
+    std::memcpy(image.pixels.data(), data, image.pixels.size() * sizeof(std::uint16_t));
+    stbi_image_free(data);
+    return image;
+}
+
+Result<int> png_bit_depth(const std::string& path, int* width, int* height)
+{
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) return error(StatusCode::not_found, path + ": no such file");
+    unsigned char header[33] = {};
+    std::size_t got = std::fread(header, 1, sizeof header, file);
+    std::fclose(file);
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (got < sizeof header || std::memcmp(header, signature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0)
+        return error(StatusCode::bad_data, path + ": not a PNG file");
+    auto be32 = [&](int at) { return int(header[at]) << 24 | int(header[at + 1]) << 16 | int(header[at + 2]) << 8 | int(header[at + 3]); };
+    if (width) *width = be32(16);
+    if (height) *height = be32(20);
+    return int(header[24]);
+}
+
+} // namespace standin

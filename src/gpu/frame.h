@@ -1,0 +1,42 @@
+// The per-frame uniform block every renderer shares (GLSL side: shaders/common/frame.glsl), and
+// the instance buffer of object-to-world transforms.
+#pragma once
+
+#include "gpu/gl.h"
+#include "gpu/shaders/common/bindings.h"
+
+#include <standin/render.h>
+
+#include <span>
+
+namespace standin::gpu {
+
+struct FrameUniforms {
+    glm::mat4 clip_from_world;
+    glm::mat4 view_from_world;
+    glm::mat4 world_from_clip;
+    glm::vec4 eye_world;
+    glm::vec4 forward_world;  // w = 1 for orthographic
+    glm::vec4 light_to_world;
+    glm::vec4 light_terms;    // ambient, diffuse, specular, shininess
+    glm::vec4 viewport_size;  // w, h, 1/w, 1/h
+};
+static_assert(sizeof(FrameUniforms) == 3 * 64 + 5 * 16, "std140 layout of FrameBlock");
+
+FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport);
+
+// Owns the frame UBO and the instance SSBO and binds them; renderers keep one each.
+class FrameResources {
+public:
+    // Uploads uniforms and instances (identity when empty) and binds both.
+    void bind(const DrawParams& params);
+    std::size_t instance_count() const { return instance_count_; }
+
+private:
+    Buffer frame_buffer_;
+    Buffer instance_buffer_;
+    std::size_t instance_capacity_ = 0;
+    std::size_t instance_count_ = 0;
+};
+
+} // namespace standin::gpu

@@ -1,0 +1,67 @@
+// Offscreen rendering for tests, eval and the CLI: one frame into an RGBA8 + 32-bit float depth
+// framebuffer without multisampling (exact, repeatable pixels), read back top row first.
+#include "gpu/gl.h"
+
+#include <standin/render.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace standin {
+
+Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera, const Light& light, int width,
+                                       int height, std::span<const glm::mat4> world_from_object)
+{
+    if (!gpu::has_current_context()) return error(StatusCode::gpu_error, "render: no current OpenGL context");
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+    if (width < 1 || height < 1 || width > max_size || height > max_size)
+        return error(StatusCode::invalid_argument, "render: size " + std::to_string(width) + "x" +
+                                                       std::to_string(height) + " out of range 1.." + std::to_string(max_size));
+    gpu::Texture color = gpu::make_texture_2d(GL_RGBA8, width, height);
+    gpu::Texture depth = gpu::make_texture_2d(GL_DEPTH_COMPONENT32F, width, height);
+    gpu::Framebuffer fbo = gpu::make_framebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
+    if (glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return error(StatusCode::gpu_error, "render: offscreen framebuffer incomplete");
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, width, height);
+    const float transparent[4] = {0, 0, 0, 0};
+    const float far_depth = 1.0f;
+    glClearNamedFramebufferfv(fbo.get(), GL_COLOR, 0, transparent);
+    glClearNamedFramebufferfv(fbo.get(), GL_DEPTH, 0, &far_depth);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+
+    DrawParams params;
+    params.camera = camera;
+    params.light = light;
+    params.viewport = {width, height};
+    params.world_from_object = world_from_object;
+    renderer.draw(params);
+
+    RenderedImage result;
+    result.color = ImageRGBA8(width, height);
+    result.depth.resize(std::size_t(width) * height);
+    std::vector<std::uint8_t> rows(result.color.pixels.size());
+    std::vector<float> depth_rows(result.depth.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, depth_rows.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    GLenum gl_error = glGetError();
+    if (gl_error != GL_NO_ERROR) return error(StatusCode::gpu_error, "render: OpenGL error " + std::to_string(gl_error));
+    // GL's row 0 is the bottom row; images are stored top row first.
+    std::size_t stride = std::size_t(width) * 4;
+    for (int y = 0; y < height; ++y) {
+        std::memcpy(&result.color.pixels[std::size_t(y) * stride], &rows[std::size_t(height - 1 - y) * stride], stride);
+        std::memcpy(&result.depth[std::size_t(y) * width], &depth_rows[std::size_t(height - 1 - y) * width],
+                    std::size_t(width) * sizeof(float));
+    }
+    return result;
+}
+
+} // namespace standin

@@ -1,0 +1,688 @@
+// Model import through assimp into one flat Mesh: the scene graph is flattened with its transforms,
+// polygons are triangulated, points and lines skipped, degenerate triangles dropped and counted.
+// Normals in the file are kept (split normals are how files encode creases); where a mesh has none
+// they are computed here, smooth within the crease angle and split across it. assimp's own
+// GenSmoothNormals is not used: it needs unindexed ("verbose") input, which glTF and PLY are not.
+// Base colour comes from the base-colour or diffuse texture (decoded with stb_image, embedded or
+// next to the model), vertex colours and the material colour; see Material in mesh.h.
+// PLY is read by our own reader (read_ply.h says why) and handed to the same conversion.
+// assimp never prints: no DefaultLogger is created, so it logs to its NullLogger.
+#include "io/read_ply.h"
+
+#include <standin/files.h>
+#include <standin/mesh.h>
+
+#include <assimp/Importer.hpp>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+// via /usr/include: the pkg-config include directory of stb is not public on standin_core
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
+#include <numeric>
+
+namespace fs = std::filesystem;
+
+namespace standin {
+
+static std::string lower_extension(const std::string& path)
+{
+    std::string ext = fs::path(path).extension().string();
+    if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// assimp's messages may span lines and quote whole file names; a Status message is one line.
+static std::string one_line(std::string text, std::size_t max_length = 200)
+{
+    std::replace_if(text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r' || c == '\t'; }, ' ');
+    text.erase(std::unique(text.begin(), text.end(), [](char a, char b) { return a == ' ' && b == ' '; }), text.end());
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    if (text.size() > max_length) text = text.substr(0, max_length - 3) + "...";
+    return text.empty() ? "unknown error" : text;
+}
+
+static Status check_source_file(const std::string& path, const std::string& extension)
+{
+    std::error_code ec;
+    fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) return error(StatusCode::not_found, path + ": no such file");
+    if (fs::is_directory(status)) return error(StatusCode::bad_data, path + ": is a directory, not a model file");
+    if (extension.empty()) return error(StatusCode::unsupported, path + ": no file extension to tell the format by");
+    Assimp::Importer importer;
+    if (!importer.IsExtensionSupported("." + extension))
+        return error(StatusCode::unsupported, path + ": unsupported model format '." + extension + "'");
+    return Status::ok();
+}
+
+// Before post-processing: JoinIdenticalVertices merges NaN vertices into their neighbours, hiding them.
+static Status check_finite_coordinates(const aiScene& scene, const std::string& path)
+{
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+        const aiMesh* mesh = scene.mMeshes[m];
+        if (!mesh || !mesh->mVertices) continue;
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+            const aiVector3D& p = mesh->mVertices[v];
+            if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+                return error(StatusCode::bad_data, path + ": mesh '" + mesh->mName.C_Str() + "' vertex " + std::to_string(v) +
+                                                       " has a non-finite coordinate");
+        }
+    }
+    return Status::ok();
+}
+
+static Result<const aiScene*> read_scene(Assimp::Importer& importer, const std::string& path)
+{
+    // read first, post-process second: a scene with no meshes at all is "no triangles", not the
+    // validation failure assimp would report for it
+    const aiScene* scene = nullptr;
+    try {
+        scene = importer.ReadFile(path, 0);
+        if (scene && scene->mNumMeshes == 0) return error(StatusCode::bad_data, path + ": contains no triangles");
+        if (scene) STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*scene, path));
+        // validation comes first in assimp's pipeline: truncated files carry out-of-range indices
+        // that would crash the later steps
+        if (scene)
+            scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                                 aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+    } catch (const std::exception& e) {
+        return error(StatusCode::bad_data, path + ": cannot read: " + one_line(e.what()));
+    }
+    if (!scene) return error(StatusCode::bad_data, path + ": cannot read: " + one_line(importer.GetErrorString()));
+    return scene;
+}
+
+// Our PLY reader's result as an assimp scene, so that PLY goes through the same conversion as every
+// other format. The aiScene destructor frees what is allocated here.
+static std::unique_ptr<aiScene> scene_from_ply(const PlyData& ply)
+{
+    auto scene = std::make_unique<aiScene>();
+    auto* mesh = new aiMesh();
+    mesh->mName = "ply";
+    mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+    mesh->mNumVertices = unsigned(ply.positions.size());
+    mesh->mVertices = new aiVector3D[mesh->mNumVertices];
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) mesh->mVertices[v] = {ply.positions[v].x, ply.positions[v].y, ply.positions[v].z};
+    if (!ply.normals.empty()) {
+        mesh->mNormals = new aiVector3D[mesh->mNumVertices];
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) mesh->mNormals[v] = {ply.normals[v].x, ply.normals[v].y, ply.normals[v].z};
+    }
+    if (!ply.colors.empty()) {
+        mesh->mColors[0] = new aiColor4D[mesh->mNumVertices];
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v)
+            mesh->mColors[0][v] = {ply.colors[v].x, ply.colors[v].y, ply.colors[v].z, ply.colors[v].w};
+    }
+    if (!ply.uvs.empty()) {
+        mesh->mTextureCoords[0] = new aiVector3D[mesh->mNumVertices];
+        mesh->mNumUVComponents[0] = 2;
+        for (unsigned v = 0; v < mesh->mNumVertices; ++v) mesh->mTextureCoords[0][v] = {ply.uvs[v].x, ply.uvs[v].y, 0.0f};
+    }
+    mesh->mNumFaces = unsigned(ply.triangles.size() / 3);
+    mesh->mFaces = new aiFace[mesh->mNumFaces];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+        mesh->mFaces[f].mNumIndices = 3;
+        mesh->mFaces[f].mIndices = new unsigned[3]{ply.triangles[f * 3], ply.triangles[f * 3 + 1], ply.triangles[f * 3 + 2]};
+    }
+    scene->mNumMeshes = 1;
+    scene->mMeshes = new aiMesh*[1]{mesh};
+    scene->mNumMaterials = 1;
+    scene->mMaterials = new aiMaterial*[1]{new aiMaterial()};
+    scene->mRootNode = new aiNode("ply");
+    scene->mRootNode->mNumMeshes = 1;
+    scene->mRootNode->mMeshes = new unsigned[1]{0};
+    return scene;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Textures
+
+// References in OBJ/MTL files written on Windows use backslashes; glTF URIs are percent-encoded.
+static std::string normalise_reference(std::string reference)
+{
+    std::replace(reference.begin(), reference.end(), '\\', '/');
+    std::string decoded;
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+        if (reference[i] == '%' && i + 2 < reference.size() && std::isxdigit((unsigned char)reference[i + 1]) &&
+            std::isxdigit((unsigned char)reference[i + 2])) {
+            decoded += char(std::stoi(reference.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            decoded += reference[i];
+        }
+    }
+    return decoded;
+}
+
+// stb_image and image files store the top row first; Texture wants row 0 at v = 0.
+static void flip_rows(Texture& texture)
+{
+    std::size_t row = std::size_t(texture.width) * 4;
+    for (int y = 0; y < texture.height / 2; ++y)
+        std::swap_ranges(texture.rgba.begin() + std::ptrdiff_t(y * row), texture.rgba.begin() + std::ptrdiff_t((y + 1) * row),
+                         texture.rgba.begin() + std::ptrdiff_t((texture.height - 1 - y) * row));
+}
+
+static Result<Texture> decode_image(const std::string& name, const unsigned char* bytes, std::size_t size)
+{
+    if (size == 0 || size > std::size_t(std::numeric_limits<int>::max()))
+        return error(StatusCode::bad_data, "texture '" + name + "' is empty or too large");
+    int width = 0, height = 0, channels = 0;
+    stbi_uc* pixels = stbi_load_from_memory(bytes, int(size), &width, &height, &channels, 4);
+    if (!pixels) {
+        const char* reason = stbi_failure_reason();
+        return error(StatusCode::bad_data, "texture '" + name + "' cannot be decoded: " + (reason ? reason : "unknown error"));
+    }
+    Texture texture;
+    texture.name = name;
+    texture.width = width;
+    texture.height = height;
+    texture.rgba.assign(pixels, pixels + std::size_t(width) * height * 4);
+    stbi_image_free(pixels);
+    flip_rows(texture);
+    return texture;
+}
+
+static Result<Texture> load_embedded_texture(const std::string& name, const aiTexture& embedded)
+{
+    // mHeight == 0 marks a compressed file (PNG, JPEG, ...) of mWidth bytes
+    if (embedded.mHeight == 0)
+        return decode_image(name, reinterpret_cast<const unsigned char*>(embedded.pcData), embedded.mWidth);
+    Texture texture;
+    texture.name = name;
+    texture.width = int(embedded.mWidth);
+    texture.height = int(embedded.mHeight);
+    texture.rgba.resize(std::size_t(texture.width) * texture.height * 4);
+    for (std::size_t i = 0; i < std::size_t(texture.width) * texture.height; ++i) {
+        const aiTexel& t = embedded.pcData[i];
+        std::uint8_t rgba[4] = {t.r, t.g, t.b, t.a};
+        std::copy(rgba, rgba + 4, texture.rgba.begin() + std::ptrdiff_t(i * 4));
+    }
+    flip_rows(texture);
+    return texture;
+}
+
+static Result<Texture> load_texture(const aiScene& scene, const std::string& reference, const fs::path& model_directory)
+{
+    if (const aiTexture* embedded = scene.GetEmbeddedTexture(reference.c_str()))
+        return load_embedded_texture(reference, *embedded);
+
+    // as written, then percent-decoded; then, for models moved from another machine with absolute or
+    // foreign paths, the bare file name beside the model
+    std::string slashes = reference;
+    std::replace(slashes.begin(), slashes.end(), '\\', '/');
+    const fs::path written[2] = {fs::path(slashes), fs::path(normalise_reference(reference))};
+    std::vector<fs::path> candidates;
+    for (const fs::path& w : written) candidates.push_back(w.is_relative() ? model_directory / w : w);
+    for (const fs::path& w : written) candidates.push_back(model_directory / w.filename());
+    std::error_code ec;
+    auto found = std::find_if(candidates.begin(), candidates.end(), [&](const fs::path& p) { return fs::is_regular_file(p, ec); });
+    if (found == candidates.end()) return error(StatusCode::not_found, "texture '" + reference + "' not found");
+    const fs::path& file = *found;
+    Result<std::string> bytes = read_file(file.string());
+    if (!bytes) return bytes.status();
+    return decode_image(reference, reinterpret_cast<const unsigned char*>(bytes->data()), bytes->size());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Crease normals
+
+// Compressed lists: items of bucket b are items[offsets[b] .. offsets[b + 1]).
+struct Buckets {
+    std::vector<std::uint32_t> offsets, items;
+};
+
+static Buckets bucket_by(const std::vector<std::uint32_t>& bucket_of_item, std::size_t bucket_count)
+{
+    Buckets buckets;
+    buckets.offsets.assign(bucket_count + 1, 0);
+    for (std::uint32_t b : bucket_of_item) ++buckets.offsets[b + 1];
+    std::partial_sum(buckets.offsets.begin(), buckets.offsets.end(), buckets.offsets.begin());
+    buckets.items.resize(bucket_of_item.size());
+    std::vector<std::uint32_t> cursor(buckets.offsets.begin(), buckets.offsets.end() - 1);
+    // items enter in increasing order, so every bucket is sorted: sums below run in a fixed order
+    for (std::uint32_t item = 0; item < bucket_of_item.size(); ++item) buckets.items[cursor[bucket_of_item[item]]++] = item;
+    return buckets;
+}
+
+// Vertices that share a position (UV seams, split normals) get one id, so smoothing crosses seams.
+static std::vector<std::uint32_t> position_groups(const Mesh& mesh, std::size_t first_vertex, std::size_t* group_count)
+{
+    std::size_t count = mesh.positions.size() - first_vertex;
+    std::vector<std::uint32_t> order(count);
+    std::iota(order.begin(), order.end(), 0u);
+    auto key = [&](std::uint32_t v) {
+        const glm::vec3& p = mesh.positions[first_vertex + v];
+        return std::make_tuple(p.x, p.y, p.z);
+    };
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    std::vector<std::uint32_t> group(count);
+    std::uint32_t next = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (i > 0 && key(order[i]) != key(order[i - 1])) ++next;
+        group[order[i]] = next;
+    }
+    *group_count = count == 0 ? 0 : next + 1;
+    return group;
+}
+
+// One normal per corner of triangles [first_triangle, end): the area-weighted average of the faces
+// around the corner's position whose normals are within the crease angle of the corner's face.
+static std::vector<glm::vec3> corner_normals(const Mesh& mesh, std::size_t first_vertex, std::size_t first_triangle,
+                                             float crease_degrees)
+{
+    std::size_t triangle_count = mesh.triangle_count() - first_triangle;
+    auto corner_vertex = [&](std::size_t corner) { return mesh.indices[first_triangle * 3 + corner]; };
+
+    // face normals: unit for the angle test, area-weighted for the sums
+    std::vector<glm::vec3> weighted(triangle_count), unit(triangle_count);
+    for (std::size_t t = 0; t < triangle_count; ++t) {
+        glm::vec3 p0 = mesh.positions[corner_vertex(t * 3)];
+        weighted[t] = glm::cross(mesh.positions[corner_vertex(t * 3 + 1)] - p0, mesh.positions[corner_vertex(t * 3 + 2)] - p0);
+        float length = glm::length(weighted[t]);
+        unit[t] = length > 0.0f ? weighted[t] / length : glm::vec3(0.0f); // underflow: joins no neighbour
+    }
+
+    // the faces around each position
+    std::size_t group_count = 0;
+    std::vector<std::uint32_t> group = position_groups(mesh, first_vertex, &group_count);
+    std::vector<std::uint32_t> group_of_corner(triangle_count * 3);
+    for (std::size_t c = 0; c < group_of_corner.size(); ++c) group_of_corner[c] = group[corner_vertex(c) - first_vertex];
+    Buckets corners_at_group = bucket_by(group_of_corner, group_count);
+
+    float cos_crease = std::cos(glm::radians(std::clamp(crease_degrees, 0.0f, 180.0f))) - 1e-6f;
+    std::vector<glm::vec3> normals(triangle_count * 3);
+    for (std::size_t c = 0; c < normals.size(); ++c) {
+        std::size_t t = c / 3;
+        glm::vec3 sum(0.0f);
+        std::uint32_t g = group_of_corner[c];
+        for (std::uint32_t i = corners_at_group.offsets[g]; i < corners_at_group.offsets[g + 1]; ++i) {
+            std::size_t other = corners_at_group.items[i] / 3;
+            if (glm::dot(unit[other], unit[t]) >= cos_crease) sum += weighted[other];
+        }
+        float length = glm::length(sum); // the sum includes the face itself, so only underflow gives 0
+        normals[c] = length > 0.0f ? sum / length : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+    return normals;
+}
+
+// Corners of one vertex with equal normals share it; each further normal gets a copy of the vertex.
+static void split_vertices_by_normal(Mesh& mesh, std::size_t first_vertex, std::size_t first_triangle,
+                                     const std::vector<glm::vec3>& corner_normal)
+{
+    std::vector<std::uint32_t> vertex_of_corner(corner_normal.size());
+    for (std::size_t c = 0; c < corner_normal.size(); ++c)
+        vertex_of_corner[c] = mesh.indices[first_triangle * 3 + c] - std::uint32_t(first_vertex);
+    Buckets corners_at_vertex = bucket_by(vertex_of_corner, mesh.positions.size() - first_vertex);
+
+    std::vector<std::pair<glm::vec3, std::uint32_t>> seen; // distinct normals of this vertex so far
+    for (std::size_t v = 0; v + 1 < corners_at_vertex.offsets.size(); ++v) {
+        seen.clear();
+        std::size_t original = first_vertex + v;
+        for (std::uint32_t i = corners_at_vertex.offsets[v]; i < corners_at_vertex.offsets[v + 1]; ++i) {
+            std::uint32_t c = corners_at_vertex.items[i];
+            auto same = std::find_if(seen.begin(), seen.end(), [&](const auto& s) { return s.first == corner_normal[c]; });
+            std::uint32_t vertex = std::uint32_t(original);
+            if (same != seen.end()) {
+                vertex = same->second;
+            } else if (seen.empty()) {
+                mesh.normals[original] = corner_normal[c];
+                seen.emplace_back(corner_normal[c], vertex);
+            } else {
+                vertex = std::uint32_t(mesh.positions.size());
+                glm::vec3 position = mesh.positions[original]; // copies: push_back may reallocate
+                glm::vec4 color = mesh.colors[original];
+                glm::vec2 uv = mesh.uvs[original];
+                mesh.positions.push_back(position);
+                mesh.normals.push_back(corner_normal[c]);
+                mesh.colors.push_back(color);
+                mesh.uvs.push_back(uv);
+                seen.emplace_back(corner_normal[c], vertex);
+            }
+            mesh.indices[first_triangle * 3 + c] = vertex;
+        }
+    }
+}
+
+// Normals for triangles [first_triangle, end) over vertices [first_vertex, end): each corner gets
+// the area-weighted average of the faces around its position whose normals are within the crease
+// angle of its own face; corners of one vertex that end up different split the vertex.
+static void compute_crease_normals(Mesh& mesh, std::size_t first_vertex, std::size_t first_triangle, float crease_degrees)
+{
+    if (mesh.triangle_count() == first_triangle) return;
+    std::vector<glm::vec3> normals = corner_normals(mesh, first_vertex, first_triangle, crease_degrees);
+    split_vertices_by_normal(mesh, first_vertex, first_triangle, normals);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene conversion
+
+static glm::mat4 to_glm(const aiMatrix4x4& m)
+{
+    glm::mat4 result;
+    for (int row = 0; row < 4; ++row)
+        for (int column = 0; column < 4; ++column) result[column][row] = m[row][column];
+    return result;
+}
+
+static bool is_finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// What a placed aiMesh needs from its material.
+struct MaterialUse {
+    std::uint32_t index = 0;  // into Mesh::materials
+    glm::vec4 factor{0.8f};   // multiplied into every vertex colour
+    int texture = -1;         // Mesh::textures index, -1 for none
+    unsigned uv_channel = 0;
+};
+
+class SceneConverter {
+public:
+    SceneConverter(const aiScene& scene, const std::string& path, const ImportOptions& options, ImportReport& report)
+        : scene_(scene), path_(path), model_directory_(fs::path(path).parent_path()), options_(options), report_(report)
+    {
+    }
+
+    Status convert();
+    Mesh take_mesh() { return std::move(mesh_); }
+
+private:
+    Status add_mesh(const aiMesh& source, const glm::mat4& world_from_object);
+    Status add_triangles(const aiMesh& source, std::size_t first_vertex, std::uint32_t material, bool mirrored);
+    bool has_usable_normals(const aiMesh& source) const;
+    MaterialUse use_material(const aiMesh& source);
+    int use_texture(const aiMaterial& material, unsigned* uv_channel);
+    void remove_unused_vertices();
+
+    const aiScene& scene_;
+    std::string path_;
+    fs::path model_directory_;
+    ImportOptions options_;
+    ImportReport& report_;
+    Mesh mesh_;
+    std::map<std::pair<unsigned, unsigned>, MaterialUse> materials_; // (assimp index, variant) -> use
+    std::map<std::string, int> textures_;                            // reference -> index, -1 failed
+    std::size_t skipped_primitives_ = 0;
+};
+
+static bool is_authored(const aiMaterial& material)
+{
+    // assimp invents a material for formats without one (OBJ without MTL: "DefaultMaterial" grey 0.6;
+    // PLY and OFF: unnamed, white or grey); those must not tint the model
+    aiColor4D unused;
+    if (material.Get(AI_MATKEY_BASE_COLOR, unused) == AI_SUCCESS) return true;
+    if (material.GetTextureCount(aiTextureType_DIFFUSE) + material.GetTextureCount(aiTextureType_BASE_COLOR) > 0) return true;
+    std::string name = material.GetName().C_Str();
+    return !name.empty() && name != AI_DEFAULT_MATERIAL_NAME;
+}
+
+static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colors)
+{
+    if (!is_authored(material)) return has_vertex_colors ? glm::vec4(1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+    aiColor4D color(1.0f, 1.0f, 1.0f, 1.0f);
+    if (material.Get(AI_MATKEY_BASE_COLOR, color) == AI_SUCCESS) return {color.r, color.g, color.b, color.a};
+    if (material.Get(AI_MATKEY_COLOR_DIFFUSE, color) != AI_SUCCESS) color = aiColor4D(0.8f, 0.8f, 0.8f, 1.0f);
+    float opacity = 1.0f;
+    if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) color.a = opacity;
+    return {color.r, color.g, color.b, color.a};
+}
+
+int SceneConverter::use_texture(const aiMaterial& material, unsigned* uv_channel)
+{
+    for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
+        if (material.GetTextureCount(type) == 0) continue;
+        aiString reference;
+        unsigned channel = 0;
+        if (material.GetTexture(type, 0, &reference, nullptr, &channel) != AI_SUCCESS) continue;
+        *uv_channel = channel;
+        std::string key = reference.C_Str();
+        auto [it, inserted] = textures_.try_emplace(key, -1);
+        if (inserted) {
+            Result<Texture> texture = load_texture(scene_, key, model_directory_);
+            if (texture) {
+                it->second = int(mesh_.textures.size());
+                mesh_.textures.push_back(std::move(*texture));
+            } else {
+                report_.warnings.push_back(path_ + ": " + texture.status().message() + "; using the material colour");
+            }
+        }
+        return it->second;
+    }
+    return -1;
+}
+
+MaterialUse SceneConverter::use_material(const aiMesh& source)
+{
+    // one Mesh material per (assimp material, whether this mesh can show its texture, whether it
+    // has vertex colours): the texture needs UVs, and the stand-in default colour depends on both
+    const aiMaterial& material = *scene_.mMaterials[source.mMaterialIndex];
+    unsigned uv_channel = 0;
+    int texture = use_texture(material, &uv_channel);
+    bool textured = texture >= 0 && source.HasTextureCoords(uv_channel);
+    bool colored = source.HasVertexColors(0);
+    unsigned variant = (textured ? 1u : 0u) | (colored ? 2u : 0u);
+    auto [it, inserted] = materials_.try_emplace({source.mMaterialIndex, variant});
+    if (!inserted) return it->second;
+
+    MaterialUse& use = it->second;
+    use.factor = material_color(material, colored);
+    use.texture = textured ? texture : -1;
+    use.uv_channel = uv_channel;
+    use.index = std::uint32_t(mesh_.materials.size());
+    Material converted;
+    converted.name = material.GetName().C_Str();
+    converted.base_color = use.factor;
+    converted.base_color_texture = use.texture;
+    mesh_.materials.push_back(converted);
+    if (texture >= 0 && !textured)
+        report_.warnings.push_back(path_ + ": mesh '" + source.mName.C_Str() + "' has a texture but no UVs; using the material colour");
+    return use;
+}
+
+bool SceneConverter::has_usable_normals(const aiMesh& source) const
+{
+    if (!source.HasNormals()) return false;
+    for (unsigned v = 0; v < source.mNumVertices; ++v) {
+        const aiVector3D& n = source.mNormals[v];
+        glm::vec3 normal(n.x, n.y, n.z);
+        if (!is_finite(normal) || glm::dot(normal, normal) < 1e-12f) return false;
+    }
+    return true;
+}
+
+// A triangle is degenerate when two corners coincide or it has no area up to rounding: its
+// normal is undefined and the bakers would divide by its area.
+static bool is_degenerate(const Mesh& mesh, std::uint32_t a, std::uint32_t b, std::uint32_t c)
+{
+    if (a == b || b == c || a == c) return true;
+    glm::dvec3 p0 = mesh.positions[a], p1 = mesh.positions[b], p2 = mesh.positions[c];
+    glm::dvec3 e1 = p1 - p0, e2 = p2 - p0, e3 = p2 - p1;
+    double longest_squared = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+    double twice_area = glm::length(glm::cross(e1, e2));
+    // relative to the longest edge, so the test does not depend on the model's units
+    return !(twice_area > 1e-12 * longest_squared);
+}
+
+Status SceneConverter::add_triangles(const aiMesh& source, std::size_t first_vertex, std::uint32_t material, bool mirrored)
+{
+    for (unsigned f = 0; f < source.mNumFaces; ++f) {
+        const aiFace& face = source.mFaces[f];
+        if (face.mNumIndices != 3) {
+            ++skipped_primitives_;
+            continue;
+        }
+        std::uint32_t corner[3];
+        for (int k = 0; k < 3; ++k) {
+            if (face.mIndices[k] >= source.mNumVertices)
+                return error(StatusCode::bad_data, path_ + ": mesh '" + source.mName.C_Str() + "' face " + std::to_string(f) +
+                                                       " refers to vertex " + std::to_string(face.mIndices[k]) + " of " +
+                                                       std::to_string(source.mNumVertices));
+            corner[k] = std::uint32_t(first_vertex + face.mIndices[k]);
+        }
+        // a mirroring transform turns counter-clockwise into clockwise; swap to keep faces outward
+        if (mirrored) std::swap(corner[1], corner[2]);
+        if (is_degenerate(mesh_, corner[0], corner[1], corner[2])) {
+            ++report_.degenerate_dropped;
+            continue;
+        }
+        mesh_.indices.insert(mesh_.indices.end(), corner, corner + 3);
+        mesh_.face_materials.push_back(material);
+    }
+    return Status::ok();
+}
+
+Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_from_object)
+{
+    if (!(source.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || !source.mVertices) {
+        skipped_primitives_ += source.mNumFaces;
+        return Status::ok();
+    }
+    if (source.mMaterialIndex >= scene_.mNumMaterials)
+        return error(StatusCode::bad_data, path_ + ": mesh '" + source.mName.C_Str() + "' has no valid material");
+    ++report_.meshes_in_scene;
+    MaterialUse material = use_material(source);
+    glm::mat3 normal_from_object = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
+    bool mirrored = glm::determinant(glm::mat3(world_from_object)) < 0.0f;
+    bool keep_normals = has_usable_normals(source);
+
+    std::size_t first_vertex = mesh_.positions.size(), first_triangle = mesh_.triangle_count();
+    for (unsigned v = 0; v < source.mNumVertices; ++v) {
+        const aiVector3D& p = source.mVertices[v];
+        glm::vec3 position = glm::vec3(world_from_object * glm::vec4(p.x, p.y, p.z, 1.0f));
+        if (!is_finite(glm::vec3(p.x, p.y, p.z)) || !is_finite(position))
+            return error(StatusCode::bad_data, path_ + ": mesh '" + source.mName.C_Str() + "' vertex " + std::to_string(v) +
+                                                   " has a non-finite coordinate");
+        mesh_.positions.push_back(position);
+        glm::vec3 normal(0.0f, 0.0f, 1.0f);
+        if (keep_normals) {
+            const aiVector3D& n = source.mNormals[v];
+            glm::vec3 transformed = normal_from_object * glm::vec3(n.x, n.y, n.z);
+            float length = glm::length(transformed);
+            // a singular transform leaves no usable direction: recompute the whole mesh below
+            if (length > 0.0f && std::isfinite(length)) normal = transformed / length;
+            else keep_normals = false;
+        }
+        mesh_.normals.push_back(normal);
+        glm::vec4 color = material.factor;
+        if (source.HasVertexColors(0)) {
+            const aiColor4D& c = source.mColors[0][v];
+            color *= glm::vec4(c.r, c.g, c.b, c.a);
+        }
+        mesh_.colors.push_back(color);
+        glm::vec2 uv(0.0f);
+        if (material.texture >= 0) uv = {source.mTextureCoords[material.uv_channel][v].x, source.mTextureCoords[material.uv_channel][v].y};
+        mesh_.uvs.push_back(uv);
+    }
+    STANDIN_RETURN_IF_ERROR(add_triangles(source, first_vertex, material.index, mirrored));
+    if (!keep_normals) {
+        if (source.HasNormals())
+            report_.warnings.push_back(path_ + ": mesh '" + source.mName.C_Str() + "' has invalid normals; recomputed them");
+        compute_crease_normals(mesh_, first_vertex, first_triangle, options_.crease_angle_degrees);
+    }
+    return Status::ok();
+}
+
+Status SceneConverter::convert()
+{
+    if (!scene_.mRootNode) return error(StatusCode::bad_data, path_ + ": contains no triangles (no scene graph)");
+    // walk the scene graph with an explicit stack: deep hierarchies must not overflow the call stack
+    std::vector<std::pair<const aiNode*, glm::mat4>> stack{{scene_.mRootNode, glm::mat4(1.0f)}};
+    while (!stack.empty()) {
+        auto [node, parent_from_object] = stack.back();
+        stack.pop_back();
+        glm::mat4 world_from_node = parent_from_object * to_glm(node->mTransformation);
+        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+            if (node->mMeshes[i] >= scene_.mNumMeshes || !scene_.mMeshes[node->mMeshes[i]])
+                return error(StatusCode::bad_data, path_ + ": node '" + node->mName.C_Str() + "' refers to a missing mesh");
+            STANDIN_RETURN_IF_ERROR(add_mesh(*scene_.mMeshes[node->mMeshes[i]], world_from_node));
+        }
+        // children pushed in reverse so that they are visited in file order (stable output)
+        for (unsigned c = node->mNumChildren; c-- > 0;)
+            if (node->mChildren[c]) stack.emplace_back(node->mChildren[c], world_from_node);
+    }
+
+    if (report_.degenerate_dropped > 0)
+        report_.warnings.push_back(path_ + ": dropped " + std::to_string(report_.degenerate_dropped) + " degenerate triangles");
+    if (skipped_primitives_ > 0)
+        report_.warnings.push_back(path_ + ": skipped " + std::to_string(skipped_primitives_) + " points and lines");
+    if (mesh_.triangle_count() == 0) {
+        std::string detail = report_.degenerate_dropped > 0
+                                 ? " (" + std::to_string(report_.degenerate_dropped) + " degenerate triangles dropped)"
+                                 : "";
+        return error(StatusCode::bad_data, path_ + ": contains no triangles" + detail);
+    }
+    remove_unused_vertices();
+    bool any_texture = std::any_of(mesh_.materials.begin(), mesh_.materials.end(),
+                                   [](const Material& m) { return m.base_color_texture >= 0; });
+    if (!any_texture) mesh_.uvs.clear();
+    return validate_mesh(mesh_, path_);
+}
+
+// Dropped triangles, points and lines leave vertices no triangle uses; bounds must not see them.
+void SceneConverter::remove_unused_vertices()
+{
+    constexpr std::uint32_t k_unused = ~0u;
+    std::vector<std::uint32_t> new_index(mesh_.positions.size(), k_unused);
+    for (std::uint32_t i : mesh_.indices) new_index[i] = 0;
+    std::uint32_t next = 0;
+    for (std::size_t v = 0; v < new_index.size(); ++v) {
+        if (new_index[v] == k_unused) continue;
+        new_index[v] = next;
+        mesh_.positions[next] = mesh_.positions[v];
+        mesh_.normals[next] = mesh_.normals[v];
+        mesh_.colors[next] = mesh_.colors[v];
+        mesh_.uvs[next] = mesh_.uvs[v];
+        ++next;
+    }
+    mesh_.positions.resize(next);
+    mesh_.normals.resize(next);
+    mesh_.colors.resize(next);
+    mesh_.uvs.resize(next);
+    for (std::uint32_t& i : mesh_.indices) i = new_index[i];
+}
+
+// ---------------------------------------------------------------------------------------------
+
+// PLY through read_ply, everything else through assimp; either way an aiScene owned by `storage`.
+static Result<const aiScene*> read_any(const std::string& path, const std::string& format, ImportReport& report,
+                                       Assimp::Importer& importer, std::unique_ptr<aiScene>& storage)
+{
+    if (format != "ply") return read_scene(importer, path);
+    Result<PlyData> ply = read_ply(path);
+    if (!ply) return ply.status();
+    if (ply->skipped_faces > 0)
+        report.warnings.push_back(path + ": skipped " + std::to_string(ply->skipped_faces) + " faces with fewer than 3 corners");
+    if (ply->triangles.empty()) return error(StatusCode::bad_data, path + ": contains no triangles");
+    storage = scene_from_ply(*ply);
+    STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*storage, path));
+    return static_cast<const aiScene*>(storage.get());
+}
+
+Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const ImportOptions& options)
+{
+    ImportReport local_report;
+    ImportReport& r = report ? *report : local_report;
+    r = ImportReport{};
+    r.source_path = path;
+    r.format = lower_extension(path);
+
+    // check the file before reading so that the error says which of missing / unknown / corrupt
+    STANDIN_RETURN_IF_ERROR(check_source_file(path, r.format));
+    Assimp::Importer importer;
+    std::unique_ptr<aiScene> own_scene;
+    Result<const aiScene*> scene = read_any(path, r.format, r, importer, own_scene);
+    if (!scene) return scene.status();
+
+    // flatten, then fix what the formats leave open (normals, colours, degenerate faces)
+    SceneConverter converter(**scene, path, options, r);
+    STANDIN_RETURN_IF_ERROR(converter.convert());
+    return converter.take_mesh();
+}
+
+} // namespace standin

@@ -1,0 +1,143 @@
+// The ground-truth renderer: the original mesh, drawn per pixel with the shared lighting include.
+// Steps: sort triangles by material so each material is one instanced draw; upload positions,
+// normals, colours and UVs; per frame bind the frame block and draw each material range with its
+// texture (or none).
+#include "gpu/frame.h"
+#include "gpu/gl.h"
+#include "gpu/shaders/common/bindings.h"
+
+#include <standin/render.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace standin {
+
+namespace {
+
+struct MaterialRange {
+    std::uint32_t first_index = 0, index_count = 0;
+    int texture = -1;            // index into MeshRenderer::textures_
+};
+
+class MeshRenderer final : public Renderer {
+public:
+    static Result<std::unique_ptr<Renderer>> create(const Mesh& mesh);
+    DrawStats draw(const DrawParams& params) override;
+
+private:
+    gpu::Program program_;
+    gpu::VertexArray vertex_array_;
+    gpu::Buffer positions_, normals_, colors_, uvs_, indices_;
+    std::vector<gpu::Texture> textures_;
+    std::vector<MaterialRange> ranges_;
+    gpu::FrameResources frame_;
+    GLint has_texture_location_ = -1;
+};
+
+// Indices reordered so that each material's triangles are contiguous (stable: original order kept
+// within a material, so the result does not depend on anything but the mesh).
+std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<MaterialRange>& ranges)
+{
+    std::vector<std::uint32_t> order(mesh.triangle_count());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return mesh.face_materials[a] < mesh.face_materials[b]; });
+    std::vector<std::uint32_t> indices;
+    indices.reserve(mesh.indices.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        std::uint32_t t = order[i];
+        std::uint32_t material = mesh.face_materials[t];
+        if (ranges.empty() || i == 0 || mesh.face_materials[order[i - 1]] != material) {
+            MaterialRange range;
+            range.first_index = std::uint32_t(indices.size());
+            const Material& m = mesh.materials[material];
+            range.texture = mesh.has_texture_coordinates() ? m.base_color_texture : -1;
+            ranges.push_back(range);
+        }
+        for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[3 * t + k]);
+        ranges.back().index_count += 3;
+    }
+    return indices;
+}
+
+gpu::Texture upload_texture(const Texture& texture)
+{
+    int levels = 1 + int(std::floor(std::log2(std::max(texture.width, texture.height))));
+    gpu::Texture handle = gpu::make_texture_2d(GL_RGBA8, texture.width, texture.height, levels);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        texture.rgba.data());
+    glGenerateTextureMipmap(handle.get());
+    glTextureParameteri(handle.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(handle.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return handle;
+}
+
+void attach_attribute(GLuint vao, GLuint attribute, GLuint buffer, int components, std::size_t stride)
+{
+    glVertexArrayVertexBuffer(vao, attribute, buffer, 0, GLsizei(stride));
+    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, attribute, attribute);
+    glEnableVertexArrayAttrib(vao, attribute);
+}
+
+Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
+{
+    STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "mesh renderer"));
+    auto renderer = std::make_unique<MeshRenderer>();
+    Result<gpu::Program> program = gpu::Program::create({"reference/shaders/mesh.vert", "reference/shaders/mesh.frag"});
+    if (!program) return program.status();
+    renderer->program_ = std::move(*program);
+    renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
+
+    std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
+    renderer->positions_ = gpu::make_buffer(mesh.positions);
+    renderer->normals_ = gpu::make_buffer(mesh.normals);
+    renderer->colors_ = gpu::make_buffer(mesh.colors);
+    std::vector<glm::vec2> uvs = mesh.uvs;
+    if (uvs.empty()) uvs.assign(mesh.vertex_count(), glm::vec2(0.0f));
+    renderer->uvs_ = gpu::make_buffer(uvs);
+    renderer->indices_ = gpu::make_buffer(indices);
+    for (const Texture& texture : mesh.textures) renderer->textures_.push_back(upload_texture(texture));
+
+    renderer->vertex_array_ = gpu::make_vertex_array();
+    GLuint vao = renderer->vertex_array_.get();
+    attach_attribute(vao, ATTRIB_POSITION, renderer->positions_.get(), 3, sizeof(glm::vec3));
+    attach_attribute(vao, ATTRIB_NORMAL, renderer->normals_.get(), 3, sizeof(glm::vec3));
+    attach_attribute(vao, ATTRIB_COLOR, renderer->colors_.get(), 4, sizeof(glm::vec4));
+    attach_attribute(vao, ATTRIB_UV, renderer->uvs_.get(), 2, sizeof(glm::vec2));
+    glVertexArrayElementBuffer(vao, renderer->indices_.get());
+    return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+DrawStats MeshRenderer::draw(const DrawParams& params)
+{
+    frame_.bind(params);
+    program_.use();
+    glBindVertexArray(vertex_array_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    DrawStats stats;
+    for (const MaterialRange& range : ranges_) {
+        bool textured = range.texture >= 0 && range.texture < int(textures_.size());
+        glUniform1i(has_texture_location_, textured ? 1 : 0);
+        if (textured) glBindTextureUnit(BINDING_ALBEDO_TEXTURE, textures_[std::size_t(range.texture)].get());
+        glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(std::uintptr_t(range.first_index) * sizeof(std::uint32_t)),
+                                GLsizei(frame_.instance_count()));
+        stats.draw_calls += 1;
+        stats.primitives += std::uint64_t(range.index_count / 3) * frame_.instance_count();
+    }
+    glBindVertexArray(0);
+    return stats;
+}
+
+} // namespace
+
+Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh) { return MeshRenderer::create(mesh); }
+
+} // namespace standin

@@ -1,0 +1,132 @@
+// The command line as a user meets it: help, info on real files, and bad input refused with one
+// line naming the file or option, exit status 2, and no output left behind.
+#include "test_support.h"
+
+#include <standin/image.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+namespace standin {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string write_text(const std::string& dir, const std::string& name, const std::string& text)
+{
+    std::string path = dir + "/" + name;
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+int line_count(const std::string& text)
+{
+    int lines = 0;
+    for (char c : text) lines += c == '\n';
+    return lines;
+}
+
+TEST(Cli, HelpListsTheCommands)
+{
+    test::CommandResult result = test::run_cli("--help");
+    EXPECT_EQ(result.exit_code, 0);
+    for (const char* command : {"info", "render", "generate"}) EXPECT_NE(result.out.find(command), std::string::npos) << command;
+    test::CommandResult render_help = test::run_cli("render --help");
+    EXPECT_EQ(render_help.exit_code, 0);
+    EXPECT_NE(render_help.out.find("--azimuth"), std::string::npos);
+}
+
+TEST(Cli, InfoJsonOnTheBundledModel)
+{
+    test::CommandResult result = test::run_cli("info --json " + test::source_dir() + "/data/bunny.ply");
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    nlohmann::json info = nlohmann::json::parse(result.out);
+    EXPECT_GT(info["triangles"].get<int>(), 1000);
+    EXPECT_GT(info["vertices"].get<int>(), 500);
+    for (const char* key : {"bounds", "materials", "textures", "warnings"}) EXPECT_TRUE(info.contains(key)) << key;
+    EXPECT_EQ(info["bounds"]["min"].size(), 3u);
+    EXPECT_EQ(info["bounds"]["max"].size(), 3u);
+}
+
+struct BadInput {
+    const char* name;
+    const char* file_name;
+    const char* contents;
+    const char* expected_in_message;
+};
+
+TEST(Cli, BadModelsAreRefusedWithOneLineNamingTheFile)
+{
+    std::string dir = test::fresh_directory("cli_bad_models");
+    const BadInput cases[] = {
+        {"missing", "does_not_exist.obj", nullptr, "does_not_exist.obj"},
+        {"unknown format", "model.xyz123", "hello", "model.xyz123"},
+        {"corrupt", "corrupt.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 99999\n\x01\x02garbage", "corrupt.ply"},
+        {"empty", "empty.obj", "# nothing here\n", "empty.obj"},
+        {"nan", "nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n", "nan.obj"},
+    };
+    for (const BadInput& c : cases) {
+        std::string path = dir + "/" + c.file_name;
+        if (c.contents) write_text(dir, c.file_name, c.contents);
+        std::string output = dir + "/out_" + std::string(c.file_name) + ".png";
+        for (const std::string& command : {"info " + path, "render " + path + " -o " + output}) {
+            test::CommandResult result = test::run_cli(command);
+            EXPECT_EQ(result.exit_code, 2) << c.name << ": " << command;
+            EXPECT_EQ(line_count(result.err), 1) << c.name << ": " << result.err;
+            EXPECT_NE(result.err.find(c.expected_in_message), std::string::npos) << c.name << ": " << result.err;
+            EXPECT_FALSE(fs::exists(output)) << c.name;
+        }
+    }
+}
+
+TEST(Cli, AbsurdRenderOptionsAreRefused)
+{
+    std::string dir = test::fresh_directory("cli_bad_options");
+    std::string model = test::source_dir() + "/data/bunny.ply";
+    std::string output = dir + "/out.png";
+    for (const char* options : {"--size 0x10", "--size banana", "--elevation 91", "--distance -1", "--distance nan",
+                                "--fov 0", "--fov 180", "--steps 0", "--fov 40 --ortho"}) {
+        test::CommandResult result = test::run_cli("render " + model + " -o " + output + " " + options);
+        EXPECT_EQ(result.exit_code, 2) << options;
+        EXPECT_EQ(line_count(result.err), 1) << options << ": " << result.err;
+        EXPECT_FALSE(fs::exists(output)) << options;
+    }
+}
+
+TEST(Cli, RenderWritesAPngOfTheRequestedSize)
+{
+    std::string dir = test::fresh_directory("cli_render");
+    std::string output = dir + "/bunny.png";
+    test::CommandResult result =
+        test::run_cli("render " + test::source_dir() + "/data/bunny.ply -o " + output + " --size 160x120 --azimuth 45");
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    Result<ImageRGBA8> image = read_png_rgba8(output);
+    ASSERT_TRUE(image.is_ok());
+    EXPECT_EQ(image->width, 160);
+    EXPECT_EQ(image->height, 120);
+    std::size_t covered = 0;
+    for (std::size_t i = 3; i < image->pixels.size(); i += 4) covered += image->pixels[i] > 0;
+    EXPECT_GT(covered, 160u * 120u / 20) << "the bunny fills a fair part of the view";
+    EXPECT_EQ(image->at(0, 0)[3], 0) << "transparent background";
+}
+
+TEST(Cli, GenerateWritesAnImportablePly)
+{
+    std::string dir = test::fresh_directory("cli_generate");
+    std::string output = dir + "/torus.ply";
+    test::CommandResult result = test::run_cli("generate torus -t 5000 -o " + output);
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    test::CommandResult info = test::run_cli("info --json " + output);
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    int triangles = nlohmann::json::parse(info.out)["triangles"].get<int>();
+    EXPECT_NEAR(triangles, 5000, 1000);
+    EXPECT_EQ(test::run_cli("generate cube -o " + dir + "/x.ply").exit_code, 2);
+    EXPECT_EQ(test::run_cli("generate sphere -t 0 -o " + dir + "/y.ply").exit_code, 2);
+    EXPECT_FALSE(fs::exists(dir + "/y.ply"));
+}
+
+} // namespace
+} // namespace standin
