@@ -1,0 +1,430 @@
+// Greedy construction of enhanced billboards.
+// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.2, §3.4, §4.3), WSCG 2006 (001 §3.1, Fig. 3).
+//
+// Steps: one texel size for the whole model (seed: bounding-box diagonal -> 512 texels); then,
+// while faces are left, choose a direction, capture what a billboard along it can hold
+// (capture.cpp: S, S', S''), remove it, repeat; finally a coarse mesh for hole filling (§3.4).
+// Differences from the seed, each chosen by measurement (docs/RESULTS.md, "Bake"):
+// - candidate directions: the seed's 36 x 18 array by default; an even Fibonacci set of any size
+//   (--directions sphere, --direction-count, default k_default_direction_count) measured no fewer
+//   billboards and no better coverage on our models, so it is an option; --directions axis is the
+//   seed's ±X/±Y/±Z comparison (Fig. 4-4, 4-5).
+// - depth limit: none within the model by default (1 diagonal): 0.5 and 0.25 gave more billboards
+//   and left more surface occluded on models with nested parts.
+// - faces longer than k_split_texels texels are split before baking, since the occlusion test is
+//   all or nothing per face (see split_long_edges).
+// - score: the seed counts facing faces (--score faces). The default (--score area) ranks the
+//   candidates by the projected area of the remaining non-grazing faces facing them (a histogram of
+//   normals makes this cheap for every candidate), then captures the best k_exact_candidates,
+//   angularly apart, exactly at half resolution and takes the one that really captures the most
+//   area.
+// - stopping: when nothing is left, when what is left cannot be captured (grazing in every
+//   candidate direction, degenerate, or hidden in a way the intersection bypass does not resolve),
+//   at --max-billboards, or when the best billboard would capture less than --min-coverage of the
+//   surface: the seed drops such billboards (§4.3), and every later one would be as small. What was
+//   left is recorded with its reason; the coarse mesh covers it.
+// - resolution per billboard: instead of the seed's 512² or 256², every billboard keeps the model's
+//   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
+#include "reps/enhanced_billboards/billboards.h"
+#include "reps/enhanced_billboards/capture.h"
+
+#include <meshoptimizer.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <optional>
+
+namespace standin::billboards {
+
+namespace {
+
+constexpr int k_default_direction_count = 256;
+constexpr float k_default_depth_limit = 1.0f;   // fraction of the diagonal: no limit within the model
+constexpr float k_default_grazing_angle = 10.0f; // degrees
+constexpr float k_default_min_coverage = 0.001f; // fraction of the surface area
+constexpr int k_default_max_billboards = 64;
+constexpr int k_exact_candidates = 4;
+constexpr float k_candidate_separation_degrees = 15.0f;
+constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution
+constexpr int k_max_grid_texels = 16384;         // texels along the diagonal
+constexpr int k_histogram_side = 32;             // octahedral bins of face normals
+constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels
+
+Result<BakeSettings> read_settings(const BakeParameters& parameters)
+{
+    BakeSettings s;
+    auto take = [](auto result, auto& into) -> Status {
+        if (!result) return result.status();
+        into = *result;
+        return Status::ok();
+    };
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("resolution", 512, 16, k_max_grid_texels), s.resolution));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("texel-size", 0.0f, 0.0f, 3.0e38f), s.texel_size));
+    if (parameters.has("texel-size") && !(s.texel_size > 0.0f))
+        return error(StatusCode::invalid_argument, "--texel-size: must be greater than 0");
+    if (parameters.has("texel-size") && parameters.has("resolution"))
+        return error(StatusCode::invalid_argument, "--texel-size and --resolution: give one or the other");
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_choice("directions", "seed", {"seed", "sphere", "axis"}), s.directions));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("direction-count", k_default_direction_count, 6, 100000), s.direction_count));
+    if (parameters.has("direction-count") && s.directions != "sphere")
+        return error(StatusCode::invalid_argument, "--direction-count: applies to --directions sphere only");
+    if (s.directions != "sphere") s.direction_count = s.directions == "seed" ? 36 * 18 : 6;
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_choice("score", "area", {"area", "faces"}), s.score));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("depth-limit", k_default_depth_limit, 0.0f, 2.0f), s.depth_limit));
+    if (!(s.depth_limit > 0.0f)) return error(StatusCode::invalid_argument, "--depth-limit: must be greater than 0");
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("grazing-angle", k_default_grazing_angle, 0.0f, 89.0f), s.grazing_angle));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("max-billboards", k_default_max_billboards, 1, 4096), s.max_billboards));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("min-coverage", k_default_min_coverage, 0.0f, 1.0f), s.min_coverage));
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("depth-bits", 16, 8, 16), s.depth_bits));
+    if (s.depth_bits != 8 && s.depth_bits != 16)
+        return error(StatusCode::invalid_argument, "--depth-bits: must be 8 or 16");
+    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("coarse-ratio", 0.1f, 0.0f, 1.0f), s.coarse_ratio));
+    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("enhanced-billboards"));
+    return s;
+}
+
+// Unit projection directions w (from the plane into the model).
+std::vector<glm::vec3> make_directions(const BakeSettings& settings)
+{
+    std::vector<glm::vec3> out;
+    if (settings.directions == "axis") {
+        for (int axis = 0; axis < 3; ++axis)
+            for (float sign : {-1.0f, 1.0f}) {
+                glm::vec3 w(0.0f);
+                w[axis] = sign;
+                out.push_back(w);
+            }
+    } else if (settings.directions == "seed") {
+        // 36 x 18 view planes around the model looking at its centre (seed §4.1), 10° apart
+        for (int j = 0; j < 18; ++j)
+            for (int i = 0; i < 36; ++i) {
+                double elevation = glm::radians(-85.0 + 10.0 * j), azimuth = glm::radians(5.0 + 10.0 * i);
+                glm::dvec3 eye(std::cos(elevation) * std::cos(azimuth), std::sin(elevation), std::cos(elevation) * std::sin(azimuth));
+                out.push_back(glm::vec3(-eye));
+            }
+    } else {
+        // Fibonacci sphere: even spacing for any count
+        double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+        int n = settings.direction_count;
+        for (int k = 0; k < n; ++k) {
+            double y = 1.0 - (2.0 * k + 1.0) / n, r = std::sqrt(std::max(0.0, 1.0 - y * y));
+            out.push_back(glm::vec3(glm::dvec3(r * std::cos(golden * k), y, r * std::sin(golden * k))));
+        }
+    }
+    return out;
+}
+
+// Octahedral bin of a unit vector.
+int histogram_bin(glm::vec3 n)
+{
+    float s = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    glm::vec2 p(n.x / s, n.y / s);
+    if (n.z < 0.0f) p = (1.0f - glm::abs(glm::vec2(p.y, p.x))) * glm::vec2(p.x >= 0 ? 1 : -1, p.y >= 0 ? 1 : -1);
+    int i = std::clamp(int((p.x * 0.5f + 0.5f) * k_histogram_side), 0, k_histogram_side - 1);
+    int j = std::clamp(int((p.y * 0.5f + 0.5f) * k_histogram_side), 0, k_histogram_side - 1);
+    return j * k_histogram_side + i;
+}
+
+struct NormalBin {
+    glm::dvec3 weighted{0.0}; // sum of area * normal
+    double faces = 0.0;
+};
+
+// Cheap score of every candidate from a histogram of the remaining faces' normals: projected area
+// of the non-grazing faces facing it, or (seed) the number of faces facing it.
+std::vector<double> cheap_scores(const FaceData& faces, const std::vector<std::uint32_t>& remaining,
+                                 const std::vector<glm::vec3>& directions, const BakeSettings& settings, float min_facing)
+{
+    std::vector<NormalBin> bins(k_histogram_side * k_histogram_side);
+    for (std::uint32_t f : remaining) {
+        if (!(faces.area[f] > 0.0)) continue;
+        NormalBin& bin = bins[histogram_bin(faces.normal[f])];
+        bin.weighted += faces.area[f] * glm::dvec3(faces.normal[f]);
+        bin.faces += 1.0;
+    }
+    std::vector<double> scores(directions.size(), 0.0);
+    tbb::parallel_for(std::size_t(0), directions.size(), [&](std::size_t d) {
+        glm::dvec3 w = directions[d];
+        double score = 0.0;
+        for (const NormalBin& bin : bins) {
+            double length = glm::length(bin.weighted);
+            if (bin.faces == 0.0 || length == 0.0) continue;
+            double facing = -glm::dot(bin.weighted, w) / length;
+            if (settings.score == "faces")
+                score += facing > 0.0 ? bin.faces : 0.0;
+            else if (facing >= min_facing)
+                score += -glm::dot(bin.weighted, w);
+        }
+        scores[d] = score;
+    });
+    return scores;
+}
+
+// The direction of the next billboard, or none when no candidate sees any projectable face.
+std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining,
+                                          const std::vector<glm::vec3>& directions, const BakeSettings& settings,
+                                          const CaptureSettings& capture_settings)
+{
+    std::vector<double> scores = cheap_scores(faces, remaining, directions, settings, capture_settings.min_facing);
+    std::vector<std::size_t> order(directions.size());
+    for (std::size_t d = 0; d < order.size(); ++d) order[d] = d;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return scores[a] > scores[b]; });
+    if (order.empty() || !(scores[order[0]] > 0.0)) return std::nullopt;
+    if (settings.score == "faces") return directions[order[0]];
+
+    // the best few, angularly apart, captured exactly at a reduced resolution
+    std::vector<std::size_t> picked;
+    float separation = std::cos(glm::radians(k_candidate_separation_degrees));
+    for (std::size_t d : order) {
+        if (!(scores[d] > 0.0) || int(picked.size()) == k_exact_candidates) break;
+        bool apart = std::all_of(picked.begin(), picked.end(), [&](std::size_t p) { return glm::dot(directions[p], directions[d]) < separation; });
+        if (apart) picked.push_back(d);
+    }
+    CaptureSettings coarse = capture_settings;
+    coarse.texel_size *= k_scoring_texel_scale;
+    coarse.write_maps = false;
+    std::size_t best = picked[0];
+    double best_area = -1.0;
+    for (std::size_t d : picked) {
+        double area = capture_direction(mesh, faces, remaining, directions[d], coarse).area;
+        if (area > best_area) best = d, best_area = area;
+    }
+    return directions[best];
+}
+
+// Faces are split so that no edge is longer than `max_edge` (longest-edge bisection, midpoints
+// computed the same way from both sides of an edge, so no T-junctions): the occlusion test is all
+// or nothing per face, and a long CAD sliver partly covered by a bolt from every side would
+// otherwise never be captured. Attributes are interpolated linearly, so albedo (vertex colours,
+// textures through UVs) and normals are those of the source. Returns false when nothing needed
+// splitting.
+bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face)
+{
+    float limit2 = max_edge * max_edge;
+    auto long_edge = [&](std::uint32_t a, std::uint32_t b) {
+        glm::vec3 d = mesh.positions[a] - mesh.positions[b];
+        return glm::dot(d, d) > limit2;
+    };
+    bool any = false;
+    for (std::size_t t = 0; t < mesh.triangle_count() && !any; ++t)
+        any = long_edge(mesh.indices[t * 3], mesh.indices[t * 3 + 1]) || long_edge(mesh.indices[t * 3 + 1], mesh.indices[t * 3 + 2]) ||
+              long_edge(mesh.indices[t * 3 + 2], mesh.indices[t * 3]);
+    if (!any) return false;
+    out = mesh;
+    out.indices.clear();
+    out.face_materials.clear();
+    bool has_uv = mesh.has_texture_coordinates();
+    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+        if (a > b) std::swap(a, b);
+        out.positions.push_back(0.5f * (out.positions[a] + out.positions[b]));
+        glm::vec3 n = out.normals[a] + out.normals[b];
+        out.normals.push_back(glm::length(n) > 0.0f ? glm::normalize(n) : out.normals[a]);
+        out.colors.push_back(0.5f * (out.colors[a] + out.colors[b]));
+        if (has_uv) out.uvs.push_back(0.5f * (out.uvs[a] + out.uvs[b]));
+        return std::uint32_t(out.positions.size() - 1);
+    };
+    auto edge2 = [&](std::uint32_t a, std::uint32_t b) {
+        glm::vec3 d = out.positions[a] - out.positions[b];
+        return glm::dot(d, d);
+    };
+    std::vector<std::array<std::uint32_t, 3>> stack;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        stack.push_back({mesh.indices[t * 3], mesh.indices[t * 3 + 1], mesh.indices[t * 3 + 2]});
+        while (!stack.empty()) {
+            std::array<std::uint32_t, 3> tri = stack.back();
+            stack.pop_back();
+            float e[3] = {edge2(tri[0], tri[1]), edge2(tri[1], tri[2]), edge2(tri[2], tri[0])};
+            int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+            if (e[k] <= limit2 || out.positions.size() >= 0xfffffff0u) {
+                out.indices.insert(out.indices.end(), tri.begin(), tri.end());
+                out.face_materials.push_back(mesh.face_materials[t]);
+                source_face.push_back(std::uint32_t(t));
+                continue;
+            }
+            std::uint32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3], m = midpoint(a, b);
+            stack.push_back({m, c, a});
+            stack.push_back({m, b, c});
+        }
+    }
+    return true;
+}
+
+// Faces of `from` (ascending) not in `taken` (ascending).
+std::vector<std::uint32_t> without(const std::vector<std::uint32_t>& from, const std::vector<std::uint32_t>& taken)
+{
+    std::vector<std::uint32_t> out;
+    out.reserve(from.size() - std::min(from.size(), taken.size()));
+    std::set_difference(from.begin(), from.end(), taken.begin(), taken.end(), std::back_inserter(out));
+    return out;
+}
+
+// 8-bit packages hold depth and normal in 8 bits; the in-memory maps match what reading gives.
+void quantise_to_8_bits(Billboard& board)
+{
+    for (std::uint16_t& value : board.normal_depth.pixels) value = std::uint16_t(((value + 128) / 257) * 257);
+}
+
+// Sorts what was left into reasons: degenerate; grazing in every candidate direction; captured by
+// a billboard too small to keep ("small_billboards", seed §4.3); "max_billboards" when the limit
+// stopped the loop; else "occluded" (hidden by other faces in every direction tried). Faces are
+// counted as source faces (a split face counts once per reason its pieces were left for).
+void record_left(const FaceData& faces, const std::vector<std::uint32_t>& remaining, const std::vector<std::uint32_t>& too_small,
+                 const std::vector<glm::vec3>& directions, float min_facing, bool hit_limit,
+                 const std::vector<std::uint32_t>& source_face, std::map<std::string, LeftOver>& left)
+{
+    enum Reason : std::uint8_t { degenerate, grazing, small, limit, occluded, count };
+    const char* names[count] = {"degenerate", "grazing", "small_billboards", "max_billboards", "occluded"};
+    std::vector<std::uint8_t> reason(remaining.size(), degenerate);
+    tbb::parallel_for(std::size_t(0), remaining.size(), [&](std::size_t r) {
+        std::uint32_t f = remaining[r];
+        if (!(faces.area[f] > 0.0)) return;
+        bool projectable = std::any_of(directions.begin(), directions.end(),
+                                       [&](glm::vec3 w) { return -glm::dot(faces.normal[f], w) >= min_facing; });
+        if (!projectable) reason[r] = grazing;
+        else if (std::binary_search(too_small.begin(), too_small.end(), f)) reason[r] = small;
+        else reason[r] = hit_limit ? limit : occluded;
+    });
+    std::uint32_t last_source[count];
+    std::fill(std::begin(last_source), std::end(last_source), 0xffffffffu);
+    for (std::size_t r = 0; r < remaining.size(); ++r) {
+        LeftOver& entry = left[names[reason[r]]];
+        std::uint32_t source = source_face.empty() ? remaining[r] : source_face[remaining[r]];
+        if (last_source[reason[r]] != source) entry.faces += 1; // pieces of one face are consecutive
+        last_source[reason[r]] = source;
+        entry.area += faces.area[remaining[r]];
+    }
+}
+
+// Source faces among captured pieces (ascending, so the pieces of one face are consecutive).
+std::size_t count_source_faces(const std::vector<std::uint32_t>& pieces, const std::vector<std::uint32_t>& source_face)
+{
+    if (source_face.empty()) return pieces.size();
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < pieces.size(); ++k) n += k == 0 || source_face[pieces[k]] != source_face[pieces[k - 1]];
+    return n;
+}
+
+// The coarse mesh for hole filling (seed §3.4: "usually 10 times fewer polygons"): QEM
+// simplification on the position-welded topology, sloppy simplification when QEM stops early at
+// locked borders. Vertex colours carry the albedo; no textures.
+Mesh make_coarse_mesh(const Mesh& mesh, float ratio)
+{
+    Mesh coarse;
+    if (ratio <= 0.0f) return coarse;
+    std::size_t index_count = mesh.indices.size();
+    std::vector<std::uint32_t> welded(index_count), simplified(index_count);
+    meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), index_count, mesh.positions.data(),
+                                      mesh.vertex_count(), sizeof(glm::vec3), sizeof(glm::vec3));
+    std::size_t target = std::max<std::size_t>(3, std::size_t(double(index_count / 3) * ratio) * 3);
+    const float* positions = &mesh.positions[0].x;
+    std::size_t count = meshopt_simplify(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
+                                         sizeof(glm::vec3), target, 1.0f, 0, nullptr);
+    if (count > target * 2)
+        count = meshopt_simplifySloppy(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
+                                       sizeof(glm::vec3), target, 1.0f, nullptr);
+    simplified.resize(count);
+
+    // compact the vertices, in order of first use; colour = albedo of the source vertex
+    std::vector<std::uint32_t> remap(mesh.vertex_count(), 0xffffffffu);
+    std::vector<std::uint32_t> corner_face(mesh.vertex_count(), 0), corner_slot(mesh.vertex_count(), 0);
+    for (std::size_t i = 0; i < index_count; ++i) corner_face[welded[i]] = std::uint32_t(i / 3), corner_slot[welded[i]] = std::uint32_t(i % 3);
+    for (std::uint32_t& index : simplified) {
+        if (remap[index] == 0xffffffffu) {
+            remap[index] = std::uint32_t(coarse.positions.size());
+            coarse.positions.push_back(mesh.positions[index]);
+            // the welded vertex is one of the source corners at this position; take its albedo
+            std::uint32_t face = corner_face[index], slot = corner_slot[index];
+            coarse.colors.push_back(mesh.albedo_at(face, slot == 1 ? 1.0f : 0.0f, slot == 2 ? 1.0f : 0.0f));
+        }
+        index = remap[index];
+    }
+    coarse.indices = std::move(simplified);
+    coarse.face_materials.assign(coarse.triangle_count(), 0);
+    coarse.materials.push_back(Material{"coarse", glm::vec4(1.0f), -1});
+    compute_smooth_normals(coarse);
+    return coarse;
+}
+
+} // namespace
+
+Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+{
+    const Mesh& mesh = context.mesh;
+    Result<BakeSettings> settings = read_settings(context.parameters);
+    if (!settings) return settings.status();
+    STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
+    std::optional<tbb::global_control> threads;
+    if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
+
+    // one texel size for the whole model (seed: bounding-box diagonal -> 512 texels)
+    float diagonal = mesh.bounds().diagonal();
+    if (!(diagonal > 0.0f) || !std::isfinite(diagonal))
+        return error(StatusCode::bad_data, context.source.file_name + ": the model has no extent");
+    float texel = settings->texel_size > 0.0f ? settings->texel_size : diagonal / float(settings->resolution);
+    if (diagonal / texel > float(k_max_grid_texels))
+        return error(StatusCode::invalid_argument, "--texel-size: " + std::to_string(texel) + " puts " +
+                                                       std::to_string(diagonal / texel) + " texels along the diagonal (at most " +
+                                                       std::to_string(k_max_grid_texels) + ")");
+
+    auto package = std::make_unique<EnhancedBillboardsPackage>();
+    package->source = context.source;
+    package->settings = *settings;
+    package->settings.texel_size = texel;
+    package->faces_total = mesh.triangle_count();
+
+    // split faces longer than a few texels, so that partial occlusion costs only a piece
+    Mesh split;
+    std::vector<std::uint32_t> source_face; // piece -> source face; empty when nothing was split
+    const Mesh& work = split_long_edges(mesh, k_split_texels * texel, split, source_face) ? split : mesh;
+    FaceData faces = compute_face_data(work);
+    for (double a : faces.area) package->area_total += a;
+    std::vector<glm::vec3> directions = make_directions(*settings);
+    CaptureSettings capture_settings;
+    capture_settings.texel_size = texel;
+    capture_settings.depth_limit = settings->depth_limit * diagonal;
+    capture_settings.min_facing = std::sin(glm::radians(settings->grazing_angle));
+    std::vector<std::uint32_t> remaining(work.triangle_count());
+    for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
+
+    // greedy loop over the faces not yet captured
+    bool hit_limit = false;
+    std::vector<std::uint32_t> too_small;
+    while (!remaining.empty()) {
+        context.progress.report("enhanced billboards: capturing", package->area_captured / std::max(package->area_total, 1e-300));
+        if (int(package->billboards.size()) >= settings->max_billboards) {
+            hit_limit = true;
+            break;
+        }
+        // choose the direction that captures the most, and capture it at full resolution
+        std::optional<glm::vec3> w = choose_direction(work, faces, remaining, directions, *settings, capture_settings);
+        if (!w) break;
+        CaptureSettings final_settings = capture_settings;
+        final_settings.write_maps = true;
+        Capture capture = capture_direction(work, faces, remaining, *w, final_settings);
+        if (capture.faces.empty()) break;
+        if (capture.area < double(settings->min_coverage) * package->area_total) {
+            too_small = std::move(capture.faces);
+            break;
+        }
+        if (settings->depth_bits == 8) quantise_to_8_bits(capture.billboard);
+        capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
+        package->area_captured += capture.area;
+        package->billboards.push_back(std::move(capture.billboard));
+        remaining = without(remaining, capture.faces);
+    }
+    context.progress.report("enhanced billboards: capturing", 1.0);
+
+    // what was left and why; the coarse mesh covers it
+    record_left(faces, remaining, too_small, directions, capture_settings.min_facing, hit_limit, source_face, package->left);
+    context.progress.report("enhanced billboards: coarse mesh", 0.0);
+    package->coarse_mesh = make_coarse_mesh(mesh, settings->coarse_ratio);
+    context.progress.report("enhanced billboards: coarse mesh", 1.0);
+    return std::unique_ptr<Package>(std::move(package));
+}
+
+} // namespace standin::billboards

@@ -1,0 +1,297 @@
+// The enhanced-billboards baker on tiny hand-built meshes with exact expectations, and on generated
+// closed models for the acceptance numbers (captured area, billboard counts, accounting).
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <standin/mesh.h>
+#include <standin/package.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace standin::billboards {
+namespace {
+
+// A mesh from positions and triangles with one material of `color` and normals from the winding.
+Mesh make_mesh(std::vector<glm::vec3> positions, std::vector<std::uint32_t> indices, glm::vec4 color = {0.8f, 0.8f, 0.8f, 1.0f})
+{
+    Mesh mesh;
+    mesh.positions = std::move(positions);
+    mesh.indices = std::move(indices);
+    mesh.colors.assign(mesh.positions.size(), color);
+    mesh.face_materials.assign(mesh.indices.size() / 3, 0);
+    mesh.materials.push_back(Material{"m", color, -1});
+    compute_smooth_normals(mesh);
+    return mesh;
+}
+
+// The unit square [0,1]^2 at height z facing +z.
+void add_square(Mesh& mesh, float z, float lo = 0.0f, float hi = 1.0f)
+{
+    std::uint32_t base = std::uint32_t(mesh.positions.size());
+    for (glm::vec3 p : {glm::vec3(lo, lo, z), glm::vec3(hi, lo, z), glm::vec3(hi, hi, z), glm::vec3(lo, hi, z)}) {
+        mesh.positions.push_back(p);
+        mesh.normals.push_back({0, 0, 1});
+        mesh.colors.push_back({1, 0, 0, 1});
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
+    mesh.face_materials.push_back(0);
+    mesh.face_materials.push_back(0);
+    if (mesh.materials.empty()) mesh.materials.push_back(Material{"red", {1, 0, 0, 1}, -1});
+}
+
+struct Baked {
+    Status status;
+    std::unique_ptr<EnhancedBillboardsPackage> package;
+};
+
+Baked bake_mesh(const Mesh& mesh, const std::map<std::string, std::string>& options = {}, int threads = 0)
+{
+    SourceInfo source;
+    source.file_name = "test";
+    source.triangles = mesh.triangle_count();
+    BakeParameters parameters;
+    for (const auto& [k, v] : options) parameters.set(k, v);
+    Progress progress;
+    BakeContext context{mesh, source, parameters, progress, threads};
+    Result<std::unique_ptr<Package>> result = bake(context);
+    Baked out;
+    if (!result) {
+        out.status = result.status();
+        return out;
+    }
+    out.package.reset(static_cast<EnhancedBillboardsPackage*>(result->release()));
+    return out;
+}
+
+// Captured plus left accounts for every bit of the surface.
+void expect_accounted(const EnhancedBillboardsPackage& p)
+{
+    double left = 0.0;
+    for (const auto& [reason, what] : p.left) left += what.area;
+    EXPECT_NEAR((p.area_captured + left) / p.area_total, 1.0, 1e-9);
+    double per_board = 0.0;
+    for (const Billboard& b : p.billboards) per_board += b.captured_area;
+    EXPECT_NEAR(per_board, p.area_captured, 1e-9 * p.area_total);
+}
+
+std::size_t covered_texels(const Billboard& b)
+{
+    std::size_t n = 0;
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) n += b.color.at(x, y)[3] == 255;
+    return n;
+}
+
+TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
+{
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "16"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const EnhancedBillboardsPackage& p = *baked.package;
+    ASSERT_EQ(p.billboards.size(), 1u);
+    const Billboard& b = p.billboards[0];
+    EXPECT_EQ(b.direction, glm::vec3(0, 0, -1));
+    EXPECT_NEAR(b.texel_size, std::sqrt(2.0f) / 16.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(glm::cross(b.axis_u, b.axis_v), b.direction), 1.0f, 1e-6f); // right-handed (u, v, w)
+    // exactly the texels whose centres lie inside the square are covered, with its colour, normal and depth 0
+    std::size_t inside = 0;
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+            glm::vec3 centre = b.origin + (x + 0.5f) * b.texel_size * b.axis_u + (y + 0.5f) * b.texel_size * b.axis_v;
+            bool in = centre.x > 0.0f && centre.x < 1.0f && centre.y > 0.0f && centre.y < 1.0f;
+            const std::uint8_t* c = b.color.at(x, y);
+            const std::uint16_t* nd = b.normal_depth.at(x, y);
+            EXPECT_EQ(c[3], in ? 255 : 0) << x << "," << y;
+            if (!in) continue;
+            ++inside;
+            EXPECT_EQ(c[0], 255);
+            EXPECT_EQ(c[1], 0);
+            EXPECT_EQ(nd[2], 65535);
+            EXPECT_NEAR(nd[0], 32768, 1);
+            EXPECT_EQ(nd[3], 0);
+        }
+    EXPECT_GE(inside, 100u);
+    EXPECT_EQ(b.captured_faces, 2u);
+    EXPECT_NEAR(p.area_captured, 1.0, 1e-6);
+    // cropped to the content plus one empty texel
+    EXPECT_LE(b.width, 14);
+    expect_accounted(p);
+}
+
+TEST(BakeBillboards, OccludedSurfaceGoesToASecondBillboard)
+{
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    add_square(mesh, 0.5f, 0.25f, 0.75f); // in front of the middle of the first, seen from +z
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const EnhancedBillboardsPackage& p = *baked.package;
+    ASSERT_EQ(p.billboards.size(), 2u);
+    for (const Billboard& b : p.billboards) EXPECT_EQ(b.direction, glm::vec3(0, 0, -1));
+    EXPECT_NEAR(p.area_captured / p.area_total, 1.0, 1e-9);
+    // the second billboard holds the hidden middle of the back square: a hole of covered texels
+    EXPECT_GT(covered_texels(p.billboards[1]), 100u);
+    expect_accounted(p);
+}
+
+TEST(BakeBillboards, IntersectingFacesBypassTheOcclusionTest)
+{
+    // two large triangles crossing each other along x = 0.5: each hides part of the other from +z
+    Mesh mesh = make_mesh({{0, 0, 0.2f}, {1, 0, -0.2f}, {0.5f, 1, 0}, {0, 0, -0.2f}, {1, 0, 0.2f}, {0.5f, 1, 0}}, {0, 1, 2, 3, 4, 5});
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    EXPECT_NEAR(baked.package->area_captured / baked.package->area_total, 1.0, 1e-9);
+    EXPECT_LE(baked.package->billboards.size(), 3u);
+}
+
+TEST(BakeBillboards, TexturedAlbedoIsSampledPerTexel)
+{
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    mesh.colors.assign(4, glm::vec4(1.0f));
+    mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    Texture texture;
+    texture.width = 2, texture.height = 1;
+    texture.rgba = {255, 0, 0, 255, 0, 255, 0, 255}; // red | green
+    mesh.textures.push_back(texture);
+    mesh.materials[0].base_color_texture = 0;
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const Billboard& b = baked.package->billboards.at(0);
+    int red = 0, green = 0;
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+            glm::vec3 centre = b.origin + (x + 0.5f) * b.texel_size * b.axis_u + (y + 0.5f) * b.texel_size * b.axis_v;
+            const std::uint8_t* c = b.color.at(x, y);
+            // texel centres of the 2x1 texture sit at u = 0.25 (red) and 0.75 (green); the
+            // corners (u = 0 or 1) sample a 50/50 blend, so pure colours prove per-texel lookup
+            if (c[3] == 0) continue;
+            if (std::abs(centre.x - 0.25f) < 0.05f) red += c[0] > 200 && c[1] < 60;
+            if (std::abs(centre.x - 0.75f) < 0.05f) green += c[1] > 200 && c[0] < 60;
+        }
+    EXPECT_GT(red, 80);
+    EXPECT_GT(green, 80);
+}
+
+TEST(BakeBillboards, GrazingEverywhereIsLeftWithItsReason)
+{
+    // normal (1,1,1)/sqrt(3) is 35° from every axis: grazing for all six axis directions at 40°
+    Mesh mesh = make_mesh({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {0, 1, 2});
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"grazing-angle", "40"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    EXPECT_TRUE(baked.package->billboards.empty());
+    ASSERT_EQ(baked.package->left.count("grazing"), 1u);
+    EXPECT_EQ(baked.package->left.at("grazing").faces, 1u);
+    expect_accounted(*baked.package);
+}
+
+TEST(BakeBillboards, ClosedModelsAreCapturedWithFewBillboards)
+{
+    for (GeneratedShape shape : {GeneratedShape::sphere, GeneratedShape::torus, GeneratedShape::noisy_sphere}) {
+        GenerateOptions options;
+        options.shape = shape;
+        options.target_triangles = 20000;
+        Result<Mesh> mesh = generate_mesh(options);
+        ASSERT_TRUE(mesh) << mesh.status().message();
+        Baked baked = bake_mesh(*mesh);
+        ASSERT_TRUE(baked.status) << baked.status.message();
+        const EnhancedBillboardsPackage& p = *baked.package;
+        EXPECT_GE(p.area_captured / p.area_total, 0.99) << int(shape);
+        EXPECT_GE(p.billboards.size(), 3u) << int(shape);
+        EXPECT_LE(p.billboards.size(), 10u) << int(shape);
+        EXPECT_GT(p.coarse_mesh.triangle_count(), 0u);
+        EXPECT_LT(p.coarse_mesh.triangle_count(), mesh->triangle_count() / 5);
+        expect_accounted(p);
+    }
+}
+
+TEST(BakeBillboards, GreedyNeedsFewerBillboardsThanAxis)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::torus;
+    options.target_triangles = 20000;
+    Result<Mesh> mesh = generate_mesh(options);
+    ASSERT_TRUE(mesh);
+    Baked greedy = bake_mesh(*mesh, {{"coarse-ratio", "0"}});
+    Baked axis = bake_mesh(*mesh, {{"directions", "axis"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(greedy.status && axis.status);
+    EXPECT_LT(greedy.package->billboards.size(), axis.package->billboards.size());
+}
+
+TEST(BakeBillboards, MaxBillboardsStopsAndRecordsWhatWasLeft)
+{
+    GenerateOptions options;
+    options.target_triangles = 5000;
+    Result<Mesh> mesh = generate_mesh(options);
+    ASSERT_TRUE(mesh);
+    Baked baked = bake_mesh(*mesh, {{"max-billboards", "1"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    EXPECT_EQ(baked.package->billboards.size(), 1u);
+    ASSERT_EQ(baked.package->left.count("max_billboards"), 1u);
+    EXPECT_GT(baked.package->left.at("max_billboards").area, 0.3 * baked.package->area_total);
+    expect_accounted(*baked.package);
+}
+
+TEST(BakeBillboards, ResultDoesNotDependOnThreads)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::noisy_sphere;
+    options.target_triangles = 20000;
+    Result<Mesh> mesh = generate_mesh(options);
+    ASSERT_TRUE(mesh);
+    Baked one = bake_mesh(*mesh, {}, 1);
+    Baked two = bake_mesh(*mesh, {}, 2);
+    ASSERT_TRUE(one.status && two.status);
+    ASSERT_EQ(one.package->billboards.size(), two.package->billboards.size());
+    EXPECT_EQ(one.package->area_captured, two.package->area_captured);
+    for (std::size_t k = 0; k < one.package->billboards.size(); ++k) {
+        const Billboard &a = one.package->billboards[k], &b = two.package->billboards[k];
+        EXPECT_EQ(a.origin, b.origin);
+        EXPECT_EQ(a.color.pixels, b.color.pixels);
+        EXPECT_EQ(a.normal_depth.pixels, b.normal_depth.pixels);
+    }
+    EXPECT_EQ(one.package->coarse_mesh.indices, two.package->coarse_mesh.indices);
+}
+
+TEST(BakeBillboards, BadParametersAndMeshesAreRefused)
+{
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    const std::map<std::string, std::string> bad[] = {
+        {{"resolution", "0"}},      {{"resolution", "abc"}},       {{"depth-limit", "-1"}},
+        {{"depth-limit", "nan"}},   {{"grazing-angle", "95"}},     {{"depth-bits", "12"}},
+        {{"texel-size", "0"}},      {{"texel-size", "1e-9"}},      {{"directions", "cube"}},
+        {{"score", "best"}},        {{"min-coverage", "2"}},       {{"coarse-ratio", "-0.5"}},
+        {{"directions", "axis"}, {"direction-count", "10"}},        {{"unknown-option", "1"}},
+    };
+    for (const auto& options : bad) {
+        Baked baked = bake_mesh(mesh, options);
+        ASSERT_FALSE(baked.status) << options.begin()->first;
+        EXPECT_EQ(baked.status.code(), StatusCode::invalid_argument);
+        // the message names the option
+        bool named = false;
+        for (const auto& [name, value] : options) named |= baked.status.message().find("--" + name) != std::string::npos;
+        EXPECT_TRUE(named) << baked.status.message();
+    }
+    Mesh empty;
+    empty.materials.push_back(Material{});
+    Baked baked = bake_mesh(empty);
+    EXPECT_FALSE(baked.status);
+}
+
+TEST(BakeBillboards, EightBitDepthIsQuantisedInMemory)
+{
+    GenerateOptions options;
+    options.target_triangles = 2000;
+    Result<Mesh> mesh = generate_mesh(options);
+    ASSERT_TRUE(mesh);
+    Baked baked = bake_mesh(*mesh, {{"depth-bits", "8"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status);
+    for (const Billboard& b : baked.package->billboards)
+        for (std::uint16_t v : b.normal_depth.pixels) ASSERT_EQ(v % 257, 0);
+}
+
+} // namespace
+} // namespace standin::billboards

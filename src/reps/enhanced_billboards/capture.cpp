@@ -1,0 +1,603 @@
+// Capturing the faces one enhanced billboard can hold, exactly.
+// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.1 conditions 1-3, §3.2 steps 6-9, §4.3).
+//
+// For a direction w the faces still to capture are split into
+//   S   facing the plane (n.w < 0), and S_p those of S not grazing (-n.w >= sin(grazing angle));
+//   the plane sits at the front of S_p;
+//   S'  faces of S_p that lie entirely within the depth limit;
+//   S'' faces of S' that no other face hides, decided with an item buffer: every face of S within
+//       the depth slab (grazing ones too: they are surface in front of what they hide) is
+//       rasterised at texel centres with a depth test, keeping (depth, face id) per texel; a face
+//       is hidden if any of its texels is won by a face in front of it by more than a tolerance.
+// Differences from the seed, which used GPU occlusion queries:
+// - exact CPU rasterisation: 8-bit sub-texel fixed point, 64-bit edge functions and a top-left fill
+//   rule, so neighbouring faces cover each texel centre exactly once and never "occlude" each other
+//   at shared edges. The depth test is an atomic min on a packed (depth, face id) key, so the
+//   result is the same for any thread count and ties go to the lower face id.
+// - tolerance: a face is hidden only where the winner is nearer by more than texel * (1 + slope),
+//   slope = tan(angle between the face and the plane): the depth a smooth surface varies across one
+//   texel, so coincident or touching surfaces do not hide each other.
+// - faces smaller than a texel: the seed dropped faces whose projection covers less than a pixel,
+//   which at 512 texels per diagonal is most of a million-face model. Here a face that covers no
+//   texel centre is splatted at its centroid's texel and tested there: it is captured when it is
+//   not behind the winner of that texel (same tolerance) and that winner is captured, since the
+//   winner's texel then stands for it. Only faces foreshortened by this direction (grazing) are
+//   refused, and they stay for another direction.
+// - intersecting faces (seed §4.3: they hide each other in every direction): a hidden face whose
+//   every occluder (up to k_max_occluders of them) is in turn hidden by it, directly or through a
+//   cycle of faces hiding each other (a strongly connected component of the "is hidden by"
+//   graph), bypasses the test.
+// - seams: a one-texel rim of the front-most surface around the captured texels is written and
+//   marked covered, where its depth continues that of the captured neighbour, so that billboards
+//   meeting at a seam overlap by a texel instead of leaving a crack.
+#include "reps/enhanced_billboards/capture.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace standin::billboards {
+
+namespace {
+
+constexpr int k_subtexel_bits = 8;
+constexpr std::int64_t k_subtexel = 1 << k_subtexel_bits;
+constexpr std::uint32_t k_none = 0xffffffffu;
+constexpr std::uint64_t k_empty = ~0ull;
+constexpr int k_max_occluders = 8;
+constexpr int k_grid_margin = 2;       // texels of empty border around everything rasterised
+constexpr float k_rim_depth_texels = 3.0f; // a rim texel continues its neighbour within this depth
+constexpr double k_depth_scale = 4294967040.0; // depth keys use 32 bits
+
+// Everything one capture needs about the direction and its texel grid.
+struct Grid {
+    glm::dvec3 center{0.0}, u{0.0}, v{0.0}, w{0.0};
+    double texel = 1.0;
+    int x0 = 0, y0 = 0;        // grid texel (0, 0) is plane texel (x0, y0) around the centre
+    int width = 0, height = 0;
+    float z_base = 0.0f, z_span = 1.0f; // depth keys cover [z_base, z_base + z_span]
+    std::vector<float> a, b, z;          // per vertex: plane coordinates in texels, depth along w
+    std::vector<std::int32_t> fx, fy;    // per vertex: fixed-point grid coordinates
+    std::vector<std::uint64_t> items;    // per texel: (quantised depth << 32) | face id
+
+    std::uint32_t key_depth(float depth) const
+    {
+        double t = (double(depth) - z_base) / z_span;
+        return std::uint32_t(std::clamp(t, 0.0, 1.0) * k_depth_scale);
+    }
+    float depth_of_key(std::uint64_t key) const { return float(z_base + double(key >> 32) / k_depth_scale * z_span); }
+};
+
+struct Corners {
+    std::int64_t x[3], y[3];
+    float z[3];
+};
+
+Corners corners(const Mesh& mesh, const Grid& grid, std::uint32_t face)
+{
+    Corners c{};
+    for (int k = 0; k < 3; ++k) {
+        std::uint32_t vertex = mesh.indices[std::size_t(face) * 3 + k];
+        c.x[k] = grid.fx[vertex];
+        c.y[k] = grid.fy[vertex];
+        c.z[k] = grid.z[vertex];
+    }
+    return c;
+}
+
+std::int64_t edge(const Corners& c, int a, int b, std::int64_t px, std::int64_t py)
+{
+    return (c.x[b] - c.x[a]) * (py - c.y[a]) - (c.y[b] - c.y[a]) * (px - c.x[a]);
+}
+
+// Calls visit(i, j, weights) for every texel centre (i + 0.5, j + 0.5) inside the triangle under
+// the top-left rule, weights being the barycentric weights of the face's three corners; returns
+// how many texels were visited.
+template <typename Visit>
+int rasterize(const Corners& c, Visit&& visit)
+{
+    int order[3] = {0, 1, 2};
+    std::int64_t area2 = edge(c, 0, 1, c.x[2], c.y[2]);
+    if (area2 == 0) return 0;
+    if (area2 < 0) {
+        std::swap(order[1], order[2]);
+        area2 = -area2;
+    }
+    // an edge owns the texel centres on it when it is a "top" or "left" edge; the reversed edge of
+    // the neighbouring face then does not, so shared edges cover each centre once
+    std::int64_t bias[3];
+    for (int k = 0; k < 3; ++k) {
+        int from = order[(k + 1) % 3], to = order[(k + 2) % 3];
+        std::int64_t dx = c.x[to] - c.x[from], dy = c.y[to] - c.y[from];
+        bias[k] = (dy > 0 || (dy == 0 && dx < 0)) ? 0 : 1;
+    }
+    std::int64_t min_x = std::min({c.x[0], c.x[1], c.x[2]}), max_x = std::max({c.x[0], c.x[1], c.x[2]});
+    std::int64_t min_y = std::min({c.y[0], c.y[1], c.y[2]}), max_y = std::max({c.y[0], c.y[1], c.y[2]});
+    auto first_centre = [](std::int64_t lo) { // smallest i with i * S + S/2 >= lo (lo >= 0)
+        std::int64_t t = lo - k_subtexel / 2;
+        return t <= 0 ? std::int64_t(0) : (t + k_subtexel - 1) / k_subtexel;
+    };
+    std::int64_t i0 = first_centre(min_x), i1 = (max_x - k_subtexel / 2) >> k_subtexel_bits;
+    std::int64_t j0 = first_centre(min_y), j1 = (max_y - k_subtexel / 2) >> k_subtexel_bits;
+    int count = 0;
+    double inverse = 1.0 / double(area2);
+    for (std::int64_t j = j0; j <= j1; ++j) {
+        std::int64_t py = j * k_subtexel + k_subtexel / 2;
+        for (std::int64_t i = i0; i <= i1; ++i) {
+            std::int64_t px = i * k_subtexel + k_subtexel / 2;
+            std::int64_t e[3];
+            bool inside = true;
+            for (int k = 0; k < 3 && inside; ++k) {
+                e[k] = edge(c, order[(k + 1) % 3], order[(k + 2) % 3], px, py);
+                inside = e[k] >= bias[k];
+            }
+            if (!inside) continue;
+            float weights[3];
+            for (int k = 0; k < 3; ++k) weights[order[k]] = float(double(e[k]) * inverse);
+            visit(int(i), int(j), weights);
+            ++count;
+        }
+    }
+    return count;
+}
+
+// The texel holding a face's centroid, and the centroid's depth.
+void centroid_texel(const Corners& c, int& i, int& j, float& depth)
+{
+    i = int((c.x[0] + c.x[1] + c.x[2]) / (3 * k_subtexel));
+    j = int((c.y[0] + c.y[1] + c.y[2]) / (3 * k_subtexel));
+    depth = (c.z[0] + c.z[1] + c.z[2]) / 3.0f;
+}
+
+// Barycentric weights of the point of the face nearest (in weights) to texel centre (i, j); used
+// to read attributes of a face that won a texel by its centroid splat.
+void clamped_weights(const Corners& c, int i, int j, float weights[3])
+{
+    std::int64_t px = std::int64_t(i) * k_subtexel + k_subtexel / 2, py = std::int64_t(j) * k_subtexel + k_subtexel / 2;
+    std::int64_t area2 = edge(c, 0, 1, c.x[2], c.y[2]);
+    if (area2 == 0) {
+        weights[0] = weights[1] = weights[2] = 1.0f / 3.0f;
+        return;
+    }
+    double e[3] = {double(edge(c, 1, 2, px, py)), double(edge(c, 2, 0, px, py)), double(edge(c, 0, 1, px, py))};
+    double sum = 0.0;
+    for (double& x : e) {
+        x = std::max(0.0, x / double(area2));
+        sum += x;
+    }
+    for (int k = 0; k < 3; ++k) weights[k] = sum > 0.0 ? float(e[k] / sum) : 1.0f / 3.0f;
+}
+
+void atomic_min(std::uint64_t& slot, std::uint64_t value)
+{
+    std::atomic_ref<std::uint64_t> ref(slot);
+    std::uint64_t current = ref.load(std::memory_order_relaxed);
+    while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+    }
+}
+
+template <typename Body>
+void parallel_over(std::size_t count, Body&& body)
+{
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k != r.end(); ++k) body(k);
+    });
+}
+
+// What the classification of the remaining faces found.
+struct Sets {
+    std::vector<std::uint32_t> occluders;  // S within the depth slab, ascending
+    std::vector<std::uint32_t> candidates; // S', ascending
+    std::vector<float> tolerance;          // per candidate, world units
+    float front = 0.0f;                    // plane depth
+};
+
+Sets classify(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining, const Grid& grid,
+              const CaptureSettings& settings)
+{
+    // per face: 1 facing, 2 projectable; depth range
+    std::vector<std::uint8_t> kind(remaining.size());
+    std::vector<float> z_min(remaining.size()), z_max(remaining.size());
+    glm::vec3 w(grid.w);
+    parallel_over(remaining.size(), [&](std::size_t r) {
+        std::uint32_t f = remaining[r];
+        float facing = -glm::dot(faces.normal[f], w);
+        float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+        for (int k = 0; k < 3; ++k) {
+            float z = grid.z[mesh.indices[std::size_t(f) * 3 + k]];
+            lo = std::min(lo, z);
+            hi = std::max(hi, z);
+        }
+        z_min[r] = lo;
+        z_max[r] = hi;
+        bool real = faces.area[f] > 0.0;
+        kind[r] = std::uint8_t((real && facing > 0.0f ? 1 : 0) | (real && facing >= settings.min_facing ? 2 : 0));
+    });
+    Sets sets;
+    sets.front = std::numeric_limits<float>::max();
+    for (std::size_t r = 0; r < remaining.size(); ++r)
+        if (kind[r] & 2) sets.front = std::min(sets.front, z_min[r]);
+    if (sets.front == std::numeric_limits<float>::max()) return sets;
+    float back = sets.front + settings.depth_limit;
+    for (std::size_t r = 0; r < remaining.size(); ++r) {
+        if (!(kind[r] & 1) || z_min[r] >= back) continue;
+        sets.occluders.push_back(remaining[r]);
+        if ((kind[r] & 2) && z_max[r] <= back) {
+            sets.candidates.push_back(remaining[r]);
+            float c = std::max(-glm::dot(faces.normal[remaining[r]], w), settings.min_facing);
+            c = std::max(c, 1e-3f);
+            float slope = std::sqrt(std::max(0.0f, 1.0f - c * c)) / c;
+            sets.tolerance.push_back(settings.texel_size * (1.0f + slope));
+        }
+    }
+    return sets;
+}
+
+// Sizes the grid to the occluders and converts their corners to fixed point.
+void place_grid(const Mesh& mesh, const Sets& sets, Grid& grid)
+{
+    float lo_a = std::numeric_limits<float>::max(), hi_a = std::numeric_limits<float>::lowest();
+    float lo_b = lo_a, hi_b = hi_a, lo_z = lo_a, hi_z = hi_a;
+    for (std::uint32_t f : sets.occluders)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t vertex = mesh.indices[std::size_t(f) * 3 + k];
+            lo_a = std::min(lo_a, grid.a[vertex]);
+            hi_a = std::max(hi_a, grid.a[vertex]);
+            lo_b = std::min(lo_b, grid.b[vertex]);
+            hi_b = std::max(hi_b, grid.b[vertex]);
+            lo_z = std::min(lo_z, grid.z[vertex]);
+            hi_z = std::max(hi_z, grid.z[vertex]);
+        }
+    grid.x0 = int(std::floor(lo_a)) - k_grid_margin;
+    grid.y0 = int(std::floor(lo_b)) - k_grid_margin;
+    grid.width = int(std::ceil(hi_a)) - grid.x0 + k_grid_margin + 1;
+    grid.height = int(std::ceil(hi_b)) - grid.y0 + k_grid_margin + 1;
+    grid.z_base = lo_z;
+    grid.z_span = std::max(hi_z - lo_z, 1e-20f);
+    grid.fx.resize(grid.a.size());
+    grid.fy.resize(grid.a.size());
+    parallel_over(grid.a.size(), [&](std::size_t vertex) {
+        grid.fx[vertex] = std::int32_t(std::llround((double(grid.a[vertex]) - grid.x0) * k_subtexel));
+        grid.fy[vertex] = std::int32_t(std::llround((double(grid.b[vertex]) - grid.y0) * k_subtexel));
+    });
+    grid.items.assign(std::size_t(grid.width) * grid.height, k_empty);
+}
+
+// Item buffer: the front-most occluder per texel centre; faces covering no centre are splatted at
+// their centroid.
+void fill_items(const Mesh& mesh, const Sets& sets, Grid& grid)
+{
+    parallel_over(sets.occluders.size(), [&](std::size_t r) {
+        std::uint32_t f = sets.occluders[r];
+        Corners c = corners(mesh, grid, f);
+        auto put = [&](int i, int j, float depth) {
+            atomic_min(grid.items[std::size_t(j) * grid.width + i], (std::uint64_t(grid.key_depth(depth)) << 32) | f);
+        };
+        int covered = rasterize(c, [&](int i, int j, const float* wt) { put(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]); });
+        if (covered == 0) {
+            int i, j;
+            float depth;
+            centroid_texel(c, i, j, depth);
+            put(i, j, depth);
+        }
+    });
+}
+
+struct Visibility {
+    bool hidden = false;
+    bool sub_texel = false;
+    int occluder_count = 0; // -1: more than k_max_occluders
+    std::uint32_t occluders[k_max_occluders]{};
+    std::uint32_t centroid_winner = k_none;
+
+    void add_occluder(std::uint32_t g)
+    {
+        hidden = true;
+        if (occluder_count < 0) return;
+        for (int k = 0; k < occluder_count; ++k)
+            if (occluders[k] == g) return;
+        if (occluder_count == k_max_occluders) {
+            occluder_count = -1;
+            return;
+        }
+        occluders[occluder_count++] = g;
+    }
+};
+
+std::vector<Visibility> test_visibility(const Mesh& mesh, const Sets& sets, const Grid& grid)
+{
+    std::vector<Visibility> result(sets.candidates.size());
+    parallel_over(sets.candidates.size(), [&](std::size_t r) {
+        std::uint32_t f = sets.candidates[r];
+        Corners c = corners(mesh, grid, f);
+        Visibility& vis = result[r];
+        float tolerance = sets.tolerance[r];
+        auto test = [&](int i, int j, float depth) {
+            std::uint64_t key = grid.items[std::size_t(j) * grid.width + i];
+            std::uint32_t winner = std::uint32_t(key & 0xffffffffu);
+            if (winner == f || key == k_empty) return winner;
+            if (grid.depth_of_key(key) < depth - tolerance) vis.add_occluder(winner);
+            return winner;
+        };
+        int covered = rasterize(c, [&](int i, int j, const float* wt) { test(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]); });
+        if (covered == 0) {
+            int i, j;
+            float depth;
+            centroid_texel(c, i, j, depth);
+            vis.sub_texel = true;
+            vis.centroid_winner = test(i, j, depth);
+        }
+    });
+    return result;
+}
+
+// Strongly connected components of the "is hidden by" graph over the candidates (iterative
+// Tarjan); returns a component id per candidate. Edges to non-candidates are ignored.
+std::vector<std::uint32_t> hiding_components(const Sets& sets, const std::vector<Visibility>& vis,
+                                             const std::vector<std::uint32_t>& slot)
+{
+    std::size_t n = sets.candidates.size();
+    std::vector<std::uint32_t> index(n, k_none), low(n, 0), component(n, k_none), stack;
+    std::vector<std::uint8_t> on_stack(n, 0);
+    std::vector<std::pair<std::uint32_t, int>> calls; // (node, next edge)
+    std::uint32_t counter = 0, components = 0;
+    auto target = [&](std::uint32_t node, int k) { return slot[vis[node].occluders[k]]; };
+    for (std::uint32_t root = 0; root < n; ++root) {
+        if (index[root] != k_none || !vis[root].hidden) continue;
+        calls.push_back({root, 0});
+        index[root] = low[root] = counter++;
+        stack.push_back(root);
+        on_stack[root] = 1;
+        while (!calls.empty()) {
+            auto& [node, next] = calls.back();
+            if (next < std::max(vis[node].occluder_count, 0)) {
+                std::uint32_t to = target(node, next++);
+                if (to == k_none) continue;
+                if (index[to] == k_none) {
+                    index[to] = low[to] = counter++;
+                    stack.push_back(to);
+                    on_stack[to] = 1;
+                    calls.push_back({to, 0});
+                } else if (on_stack[to]) {
+                    low[node] = std::min(low[node], index[to]);
+                }
+                continue;
+            }
+            std::uint32_t done = node;
+            calls.pop_back();
+            if (!calls.empty()) low[calls.back().first] = std::min(low[calls.back().first], low[done]);
+            if (low[done] == index[done]) {
+                std::uint32_t member;
+                do {
+                    member = stack.back();
+                    stack.pop_back();
+                    on_stack[member] = 0;
+                    component[member] = components;
+                } while (member != done);
+                ++components;
+            }
+        }
+    }
+    return component;
+}
+
+// S'': visible faces; hidden faces whose every occluder is, directly or through others, hidden
+// by them (intersecting faces, seed §4.3: they would hide each other in every direction) are let
+// through; sub-texel faces only where the texel standing for them is captured. Returns a flag per
+// candidate.
+std::vector<std::uint8_t> decide_captured(const Sets& sets, const std::vector<Visibility>& vis,
+                                          const std::vector<std::uint32_t>& slot)
+{
+    std::size_t n = sets.candidates.size();
+    std::vector<std::uint32_t> component = hiding_components(sets, vis, slot);
+    std::vector<std::uint8_t> visible(n);
+    parallel_over(n, [&](std::size_t r) {
+        const Visibility& v = vis[r];
+        if (!v.hidden) {
+            visible[r] = 1;
+            return;
+        }
+        if (v.occluder_count <= 0) return;
+        for (int k = 0; k < v.occluder_count; ++k) {
+            std::uint32_t s = slot[v.occluders[k]];
+            if (s == k_none || component[s] != component[r]) return;
+        }
+        visible[r] = 1;
+    });
+    std::vector<std::uint8_t> captured(n);
+    parallel_over(n, [&](std::size_t r) {
+        if (!visible[r]) return;
+        const Visibility& v = vis[r];
+        if (!v.sub_texel || v.centroid_winner == sets.candidates[r]) {
+            captured[r] = 1;
+            return;
+        }
+        std::uint32_t s = v.centroid_winner == k_none ? k_none : slot[v.centroid_winner];
+        captured[r] = s != k_none && visible[s];
+    });
+    return captured;
+}
+
+// Writes the maps of the captured texels (and their rim), cropped to the content plus one texel.
+Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::uint32_t>& slot,
+                     const std::vector<std::uint8_t>& captured)
+{
+    int width = grid.width, height = grid.height;
+    std::vector<std::uint8_t> covered(std::size_t(width) * height, 0);
+    auto winner_at = [&](std::size_t t) { return std::uint32_t(grid.items[t] & 0xffffffffu); };
+    parallel_over(covered.size(), [&](std::size_t t) {
+        if (grid.items[t] == k_empty) return;
+        std::uint32_t s = slot[winner_at(t)];
+        covered[t] = s != k_none && captured[s];
+    });
+    // rim: front-most surface next to a captured texel, continuing its depth
+    std::vector<std::uint8_t> rim(covered.size(), 0);
+    float rim_depth = k_rim_depth_texels * float(grid.texel);
+    parallel_over(covered.size(), [&](std::size_t t) {
+        if (covered[t] || grid.items[t] == k_empty) return;
+        int i = int(t % width), j = int(t / width);
+        float depth = grid.depth_of_key(grid.items[t]);
+        const int di[4] = {1, -1, 0, 0}, dj[4] = {0, 0, 1, -1};
+        for (int k = 0; k < 4; ++k) {
+            int ni = i + di[k], nj = j + dj[k];
+            if (ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
+            std::size_t n = std::size_t(nj) * width + ni;
+            if (covered[n] && std::abs(grid.depth_of_key(grid.items[n]) - depth) <= rim_depth) {
+                rim[t] = 1;
+                return;
+            }
+        }
+    });
+    for (std::size_t t = 0; t < covered.size(); ++t) covered[t] |= rim[t];
+
+    // crop to the covered texels plus one empty texel of margin
+    int lo_i = width, hi_i = -1, lo_j = height, hi_j = -1;
+    for (int j = 0; j < height; ++j)
+        for (int i = 0; i < width; ++i)
+            if (covered[std::size_t(j) * width + i]) {
+                lo_i = std::min(lo_i, i), hi_i = std::max(hi_i, i);
+                lo_j = std::min(lo_j, j), hi_j = std::max(hi_j, j);
+            }
+    Billboard board;
+    if (hi_i < 0) return board;
+    lo_i -= 1, lo_j -= 1, hi_i += 1, hi_j += 1; // inside the grid: it has a margin of k_grid_margin
+    board.width = hi_i - lo_i + 1;
+    board.height = hi_j - lo_j + 1;
+
+    // surface point per covered texel: the winner's attributes at the texel centre
+    std::size_t n = std::size_t(board.width) * board.height;
+    std::vector<float> depth(n, 0.0f);
+    std::vector<glm::vec3> normal(n, glm::vec3(0.0f));
+    std::vector<glm::vec4> albedo(n, glm::vec4(0.0f));
+    parallel_over(n, [&](std::size_t k) {
+        int i = lo_i + int(k % board.width), j = lo_j + int(k / board.width);
+        std::size_t t = std::size_t(j) * width + i;
+        if (!covered[t]) return;
+        std::uint32_t f = winner_at(t);
+        Corners c = corners(mesh, grid, f);
+        float wt[3];
+        clamped_weights(c, i, j, wt);
+        depth[k] = wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2];
+        glm::vec3 sum(0.0f);
+        for (int v = 0; v < 3; ++v) sum += wt[v] * mesh.normals[mesh.indices[std::size_t(f) * 3 + v]];
+        float length = glm::length(sum);
+        normal[k] = length > 0.0f ? sum / length : glm::vec3(-grid.w);
+        albedo[k] = mesh.albedo_at(f, wt[1], wt[2]);
+    });
+    float front = std::numeric_limits<float>::max(), back = std::numeric_limits<float>::lowest();
+    for (std::size_t k = 0; k < n; ++k)
+        if (covered[std::size_t(lo_j + int(k / board.width)) * width + lo_i + int(k % board.width)]) {
+            front = std::min(front, depth[k]);
+            back = std::max(back, depth[k]);
+        }
+
+    board.texel_size = float(grid.texel);
+    board.depth_range = std::max(back - front, 0.01f * board.texel_size);
+    board.axis_u = glm::vec3(grid.u);
+    board.axis_v = glm::vec3(grid.v);
+    board.direction = glm::vec3(grid.w);
+    board.origin = glm::vec3(grid.center + grid.u * (double(grid.x0 + lo_i) * grid.texel) +
+                             grid.v * (double(grid.y0 + lo_j) * grid.texel) + grid.w * double(front));
+    board.color = ImageRGBA8(board.width, board.height);
+    board.normal_depth = ImageRGBA16(board.width, board.height);
+    auto unorm8 = [](float x) { return std::uint8_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f)); };
+    auto unorm16 = [](float x) { return std::uint16_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
+    for (int y = 0; y < board.height; ++y)
+        for (int x = 0; x < board.width; ++x) {
+            std::size_t k = std::size_t(y) * board.width + x;
+            if (!covered[std::size_t(lo_j + y) * width + lo_i + x]) continue;
+            std::uint8_t* rgba = board.color.at(x, y);
+            rgba[0] = unorm8(albedo[k].x), rgba[1] = unorm8(albedo[k].y), rgba[2] = unorm8(albedo[k].z), rgba[3] = 255;
+            std::uint16_t* nd = board.normal_depth.at(x, y);
+            for (int a = 0; a < 3; ++a) nd[a] = unorm16(normal[k][a] * 0.5f + 0.5f);
+            nd[3] = unorm16((depth[k] - front) / board.depth_range);
+        }
+    return board;
+}
+
+} // namespace
+
+FaceData compute_face_data(const Mesh& mesh)
+{
+    FaceData data;
+    std::size_t n = mesh.triangle_count();
+    data.normal.resize(n);
+    data.area.resize(n);
+    parallel_over(n, [&](std::size_t f) {
+        const std::uint32_t* idx = &mesh.indices[f * 3];
+        glm::dvec3 p0 = mesh.positions[idx[0]], p1 = mesh.positions[idx[1]], p2 = mesh.positions[idx[2]];
+        glm::dvec3 cross = glm::cross(p1 - p0, p2 - p0);
+        double length = glm::length(cross);
+        data.area[f] = 0.5 * length;
+        if (!(length > 0.0) || !std::isfinite(length)) {
+            data.area[f] = 0.0;
+            data.normal[f] = glm::vec3(0.0f);
+            return;
+        }
+        glm::vec3 normal(cross / length);
+        // a face wound against its vertex normals is oriented by them (models with flipped winding)
+        glm::vec3 shading = mesh.normals[idx[0]] + mesh.normals[idx[1]] + mesh.normals[idx[2]];
+        data.normal[f] = glm::dot(normal, shading) < 0.0f ? -normal : normal;
+    });
+    return data;
+}
+
+void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v)
+{
+    glm::vec3 up = std::abs(w.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(0, 0, 1);
+    v = glm::normalize(up - w * glm::dot(up, w));
+    u = glm::cross(v, w);
+}
+
+Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining,
+                          glm::vec3 w, const CaptureSettings& settings)
+{
+    assert(std::abs(glm::length(w) - 1.0f) < 1e-4f);
+    Capture capture;
+    // project every vertex: plane coordinates in texels and depth, relative to the bounds' centre
+    Grid grid;
+    glm::vec3 u, v;
+    plane_basis(w, u, v);
+    Bounds bounds = mesh.bounds();
+    grid.center = glm::dvec3(bounds.center());
+    grid.u = u, grid.v = v, grid.w = w;
+    grid.texel = settings.texel_size;
+    grid.a.resize(mesh.vertex_count());
+    grid.b.resize(mesh.vertex_count());
+    grid.z.resize(mesh.vertex_count());
+    parallel_over(mesh.vertex_count(), [&](std::size_t i) {
+        glm::dvec3 p = glm::dvec3(mesh.positions[i]) - grid.center;
+        grid.a[i] = float(glm::dot(p, grid.u) / grid.texel);
+        grid.b[i] = float(glm::dot(p, grid.v) / grid.texel);
+        grid.z[i] = float(glm::dot(p, grid.w));
+    });
+
+    // S, S' and the plane at the front of the projectable faces
+    Sets sets = classify(mesh, faces, remaining, grid, settings);
+    if (sets.candidates.empty()) return capture;
+    place_grid(mesh, sets, grid);
+
+    // S'': item buffer, then per face whether any of its texels is hidden
+    fill_items(mesh, sets, grid);
+    std::vector<std::uint32_t> slot(mesh.triangle_count(), k_none);
+    for (std::size_t r = 0; r < sets.candidates.size(); ++r) slot[sets.candidates[r]] = std::uint32_t(r);
+    std::vector<Visibility> visibility = test_visibility(mesh, sets, grid);
+    std::vector<std::uint8_t> captured = decide_captured(sets, visibility, slot);
+
+    for (std::size_t r = 0; r < sets.candidates.size(); ++r)
+        if (captured[r]) {
+            capture.faces.push_back(sets.candidates[r]);
+            capture.area += faces.area[sets.candidates[r]];
+        }
+    if (settings.write_maps && !capture.faces.empty()) {
+        capture.billboard = write_maps(mesh, grid, slot, captured);
+        capture.billboard.captured_faces = capture.faces.size();
+        capture.billboard.captured_area = capture.area;
+    }
+    return capture;
+}
+
+} // namespace standin::billboards

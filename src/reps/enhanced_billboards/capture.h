@@ -1,0 +1,46 @@
+// One step of the greedy construction (seed 000 §3.2 steps 5-9): for a projection direction, find
+// the faces one billboard can hold and, when asked, rasterise them into its maps. Internal to the
+// enhanced-billboards baker (bake.cpp); see capture.cpp for the method.
+#pragma once
+
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <standin/mesh.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace standin::billboards {
+
+// Per-face data computed once per bake.
+struct FaceData {
+    std::vector<glm::vec3> normal; // unit geometric normal, oriented to agree with the vertex normals
+    std::vector<double> area;      // world units squared; 0 for degenerate faces
+};
+FaceData compute_face_data(const Mesh& mesh);
+
+struct CaptureSettings {
+    float texel_size = 1.0f;    // world units per texel
+    float depth_limit = 1.0f;   // world units: captured faces lie within this depth of the plane
+    float min_facing = 0.0f;    // sin(grazing angle): faces with -n.w below it are not projected
+    bool write_maps = false;    // fill Capture::billboard (the final pass); off when only scoring
+};
+
+struct Capture {
+    std::vector<std::uint32_t> faces; // captured face ids (S''), ascending
+    double area = 0.0;                // their total area
+    Billboard billboard;              // with write_maps and a non-empty capture
+};
+
+// The right-handed plane basis (u, v, w) of a projection direction w, deterministic in w: v is the
+// world up (+Y, or +Z when w is nearly vertical) made orthogonal to w, u = v x w.
+void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v);
+
+// Captures what a billboard along unit direction w can hold of `remaining` (face ids, ascending).
+// Results do not depend on the number of threads.
+Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining,
+                          glm::vec3 w, const CaptureSettings& settings);
+
+} // namespace standin::billboards

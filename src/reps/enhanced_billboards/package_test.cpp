@@ -1,0 +1,213 @@
+// Enhanced-billboards packages on disk: round trip, byte-identical writes, refusal of damaged
+// packages with errors naming the file and field, and the `standin bake` / `standin info` commands.
+#include "reps/enhanced_billboards/billboards.h"
+
+#include "../../../tests/test_support.h"
+
+#include <standin/files.h>
+#include <standin/image.h>
+#include <standin/mesh.h>
+#include <standin/package.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+namespace standin::billboards {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::unique_ptr<EnhancedBillboardsPackage> baked_sphere(const std::map<std::string, std::string>& options = {})
+{
+    GenerateOptions generate;
+    generate.shape = GeneratedShape::noisy_sphere;
+    generate.target_triangles = 4000;
+    Result<Mesh> mesh = generate_mesh(generate);
+    EXPECT_TRUE(mesh);
+    Result<SourceInfo> source = describe_source("", *mesh);
+    BakeParameters parameters;
+    for (const auto& [k, v] : options) parameters.set(k, v);
+    Progress progress;
+    Result<std::unique_ptr<Package>> result = bake(BakeContext{*mesh, *source, parameters, progress, 0});
+    EXPECT_TRUE(result) << result.status().message();
+    return std::unique_ptr<EnhancedBillboardsPackage>(static_cast<EnhancedBillboardsPackage*>(result->release()));
+}
+
+std::map<std::string, std::string> directory_bytes(const std::string& directory)
+{
+    std::map<std::string, std::string> out;
+    for (const auto& entry : fs::directory_iterator(directory)) out[entry.path().filename().string()] = *read_file(entry.path().string());
+    return out;
+}
+
+nlohmann::json read_manifest(const std::string& directory)
+{
+    return nlohmann::json::parse(*read_file(directory + "/manifest.json"));
+}
+
+void write_manifest(const std::string& directory, const nlohmann::json& manifest)
+{
+    ASSERT_TRUE(write_file_atomic(directory + "/manifest.json", manifest.dump(2)));
+}
+
+// Reading fails, with a message containing `needle`.
+void expect_refused(const std::string& directory, const std::string& needle)
+{
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_FALSE(read);
+    EXPECT_NE(read.status().message().find(needle), std::string::npos) << read.status().message();
+}
+
+TEST(BillboardPackage, RoundTripKeepsEverything)
+{
+    auto baked = baked_sphere();
+    std::string directory = test::fresh_directory("billboard_round_trip") + "/sphere.standin";
+    ASSERT_TRUE(write_package(*baked, directory));
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    const auto& p = static_cast<const EnhancedBillboardsPackage&>(**read);
+    ASSERT_EQ(p.billboards.size(), baked->billboards.size());
+    for (std::size_t k = 0; k < p.billboards.size(); ++k) {
+        const Billboard &a = p.billboards[k], &b = baked->billboards[k];
+        EXPECT_EQ(a.origin, b.origin);
+        EXPECT_EQ(a.axis_u, b.axis_u);
+        EXPECT_EQ(a.direction, b.direction);
+        EXPECT_EQ(a.texel_size, b.texel_size);
+        EXPECT_EQ(a.depth_range, b.depth_range);
+        EXPECT_EQ(a.color.pixels, b.color.pixels);
+        EXPECT_EQ(a.normal_depth.pixels, b.normal_depth.pixels);
+        EXPECT_EQ(a.captured_faces, b.captured_faces);
+    }
+    EXPECT_EQ(p.area_captured, baked->area_captured);
+    EXPECT_EQ(p.faces_total, baked->faces_total);
+    EXPECT_EQ(p.coarse_mesh.triangle_count(), baked->coarse_mesh.triangle_count());
+    EXPECT_GT(p.package_bytes, 0u);
+    nlohmann::json summary = p.summary();
+    for (const char* key : {"representation", "billboards", "faces_total", "area_captured_fraction", "area_left_fraction", "package_bytes"})
+        EXPECT_TRUE(summary.contains(key)) << key;
+    EXPECT_EQ(summary["representation"], "enhanced-billboards");
+}
+
+TEST(BillboardPackage, EightBitPackagesRoundTrip)
+{
+    auto baked = baked_sphere({{"depth-bits", "8"}});
+    std::string directory = test::fresh_directory("billboard_8bit") + "/sphere.standin";
+    ASSERT_TRUE(write_package(*baked, directory));
+    Result<int> bits = png_bit_depth(directory + "/billboard_000_normal_depth.png");
+    ASSERT_TRUE(bits);
+    EXPECT_EQ(*bits, 8);
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    const auto& p = static_cast<const EnhancedBillboardsPackage&>(**read);
+    EXPECT_EQ(p.billboards.at(0).normal_depth.pixels, baked->billboards.at(0).normal_depth.pixels);
+}
+
+TEST(BillboardPackage, WritesAreByteIdenticalAcrossThreadCounts)
+{
+    std::string base = test::fresh_directory("billboard_identical");
+    auto a = baked_sphere();
+    ASSERT_TRUE(write_package(*a, base + "/a.standin"));
+    std::map<std::string, std::string> first = directory_bytes(base + "/a.standin");
+    for (int threads : {1, 2}) {
+        GenerateOptions generate;
+        generate.shape = GeneratedShape::noisy_sphere;
+        generate.target_triangles = 4000;
+        Result<Mesh> mesh = generate_mesh(generate);
+        Result<SourceInfo> source = describe_source("", *mesh);
+        BakeParameters parameters;
+        Progress progress;
+        Result<std::unique_ptr<Package>> p = bake(BakeContext{*mesh, *source, parameters, progress, threads});
+        ASSERT_TRUE(p);
+        std::string directory = base + "/t" + std::to_string(threads) + ".standin";
+        ASSERT_TRUE(write_package(**p, directory));
+        EXPECT_EQ(directory_bytes(directory), first) << threads << " threads";
+    }
+}
+
+TEST(BillboardPackage, DamagedPackagesAreRefused)
+{
+    auto baked = baked_sphere({{"coarse-ratio", "0"}});
+    std::string base = test::fresh_directory("billboard_damaged");
+    auto fresh = [&](const std::string& name) {
+        std::string directory = base + "/" + name + ".standin";
+        EXPECT_TRUE(write_package(*baked, directory));
+        return directory;
+    };
+
+    std::string missing = fresh("missing");
+    fs::remove(missing + "/billboard_001_color.png");
+    expect_refused(missing, "billboard_001_color.png");
+
+    std::string truncated = fresh("truncated");
+    std::string bytes = *read_file(truncated + "/billboard_000_normal_depth.png");
+    ASSERT_TRUE(write_file_atomic(truncated + "/billboard_000_normal_depth.png", bytes.substr(0, bytes.size() / 2)));
+    expect_refused(truncated, "billboard_000_normal_depth.png");
+
+    // a valid PNG of the wrong size, with the manifest's hash updated to match
+    std::string resized = fresh("resized");
+    ASSERT_TRUE(write_png(ImageRGBA8(3, 3), resized + "/billboard_000_color.png"));
+    nlohmann::json manifest = read_manifest(resized);
+    std::string png = *read_file(resized + "/billboard_000_color.png");
+    manifest["files"]["billboard_000_color.png"] = {{"bytes", png.size()}, {"fnv1a64", hex64(hash_bytes(png))}};
+    write_manifest(resized, manifest);
+    expect_refused(resized, "3x3");
+
+    std::string bad_json = fresh("bad_json");
+    ASSERT_TRUE(write_file_atomic(bad_json + "/manifest.json", "{\"format\": \"standin-package\", "));
+    expect_refused(bad_json, "manifest.json");
+
+    std::string future = fresh("future");
+    manifest = read_manifest(future);
+    manifest["version"] = k_package_format_version + 1;
+    write_manifest(future, manifest);
+    Result<std::unique_ptr<Package>> read = read_package(future);
+    ASSERT_FALSE(read);
+    EXPECT_EQ(read.status().code(), StatusCode::unsupported);
+
+    std::string axis = fresh("axis");
+    manifest = read_manifest(axis);
+    manifest["billboards"][0]["axis_u"] = {2.0, 0.0, 0.0};
+    write_manifest(axis, manifest);
+    expect_refused(axis, "billboards[0].axis_u");
+
+    std::string field = fresh("field");
+    manifest = read_manifest(field);
+    manifest["billboards"][1].erase("depth_range");
+    write_manifest(field, manifest);
+    expect_refused(field, "billboards[1].depth_range");
+
+    std::string nonfinite = fresh("nonfinite");
+    manifest = read_manifest(nonfinite);
+    manifest["billboards"][0]["texel_size"] = -1.0;
+    write_manifest(nonfinite, manifest);
+    expect_refused(nonfinite, "billboards[0].texel_size");
+}
+
+TEST(BillboardPackage, BakeAndInfoCommands)
+{
+    std::string base = test::fresh_directory("billboard_cli");
+    ASSERT_EQ(test::run_cli("generate torus -t 5000 -o " + base + "/torus.ply").exit_code, 0);
+    test::CommandResult baked = test::run_cli("bake " + base + "/torus.ply -o " + base + "/torus.standin --threads 2");
+    ASSERT_EQ(baked.exit_code, 0) << baked.err;
+    EXPECT_NE(baked.err.find("billboards"), std::string::npos) << baked.err;
+    test::CommandResult info = test::run_cli("info " + base + "/torus.standin --json");
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    nlohmann::json summary = nlohmann::json::parse(info.out);
+    EXPECT_EQ(summary["representation"], "enhanced-billboards");
+    EXPECT_GE(summary["area_captured_fraction"].get<double>(), 0.99);
+    EXPECT_GT(summary["package_bytes"].get<std::uint64_t>(), 0u);
+    EXPECT_TRUE(summary["area_left_fraction"].is_object());
+
+    // bad options: exit 2, the option named, nothing written
+    test::CommandResult bad = test::run_cli("bake " + base + "/torus.ply -o " + base + "/bad.standin --resolution 0");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("--resolution"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(base + "/bad.standin"));
+    bad = test::run_cli("bake " + base + "/missing.ply -o " + base + "/bad.standin");
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_FALSE(fs::exists(base + "/bad.standin"));
+}
+
+} // namespace
+} // namespace standin::billboards
