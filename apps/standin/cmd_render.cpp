@@ -1,0 +1,85 @@
+// standin render: one picture of a model with the ground-truth renderer (or of a package with its
+// representation's renderer), offscreen, to PNG.
+#include "commands.h"
+#include "common.h"
+
+#include <standin/image.h>
+#include <standin/mesh.h>
+#include <standin/package.h>
+#include <standin/render.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace standin::cli {
+
+struct RenderArgs {
+    std::string input;
+    std::string output;
+    ViewArgs view;
+    RenderOptions options;
+    bool no_coarse = false;
+};
+
+static int run_render(RenderArgs& args)
+{
+    int width = 0, height = 0;
+    OrbitView view;
+    if (Status s = parse_view(args.view, width, height, view); !s) return fail(s);
+    args.options.coarse_mesh = !args.no_coarse;
+    if (Status s = check_render_options(args.options); !s) return fail(s);
+    if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
+        return fail(args.output + ": output must be a .png file");
+
+    // a directory is a package, drawn by its representation's renderer; a file is a model
+    Result<std::unique_ptr<GpuContext>> context = create_headless_context();
+    if (!context) return fail(context.status());
+    std::unique_ptr<Renderer> renderer;
+    BoundingSphere sphere;
+    if (std::filesystem::is_directory(args.input)) {
+        Result<std::unique_ptr<Package>> package = read_package(args.input);
+        if (!package) return fail(package.status());
+        const Representation* representation = find_representation((*package)->representation());
+        if (!representation) return fail(args.input + ": unknown representation " + (*package)->representation());
+        Result<std::unique_ptr<Renderer>> made = representation->make_renderer(**package, args.options);
+        if (!made) return fail(made.status());
+        renderer = std::move(*made);
+        // frame the package as its source model (Mesh::bounding_sphere)
+        const Bounds& bounds = (*package)->source.bounds;
+        sphere = {bounds.center(), 0.5f * bounds.diagonal()};
+    } else {
+        Result<Mesh> mesh = import_mesh(args.input);
+        if (!mesh) return fail(mesh.status());
+        Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*mesh);
+        if (!made) return fail(made.status());
+        renderer = std::move(*made);
+        sphere = mesh->bounding_sphere();
+    }
+
+    Camera camera = orbit_camera(sphere, view, float(width) / float(height));
+    Result<RenderedImage> image = render_offscreen(*renderer, camera, light_for(args.view, camera), width, height);
+    if (!image) return fail(image.status());
+    if (Status s = write_png(image->color, args.output); !s) return fail(s);
+    std::fprintf(stderr, "standin: wrote %s (%dx%d, %s)\n", args.output.c_str(), width, height,
+                 (*context)->device_name().c_str());
+    return k_exit_ok;
+}
+
+CommandRun add_render_command(CLI::App& root)
+{
+    auto args = std::make_shared<RenderArgs>();
+    CLI::App* command = root.add_subcommand(
+        "render", "Render a model (ground truth) or a .standin package to a PNG with a transparent background, "
+                  "from an orbit camera around the bounding sphere, lit by one directional light");
+    command->add_option("input", args->input, "Model file, or a NAME.standin package directory")->required();
+    command->add_option("-o,--output", args->output, "Output PNG")->required();
+    add_view_options(*command, args->view);
+    add_render_options(*command, args->options, args->no_coarse);
+    command->add_option("--debug-view", args->options.debug_view,
+                        "Package renderers: 'billboard' (colour by billboard), 'depth', 'normal', 'fetches' (heat map)")
+        ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches"}));
+    return [args] { return run_render(*args); };
+}
+
+} // namespace standin::cli

@@ -1,0 +1,135 @@
+// Height-field acceleration for the enhanced-billboard ray march, built at load time.
+// Level 0 links neighbouring texels that continue one surface (the depth map is a sheet, not a
+// solid: a jump larger than the local slope allows is an edge, and the ray passes it). Levels
+// above hold min/max depth over 2^k x 2^k texels, traversed hierarchically as in Tevs, Ihrke &
+// Seidel, "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field Rendering",
+// I3D 2008, with uncovered texels empty (Baboud & Decoret, GI 2006, for relief boxes of a closed
+// object).
+#include "reps/enhanced_billboards/acceleration.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace standin::billboards {
+
+// the stored shading normal of a texel, decoded
+static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
+{
+    const std::uint16_t* nd = billboard.normal_depth.at(i, j);
+    glm::vec3 n(nd[0], nd[1], nd[2]);
+    return n / 65535.0f * 2.0f - 1.0f;
+}
+
+// depth change per texel along `axis` that the normal implies, in texels of depth, capped
+static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction, float max_slope)
+{
+    float along = std::abs(glm::dot(normal, axis));
+    float across = std::abs(glm::dot(normal, direction));
+    if (along >= across * max_slope) return max_slope;
+    return along / across;
+}
+
+// links of every covered texel to its covered neighbours on the same surface
+static void link_neighbours(const Billboard& b, const LinkSettings& settings, HeightFieldAcceleration& acc)
+{
+    float codes_per_world = 65535.0f / std::max(b.depth_range, 1e-30f);
+    float quantum_codes = settings.depth_bits >= 16 ? 1.0f : 65535.0f / float((1 << settings.depth_bits) - 1);
+    auto at = [&](int i, int j) -> SurfaceTexel& { return acc.surface[std::size_t(j) * acc.width + i]; };
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            SurfaceTexel& texel = at(i, j);
+            if (!(texel.flags & k_texel_covered)) continue;
+            glm::vec3 n = texel_normal(b, i, j);
+            const int di[2] = {1, 0}, dj[2] = {0, 1};
+            const glm::vec3 axis[2] = {b.axis_u, b.axis_v};
+            const std::uint16_t bit_here[2] = {k_link_plus_u, k_link_plus_v};
+            const std::uint16_t bit_there[2] = {k_link_minus_u, k_link_minus_v};
+            for (int k = 0; k < 2; ++k) {
+                int ni = i + di[k], nj = j + dj[k];
+                if (ni >= b.width || nj >= b.height) continue;
+                SurfaceTexel& other = at(ni, nj);
+                if (!(other.flags & k_texel_covered)) continue;
+                float slope = std::max(normal_slope(n, axis[k], b.direction, settings.max_slope),
+                                       normal_slope(texel_normal(b, ni, nj), axis[k], b.direction, settings.max_slope));
+                // allowed jump: the steeper normal's slope with tolerance, half a texel of
+                // curvature, and two quantisation steps
+                float allowed = (settings.slope_tolerance * slope + 0.5f) * b.texel_size * codes_per_world +
+                                2.0f * quantum_codes;
+                float jump = std::abs(float(texel.depth) - float(other.depth));
+                if (jump > allowed) continue;
+                texel.flags |= bit_here[k];
+                other.flags |= bit_there[k];
+            }
+        }
+    }
+}
+
+HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width, int padded_height, int levels,
+                                           const LinkSettings& settings)
+{
+    assert(padded_width >= b.width && padded_height >= b.height);
+    assert(padded_width % (1 << levels) == 0 && padded_height % (1 << levels) == 0);
+    HeightFieldAcceleration acc;
+    acc.width = padded_width;
+    acc.height = padded_height;
+    acc.levels = levels;
+    acc.surface.assign(std::size_t(padded_width) * padded_height, SurfaceTexel{});
+
+    // level 0: depth and coverage
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            SurfaceTexel& texel = acc.surface[std::size_t(j) * padded_width + i];
+            if (b.color.at(i, j)[3] == 0) continue;
+            texel.depth = b.normal_depth.at(i, j)[3];
+            texel.flags = k_texel_covered;
+        }
+    }
+
+    // links between texels of one surface, then each texel's range over itself and its links
+    link_neighbours(b, settings, acc);
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            SurfaceTexel& texel = acc.surface[std::size_t(j) * padded_width + i];
+            if (!(texel.flags & k_texel_covered)) continue;
+            texel.min = texel.max = texel.depth;
+            auto include = [&](std::uint16_t bit, int ni, int nj) {
+                if (!(texel.flags & bit)) return;
+                std::uint16_t d = acc.surface[std::size_t(nj) * padded_width + ni].depth;
+                texel.min = std::min(texel.min, d);
+                texel.max = std::max(texel.max, d);
+            };
+            include(k_link_minus_u, i - 1, j);
+            include(k_link_plus_u, i + 1, j);
+            include(k_link_minus_v, i, j - 1);
+            include(k_link_plus_v, i, j + 1);
+        }
+    }
+
+    // min/max pyramid over the ranges (uncovered texels are empty: [65535, 0])
+    int w = padded_width, h = padded_height;
+    std::vector<MinMax> below(acc.surface.size());
+    for (std::size_t k = 0; k < below.size(); ++k) below[k] = {acc.surface[k].min, acc.surface[k].max};
+    for (int level = 1; level <= levels; ++level) {
+        int lw = w / 2, lh = h / 2;
+        std::vector<MinMax> here(std::size_t(lw) * lh);
+        for (int j = 0; j < lh; ++j) {
+            for (int i = 0; i < lw; ++i) {
+                MinMax m;
+                for (int c = 0; c < 4; ++c) {
+                    const MinMax& child = below[std::size_t(2 * j + (c >> 1)) * w + 2 * i + (c & 1)];
+                    m.min = std::min(m.min, child.min);
+                    m.max = std::max(m.max, child.max);
+                }
+                here[std::size_t(j) * lw + i] = m;
+            }
+        }
+        acc.pyramid.push_back(here);
+        below = std::move(here);
+        w = lw;
+        h = lh;
+    }
+    return acc;
+}
+
+} // namespace standin::billboards

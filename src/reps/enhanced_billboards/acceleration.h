@@ -1,0 +1,55 @@
+// The height-field acceleration the enhanced-billboard renderer marches: per texel the surface
+// depth, which neighbours continue the same surface, and a min/max depth pyramid for skipping empty
+// space. Built from a billboard's depth, normal and coverage at load time (deterministic, linear in
+// the texel count), so packages need not store it.
+#pragma once
+
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace standin::billboards {
+
+// Bits of SurfaceTexel::flags.
+enum : std::uint16_t {
+    k_texel_covered = 1u << 0,
+    k_link_minus_u = 1u << 1, // continues the surface of texel (i - 1, j)
+    k_link_plus_u = 1u << 2,  // ... (i + 1, j)
+    k_link_minus_v = 1u << 3, // ... (i, j - 1)
+    k_link_plus_v = 1u << 4,  // ... (i, j + 1)
+};
+
+// Level 0 of the march, one RGBA16UI texel. Depths are the package's 16-bit depth codes.
+// [min, max] holds the texel's depth and the depths of the neighbours it links to, so the range
+// contains the walls between linked texels; an uncovered texel holds the empty range [65535, 0].
+struct SurfaceTexel {
+    std::uint16_t depth = 0, min = 65535, max = 0, flags = 0;
+};
+
+struct MinMax {
+    std::uint16_t min = 65535, max = 0;
+};
+
+struct HeightFieldAcceleration {
+    int width = 0, height = 0;                // padded to multiples of 2^levels
+    int levels = 0;                           // pyramid levels above level 0
+    std::vector<SurfaceTexel> surface;        // width * height, row j = texel row j
+    std::vector<std::vector<MinMax>> pyramid; // level k (k = 1..levels) at pyramid[k - 1], cells of 2^k texels
+};
+
+// Two neighbouring covered texels belong to one surface when their depth difference is within
+// what the steeper of their stored normals allows across one texel (x slope_tolerance, with the
+// normal's slope capped at max_slope) plus depth quantisation; a larger jump is an edge.
+struct LinkSettings {
+    float slope_tolerance = 1.5f;
+    float max_slope = 8.0f;   // texels of depth per texel (about 83 degrees)
+    int depth_bits = 16;      // of the package: 8-bit depths quantise more coarsely
+};
+
+// Builds the acceleration of one billboard, padded to width x height (multiples of 2^levels, at
+// least the billboard's size).
+HeightFieldAcceleration build_acceleration(const Billboard& billboard, int padded_width, int padded_height,
+                                           int levels, const LinkSettings& settings);
+
+} // namespace standin::billboards

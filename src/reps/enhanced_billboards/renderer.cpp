@@ -1,0 +1,391 @@
+// The GPU renderer of enhanced billboards: per-pixel ray casting of each billboard's height field
+// inside its box (Vichitvejpaisal 2005, seeds/000_54bac8cf9a729e92.txt §3.3; 001 Fig. 7), with
+// the coarse mesh filling holes (000 §3.4).
+// Differences from the paper, all in shaders/march.frag:
+//  - default march "exact": the depth map is treated as a sheet of texel columns whose neighbours
+//    on one surface are joined by walls; the crossing is exact and independent of step size, found
+//    through a min/max depth pyramid (Tevs, Ihrke & Seidel, "Maximum Mipmaps", I3D 2008) built at
+//    load time (acceleration.cpp). "seed" keeps the paper's linear march and its holes.
+//  - every hit writes its true depth (conservative depth layout, so early depth testing stays);
+//  - boxes that cross the near plane are drawn from their back faces, rays starting at the eye;
+//  - the coarse mesh fills only pixels where rays came near a surface and missed.
+// All billboards of all instances are one instanced draw (plus one for boxes around the eye);
+// textures are 2D arrays, one layer per billboard, read with texelFetch (no filtering, so the
+// empty background never bleeds into the colour).
+#include "reps/enhanced_billboards/acceleration.h"
+#include "reps/enhanced_billboards/billboards.h"
+
+#include "gpu/frame.h"
+#include "gpu/gl.h"
+#include "gpu/shaders/common/bindings.h"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace standin::billboards {
+
+namespace {
+
+// std430 mirror of BillboardData in shaders/billboard.glsl
+struct BillboardGpu {
+    glm::mat4 object_from_box;
+    glm::mat4 box_from_object;
+    glm::ivec4 info; // layer, unused, width, height
+    glm::vec4 box_min, box_max;
+};
+static_assert(sizeof(BillboardGpu) == 176, "std430 layout of BillboardData");
+
+// The box of the covered texels and their depths, in box space (a billboard's box is often larger
+// than what it holds; a tighter box means fewer fragments and shorter rays). Empty: min > max.
+void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, BillboardGpu& g)
+{
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+            if (!(texel.flags & k_texel_covered)) continue;
+            lo = glm::min(lo, glm::vec3(float(i), float(j), float(texel.depth) / 65535.0f));
+            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), float(texel.depth) / 65535.0f));
+        }
+    }
+    // a margin of a hundredth of a texel in depth keeps flat sheets inside their box
+    g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, 1e-4f), 0.0f);
+    g.box_max = glm::vec4(hi + glm::vec3(0.0f, 0.0f, 1e-4f), 0.0f);
+}
+
+// at most 2^6-texel cells at the top of the pyramid: long rays cross a few top cells, and the
+// texture arrays pad to multiples of 64 texels only
+constexpr int k_max_pyramid_levels = 6;
+
+struct ProgramLocations {
+    GLint billboard_count = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, top_level = -1,
+          debug_view = -1, counting = -1, mark_pixels = -1;
+};
+
+class BillboardRenderer final : public Renderer {
+public:
+    static Result<std::unique_ptr<Renderer>> create(const EnhancedBillboardsPackage& package,
+                                                    const RenderOptions& options);
+    DrawStats draw(const DrawParams& params) override;
+    void set_counting(bool on) override;
+    std::uint64_t read_fetch_count() override;
+
+private:
+    Status upload_billboards(const EnhancedBillboardsPackage& package);
+    void upload_coarse_mesh(const Mesh& mesh);
+    void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at) const;
+    void prepare_pixel_flags(glm::ivec2 viewport);
+
+    RenderOptions options_;
+    int march_mode_ = MARCH_EXACT, debug_view_ = DEBUG_NONE;
+    gpu::Program front_, inside_, coarse_;
+    ProgramLocations front_at_, inside_at_;
+    GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
+    int billboard_count_ = 0, top_level_ = 0;
+    gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_;
+    gpu::Buffer billboards_, counters_;
+    gpu::VertexArray empty_vertex_array_, coarse_vertex_array_;
+    gpu::Buffer coarse_positions_, coarse_normals_, coarse_colors_, coarse_indices_;
+    GLsizei coarse_index_count_ = 0;
+    gpu::Texture pixel_flags_;
+    glm::ivec2 pixel_flags_size_{0};
+    gpu::FrameResources frame_;
+    bool counting_ = false;
+};
+
+int debug_view_code(const std::string& name)
+{
+    if (name.empty()) return DEBUG_NONE;
+    if (name == "billboard") return DEBUG_BILLBOARD;
+    if (name == "depth") return DEBUG_DEPTH;
+    if (name == "normal") return DEBUG_NORMAL;
+    if (name == "fetches") return DEBUG_FETCHES;
+    return -1;
+}
+
+gpu::Texture make_texture_array(GLenum internal_format, int width, int height, int layers, int levels)
+{
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    glTextureStorage3D(name, levels, internal_format, width, height, layers);
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return gpu::Texture(name);
+}
+
+// box space (x, y in texels, z in [0, 1] of the depth range) to object space
+glm::mat4 object_from_box(const Billboard& b)
+{
+    glm::mat4 m(1.0f);
+    m[0] = glm::vec4(b.axis_u * b.texel_size, 0.0f);
+    m[1] = glm::vec4(b.axis_v * b.texel_size, 0.0f);
+    m[2] = glm::vec4(b.direction * b.depth_range, 0.0f);
+    m[3] = glm::vec4(b.origin, 1.0f);
+    return m;
+}
+
+Status check_billboard(const Billboard& b, std::size_t index)
+{
+    std::string name = "enhanced billboards: billboard " + std::to_string(index);
+    if (b.width < 1 || b.height < 1) return error(StatusCode::bad_data, name + ": empty");
+    if (b.color.width != b.width || b.color.height != b.height || b.normal_depth.width != b.width ||
+        b.normal_depth.height != b.height)
+        return error(StatusCode::bad_data, name + ": image sizes differ from width x height");
+    if (!(b.texel_size > 0.0f) || !(b.depth_range > 0.0f))
+        return error(StatusCode::bad_data, name + ": texel_size and depth_range must be positive");
+    if (std::abs(glm::determinant(glm::mat3(b.axis_u, b.axis_v, b.direction))) < 0.5f)
+        return error(StatusCode::bad_data, name + ": axes are not an orthonormal frame");
+    return Status::ok();
+}
+
+Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
+{
+    std::vector<std::pair<std::string, std::string>> defines;
+    if (inside) defines.push_back({"INSIDE_PASS", "1"});
+    Result<gpu::Program> program = gpu::Program::create(
+        {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
+    if (!program) return program;
+    at.billboard_count = program->uniform("billboard_count");
+    at.march_mode = program->uniform("march_mode");
+    at.seed_steps = program->uniform("seed_steps");
+    at.seed_hit_range = program->uniform("seed_hit_range");
+    at.top_level = program->uniform("top_level");
+    at.debug_view = program->uniform("debug_view");
+    at.counting = program->uniform("counting");
+    at.mark_pixels = program->uniform("mark_pixels");
+    return program;
+}
+
+Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillboardsPackage& package,
+                                                            const RenderOptions& options)
+{
+    auto renderer = std::make_unique<BillboardRenderer>();
+    renderer->options_ = options;
+    if (options.march != "exact" && options.march != "seed")
+        return error(StatusCode::invalid_argument, "enhanced billboards: --march must be 'exact' or 'seed', not '" +
+                                                       options.march + "'");
+    renderer->march_mode_ = options.march == "seed" ? MARCH_SEED : MARCH_EXACT;
+    if (options.steps < 1 || options.steps > 10000)
+        return error(StatusCode::invalid_argument, "enhanced billboards: --steps must be within 1..10000");
+    if (!(options.hit_range > 0.0f && options.hit_range <= 1.0f))
+        return error(StatusCode::invalid_argument, "enhanced billboards: --hit-range must be within (0, 1]");
+    renderer->debug_view_ = debug_view_code(options.debug_view);
+    if (renderer->debug_view_ < 0)
+        return error(StatusCode::invalid_argument, "enhanced billboards: unknown debug view '" + options.debug_view + "'");
+    for (std::size_t i = 0; i < package.billboards.size(); ++i)
+        STANDIN_RETURN_IF_ERROR(check_billboard(package.billboards[i], i));
+
+    Result<gpu::Program> front = make_march_program(false, renderer->front_at_);
+    if (!front) return front.status();
+    renderer->front_ = std::move(*front);
+    Result<gpu::Program> inside = make_march_program(true, renderer->inside_at_);
+    if (!inside) return inside.status();
+    renderer->inside_ = std::move(*inside);
+    Result<gpu::Program> coarse = gpu::Program::create(
+        {"reps/enhanced_billboards/shaders/coarse.vert", "reps/enhanced_billboards/shaders/coarse.frag"});
+    if (!coarse) return coarse.status();
+    renderer->coarse_ = std::move(*coarse);
+    renderer->coarse_near_only_at_ = renderer->coarse_.uniform("fill_near_misses_only");
+    renderer->coarse_debug_at_ = renderer->coarse_.uniform("debug_view");
+
+    // upload maps and accelerations, then the coarse mesh
+    STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
+    if (options.coarse_mesh && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
+    renderer->empty_vertex_array_ = gpu::make_vertex_array();
+    std::array<std::uint32_t, COUNTER_COUNT> zero{};
+    renderer->counters_ = gpu::make_buffer(zero.data(), sizeof zero, GL_DYNAMIC_STORAGE_BIT);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "enhanced billboards: OpenGL error " + std::to_string(e) + " while uploading");
+    return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& package)
+{
+    billboard_count_ = int(package.billboards.size());
+    if (billboard_count_ == 0) return Status::ok();
+    GLint max_layers = 0;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    if (billboard_count_ > max_layers)
+        return error(StatusCode::gpu_error, "enhanced billboards: " + std::to_string(billboard_count_) +
+                                                " billboards exceed GL_MAX_ARRAY_TEXTURE_LAYERS");
+
+    // one array layer per billboard, padded to whole top-level pyramid cells
+    int max_width = 1, max_height = 1;
+    for (const Billboard& b : package.billboards) {
+        max_width = std::max(max_width, b.width);
+        max_height = std::max(max_height, b.height);
+    }
+    int levels = 0;
+    while (levels < k_max_pyramid_levels && (1 << levels) < std::max(max_width, max_height)) ++levels;
+    int cell = 1 << levels;
+    int width = (max_width + cell - 1) / cell * cell, height = (max_height + cell - 1) / cell * cell;
+    top_level_ = levels;
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (width > max_size || height > max_size)
+        return error(StatusCode::gpu_error, "enhanced billboards: billboard larger than GL_MAX_TEXTURE_SIZE");
+
+    int layers = billboard_count_;
+    color_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
+    normal_maps_ = make_texture_array(GL_RGBA16, width, height, layers, 1);
+    surface_maps_ = make_texture_array(GL_RGBA16UI, width, height, layers, 1);
+    minmax_maps_ = make_texture_array(GL_RG16UI, std::max(1, width / 2), std::max(1, height / 2), layers,
+                                      std::max(1, levels));
+
+    LinkSettings links;
+    links.depth_bits = package.settings.depth_bits;
+    std::vector<BillboardGpu> gpu_billboards;
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int layer = 0; layer < layers; ++layer) {
+        const Billboard& b = package.billboards[std::size_t(layer)];
+        BillboardGpu g;
+        g.object_from_box = object_from_box(b);
+        g.box_from_object = glm::inverse(g.object_from_box);
+        g.info = glm::ivec4(layer, 0, b.width, b.height);
+
+        glTextureSubImage3D(color_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                            b.color.pixels.data());
+        glTextureSubImage3D(normal_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_SHORT,
+                            b.normal_depth.pixels.data());
+        HeightFieldAcceleration acc = build_acceleration(b, width, height, levels, links);
+        covered_box(acc, b, g);
+        gpu_billboards.push_back(g);
+        glTextureSubImage3D(surface_maps_.get(), 0, 0, 0, layer, width, height, 1, GL_RGBA_INTEGER,
+                            GL_UNSIGNED_SHORT, acc.surface.data());
+        for (int level = 1; level <= levels; ++level)
+            glTextureSubImage3D(minmax_maps_.get(), level - 1, 0, 0, layer, width >> level, height >> level, 1,
+                                GL_RG_INTEGER, GL_UNSIGNED_SHORT, acc.pyramid[std::size_t(level - 1)].data());
+    }
+    billboards_ = gpu::make_buffer(gpu_billboards);
+    return Status::ok();
+}
+
+void attach_attribute(GLuint vao, GLuint attribute, GLuint buffer, int components, std::size_t stride)
+{
+    glVertexArrayVertexBuffer(vao, attribute, buffer, 0, GLsizei(stride));
+    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao, attribute, attribute);
+    glEnableVertexArrayAttrib(vao, attribute);
+}
+
+void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
+{
+    coarse_positions_ = gpu::make_buffer(mesh.positions);
+    coarse_normals_ = gpu::make_buffer(mesh.normals);
+    std::vector<glm::vec4> colors = mesh.colors;
+    if (colors.size() != mesh.positions.size()) colors.assign(mesh.positions.size(), glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+    coarse_colors_ = gpu::make_buffer(colors);
+    coarse_indices_ = gpu::make_buffer(mesh.indices);
+    coarse_index_count_ = GLsizei(mesh.indices.size());
+    coarse_vertex_array_ = gpu::make_vertex_array();
+    GLuint vao = coarse_vertex_array_.get();
+    attach_attribute(vao, ATTRIB_POSITION, coarse_positions_.get(), 3, sizeof(glm::vec3));
+    attach_attribute(vao, ATTRIB_NORMAL, coarse_normals_.get(), 3, sizeof(glm::vec3));
+    attach_attribute(vao, ATTRIB_COLOR, coarse_colors_.get(), 4, sizeof(glm::vec4));
+    glVertexArrayElementBuffer(vao, coarse_indices_.get());
+}
+
+void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const ProgramLocations& at) const
+{
+    GLuint id = program.id();
+    glProgramUniform1i(id, at.billboard_count, billboard_count_);
+    glProgramUniform1i(id, at.march_mode, march_mode_);
+    glProgramUniform1i(id, at.seed_steps, options_.steps);
+    glProgramUniform1f(id, at.seed_hit_range, options_.hit_range);
+    glProgramUniform1i(id, at.top_level, top_level_);
+    glProgramUniform1i(id, at.debug_view, debug_view_);
+    glProgramUniform1i(id, at.counting, counting_ ? 1 : 0);
+    glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
+}
+
+// the per-pixel hit / near-miss flags the coarse mesh reads, cleared every frame
+void BillboardRenderer::prepare_pixel_flags(glm::ivec2 viewport)
+{
+    if (!pixel_flags_ || pixel_flags_size_ != viewport) {
+        pixel_flags_ = gpu::make_texture_2d(GL_R32UI, viewport.x, viewport.y);
+        pixel_flags_size_ = viewport;
+    }
+    const std::uint32_t zero = 0;
+    glClearTexImage(pixel_flags_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glBindImageTexture(IMAGE_PIXEL_FLAGS, pixel_flags_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+}
+
+DrawStats BillboardRenderer::draw(const DrawParams& params)
+{
+    DrawStats stats;
+    frame_.bind(params);
+    GLsizei instances = GLsizei(frame_.instance_count());
+    bool coarse = coarse_index_count_ > 0;
+    if (coarse) prepare_pixel_flags(params.viewport);
+    glEnable(GL_DEPTH_TEST);
+
+    // billboards: front faces of boxes beyond the near plane, back faces of boxes crossing it
+    if (billboard_count_ > 0) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BILLBOARDS_SSBO, billboards_.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS_SSBO, counters_.get());
+        glBindTextureUnit(BINDING_ALBEDO_TEXTURE, color_maps_.get());
+        glBindTextureUnit(BINDING_NORMAL_DEPTH_TEXTURE, normal_maps_.get());
+        glBindTextureUnit(BINDING_ACCELERATION_TEXTURE, surface_maps_.get());
+        glBindTextureUnit(BINDING_EXTRA_TEXTURE, minmax_maps_.get());
+        glBindVertexArray(empty_vertex_array_.get());
+        glEnable(GL_CULL_FACE);
+        glFrontFace(GL_CCW);
+        GLsizei boxes = GLsizei(billboard_count_) * instances;
+        const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&front_, &front_at_},
+                                                                                  {&inside_, &inside_at_}};
+        for (int pass = 0; pass < 2; ++pass) {
+            glCullFace(pass == 0 ? GL_BACK : GL_FRONT);
+            set_march_uniforms(*passes[pass].first, *passes[pass].second);
+            passes[pass].first->use();
+            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, boxes);
+            stats.draw_calls += 1;
+        }
+        stats.primitives += std::uint64_t(boxes) * 12;
+        glDisable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+    }
+
+    // the coarse mesh where rays came near a surface and missed
+    if (coarse) {
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
+        glProgramUniform1i(coarse_.id(), coarse_debug_at_, debug_view_);
+        coarse_.use();
+        glBindVertexArray(coarse_vertex_array_.get());
+        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_, GL_UNSIGNED_INT, nullptr, instances);
+        stats.draw_calls += 1;
+        stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(instances);
+    }
+    glBindVertexArray(0);
+    return stats;
+}
+
+void BillboardRenderer::set_counting(bool on)
+{
+    counting_ = on;
+    std::array<std::uint32_t, COUNTER_COUNT> zero{};
+    glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero.data());
+}
+
+std::uint64_t BillboardRenderer::read_fetch_count()
+{
+    std::array<std::uint32_t, COUNTER_COUNT> counts{};
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts.data());
+    return counts[COUNTER_FETCHES];
+}
+
+} // namespace
+
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+{
+    const auto* billboards = dynamic_cast<const EnhancedBillboardsPackage*>(&package);
+    if (!billboards)
+        return error(StatusCode::invalid_argument,
+                     "enhanced billboards: package holds '" + package.representation() + "', not enhanced billboards");
+    return BillboardRenderer::create(*billboards, options);
+}
+
+} // namespace standin::billboards

@@ -1,0 +1,409 @@
+// The enhanced-billboard renderer against analytic expectations, with hand-built packages: a unit
+// sphere captured by six axis billboards (depth, normal and coverage rasterised analytically
+// here), drawn from many views, inside a box, along a billboard plane, crossing a plane drawn by
+// the ground-truth renderer, under a moving light, with holes filled by a coarse mesh.
+#include "test_support.h"
+
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <standin/camera.h>
+#include <standin/mesh.h>
+#include <standin/render.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace standin::billboards {
+namespace {
+
+constexpr float k_radius = 1.0f;
+const glm::vec3 k_albedo(0.8f, 0.8f, 0.8f);
+
+// One billboard looking along `direction` into a sphere of radius R at the origin: the plane is
+// the box face on the viewer's side, texels * texels over 2R, depth range 2R.
+Billboard sphere_billboard(glm::vec3 direction, glm::vec3 axis_u, int texels)
+{
+    Billboard b;
+    b.direction = direction;
+    b.axis_u = axis_u;
+    b.axis_v = glm::cross(direction, axis_u);
+    b.texel_size = 2.0f * k_radius / float(texels);
+    b.depth_range = 2.0f * k_radius;
+    b.origin = -k_radius * (b.direction + b.axis_u + b.axis_v);
+    b.width = b.height = texels;
+    b.color = ImageRGBA8(texels, texels);
+    b.normal_depth = ImageRGBA16(texels, texels);
+    for (int j = 0; j < texels; ++j) {
+        for (int i = 0; i < texels; ++i) {
+            glm::vec3 p = b.origin + (float(i) + 0.5f) * b.texel_size * b.axis_u +
+                          (float(j) + 0.5f) * b.texel_size * b.axis_v;
+            glm::vec3 q = p - glm::dot(p, b.direction) * b.direction; // offset from the axis
+            float r2 = glm::dot(q, q);
+            if (r2 > k_radius * k_radius) continue;
+            float s = k_radius - std::sqrt(k_radius * k_radius - r2); // along the direction from the plane
+            glm::vec3 n = (p + s * b.direction) / k_radius;
+            std::uint8_t* c = b.color.at(i, j);
+            for (int k = 0; k < 3; ++k) c[k] = std::uint8_t(std::lround(k_albedo[k] * 255.0f));
+            c[3] = 255;
+            std::uint16_t* nd = b.normal_depth.at(i, j);
+            for (int k = 0; k < 3; ++k) nd[k] = std::uint16_t(std::lround((n[k] * 0.5f + 0.5f) * 65535.0f));
+            nd[3] = std::uint16_t(std::lround(s / b.depth_range * 65535.0f));
+        }
+    }
+    return b;
+}
+
+EnhancedBillboardsPackage sphere_package(int texels = 128, bool six = true)
+{
+    EnhancedBillboardsPackage package;
+    package.source.bounds = {glm::vec3(-k_radius), glm::vec3(k_radius)};
+    const glm::vec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int k = 0; k < (six ? 3 : 1); ++k) {
+        glm::vec3 w = axes[(k + 2) % 3], u = axes[k % 3];
+        package.billboards.push_back(sphere_billboard(-w, u, texels));
+        if (six) package.billboards.push_back(sphere_billboard(w, u, texels));
+    }
+    return package;
+}
+
+Mesh coarse_sphere(float radius)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::sphere;
+    options.target_triangles = 500;
+    options.radius = radius;
+    options.color = glm::vec4(k_albedo, 1.0f);
+    Result<Mesh> mesh = generate_mesh(options);
+    EXPECT_TRUE(mesh.is_ok());
+    return std::move(*mesh);
+}
+
+struct Ray {
+    glm::vec3 origin, direction;
+};
+
+// the ray through the centre of pixel (x, y), row 0 at the top, as camera_ray() computes it
+Ray pixel_ray(const Camera& camera, int x, int y, int width, int height)
+{
+    glm::mat4 world_from_clip = glm::inverse(camera.clip_from_world());
+    glm::vec2 ndc((float(x) + 0.5f) / float(width) * 2.0f - 1.0f, 1.0f - (float(y) + 0.5f) / float(height) * 2.0f);
+    glm::vec4 a = world_from_clip * glm::vec4(ndc, -1.0f, 1.0f), b = world_from_clip * glm::vec4(ndc, 1.0f, 1.0f);
+    glm::vec3 origin = glm::vec3(a) / a.w;
+    return {origin, glm::normalize(glm::vec3(b) / b.w - origin)};
+}
+
+// distance of a ray from the origin (the sphere's centre); infinite if the sphere is behind
+float ray_distance_from_centre(const Ray& ray)
+{
+    float along = -glm::dot(ray.origin, ray.direction);
+    if (along < 0.0f && glm::length(ray.origin) > k_radius) return INFINITY;
+    return glm::length(ray.origin + along * ray.direction);
+}
+
+// first hit of a ray with the sphere, or infinity
+float sphere_hit(const Ray& ray)
+{
+    float b = glm::dot(ray.origin, ray.direction);
+    float c = glm::dot(ray.origin, ray.origin) - k_radius * k_radius;
+    float disc = b * b - c;
+    if (disc < 0.0f) return INFINITY;
+    float t = -b - std::sqrt(disc);
+    if (t < 0.0f) t = -b + std::sqrt(disc);
+    return t < 0.0f ? INFINITY : t;
+}
+
+// Pixels the analytic sphere surely covers but the image does not (holes), and pixels surely
+// outside it that the image covers, with a margin of `margin` * radius around the silhouette.
+struct Coverage {
+    std::size_t inside = 0, holes = 0, outside = 0, spill = 0, covered = 0;
+};
+Coverage compare_with_sphere(const ImageRGBA8& image, const Camera& camera, float margin)
+{
+    Coverage c;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            float distance = ray_distance_from_centre(pixel_ray(camera, x, y, image.width, image.height));
+            bool covered = image.at(x, y)[3] != 0;
+            c.covered += covered;
+            if (distance < k_radius * (1.0f - margin)) {
+                ++c.inside;
+                c.holes += !covered;
+            } else if (distance > k_radius * (1.0f + margin)) {
+                ++c.outside;
+                c.spill += covered;
+            }
+        }
+    }
+    return c;
+}
+
+struct Rendered {
+    RenderedImage image;
+    std::uint64_t fetches = 0;
+};
+
+Rendered render_package(const EnhancedBillboardsPackage& package, const RenderOptions& options, const Camera& camera,
+                        const Light& light, int width, int height)
+{
+    Rendered out;
+    auto renderer = make_renderer(package, options);
+    EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+    if (!renderer.is_ok()) return out;
+    (*renderer)->set_counting(true);
+    auto image = render_offscreen(**renderer, camera, light, width, height);
+    EXPECT_TRUE(image.is_ok()) << image.status().message();
+    if (!image.is_ok()) return out;
+    out.fetches = (*renderer)->read_fetch_count();
+    out.image = std::move(*image);
+    return out;
+}
+
+Camera orbit(float azimuth, float elevation, float distance, int width, int height)
+{
+    glm::vec3 eye = distance * direction_from_angles(azimuth, elevation);
+    glm::vec3 up = std::abs(elevation) > 80.0f ? glm::vec3(0, 0, -1) : glm::vec3(0, 1, 0);
+    return look_at_camera(eye, glm::vec3(0.0f), up, 40.0f, float(width) / float(height), 0.1f, 20.0f);
+}
+
+constexpr int k_width = 240, k_height = 180;
+constexpr float k_margin = 0.025f; // 1.6 texels of the 128-texel billboards
+
+TEST(BillboardRenderer, ExactMarchCoversTheSphereWithoutHolesFromManyViews)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    RenderOptions options;
+    options.coarse_mesh = false;
+    const float views[][2] = {{0, 0}, {30, 20}, {45, 35.26f}, {70, -50}, {-120, 10}, {10, 85}};
+    for (const auto& view : views) {
+        Camera camera = orbit(view[0], view[1], 4.0f, k_width, k_height);
+        Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
+        Coverage c = compare_with_sphere(r.image.color, camera, k_margin);
+        EXPECT_EQ(c.holes, 0u) << "view " << view[0] << "," << view[1];
+        EXPECT_EQ(c.spill, 0u) << "view " << view[0] << "," << view[1];
+        // silhouette radius: tan(asin(r/d)) / tan(fov/2) * height/2 pixels
+        double expected = std::tan(std::asin(1.0 / 4.0)) / std::tan(glm::radians(20.0)) * k_height / 2.0;
+        double measured = std::sqrt(double(c.covered) / M_PI);
+        EXPECT_NEAR(measured, expected, 0.015 * expected) << "view " << view[0] << "," << view[1];
+        std::printf("[ exact ] view %g,%g: %.2f fetches per covered pixel\n", view[0], view[1],
+                    double(r.fetches) / double(std::max<std::size_t>(c.covered, 1)));
+    }
+}
+
+TEST(BillboardRenderer, SeedMarchWithFewStepsShowsHoles)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    RenderOptions options;
+    options.coarse_mesh = false;
+    options.march = "seed";
+    options.steps = 8;
+    Camera camera = orbit(30, 20, 4.0f, k_width, k_height);
+    Rendered few = render_package(package, options, camera, default_light(camera), k_width, k_height);
+    Coverage c = compare_with_sphere(few.image.color, camera, k_margin);
+    EXPECT_GT(double(c.holes), 0.02 * double(c.inside)) << "8 steps should miss the sheet often";
+    options.steps = 100;
+    Rendered seed = render_package(package, options, camera, default_light(camera), k_width, k_height);
+    Coverage s = compare_with_sphere(seed.image.color, camera, k_margin);
+    std::printf("[ seed ] 8 steps: %.2f%% holes; 100 steps: %.2f%% holes, %.1f fetches per covered pixel\n",
+                100.0 * double(c.holes) / double(c.inside), 100.0 * double(s.holes) / double(s.inside),
+                double(seed.fetches) / double(std::max<std::size_t>(s.covered, 1)));
+}
+
+// The sphere and a tilted red plane z = 0.5 x drawn by the ground-truth renderer into one frame.
+class Both final : public Renderer {
+public:
+    Both(Renderer& a, Renderer& b) : a_(a), b_(b) {}
+    DrawStats draw(const DrawParams& params) override
+    {
+        a_.draw(params);
+        return b_.draw(params);
+    }
+
+private:
+    Renderer &a_, &b_;
+};
+
+TEST(BillboardRenderer, DepthCompositesWithACrossingPlane)
+{
+    test::gpu_context();
+    Mesh plane;
+    plane.positions = {{-2, -2, -1}, {2, -2, 1}, {2, 2, 1}, {-2, 2, -1}};
+    glm::vec3 n = glm::normalize(glm::vec3(-0.5f, 0.0f, 1.0f));
+    plane.normals.assign(4, n);
+    plane.colors.assign(4, glm::vec4(1, 0, 0, 1));
+    plane.indices = {0, 1, 2, 0, 2, 3};
+    plane.face_materials = {0, 0};
+    plane.materials.resize(1);
+    auto plane_renderer = make_mesh_renderer(plane);
+    ASSERT_TRUE(plane_renderer.is_ok()) << plane_renderer.status().message();
+    auto billboards = make_renderer(sphere_package(), RenderOptions{});
+    ASSERT_TRUE(billboards.is_ok()) << billboards.status().message();
+    Both both(**plane_renderer, **billboards);
+
+    for (float azimuth : {0.0f, 40.0f}) {
+        Camera camera = orbit(azimuth, 15, 4.0f, k_width, k_height);
+        auto image = render_offscreen(both, camera, default_light(camera), k_width, k_height);
+        ASSERT_TRUE(image.is_ok());
+        std::size_t checked = 0, wrong = 0;
+        for (int y = 0; y < k_height; ++y) {
+            for (int x = 0; x < k_width; ++x) {
+                Ray ray = pixel_ray(camera, x, y, k_width, k_height);
+                float t_sphere = sphere_hit(ray);
+                float denominator = ray.direction.z - 0.5f * ray.direction.x;
+                float t_plane = (0.5f * ray.origin.x - ray.origin.z) / denominator;
+                glm::vec3 p = ray.origin + t_plane * ray.direction;
+                if (!(t_plane > 0.0f) || std::abs(p.y) > 2.0f || std::abs(p.x) > 2.0f) continue;
+                if (!std::isfinite(t_sphere) || std::abs(t_sphere - t_plane) < 0.03f) continue;
+                if (ray_distance_from_centre(ray) > k_radius * (1.0f - k_margin)) continue;
+                bool plane_expected = t_plane < t_sphere;
+                const std::uint8_t* c = image->color.at(x, y);
+                bool plane_seen = c[3] != 0 && c[1] < 16; // red: the plane; grey: the sphere
+                ++checked;
+                wrong += plane_expected != plane_seen;
+            }
+        }
+        EXPECT_GT(checked, 3000u);
+        EXPECT_EQ(wrong, 0u) << "azimuth " << azimuth << ": " << wrong << " of " << checked
+                             << " pixels show the wrong surface";
+    }
+}
+
+TEST(BillboardRenderer, ViewFromInsideTheBoxes)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    RenderOptions options;
+    options.coarse_mesh = false;
+    // inside all six boxes ([-1, 1]^3), outside the sphere
+    Camera camera = look_at_camera(glm::vec3(0.85f, 0.8f, 0.9f), glm::vec3(0.0f), glm::vec3(0, 1, 0), 100.0f,
+                                   float(k_width) / float(k_height), 0.05f, 20.0f);
+    Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
+    Coverage c = compare_with_sphere(r.image.color, camera, 0.03f);
+    EXPECT_GT(c.inside, 5000u);
+    EXPECT_EQ(c.holes, 0u);
+    EXPECT_EQ(c.spill, 0u);
+}
+
+TEST(BillboardRenderer, GrazingViewsAlongABillboardPlane)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    RenderOptions options;
+    options.coarse_mesh = false;
+    // the eye in the plane z = 1 of the billboard looking down -z, and one degree above and below
+    for (float height : {1.0f, 1.0f + 4.0f * std::tan(glm::radians(1.0f)), 0.0f}) {
+        Camera camera = look_at_camera(glm::vec3(4.0f, 0.0f, height), glm::vec3(0.0f, 0.0f, height * 0.999f),
+                                       glm::vec3(0, 0, 1), 40.0f, float(k_width) / float(k_height), 0.1f, 20.0f);
+        Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
+        Coverage c = compare_with_sphere(r.image.color, camera, k_margin);
+        EXPECT_GT(c.inside, 1000u) << "eye height " << height;
+        EXPECT_EQ(c.holes, 0u) << "eye height " << height;
+        EXPECT_EQ(c.spill, 0u) << "eye height " << height;
+    }
+}
+
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+double linear_to_srgb(double c) { return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055; }
+
+TEST(BillboardRenderer, MovingLightShadesAsLambertPredicts)
+{
+    test::gpu_context();
+    auto renderer = make_renderer(sphere_package(), RenderOptions{});
+    ASSERT_TRUE(renderer.is_ok());
+    const int size = 121;
+    Camera camera = look_at_camera(glm::vec3(0, 0, 4), glm::vec3(0.0f), glm::vec3(0, 1, 0), 40.0f, 1.0f, 0.1f, 20.0f);
+    double previous = -1.0;
+    for (glm::vec3 to_light : {glm::vec3(1, 0, 0), glm::normalize(glm::vec3(0.5f, 0.3f, 1.0f)), glm::vec3(0, 0, 1)}) {
+        Light light;
+        light.direction_to_light_world = to_light;
+        light.ambient = 0.15f;
+        light.diffuse = 0.85f;
+        auto image = render_offscreen(**renderer, camera, light, size, size);
+        ASSERT_TRUE(image.is_ok());
+        // the centre pixel sees the point whose normal is +z
+        double expected = linear_to_srgb(srgb_to_linear(0.8) * (0.15 + 0.85 * std::max(0.0, double(to_light.z)))) * 255.0;
+        const std::uint8_t* centre = image->color.at(size / 2, size / 2);
+        EXPECT_NEAR(centre[0], expected, 2.0) << "light " << to_light.x << "," << to_light.y << "," << to_light.z;
+        EXPECT_GT(double(centre[0]), previous) << "the light moves towards the normal";
+        previous = centre[0];
+    }
+}
+
+TEST(BillboardRenderer, RepeatedRendersAreByteIdentical)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    package.coarse_mesh = coarse_sphere(0.98f);
+    auto renderer = make_renderer(package, RenderOptions{});
+    ASSERT_TRUE(renderer.is_ok());
+    Camera camera = orbit(37, 41, 4.0f, k_width, k_height);
+    auto first = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
+    auto second = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
+    ASSERT_TRUE(first.is_ok() && second.is_ok());
+    EXPECT_EQ(first->color.pixels, second->color.pixels);
+    EXPECT_EQ(first->depth, second->depth);
+}
+
+TEST(BillboardRenderer, CoarseMeshFillsHolesWithoutGrowingTheSilhouette)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    package.coarse_mesh = coarse_sphere(1.04f); // larger than the sphere: would grow it if unchecked
+    RenderOptions options;
+    options.march = "seed";
+    options.steps = 8;
+    Camera camera = orbit(30, 20, 4.0f, k_width, k_height);
+    options.coarse_mesh = false;
+    Coverage without = compare_with_sphere(
+        render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
+    options.coarse_mesh = true;
+    Coverage with = compare_with_sphere(
+        render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
+    EXPECT_GT(without.holes, 100u);
+    EXPECT_LT(double(with.holes), 0.002 * double(with.inside)) << without.holes << " holes before";
+    EXPECT_EQ(with.spill, 0u);
+    options.march = "exact";
+    Coverage exact = compare_with_sphere(
+        render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
+    EXPECT_EQ(exact.holes, 0u);
+    EXPECT_EQ(exact.spill, 0u);
+}
+
+// Keeps the statistics of the last draw of another renderer.
+class Recording final : public Renderer {
+public:
+    explicit Recording(Renderer& inner) : inner_(inner) {}
+    DrawStats draw(const DrawParams& params) override { return stats = inner_.draw(params); }
+    DrawStats stats;
+
+private:
+    Renderer& inner_;
+};
+
+TEST(BillboardRenderer, InstancesDrawInFewCallsWhereTheirTransformsPutThem)
+{
+    test::gpu_context();
+    auto renderer = make_renderer(sphere_package(64), RenderOptions{});
+    ASSERT_TRUE(renderer.is_ok());
+    Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 20.0f);
+    std::vector<glm::mat4> transforms = {glm::translate(glm::mat4(1.0f), glm::vec3(-2.5f, 0, 0)),
+                                         glm::translate(glm::mat4(1.0f), glm::vec3(2.5f, 0, 0))};
+    auto image = render_offscreen(**renderer, camera, default_light(camera), 200, 100, transforms);
+    ASSERT_TRUE(image.is_ok());
+    EXPECT_EQ(image->color.at(100, 50)[3], 0) << "nothing at the centre";
+    EXPECT_EQ(image->color.at(100 - 36, 50)[3], 255) << "left instance";
+    EXPECT_EQ(image->color.at(100 + 36, 50)[3], 255) << "right instance";
+    std::vector<glm::mat4> crowd(100, glm::mat4(1.0f));
+    Recording recording(**renderer);
+    ASSERT_TRUE(render_offscreen(recording, camera, default_light(camera), 200, 100, crowd).is_ok());
+    DrawStats stats = recording.stats;
+    EXPECT_LE(stats.draw_calls, 3u);
+}
+
+} // namespace
+} // namespace standin::billboards

@@ -1,0 +1,36 @@
+// Constants shared by the enhanced-billboard renderer's C++ (renderer.cpp includes this file) and
+// its shaders. Plain #defines only: both languages must parse this file.
+#ifndef STANDIN_BILLBOARD_LAYOUT_GLSL
+#define STANDIN_BILLBOARD_LAYOUT_GLSL
+
+// image unit of the per-pixel flags the coarse mesh reads (r32ui)
+#define IMAGE_PIXEL_FLAGS 0
+#define PIXEL_HIT 1u       // some billboard ray hit here
+#define PIXEL_NEAR_MISS 2u // a ray came within a texel of a billboard surface and missed
+
+// counters[] of the BINDING_COUNTERS_SSBO block
+#define COUNTER_FETCHES 0     // height-field fetches (surface, pyramid and wall-neighbour texels)
+#define COUNTER_HITS 1        // fragments that hit
+#define COUNTER_FRAGMENTS 2   // fragments marched
+#define COUNTER_NEAR_MISSES 3
+#define COUNTER_COUNT 4
+
+// march modes
+#define MARCH_EXACT 0
+#define MARCH_SEED 1
+
+// debug views
+#define DEBUG_NONE 0
+#define DEBUG_BILLBOARD 1
+#define DEBUG_DEPTH 2
+#define DEBUG_NORMAL 3
+#define DEBUG_FETCHES 4
+
+// surface texel flags (acceleration.h)
+#define TEXEL_COVERED 1u
+#define LINK_MINUS_U 2u
+#define LINK_PLUS_U 4u
+#define LINK_MINUS_V 8u
+#define LINK_PLUS_V 16u
+
+#endif

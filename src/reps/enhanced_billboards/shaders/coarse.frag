@@ -1,0 +1,29 @@
+#version 450 core
+// Hole filling with the coarse mesh (seed 000 §3.4), restricted to pixels where a billboard ray
+// came within a texel of a surface and missed (march.frag marks them), and never where a ray hit:
+// so it fills holes but neither covers a billboard hit nor grows the silhouette.
+#include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/lighting.glsl"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
+
+in vec3 v_position_world;
+in vec3 v_normal_world;
+in vec4 v_color;
+
+layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
+uniform int fill_near_misses_only;
+uniform int debug_view;
+
+layout(location = 0) out vec4 out_color;
+
+void main()
+{
+    uint flags = imageLoad(pixel_flags, ivec2(gl_FragCoord.xy)).r;
+    if ((flags & PIXEL_HIT) != 0u) discard;
+    if (fill_near_misses_only != 0 && (flags & PIXEL_NEAR_MISS) == 0u) discard;
+    vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
+                                              : normalize(frame.eye_world.xyz - v_position_world);
+    vec3 color = shade(v_color.rgb, v_normal_world, to_eye, frame.light_to_world.xyz, frame.light_terms);
+    if (debug_view != DEBUG_NONE) color = vec3(1.0, 0.0, 1.0); // coarse pixels stand out in debug views
+    out_color = vec4(color, 1.0);
+}

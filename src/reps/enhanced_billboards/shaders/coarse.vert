@@ -1,0 +1,21 @@
+#version 450 core
+// The package's coarse mesh (seed 000 §3.4), drawn after the billboards to fill their holes.
+#include "gpu/shaders/common/frame.glsl"
+
+layout(location = ATTRIB_POSITION) in vec3 position_object;
+layout(location = ATTRIB_NORMAL) in vec3 normal_object;
+layout(location = ATTRIB_COLOR) in vec4 color;
+
+out vec3 v_position_world;
+out vec3 v_normal_world;
+out vec4 v_color;
+
+void main()
+{
+    mat4 world_from_object = instances.world_from_object[gl_InstanceID];
+    vec4 world = world_from_object * vec4(position_object, 1.0);
+    v_position_world = world.xyz;
+    v_normal_world = mat3(world_from_object) * normal_object;
+    v_color = color;
+    gl_Position = frame.clip_from_world * world;
+}

@@ -1,0 +1,258 @@
+#version 450 core
+// Enhanced billboards, per fragment: the eye ray is clipped to the billboard's box and intersected
+// with its height field (seed 000 §3.3, 001 Fig. 7).
+// MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
+// depth, and linked neighbours (acceleration.h: same surface, jump within the normals' slope) are
+// joined by walls, so a surface has no gaps at any view, grazing included, and silhouettes are the
+// covered texels' outline. The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
+// a node whose depth range the ray segment above it misses is skipped whole; at level 0 the
+// crossing of the texel's top and of the wall it was entered through is computed exactly.
+// MARCH_SEED: the paper's linear march, `seed_steps` equal steps over the box diagonal, hit where
+// the ray is below the stored depth by less than the hit range e (holes included).
+// Every hit writes its true depth; misses are discarded.
+#ifndef INSIDE_PASS
+layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than the box face
+#endif
+#include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/lighting.glsl"
+#include "reps/enhanced_billboards/shaders/billboard.glsl"
+
+flat in int v_billboard;
+flat in int v_instance;
+flat in mat4 v_box_from_world;
+flat in mat4 v_world_from_box;
+
+layout(binding = BINDING_ALBEDO_TEXTURE) uniform sampler2DArray color_maps;
+layout(binding = BINDING_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_maps;
+layout(binding = BINDING_ACCELERATION_TEXTURE) uniform usampler2DArray surface_maps; // depth, min, max, flags
+layout(binding = BINDING_EXTRA_TEXTURE) uniform usampler2DArray minmax_maps;        // level k: cells of 2^(k+1)
+layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
+
+layout(std430, binding = BINDING_COUNTERS_SSBO) buffer CounterBlock {
+    uint counters[];
+};
+
+uniform int march_mode;
+uniform int seed_steps;
+uniform float seed_hit_range;
+uniform int top_level;
+uniform int debug_view;
+uniform int counting;
+uniform int mark_pixels;
+
+layout(location = 0) out vec4 out_color;
+
+const float k_codes = 65535.0;
+int g_fetches = 0;
+
+uvec4 fetch_surface(ivec2 texel, int layer)
+{
+    ++g_fetches;
+    return texelFetch(surface_maps, ivec3(texel, layer), 0);
+}
+
+vec3 safe_inverse(vec3 d)
+{
+    const float tiny = 1e-20;
+    return 1.0 / vec3(abs(d.x) < tiny ? tiny : d.x, abs(d.y) < tiny ? tiny : d.y, abs(d.z) < tiny ? tiny : d.z);
+}
+
+// The exact crossing of ray o + t d (box space) with the column sheet, for t in [t0, t1].
+bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, out float t_hit,
+                 out ivec2 hit_texel, inout bool near)
+{
+    vec3 inv = safe_inverse(d);
+    ivec2 dir = ivec2(d.x >= 0.0 ? 1 : -1, d.y >= 0.0 ? 1 : -1);
+    ivec2 ahead = max(dir, ivec2(0)); // 1 where the exit boundary of a cell is its upper one
+    // start at a level whose cells are about as long as the ray's footprint
+    float footprint = length(d.xy) * (t1 - t0);
+    int level = clamp(int(ceil(log2(footprint + 1.0))), 0, top_level);
+    float t = t0;
+    vec2 p = o.xy + t * d.xy + vec2(dir) * 1e-3;
+    ivec2 texel = clamp(ivec2(floor(p)), ivec2(0), size - 1);
+
+    for (int iteration = 0; iteration < 512; ++iteration) {
+        ivec2 cell = texel >> level;
+        vec2 exit_bound = vec2((cell + ahead) << level);
+        vec2 t_bounds = (exit_bound - o.xy) * inv.xy;
+        int axis = t_bounds.x < t_bounds.y ? 0 : 1;
+        float t_exit = min(t_bounds[axis], t1);
+        float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
+        float z_lo = min(z_a, z_b) * k_codes, z_hi = max(z_a, z_b) * k_codes;
+
+        if (level > 0) {
+            ++g_fetches;
+            uvec2 range = texelFetch(minmax_maps, ivec3(cell, layer), level - 1).rg;
+            if (float(range.x) <= z_hi + 0.5 && float(range.y) >= z_lo - 0.5) {
+                --level; // the segment may meet the surface below this node: look closer
+                continue;
+            }
+        } else {
+            uvec4 s = fetch_surface(texel, layer);
+            if ((s.a & TEXEL_COVERED) != 0u && float(s.y) <= z_hi + 0.5 && float(s.z) >= z_lo - 0.5) {
+                near = true;
+                // the wall to the texel the ray came from
+                vec2 entry_bound = vec2(texel + ivec2(1) - ahead);
+                vec2 t_entries = (entry_bound - o.xy) * inv.xy;
+                int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
+                float t_in = t_entries[entry_axis];
+                uint link = entry_axis == 0 ? (dir.x > 0 ? LINK_MINUS_U : LINK_PLUS_U)
+                                            : (dir.y > 0 ? LINK_MINUS_V : LINK_PLUS_V);
+                if (t_in >= t0 && (s.a & link) != 0u) {
+                    ivec2 from = texel;
+                    from[entry_axis] -= dir[entry_axis];
+                    float d_from = float(fetch_surface(from, layer).x);
+                    float z_in = (o.z + t_in * d.z) * k_codes;
+                    if (z_in >= min(d_from, float(s.x)) && z_in <= max(d_from, float(s.x))) {
+                        t_hit = t_in;
+                        hit_texel = abs(z_in - d_from) < abs(z_in - float(s.x)) ? from : texel;
+                        return true;
+                    }
+                }
+                // the texel's top
+                float depth = float(s.x);
+                if (depth >= z_lo && depth <= z_hi) {
+                    t_hit = abs(d.z) > 1e-20 ? clamp((depth / k_codes - o.z) / d.z, t, t_exit) : t;
+                    hit_texel = texel;
+                    return true;
+                }
+            }
+        }
+
+        // leave the node: into the neighbouring one, up as far as the crossing allows
+        if (t_exit >= t1) return false;
+        ivec2 next = texel;
+        next[axis] = (cell[axis] + dir[axis]) << level;
+        if (dir[axis] < 0) next[axis] += (1 << level) - 1;
+        int other = 1 - axis;
+        float along = o[other] + t_exit * d[other];
+        int lo = cell[other] << level, hi = ((cell[other] + 1) << level) - 1;
+        next[other] = clamp(int(floor(along + float(dir[other]) * 1e-3)), lo, hi);
+        if (next[axis] < 0 || next[axis] >= size[axis]) return false;
+        ivec2 old_cell = cell, new_cell = next >> level;
+        while (level < top_level && (old_cell >> 1) != (new_cell >> 1)) {
+            ++level;
+            old_cell >>= 1;
+            new_cell >>= 1;
+        }
+        texel = next;
+        t = t_exit;
+    }
+    near = true; // out of iterations: let the coarse mesh decide
+    return false;
+}
+
+// The seed's linear search (001 Fig. 7): equal steps over the box diagonal from the entry point.
+bool march_seed(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, float diagonal_t,
+                out float t_hit, out ivec2 hit_texel, inout bool near)
+{
+    float step = diagonal_t / float(seed_steps);
+    for (int i = 0; i < seed_steps; ++i) {
+        float t = t0 + float(i) * step;
+        if (t > t1) break;
+        vec3 p = o + t * d;
+        ivec2 texel = clamp(ivec2(floor(p.xy)), ivec2(0), size - 1);
+        uvec4 s = fetch_surface(texel, layer);
+        if ((s.a & TEXEL_COVERED) == 0u) continue;
+        float depth = float(s.x) / k_codes;
+        if (p.z > depth && p.z - seed_hit_range < depth) {
+            t_hit = t;
+            hit_texel = texel;
+            return true;
+        }
+    }
+    return false;
+}
+
+vec3 heat(float x)
+{
+    x = clamp(x, 0.0, 1.0);
+    return clamp(vec3(1.5 - abs(4.0 * x - 3.0), 1.5 - abs(4.0 * x - 2.0), 1.5 - abs(4.0 * x - 1.0)), 0.0, 1.0);
+}
+
+vec3 billboard_color(int index)
+{
+    uint h = uint(index) * 2654435761u;
+    return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
+}
+
+void finish(bool hit, bool near)
+{
+    if (counting != 0) {
+        atomicAdd(counters[COUNTER_FETCHES], uint(g_fetches));
+        atomicAdd(counters[COUNTER_FRAGMENTS], 1u);
+        if (hit) atomicAdd(counters[COUNTER_HITS], 1u);
+        if (!hit && near) atomicAdd(counters[COUNTER_NEAR_MISSES], 1u); // back hits count here
+    }
+    if (mark_pixels != 0 && (hit || near))
+        imageAtomicOr(pixel_flags, ivec2(gl_FragCoord.xy), hit ? PIXEL_HIT : PIXEL_NEAR_MISS);
+}
+
+void main()
+{
+    BillboardData data = billboards.items[v_billboard];
+    int layer = data.info.x;
+    ivec2 size = data.info.zw;
+
+    // the eye ray in box space, clipped to the box of covered texels (and to the near plane: t >= 0)
+    vec3 origin_world, direction_world;
+    camera_ray(gl_FragCoord.xy, origin_world, direction_world);
+    vec3 o = (v_box_from_world * vec4(origin_world, 1.0)).xyz;
+    vec3 d = mat3(v_box_from_world) * direction_world;
+    vec3 inv = safe_inverse(d);
+    vec3 t_a = (data.box_min.xyz - o) * inv, t_b = (data.box_max.xyz - o) * inv;
+    vec3 t_near = min(t_a, t_b), t_far = max(t_a, t_b);
+    float t0 = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
+    float t1 = min(min(t_far.x, t_far.y), t_far.z);
+
+    bool hit = false, near = false;
+    float t_hit = 0.0;
+    ivec2 texel = ivec2(0);
+    if (t0 < t1) {
+        if (march_mode == MARCH_SEED) {
+            // t is in world units: the box diagonal in world units
+            float diagonal_t = length(mat3(v_world_from_box) * vec3(size, 1.0));
+            hit = march_seed(o, d, t0, t1, layer, size, diagonal_t, t_hit, texel, near);
+            if (!hit && mark_pixels != 0) {
+                // a seed hole is where the exact sheet is crossed or nearly so: let the coarse
+                // mesh fill those pixels (not counted: it is not the seed's work)
+                int seed_fetches = g_fetches;
+                float t_exact;
+                ivec2 texel_exact;
+                near = march_exact(o, d, t0, t1, layer, size, t_exact, texel_exact, near) || near;
+                g_fetches = seed_fetches;
+            }
+        } else {
+            hit = march_exact(o, d, t0, t1, layer, size, t_hit, texel, near);
+        }
+    }
+    if (!hit) {
+        finish(false, near);
+        discard;
+    }
+
+    vec3 p_box = o + t_hit * d;
+    vec3 p_world = (v_world_from_box * vec4(p_box, 1.0)).xyz;
+    float depth = window_depth(p_world);
+#ifndef INSIDE_PASS
+    depth = max(depth, gl_FragCoord.z);
+#endif
+    gl_FragDepth = depth;
+
+    mat4 world_from_object = instances.world_from_object[v_instance];
+    vec4 albedo = texelFetch(color_maps, ivec3(texel, layer), 0);
+    vec3 normal_object = texelFetch(normal_maps, ivec3(texel, layer), 0).rgb * 2.0 - 1.0;
+    vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
+    vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - p_world);
+    // the back of a sheet is drawn (open surfaces show both sides, as in the ground truth) but
+    // marked a near miss: on a closed surface it shows only through a hole, which the coarse mesh,
+    // in front of it, then fills
+    bool back = dot(normal_world, to_eye) < 0.0;
+    finish(!back, back);
+    vec3 color = shade(albedo.rgb, normal_world, to_eye, frame.light_to_world.xyz, frame.light_terms);
+    if (debug_view == DEBUG_BILLBOARD) color = billboard_color(v_billboard);
+    if (debug_view == DEBUG_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
+    if (debug_view == DEBUG_NORMAL) color = normal_world * 0.5 + 0.5;
+    if (debug_view == DEBUG_FETCHES) color = heat(float(g_fetches) / 32.0);
+    out_color = vec4(color, 1.0);
+}
