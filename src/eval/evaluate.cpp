@@ -1,0 +1,282 @@
+// Evaluation of one stand-in against the ground truth over a protocol's views: both rendered from
+// the same camera with the same light (seed 003 §3: "rendered in the same lighting conditions"),
+// compared per pixel, summarised over views, and laid out as the seeds' tables (000 appendix A
+// Table A-2, 003 Tables 1-3).
+#include <standin/eval.h>
+
+#include "gpu/frame_timing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace standin {
+
+namespace {
+
+// The figures every summary, table and JSON view carries, by name.
+struct Figure {
+    const char* name;
+    double (*get)(const ViewResult&);
+};
+const std::vector<Figure>& figures()
+{
+    static const std::vector<Figure> all = {
+        {"luv_mean", [](const ViewResult& v) { return v.metrics.luv_mean; }},
+        {"luv_pixel_max", [](const ViewResult& v) { return v.metrics.luv_pixel_max; }},
+        {"de2000_mean", [](const ViewResult& v) { return v.metrics.de2000_mean; }},
+        {"de2000_p95", [](const ViewResult& v) { return v.metrics.de2000_p95; }},
+        {"rgb_avg", [](const ViewResult& v) { return v.metrics.rgb_avg; }},
+        {"rgb_total", [](const ViewResult& v) { return v.metrics.rgb_total; }},
+        {"hole_fraction", [](const ViewResult& v) { return v.metrics.hole_fraction; }},
+        {"spill_fraction", [](const ViewResult& v) { return v.metrics.spill_fraction; }},
+        {"iou", [](const ViewResult& v) { return v.metrics.iou; }},
+        {"psnr", [](const ViewResult& v) { return v.metrics.psnr; }},
+    };
+    return all;
+}
+
+double median_of(std::vector<double> values)
+{
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+Result<gpu::FrameTimes> time_view(Renderer& renderer, const Camera& camera, const Light& light, const EvalView& view,
+                                  int frames)
+{
+    DrawParams params;
+    params.camera = camera;
+    params.light = light;
+    params.viewport = {view.width, view.height};
+    return gpu::time_frames(renderer, params, 1, frames);
+}
+
+// Views grouped by a key, in order of first appearance.
+template <typename Key>
+std::vector<std::pair<Key, std::vector<const ViewResult*>>> group_views(const EvalResult& result,
+                                                                        Key (*key_of)(const ViewResult&))
+{
+    std::vector<std::pair<Key, std::vector<const ViewResult*>>> groups;
+    for (const ViewResult& v : result.views) {
+        Key key = key_of(v);
+        auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == key; });
+        if (it == groups.end()) groups.push_back({key, {&v}});
+        else it->second.push_back(&v);
+    }
+    return groups;
+}
+
+double mean_over(const std::vector<const ViewResult*>& views, double (*figure)(const ViewResult&))
+{
+    double sum = 0.0;
+    for (const ViewResult* v : views) sum += figure(*v);
+    return views.empty() ? 0.0 : sum / double(views.size());
+}
+
+std::pair<int, int> size_key(const ViewResult& v) { return {v.view.width, v.view.height}; }
+std::pair<float, float> fov_distance_key(const ViewResult& v)
+{
+    return {v.view.orbit.fov_y_degrees, v.view.orbit.distance_rel};
+}
+
+std::string number(double value)
+{
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.6g", value);
+    return buffer;
+}
+
+} // namespace
+
+Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSphere& sphere, const Protocol& protocol,
+                            const EvalOptions& options, const Progress& progress, const ViewSink& sink)
+{
+    EvalResult result;
+    result.protocol = protocol.name;
+    for (std::size_t i = 0; i < protocol.views.size(); ++i) {
+        progress.report("eval", double(i) / double(protocol.views.size()));
+        const EvalView& view = protocol.views[i];
+
+        // the same camera and light for both
+        Camera camera = orbit_camera(sphere, view.orbit, float(view.width) / float(view.height));
+        Light light = default_light(camera);
+        Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height);
+        if (!truth_image) return truth_image.status();
+        Result<RenderedImage> standin_image = render_offscreen(standin, camera, light, view.width, view.height);
+        if (!standin_image) return standin_image.status();
+
+        // compare, time, hand the images on
+        ViewResult view_result;
+        view_result.view = view;
+        view_result.metrics = compare_images(truth_image->color, standin_image->color, options.metrics);
+        if (options.timed_frames > 0) {
+            Result<gpu::FrameTimes> truth_ms = time_view(truth, camera, light, view, options.timed_frames);
+            if (!truth_ms) return truth_ms.status();
+            Result<gpu::FrameTimes> standin_ms = time_view(standin, camera, light, view, options.timed_frames);
+            if (!standin_ms) return standin_ms.status();
+            view_result.truth_ms = truth_ms->median_ms;
+            view_result.standin_ms = standin_ms->median_ms;
+            view_result.truth_wall_ms = truth_ms->wall_median_ms;
+            view_result.standin_wall_ms = standin_ms->wall_median_ms;
+        }
+        if (sink) STANDIN_RETURN_IF_ERROR(sink(i, view_result, *truth_image, *standin_image));
+        result.views.push_back(view_result);
+    }
+    progress.report("eval", 1.0);
+    return result;
+}
+
+MetricStats stats_over_views(const EvalResult& result, double (*figure)(const ViewResult&))
+{
+    MetricStats stats;
+    if (result.views.empty()) return stats;
+    std::vector<double> values;
+    for (const ViewResult& v : result.views) values.push_back(figure(v));
+    double sum = 0.0;
+    for (double x : values) sum += x;
+    stats.mean = sum / double(values.size());
+    stats.max = *std::max_element(values.begin(), values.end());
+    stats.min = *std::min_element(values.begin(), values.end());
+    stats.median = median_of(values);
+    return stats;
+}
+
+nlohmann::json eval_to_json(const EvalResult& result, const nlohmann::json& identity)
+{
+    using nlohmann::json;
+    json doc = json::object();
+    doc["format"] = "standin-eval";
+    doc["version"] = 1;
+    if (identity.is_object())
+        for (auto it = identity.begin(); it != identity.end(); ++it) doc[it.key()] = it.value();
+    doc["protocol"] = result.protocol;
+    doc["device"] = result.device;
+
+    // summary: means over views, plus the worst view of the Luv difference
+    json summary = json::object(), stats = json::object();
+    for (const Figure& f : figures()) {
+        MetricStats s = stats_over_views(result, f.get);
+        summary[f.name] = s.mean;
+        stats[f.name] = {{"mean", s.mean}, {"median", s.median}, {"max", s.max}, {"min", s.min}};
+    }
+    summary["luv_max"] = stats["luv_mean"]["max"];
+    summary["luv_median"] = stats["luv_mean"]["median"];
+    summary["views"] = result.views.size();
+    doc["summary"] = summary;
+    doc["stats"] = stats;
+
+    // every view
+    json views = json::array();
+    for (const ViewResult& v : result.views) {
+        const ImageMetrics& m = v.metrics;
+        json item = {{"azimuth", v.view.orbit.azimuth_degrees},
+                     {"elevation", v.view.orbit.elevation_degrees},
+                     {"distance", v.view.orbit.distance_rel},
+                     {"fov", v.view.orbit.fov_y_degrees},
+                     {"width", v.view.width},
+                     {"height", v.view.height}};
+        for (const Figure& f : figures()) item[f.name] = f.get(v);
+        item["truth_pixels"] = m.truth_pixels;
+        item["standin_pixels"] = m.standin_pixels;
+        item["union_pixels"] = m.union_pixels;
+        item["hole_pixels"] = m.hole_pixels;
+        item["spill_pixels"] = m.spill_pixels;
+        item["differing_pixels"] = m.differing_pixels;
+        item["rect"] = {m.rect_x0, m.rect_y0, m.rect_x1, m.rect_y1};
+        item["rect_pixels"] = m.rect_pixels;
+        item["truth_ms"] = v.truth_ms;
+        item["standin_ms"] = v.standin_ms;
+        item["truth_wall_ms"] = v.truth_wall_ms;
+        item["standin_wall_ms"] = v.standin_wall_ms;
+        views.push_back(item);
+    }
+    doc["views"] = views;
+
+    // the seed-style tables
+    json a2 = json::array();
+    for (const auto& [size, group] : group_views(result, size_key))
+        a2.push_back({{"width", size.first},
+                      {"height", size.second},
+                      {"views", group.size()},
+                      {"luv_mean", mean_over(group, figures()[0].get)},
+                      {"de2000_mean", mean_over(group, figures()[2].get)},
+                      {"rgb_avg", mean_over(group, figures()[4].get)},
+                      {"truth_ms", mean_over(group, [](const ViewResult& v) { return v.truth_ms; })},
+                      {"standin_ms", mean_over(group, [](const ViewResult& v) { return v.standin_ms; })},
+                      {"truth_wall_ms", mean_over(group, [](const ViewResult& v) { return v.truth_wall_ms; })},
+                      {"standin_wall_ms", mean_over(group, [](const ViewResult& v) { return v.standin_wall_ms; })}});
+    json saraiva = json::array();
+    for (const auto& [key, group] : group_views(result, fov_distance_key))
+        saraiva.push_back({{"fov", key.first},
+                           {"distance", key.second},
+                           {"views", group.size()},
+                           {"rgb_total", mean_over(group, figures()[5].get)},
+                           {"rgb_avg", mean_over(group, figures()[4].get)},
+                           {"luv_mean", mean_over(group, figures()[0].get)}});
+    doc["tables"] = {{"by_resolution", a2}, {"by_fov_distance", saraiva}};
+    if (result.surface) {
+        const SurfaceDistance& s = *result.surface;
+        doc["surface"] = {{"samples", s.samples}, {"mean", s.mean}, {"max", s.max}, {"mean_rel", s.mean_rel},
+                          {"max_rel", s.max_rel}};
+    } else {
+        doc["surface"] = nullptr;
+    }
+    return doc;
+}
+
+std::vector<std::pair<std::string, std::string>> eval_tables_csv(const EvalResult& result)
+{
+    std::vector<std::pair<std::string, std::string>> files;
+
+    // views.csv: every view, every figure
+    std::ostringstream views;
+    views << "index,azimuth,elevation,distance,fov,width,height";
+    for (const Figure& f : figures()) views << "," << f.name;
+    views << ",truth_pixels,standin_pixels,hole_pixels,spill_pixels,rect_pixels,truth_ms,standin_ms\n";
+    for (std::size_t i = 0; i < result.views.size(); ++i) {
+        const ViewResult& v = result.views[i];
+        views << i << "," << number(v.view.orbit.azimuth_degrees) << "," << number(v.view.orbit.elevation_degrees) << ","
+              << number(v.view.orbit.distance_rel) << "," << number(v.view.orbit.fov_y_degrees) << "," << v.view.width
+              << "," << v.view.height;
+        for (const Figure& f : figures()) views << "," << number(f.get(v));
+        views << "," << v.metrics.truth_pixels << "," << v.metrics.standin_pixels << "," << v.metrics.hole_pixels << ","
+              << v.metrics.spill_pixels << "," << v.metrics.rect_pixels << "," << number(v.truth_ms) << ","
+              << number(v.standin_ms) << "\n";
+    }
+    files.push_back({"views.csv", views.str()});
+
+    // table_a2.csv (seed 000 Table A-2: Luv difference per resolution) and frame_times.csv
+    std::ostringstream a2, a1;
+    a2 << "width,height,views,luv_mean,de2000_mean,rgb_avg\n";
+    a1 << "width,height,views,truth_ms,standin_ms,truth_fps,standin_fps,truth_wall_ms,standin_wall_ms\n";
+    for (const auto& [size, group] : group_views(result, size_key)) {
+        a2 << size.first << "," << size.second << "," << group.size() << "," << number(mean_over(group, figures()[0].get))
+           << "," << number(mean_over(group, figures()[2].get)) << "," << number(mean_over(group, figures()[4].get))
+           << "\n";
+        double tm = mean_over(group, [](const ViewResult& v) { return v.truth_ms; });
+        double sm = mean_over(group, [](const ViewResult& v) { return v.standin_ms; });
+        a1 << size.first << "," << size.second << "," << group.size() << "," << number(tm) << "," << number(sm) << ","
+           << number(tm > 0 ? 1000.0 / tm : 0.0) << "," << number(sm > 0 ? 1000.0 / sm : 0.0) << ","
+           << number(mean_over(group, [](const ViewResult& v) { return v.truth_wall_ms; })) << ","
+           << number(mean_over(group, [](const ViewResult& v) { return v.standin_wall_ms; })) << "\n";
+    }
+    files.push_back({"table_a2.csv", a2.str()});
+    files.push_back({"frame_times.csv", a1.str()});
+
+    // table_saraiva.csv (seed 003 Tables 1-3: error per relative distance, one block per fov)
+    std::ostringstream s;
+    s << "fov,distance,views,rgb_total,rgb_avg,luv_mean\n";
+    for (const auto& [key, group] : group_views(result, fov_distance_key))
+        s << number(key.first) << "," << number(key.second) << "," << group.size() << ","
+          << number(mean_over(group, figures()[5].get)) << "," << number(mean_over(group, figures()[4].get)) << ","
+          << number(mean_over(group, figures()[0].get)) << "\n";
+    files.push_back({"table_saraiva.csv", s.str()});
+    return files;
+}
+
+} // namespace standin

@@ -1,0 +1,381 @@
+// The evaluation report: one self-contained directory a person opens in a browser. index.html
+// holds the seed-style tables (000 Tables A-1/A-2, 003 Tables 1-3), hand-written SVG charts
+// (error vs. relative distance on log axes like seed 003 Figs. 1-6; frame rate vs. resolution),
+// and a truth / stand-in / difference triplet per view.
+#include <standin/eval.h>
+#include <standin/files.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+namespace standin {
+
+namespace fs = std::filesystem;
+
+struct ReportWriter::State {
+    std::string directory; // final
+    std::string temporary; // being written
+    bool finished = false;
+};
+
+namespace {
+
+std::string fmt(const char* format, double value)
+{
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, format, value);
+    return buffer;
+}
+
+std::string escape_html(const std::string& text)
+{
+    std::string out;
+    for (char c : text) {
+        switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        default: out += c;
+        }
+    }
+    return out;
+}
+
+std::string view_stem(std::size_t index)
+{
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "images/%03zu", index);
+    return buffer;
+}
+
+// One line chart as SVG: series of (x, y) points, optional log axes (base 2 for x, 10 for y).
+struct Series {
+    std::string label;
+    std::vector<std::pair<double, double>> points;
+};
+struct Chart {
+    std::string title, x_label, y_label;
+    bool log_x = false, log_y = false;
+    std::vector<Series> series;
+};
+
+std::string svg_chart(const Chart& chart)
+{
+    const double width = 520, height = 320, left = 70, right = 130, top = 30, bottom = 50;
+    const char* colors[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+    auto tx = [&](double x) { return chart.log_x ? std::log2(x) : x; };
+    auto ty = [&](double y) { return chart.log_y ? std::log10(std::max(y, 1e-12)) : y; };
+
+    // data range in transformed space
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const Series& s : chart.series)
+        for (auto [x, y] : s.points) {
+            if (chart.log_y && y <= 0) continue;
+            x0 = std::min(x0, tx(x)), x1 = std::max(x1, tx(x)), y0 = std::min(y0, ty(y)), y1 = std::max(y1, ty(y));
+        }
+    if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+    if (!chart.log_y) y0 = std::min(y0, 0.0);
+    if (chart.log_y) y0 = std::floor(y0), y1 = std::ceil(y1);
+    if (x1 - x0 < 1e-9) x0 -= 0.5, x1 += 0.5;
+    if (y1 - y0 < 1e-9) y1 = y0 + 1.0;
+    if (!chart.log_y) y1 += 0.05 * (y1 - y0);
+    const double pw = width - left - right, ph = height - top - bottom;
+    auto px = [&](double x) { return left + (tx(x) - x0) / (x1 - x0) * pw; };
+    auto py = [&](double y) { return top + ph - (ty(y) - y0) / (y1 - y0) * ph; };
+
+    std::ostringstream svg;
+    svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << width << "' height='" << height
+        << "' font-family='sans-serif' font-size='11'>\n";
+    svg << "<rect width='100%' height='100%' fill='white'/>\n";
+    svg << "<text x='" << left + pw / 2 << "' y='18' text-anchor='middle' font-size='13'>" << escape_html(chart.title)
+        << "</text>\n";
+    svg << "<rect x='" << left << "' y='" << top << "' width='" << pw << "' height='" << ph
+        << "' fill='none' stroke='#444'/>\n";
+
+    // ticks: integer powers on log axes, 5 steps on linear ones
+    auto tick_values = [](double lo, double hi, bool log) {
+        std::vector<double> ticks;
+        if (log) {
+            for (double t = std::ceil(lo - 1e-9); t <= hi + 1e-9; t += 1.0) ticks.push_back(t);
+        } else {
+            for (int i = 0; i <= 5; ++i) ticks.push_back(lo + (hi - lo) * i / 5.0);
+        }
+        return ticks;
+    };
+    for (double t : tick_values(x0, x1, chart.log_x)) {
+        double x = left + (t - x0) / (x1 - x0) * pw;
+        std::string label = chart.log_x ? fmt("%g", std::exp2(t)) : fmt("%.3g", t);
+        svg << "<line x1='" << x << "' y1='" << top + ph << "' x2='" << x << "' y2='" << top + ph + 4
+            << "' stroke='#444'/><text x='" << x << "' y='" << top + ph + 16 << "' text-anchor='middle'>" << label
+            << "</text>\n";
+    }
+    for (double t : tick_values(y0, y1, chart.log_y)) {
+        double y = top + ph - (t - y0) / (y1 - y0) * ph;
+        std::string label = chart.log_y ? "1e" + fmt("%.0f", t) : fmt("%.3g", t);
+        svg << "<line x1='" << left - 4 << "' y1='" << y << "' x2='" << left + pw << "' y2='" << y
+            << "' stroke='#ddd'/><text x='" << left - 6 << "' y='" << y + 4 << "' text-anchor='end'>" << label
+            << "</text>\n";
+    }
+    svg << "<text x='" << left + pw / 2 << "' y='" << height - 12 << "' text-anchor='middle'>"
+        << escape_html(chart.x_label) << "</text>\n";
+    svg << "<text transform='translate(14," << top + ph / 2 << ") rotate(-90)' text-anchor='middle'>"
+        << escape_html(chart.y_label) << "</text>\n";
+
+    // series with legend
+    for (std::size_t i = 0; i < chart.series.size(); ++i) {
+        const Series& s = chart.series[i];
+        const char* color = colors[i % 6];
+        std::ostringstream path;
+        for (auto [x, y] : s.points) {
+            if (chart.log_y && y <= 0) continue;
+            path << (path.tellp() == 0 ? "" : " ") << px(x) << "," << py(y);
+        }
+        svg << "<polyline fill='none' stroke='" << color << "' stroke-width='2' points='" << path.str() << "'/>\n";
+        for (auto [x, y] : s.points)
+            if (!(chart.log_y && y <= 0))
+                svg << "<circle cx='" << px(x) << "' cy='" << py(y) << "' r='3' fill='" << color << "'/>\n";
+        double ly = top + 14 + 16.0 * double(i);
+        svg << "<line x1='" << left + pw + 10 << "' y1='" << ly << "' x2='" << left + pw + 28 << "' y2='" << ly
+            << "' stroke='" << color << "' stroke-width='2'/><text x='" << left + pw + 32 << "' y='" << ly + 4 << "'>"
+            << escape_html(s.label) << "</text>\n";
+    }
+    svg << "</svg>\n";
+    return svg.str();
+}
+
+// Views grouped by fov, each series over relative distance (seed 003 Figs. 1-6).
+std::vector<Series> series_by_fov(const EvalResult& result, double (*figure)(const ViewResult&))
+{
+    std::map<float, std::map<float, std::pair<double, int>>> sums; // fov -> distance -> (sum, n)
+    for (const ViewResult& v : result.views) {
+        auto& cell = sums[v.view.orbit.fov_y_degrees][v.view.orbit.distance_rel];
+        cell.first += figure(v);
+        cell.second += 1;
+    }
+    std::vector<Series> series;
+    for (const auto& [fov, by_distance] : sums) {
+        Series s;
+        s.label = "fov " + fmt("%g", fov);
+        for (const auto& [distance, cell] : by_distance) s.points.push_back({distance, cell.first / cell.second});
+        series.push_back(s);
+    }
+    return series;
+}
+
+// The frame rate of truth and stand-in per resolution (seed 000 Table A-1 / Fig. 4-6).
+std::vector<Series> fps_by_pixels(const EvalResult& result)
+{
+    std::map<int, std::pair<double, double>> ms; // pixels -> (truth, standin) sums
+    std::map<int, int> counts;
+    for (const ViewResult& v : result.views) {
+        if (v.truth_ms <= 0.0 || v.standin_ms <= 0.0) continue;
+        int pixels = v.view.width * v.view.height;
+        ms[pixels].first += v.truth_ms;
+        ms[pixels].second += v.standin_ms;
+        counts[pixels] += 1;
+    }
+    Series truth{"original mesh", {}}, standin{"stand-in", {}};
+    for (const auto& [pixels, sums] : ms) {
+        truth.points.push_back({pixels / 1000.0, 1000.0 / (sums.first / counts[pixels])});
+        standin.points.push_back({pixels / 1000.0, 1000.0 / (sums.second / counts[pixels])});
+    }
+    return {truth, standin};
+}
+
+std::string html_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows)
+{
+    std::ostringstream out;
+    out << "<table><tr>";
+    for (const std::string& h : header) out << "<th>" << escape_html(h) << "</th>";
+    out << "</tr>\n";
+    for (const auto& row : rows) {
+        out << "<tr>";
+        for (const std::string& cell : row) out << "<td>" << escape_html(cell) << "</td>";
+        out << "</tr>\n";
+    }
+    out << "</table>\n";
+    return out.str();
+}
+
+std::string json_text(const nlohmann::json& value)
+{
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_null()) return "";
+    return value.dump();
+}
+
+} // namespace
+
+Result<ReportWriter> ReportWriter::begin(const std::string& directory)
+{
+    fs::path final_path(directory);
+    if (final_path.filename().empty()) final_path = final_path.parent_path();
+    std::error_code ec;
+    if (fs::exists(final_path, ec) && !fs::is_directory(final_path, ec))
+        return error(StatusCode::invalid_argument, final_path.string() + ": exists and is not a directory");
+    if (fs::is_directory(final_path, ec) && !fs::is_empty(final_path, ec) && !fs::exists(final_path / "index.html", ec))
+        return error(StatusCode::invalid_argument,
+                     final_path.string() + ": exists and is not a report (no index.html); refusing to replace it");
+    if (!final_path.parent_path().empty()) fs::create_directories(final_path.parent_path(), ec);
+    ReportWriter writer;
+    writer.state_ = std::make_unique<State>();
+    writer.state_->directory = final_path.string();
+    writer.state_->temporary = temporary_path_for(final_path.string());
+    fs::create_directories(fs::path(writer.state_->temporary) / "images", ec);
+    if (ec) return error(StatusCode::io_error, writer.state_->temporary + ": cannot create directory: " + ec.message());
+    return writer;
+}
+
+ReportWriter::ReportWriter(ReportWriter&&) noexcept = default;
+ReportWriter& ReportWriter::operator=(ReportWriter&&) noexcept = default;
+ReportWriter::~ReportWriter()
+{
+    if (state_ && !state_->finished) {
+        std::error_code ec;
+        fs::remove_all(state_->temporary, ec);
+    }
+}
+
+const std::string& ReportWriter::directory() const { return state_->directory; }
+
+Status ReportWriter::add_view(std::size_t index, const ViewResult& result, const RenderedImage& truth,
+                              const RenderedImage& standin)
+{
+    std::string stem = (fs::path(state_->temporary) / view_stem(index)).string();
+    STANDIN_RETURN_IF_ERROR(write_png(truth.color, stem + "_truth.png"));
+    STANDIN_RETURN_IF_ERROR(write_png(standin.color, stem + "_standin.png"));
+    return write_png(difference_heatmap(truth.color, standin.color), stem + "_diff.png");
+}
+
+Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json)
+{
+    fs::path dir(state_->temporary);
+
+    // machine-readable copies: the JSON and one CSV per table
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / "eval.json").string(), json.dump(2) + "\n"));
+    for (const auto& [name, text] : eval_tables_csv(result))
+        STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / name).string(), text));
+
+    // charts
+    std::vector<std::pair<std::string, Chart>> charts;
+    bool several_distances = false;
+    for (const ViewResult& v : result.views)
+        several_distances |= v.view.orbit.distance_rel != result.views.front().view.orbit.distance_rel;
+    if (several_distances) {
+        charts.push_back({"chart_total_error.svg",
+                          {"Total error vs. relative distance (seed 003 Figs. 1, 3, 5)", "relative distance (log2)",
+                           "total |dR|+|dG|+|dB| (log10)", true, true,
+                           series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_total; })}});
+        charts.push_back({"chart_average_error.svg",
+                          {"Average error vs. relative distance (seed 003 Figs. 2, 4, 6)", "relative distance (log2)",
+                           "average error per rectangle pixel", true, false,
+                           series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_avg; })}});
+        charts.push_back({"chart_luv.svg",
+                          {"Luv difference vs. relative distance", "relative distance (log2)", "Luv (eq. 2.2)", true,
+                           false, series_by_fov(result, [](const ViewResult& v) { return v.metrics.luv_mean; })}});
+    }
+    std::vector<Series> fps = fps_by_pixels(result);
+    if (!fps.front().points.empty())
+        charts.push_back({"chart_fps.svg",
+                          {"Frame rate vs. resolution (seed 000 Table A-1)", "kilopixels", "frames per second (log10)",
+                           false, true, fps}});
+    for (const auto& [name, chart] : charts)
+        STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / name).string(), svg_chart(chart)));
+
+    // the page
+    std::ostringstream html;
+    html << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>standin eval: "
+         << escape_html(json_text(json.value("package", nlohmann::json()))) << "</title>\n<style>\n"
+         << "body{font-family:sans-serif;margin:2em;max-width:1400px;color:#222}\n"
+         << "table{border-collapse:collapse;margin:0.5em 0 1.5em}\n"
+         << "th,td{border:1px solid #bbb;padding:3px 8px;text-align:right;font-size:13px}\n"
+         << "th{background:#eee}\n.triplet{display:inline-block;margin:0 1em 1.5em 0;vertical-align:top}\n"
+         << ".triplet img{border:1px solid #999;margin-right:2px;max-width:320px;image-rendering:pixelated}\n"
+         << ".caption{font-size:12px}\n</style></head><body>\n";
+    html << "<h1>standin eval</h1>\n";
+    std::vector<std::vector<std::string>> identity_rows;
+    for (const char* key : {"model", "package", "representation", "protocol", "device", "command"})
+        if (json.contains(key)) identity_rows.push_back({key, json_text(json[key])});
+    html << html_table({"", ""}, identity_rows);
+
+    // summary
+    html << "<h2>Summary over " << result.views.size() << " views</h2>\n";
+    std::vector<std::vector<std::string>> rows;
+    for (auto it = json["stats"].begin(); it != json["stats"].end(); ++it)
+        rows.push_back({it.key(), fmt("%.4g", it.value()["mean"].get<double>()),
+                        fmt("%.4g", it.value()["median"].get<double>()), fmt("%.4g", it.value()["max"].get<double>()),
+                        fmt("%.4g", it.value()["min"].get<double>())});
+    html << html_table({"figure", "mean", "median", "max", "min"}, rows);
+    if (result.surface)
+        html << "<p>One-sided surface distance stand-in &rarr; original (" << result.surface->samples
+             << " samples): mean " << fmt("%.4g", result.surface->mean_rel) << ", max "
+             << fmt("%.4g", result.surface->max_rel) << " of the bounding-box diagonal.</p>\n";
+
+    // seed 000 tables A-2 and A-1
+    html << "<h2>Luv difference by resolution (seed 000 Table A-2)</h2>\n";
+    rows.clear();
+    std::vector<std::vector<std::string>> fps_rows;
+    for (const auto& row : json["tables"]["by_resolution"]) {
+        std::string size = std::to_string(row["width"].get<int>()) + "x" + std::to_string(row["height"].get<int>());
+        rows.push_back({size, std::to_string(row["views"].get<int>()), fmt("%.2f", row["luv_mean"].get<double>()),
+                        fmt("%.3f", row["de2000_mean"].get<double>()), fmt("%.2f", row["rgb_avg"].get<double>())});
+        double tm = row["truth_ms"].get<double>(), sm = row["standin_ms"].get<double>();
+        if (tm > 0 && sm > 0)
+            fps_rows.push_back({size, fmt("%.3f", tm), fmt("%.3f", sm), fmt("%.2f", 1000.0 / tm),
+                                fmt("%.2f", 1000.0 / sm), fmt("%.2f", tm / sm)});
+    }
+    html << html_table({"resolution", "views", "Luv (eq. 2.2)", "CIEDE2000", "RGB avg"}, rows);
+    if (!fps_rows.empty()) {
+        html << "<h2>Frame time by resolution (seed 000 Table A-1; device: " << escape_html(result.device)
+             << ")</h2>\n<p>GPU timer queries, median of a few frames per view, mean over views. On llvmpipe compare "
+                "ratios only.</p>\n";
+        html << html_table({"resolution", "mesh ms", "stand-in ms", "mesh fps", "stand-in fps", "speed-up"}, fps_rows);
+    }
+
+    // seed 003 Tables 1-3
+    if (several_distances) {
+        html << "<h2>Error by relative distance (seed 003 Tables 1-3)</h2>\n";
+        rows.clear();
+        for (const auto& row : json["tables"]["by_fov_distance"])
+            rows.push_back({fmt("%g", row["fov"].get<double>()), fmt("%g", row["distance"].get<double>()),
+                            fmt("%.3e", row["rgb_total"].get<double>()), fmt("%.3e", row["rgb_avg"].get<double>()),
+                            fmt("%.2f", row["luv_mean"].get<double>())});
+        html << html_table({"fov", "rel. distance", "total", "average", "Luv"}, rows);
+    }
+    if (!charts.empty()) {
+        html << "<h2>Charts</h2>\n";
+        for (const auto& [name, chart] : charts) html << "<img src='" << name << "' alt='" << escape_html(chart.title) << "'>\n";
+    }
+    html << "<p>Tables as CSV: ";
+    for (const auto& [name, text] : eval_tables_csv(result)) html << "<a href='" << name << "'>" << name << "</a> ";
+    html << "&middot; <a href='eval.json'>eval.json</a></p>\n";
+
+    // image triplets
+    html << "<h2>Views: truth, stand-in, Luv difference (black 0, white &ge; 50)</h2>\n";
+    for (std::size_t i = 0; i < result.views.size(); ++i) {
+        const ViewResult& v = result.views[i];
+        std::string stem = view_stem(i);
+        html << "<div class='triplet'><img loading='lazy' src='" << stem << "_truth.png' alt='truth " << i
+             << "'><img loading='lazy' src='" << stem << "_standin.png' alt='stand-in " << i
+             << "'><img loading='lazy' src='" << stem << "_diff.png' alt='difference " << i << "'>"
+             << "<div class='caption'>#" << i << " az " << fmt("%g", v.view.orbit.azimuth_degrees) << " el "
+             << fmt("%g", v.view.orbit.elevation_degrees) << " d " << fmt("%g", v.view.orbit.distance_rel) << " fov "
+             << fmt("%g", v.view.orbit.fov_y_degrees) << " " << v.view.width << "x" << v.view.height << " &middot; Luv "
+             << fmt("%.2f", v.metrics.luv_mean) << " &middot; &Delta;E00 " << fmt("%.2f", v.metrics.de2000_mean)
+             << " &middot; IoU " << fmt("%.3f", v.metrics.iou) << " &middot; PSNR " << fmt("%.1f", v.metrics.psnr)
+             << "</div></div>\n";
+    }
+    html << "</body></html>\n";
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / "index.html").string(), html.str()));
+
+    STANDIN_RETURN_IF_ERROR(commit_path(state_->temporary, state_->directory));
+    state_->finished = true;
+    return Status::ok();
+}
+
+} // namespace standin

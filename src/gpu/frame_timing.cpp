@@ -1,0 +1,89 @@
+// GPU frame timing with timer queries, median of many frames after warm-up (niagara measures its
+// frames the same way with timestamp queries).
+#include "gpu/frame_timing.h"
+
+#include "gpu/gl.h"
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+namespace standin::gpu {
+
+static void clear_target(GLuint fbo)
+{
+    const float transparent[4] = {0, 0, 0, 0};
+    const float far_depth = 1.0f;
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, transparent);
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far_depth);
+}
+
+Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int warmup, int frames)
+{
+    if (!has_current_context()) return error(StatusCode::gpu_error, "frame timing: no current OpenGL context");
+    const int width = params.viewport.x, height = params.viewport.y;
+    if (width < 1 || height < 1 || frames < 1)
+        return error(StatusCode::invalid_argument, "frame timing: empty viewport or no frames");
+
+    // the offscreen target
+    Texture color = make_texture_2d(GL_RGBA8, width, height);
+    Texture depth = make_texture_2d(GL_DEPTH_COMPONENT32F, width, height);
+    Framebuffer fbo = make_framebuffer();
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
+    if (glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        return error(StatusCode::gpu_error, "frame timing: offscreen framebuffer incomplete");
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
+
+    // warm up (shader compilation, uploads, caches), then time each frame
+    FrameTimes result;
+    for (int i = 0; i < warmup; ++i) {
+        clear_target(fbo.get());
+        renderer.draw(params);
+    }
+    glFinish();
+    GpuTimer timer;
+    std::vector<double> ms, wall;
+    for (int i = 0; i < frames; ++i) {
+        clear_target(fbo.get());
+        glFinish();
+        auto start = std::chrono::steady_clock::now();
+        timer.begin();
+        result.stats = renderer.draw(params);
+        timer.end();
+        glFinish();
+        wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        ms.push_back(timer.milliseconds());
+    }
+    std::sort(wall.begin(), wall.end());
+    result.wall_median_ms = wall.size() % 2 ? wall[wall.size() / 2] : 0.5 * (wall[wall.size() / 2 - 1] + wall[wall.size() / 2]);
+    std::sort(ms.begin(), ms.end());
+    result.median_ms = ms[ms.size() / 2];
+    if (ms.size() % 2 == 0) result.median_ms = 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+    result.min_ms = ms.front();
+    result.max_ms = ms.back();
+
+    // coverage of the last frame, then one counted frame where the renderer counts fetches
+    std::vector<std::uint8_t> pixels(std::size_t(width) * height * 4);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    for (std::size_t i = 3; i < pixels.size(); i += 4) result.covered_pixels += pixels[i] > 0;
+    renderer.set_counting(true);
+    clear_target(fbo.get());
+    renderer.draw(params);
+    std::uint64_t fetches = renderer.read_fetch_count();
+    renderer.set_counting(false);
+    if (fetches > 0 && result.covered_pixels > 0) result.fetches_per_pixel = double(fetches) / double(result.covered_pixels);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    GLenum gl_error = glGetError();
+    if (gl_error != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "frame timing: OpenGL error " + std::to_string(gl_error));
+    return result;
+}
+
+} // namespace standin::gpu
