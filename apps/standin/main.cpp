@@ -1,0 +1,49 @@
+// standin: turn a detailed polygon model into lightweight stand-ins, and measure them.
+// main only routes to the subcommands (cmd_<name>.cpp).
+#include "commands.h"
+#include "common.h"
+
+#include <cstdio>
+#include <map>
+#include <string>
+
+int main(int argc, char** argv)
+{
+    using namespace standin::cli;
+    CLI::App app{"standin: bakes polygon models into real-time stand-ins (enhanced billboards, view atlases, "
+                 "microfacets, displaced meshes), renders them, and measures their fidelity and speed.\n"
+                 "Run 'standin COMMAND --help' for the options of one command."};
+    app.require_subcommand(1);
+    bool verbose = false;
+    app.add_flag("-v,--verbose", verbose, "Print informational messages on stderr");
+    app.set_version_flag("--version", "standin 0.1.0");
+
+    std::map<std::string, CommandRun> runs;
+    auto route = [&](const char* name, CommandRun run) { runs[name] = std::move(run); };
+    route("info", add_info_command(app));
+    route("render", add_render_command(app));
+    route("generate", add_generate_command(app));
+    route("bake", add_bake_command(app));
+    route("eval", add_eval_command(app));
+    route("bench", add_bench_command(app));
+    route("view", add_view_command(app));
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::string message = e.what();
+        return fail(message + " (see 'standin --help')");
+    }
+    install_log_sink(verbose);
+    for (CLI::App* sub : app.get_subcommands()) {
+        auto it = runs.find(sub->get_name());
+        if (it != runs.end()) return it->second();
+    }
+    return fail("no command given (see 'standin --help')");
+}
