@@ -1,0 +1,250 @@
+// Baking a view atlas.
+// Saraiva, Oliveira, Pereira & Araújo (seeds/003_069a77515c8fea15.txt §3): render the model from
+// the face centres of a subdivided icosahedron, orthographically or with a perspective camera at the
+// base distance r / sin(fov/2), lit by the renderer's fixed light; crop every image to its content.
+// Steps: choose the directions (layout.cpp); render each view with the ground-truth renderer on the
+// GPU (colour, and for "surface" maps the normal and the depth); crop to the covered pixels plus one
+// empty texel, padded to whole k_cell cells; pack the crops into pages (layout.cpp); copy them in.
+// Differences from the paper:
+//  - the icosahedron is turned so that +Y and -Y are face centres (the protocols' pole views);
+//  - "surface" maps (default) store albedo, world normal and depth instead of a lit colour, so the
+//    renderer can light dynamically and correct parallax (seed §7); "lit" is the paper's image;
+//  - default 1280 views (k = 3) of 256² instead of 5120 of 512²: a bunny package stays well under
+//    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options.
+#include "reps/view_atlas/view_atlas.h"
+
+#include "gpu/frame.h"
+#include "gpu/gl.h"
+#include "gpu/shaders/common/bindings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace standin::view_atlas {
+
+namespace {
+
+Result<BakeSettings> read_settings(const BakeParameters& parameters)
+{
+    BakeSettings s;
+    auto layout = parameters.get_choice("layout", s.layout, {"icosahedral", "octahedral", "hemi-octahedral"});
+    if (!layout) return layout.status();
+    s.layout = *layout;
+    auto subdivisions = parameters.get_int("subdivisions", s.subdivisions, 0, 5);
+    if (!subdivisions) return subdivisions.status();
+    s.subdivisions = *subdivisions;
+    auto frames = parameters.get_int("frames", s.frames, 2, 64);
+    if (!frames) return frames.status();
+    s.frames = *frames;
+    auto projection = parameters.get_choice("projection", s.projection, {"ortho", "perspective"});
+    if (!projection) return projection.status();
+    s.projection = *projection;
+    auto fov = parameters.get_float("fov", s.fov, 1.0f, 170.0f);
+    if (!fov) return fov.status();
+    s.fov = *fov;
+    auto resolution = parameters.get_int("resolution", s.resolution, 16, 4096);
+    if (!resolution) return resolution.status();
+    s.resolution = *resolution;
+    auto maps = parameters.get_choice("maps", s.maps, {"surface", "lit"});
+    if (!maps) return maps.status();
+    s.maps = *maps;
+    auto page_size = parameters.get_int("page-size", s.page_size, 256, 16384);
+    if (!page_size) return page_size.status();
+    s.page_size = *page_size;
+    if (s.page_size % k_cell != 0)
+        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(k_cell));
+    if (s.resolution + 2 * k_cell > s.page_size)
+        return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
+    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("view-atlas"));
+    return s;
+}
+
+// The surface normals of the mesh, world space, as the capture's second image.
+class NormalRenderer final : public Renderer {
+public:
+    static Result<std::unique_ptr<NormalRenderer>> create(const Mesh& mesh)
+    {
+        auto r = std::make_unique<NormalRenderer>();
+        Result<gpu::Program> program =
+            gpu::Program::create({"reference/shaders/mesh.vert", "reps/view_atlas/shaders/capture_normal.frag"});
+        if (!program) return program.status();
+        r->program_ = std::move(*program);
+        r->positions_ = gpu::make_buffer(mesh.positions);
+        r->normals_ = gpu::make_buffer(mesh.normals);
+        r->indices_ = gpu::make_buffer(mesh.indices);
+        r->count_ = GLsizei(mesh.indices.size());
+        r->vao_ = gpu::make_vertex_array();
+        GLuint vao = r->vao_.get();
+        const std::pair<GLuint, GLuint> attributes[2] = {{ATTRIB_POSITION, r->positions_.get()},
+                                                         {ATTRIB_NORMAL, r->normals_.get()}};
+        for (auto [attribute, buffer] : attributes) {
+            glVertexArrayVertexBuffer(vao, attribute, buffer, 0, sizeof(glm::vec3));
+            glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
+            glVertexArrayAttribBinding(vao, attribute, attribute);
+            glEnableVertexArrayAttrib(vao, attribute);
+        }
+        glVertexArrayElementBuffer(vao, r->indices_.get());
+        return r;
+    }
+    DrawStats draw(const DrawParams& params) override
+    {
+        frame_.bind(params);
+        program_.use();
+        glBindVertexArray(vao_.get());
+        glEnable(GL_DEPTH_TEST);
+        glDisable(GL_CULL_FACE);
+        glVertexAttrib4f(ATTRIB_COLOR, 1, 1, 1, 1);
+        glVertexAttrib2f(ATTRIB_UV, 0, 0);
+        glDrawElements(GL_TRIANGLES, count_, GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(0);
+        return {1, std::uint64_t(count_ / 3)};
+    }
+
+private:
+    gpu::Program program_;
+    gpu::Buffer positions_, normals_, indices_;
+    gpu::VertexArray vao_;
+    GLsizei count_ = 0;
+    gpu::FrameResources frame_;
+};
+
+// The capture camera of a direction: the protocols' orbit camera at distance 1 (so that the view's
+// up vector, and with it the camera-relative light, follows the same rule as the evaluation's).
+Camera capture_camera(const BoundingSphere& sphere, const BakeSettings& s, glm::vec3 direction)
+{
+    OrbitView view;
+    view.azimuth_degrees = glm::degrees(std::atan2(direction.x, direction.z));
+    view.elevation_degrees = glm::degrees(std::asin(std::clamp(direction.y, -1.0f, 1.0f)));
+    view.distance_rel = 1.0f;
+    view.fov_y_degrees = s.fov;
+    view.orthographic = s.projection == "ortho";
+    return orbit_camera(sphere, view, 1.0f);
+}
+
+// distance along the camera's forward axis of a window depth
+float view_depth(const Camera& camera, float window_depth)
+{
+    float n = camera.near_plane, f = camera.far_plane;
+    if (camera.orthographic) return n + window_depth * (f - n);
+    float z_ndc = 2.0f * window_depth - 1.0f;
+    return 2.0f * n * f / (f + n - z_ndc * (f - n));
+}
+
+struct Capture {
+    ImageRGBA8 color, normal_depth; // cropped
+};
+
+// Crops a capture to its covered pixels plus one empty texel, in whole cells.
+void crop(const RenderedImage& color, const RenderedImage* normals, const Camera& camera, float eye_distance,
+          const BoundingSphere& sphere, View& view, Capture& out)
+{
+    const int n = color.color.width;
+    int x0 = n, y0 = n, x1 = -1, y1 = -1;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            if (color.color.at(x, y)[3] != 0) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+    if (x1 < 0) return; // nothing seen
+    view.crop_x = x0 - 1;
+    view.crop_y = y0 - 1;
+    view.width = (x1 - x0 + 3 + k_cell - 1) / k_cell * k_cell;
+    view.height = (y1 - y0 + 3 + k_cell - 1) / k_cell * k_cell;
+    out.color = ImageRGBA8(view.width, view.height);
+    if (normals) out.normal_depth = ImageRGBA8(view.width, view.height);
+    for (int y = 0; y < view.height; ++y) {
+        for (int x = 0; x < view.width; ++x) {
+            int sx = view.crop_x + x, sy = view.crop_y + y;
+            if (sx < 0 || sy < 0 || sx >= n || sy >= n) continue;
+            const std::uint8_t* c = color.color.at(sx, sy);
+            if (c[3] == 0) continue;
+            std::memcpy(out.color.at(x, y), c, 3);
+            out.color.at(x, y)[3] = 255;
+            if (!normals) continue;
+            std::uint8_t* nd = out.normal_depth.at(x, y);
+            std::memcpy(nd, normals->color.at(sx, sy), 3);
+            // depth: (r - dot(p - centre, direction)) / 2r, 0 nearest the camera
+            float along = eye_distance - view_depth(camera, color.depth[std::size_t(sy) * n + sx]);
+            float depth = (sphere.radius - along) / (2.0f * sphere.radius);
+            nd[3] = std::uint8_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * 255.0f));
+        }
+    }
+}
+
+void copy_into_page(const ImageRGBA8& crop, ImageRGBA8& page, int x, int y)
+{
+    for (int row = 0; row < crop.height; ++row)
+        std::memcpy(page.at(x, y + row), crop.at(0, row), std::size_t(crop.width) * 4);
+}
+
+} // namespace
+
+Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+{
+    Result<BakeSettings> settings = read_settings(context.parameters);
+    if (!settings) return settings.status();
+    const BakeSettings& s = *settings;
+    STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "view atlas"));
+
+    // the bake renders on the GPU: use the current context or make one for the bake
+    std::unique_ptr<GpuContext> own_context;
+    if (!gpu::has_current_context()) {
+        Result<std::unique_ptr<GpuContext>> made = create_headless_context();
+        if (!made) return made.status();
+        own_context = std::move(*made);
+    }
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(context.mesh);
+    if (!truth) return truth.status();
+    std::unique_ptr<NormalRenderer> normals;
+    if (s.maps == "surface") {
+        Result<std::unique_ptr<NormalRenderer>> made = NormalRenderer::create(context.mesh);
+        if (!made) return made.status();
+        normals = std::move(*made);
+    }
+
+    auto package = std::make_unique<ViewAtlasPackage>();
+    package->source = context.source;
+    package->settings = s;
+    BoundingSphere sphere = context.mesh.bounding_sphere();
+    package->center = sphere.center;
+    package->radius = sphere.radius;
+    std::vector<glm::vec3> directions = layout_directions(s.layout, s.subdivisions, s.frames);
+
+    // render every view and crop it
+    std::vector<Capture> captures(directions.size());
+    package->views.resize(directions.size());
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+        Camera camera = capture_camera(sphere, s, directions[k]);
+        View& view = package->views[k];
+        view.direction = -camera.forward_world;
+        const glm::mat4& m = camera.view_from_world; // rows 0 and 1: camera right and up
+        view.axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
+        view.axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
+        Light light = default_light(camera);
+        if (normals) light = Light{light.direction_to_light_world, 1.0f, 0.0f, 0.0f, 1.0f}; // albedo
+        Result<RenderedImage> color = render_offscreen(**truth, camera, light, s.resolution, s.resolution);
+        if (!color) return color.status();
+        RenderedImage normal;
+        if (normals) {
+            Result<RenderedImage> rendered = render_offscreen(*normals, camera, light, s.resolution, s.resolution);
+            if (!rendered) return rendered.status();
+            normal = std::move(*rendered);
+        }
+        float eye_distance = glm::dot(camera.eye_world - sphere.center, view.direction);
+        crop(*color, normals ? &normal : nullptr, camera, eye_distance, sphere, view, captures[k]);
+        context.progress.report("view atlas: capturing views", double(k + 1) / double(directions.size()));
+    }
+
+    // pack the crops into pages
+    int pages = pack_views(package->views, s.page_size);
+    package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    if (normals) package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    for (std::size_t k = 0; k < package->views.size(); ++k) {
+        const View& v = package->views[k];
+        if (v.width == 0) continue;
+        copy_into_page(captures[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        if (normals) copy_into_page(captures[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+    }
+    return std::unique_ptr<Package>(std::move(package));
+}
+
+} // namespace standin::view_atlas

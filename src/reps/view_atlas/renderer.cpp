@@ -1,0 +1,240 @@
+// The GPU renderer of view atlases: one quad per instance, views chosen per instance in the vertex
+// stage (shaders/atlas.vert), the atlas read per pixel (shaders/atlas.frag).
+// Saraiva et al. (seeds/003_069a77515c8fea15.txt §3): style "seed" shows the view nearest to the
+// viewing direction (largest cosine) on a camera-facing quad through the sphere's centre.
+// Beyond the paper (its §7): "octahedral-baseline" blends the three views around the direction with
+// one parallax step, as impostor bakers do; "corrected" (default) intersects each of the three
+// views' depth per pixel, blends the hits on one surface, lights the stored normals and writes
+// true depth.
+// Differences from the paper: the seed's mip maps bled the background (§5); here pages are
+// premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
+// where two crops would mix (view_atlas.h, k_cell).
+// Load-time tables: a direction lookup cube (the nearest view of each cell's centre) and each view's
+// NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
+#include "reps/view_atlas/view_atlas.h"
+
+#include "gpu/frame.h"
+#include "gpu/gl.h"
+#include "reps/view_atlas/shaders/atlas_layout.glsl"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace standin::view_atlas {
+
+namespace {
+
+// std430 mirror of ViewData in shaders/atlas.glsl
+struct ViewGpu {
+    glm::vec4 direction, axis_u, axis_v;
+    glm::ivec4 crop, atlas;
+};
+static_assert(sizeof(ViewGpu) == 80, "std430 layout of ViewData");
+
+int style_code(const std::string& name)
+{
+    if (name == "seed") return STYLE_SEED;
+    if (name == "octahedral-baseline") return STYLE_BASELINE;
+    if (name == "corrected") return STYLE_CORRECTED;
+    return -1;
+}
+
+glm::vec3 lookup_cell_center(int face, int x, int y)
+{
+    glm::vec2 uv((float(x) + 0.5f) / LOOKUP_SIDE * 2.0f - 1.0f, (float(y) + 0.5f) / LOOKUP_SIDE * 2.0f - 1.0f);
+    switch (face) { // inverse of lookup_cell in shaders/atlas.glsl
+    case 0: return glm::normalize(glm::vec3(1.0f, uv.x, uv.y));
+    case 1: return glm::normalize(glm::vec3(-1.0f, uv.x, uv.y));
+    case 2: return glm::normalize(glm::vec3(uv.x, 1.0f, uv.y));
+    case 3: return glm::normalize(glm::vec3(uv.x, -1.0f, uv.y));
+    case 4: return glm::normalize(glm::vec3(uv.x, uv.y, 1.0f));
+    default: return glm::normalize(glm::vec3(uv.x, uv.y, -1.0f));
+    }
+}
+
+// the lookup cube, then NEIGHBOURS nearest views per view (-1 where there are fewer views)
+std::vector<std::int32_t> build_index(const std::vector<View>& views)
+{
+    const int n = int(views.size());
+    std::vector<std::int32_t> index;
+    index.reserve(std::size_t(6 * LOOKUP_SIDE * LOOKUP_SIDE + n * NEIGHBOURS));
+    for (int face = 0; face < 6; ++face)
+        for (int y = 0; y < LOOKUP_SIDE; ++y)
+            for (int x = 0; x < LOOKUP_SIDE; ++x) {
+                glm::vec3 d = lookup_cell_center(face, x, y);
+                int best = 0;
+                for (int k = 1; k < n; ++k)
+                    if (glm::dot(views[std::size_t(k)].direction, d) > glm::dot(views[std::size_t(best)].direction, d)) best = k;
+                index.push_back(best);
+            }
+    std::vector<int> order(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) {
+        std::iota(order.begin(), order.end(), 0);
+        glm::vec3 d = views[std::size_t(k)].direction;
+        auto nearer = [&](int a, int b) {
+            float ca = glm::dot(views[std::size_t(a)].direction, d), cb = glm::dot(views[std::size_t(b)].direction, d);
+            return ca != cb ? ca > cb : a < b;
+        };
+        int keep = std::min(n, NEIGHBOURS + 1);
+        std::partial_sort(order.begin(), order.begin() + keep, order.end(), nearer);
+        int written = 0;
+        for (int i = 0; i < keep && written < NEIGHBOURS; ++i)
+            if (order[std::size_t(i)] != k) index.push_back(order[std::size_t(i)]), ++written;
+        for (; written < NEIGHBOURS; ++written) index.push_back(-1);
+    }
+    return index;
+}
+
+// A page premultiplied by coverage: colour pages by their own alpha, normal-depth pages by the
+// colour page's alpha, so that filtering averages only covered texels.
+std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha)
+{
+    std::vector<std::uint8_t> out(page.pixels.size());
+    for (std::size_t p = 0; p < out.size(); p += 4) {
+        unsigned a = coverage.pixels[p + 3];
+        for (int c = 0; c < 3; ++c) out[p + c] = std::uint8_t((page.pixels[p + c] * a + 127) / 255);
+        out[p + 3] = keep_alpha ? page.pixels[p + 3] : std::uint8_t((page.pixels[p + 3] * a + 127) / 255);
+    }
+    return out;
+}
+
+gpu::Texture upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
+                          bool color, int size)
+{
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    glTextureStorage3D(name, k_mip_levels, GL_RGBA8, size, size, GLsizei(std::max<std::size_t>(pages.size(), 1)));
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (std::size_t k = 0; k < pages.size(); ++k) {
+        std::vector<std::uint8_t> data = premultiplied(pages[k], coverage[k], color);
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
+    }
+    glGenerateTextureMipmap(name);
+    return gpu::Texture(name);
+}
+
+class AtlasRenderer final : public Renderer {
+public:
+    static Result<std::unique_ptr<Renderer>> create(const ViewAtlasPackage& package, const RenderOptions& options);
+    DrawStats draw(const DrawParams& params) override;
+
+private:
+    gpu::Program program_;
+    gpu::Texture color_pages_, normal_depth_pages_;
+    gpu::Buffer views_, index_;
+    gpu::VertexArray empty_vertex_array_;
+    gpu::FrameResources frame_;
+};
+
+Status check_package(const ViewAtlasPackage& package)
+{
+    const BakeSettings& s = package.settings;
+    if (package.views.empty()) return error(StatusCode::bad_data, "view atlas: no views");
+    if (package.has_surface() && package.normal_depth_pages.size() != package.color_pages.size())
+        return error(StatusCode::bad_data, "view atlas: normal-depth pages missing");
+    for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
+        const ImageRGBA8& page = package.color_pages[k];
+        if (page.width != s.page_size || page.height != s.page_size ||
+            (package.has_surface() && (package.normal_depth_pages[k].width != s.page_size ||
+                                       package.normal_depth_pages[k].height != s.page_size)))
+            return error(StatusCode::bad_data, "view atlas: page " + std::to_string(k) + " is not page_size square");
+    }
+    for (std::size_t k = 0; k < package.views.size(); ++k) {
+        const View& v = package.views[k];
+        if (v.width > 0 && (v.page < 0 || v.page >= int(package.color_pages.size()) || v.atlas_x < 0 || v.atlas_y < 0 ||
+                            v.atlas_x + v.width > s.page_size || v.atlas_y + v.height > s.page_size))
+            return error(StatusCode::bad_data, "view atlas: view " + std::to_string(k) + " lies outside its page");
+    }
+    return Status::ok();
+}
+
+Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& package, const RenderOptions& options)
+{
+    int style = style_code(options.style);
+    if (style < 0)
+        return error(StatusCode::invalid_argument, "view atlas: --style must be 'seed', 'octahedral-baseline' or "
+                                                   "'corrected', not '" + options.style + "'");
+    if (style != STYLE_SEED && !package.has_surface())
+        return error(StatusCode::invalid_argument, "view atlas: --style " + options.style +
+                                                       " needs depth: bake with --maps surface (this package has lit colour only)");
+    if (style == STYLE_CORRECTED && package.settings.projection != "ortho")
+        return error(StatusCode::unsupported, "view atlas: --style corrected needs orthographic views (bake with "
+                                              "--projection ortho); use --style seed or octahedral-baseline");
+    if (!options.debug_view.empty())
+        return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view + "'");
+    STANDIN_RETURN_IF_ERROR(check_package(package));
+
+    auto renderer = std::make_unique<AtlasRenderer>();
+    Result<gpu::Program> program =
+        gpu::Program::create({"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"});
+    if (!program) return program.status();
+    renderer->program_ = std::move(*program);
+
+    GLint max_layers = 0, max_size = 0;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (int(package.color_pages.size()) > max_layers || package.settings.page_size > max_size)
+        return error(StatusCode::gpu_error, "view atlas: pages exceed GL_MAX_ARRAY_TEXTURE_LAYERS or GL_MAX_TEXTURE_SIZE");
+    int size = package.settings.page_size;
+    renderer->color_pages_ = upload_pages(package.color_pages, package.color_pages, true, size);
+    if (package.has_surface())
+        renderer->normal_depth_pages_ = upload_pages(package.normal_depth_pages, package.color_pages, false, size);
+
+    std::vector<ViewGpu> views;
+    for (const View& v : package.views)
+        views.push_back({glm::vec4(v.direction, 0.0f), glm::vec4(v.axis_u, 0.0f), glm::vec4(v.axis_v, 0.0f),
+                         glm::ivec4(v.crop_x, v.crop_y, v.width, v.height), glm::ivec4(v.page, v.atlas_x, v.atlas_y, 0)});
+    renderer->views_ = gpu::make_buffer(views);
+    renderer->index_ = gpu::make_buffer(build_index(package.views));
+    renderer->empty_vertex_array_ = gpu::make_vertex_array();
+
+    GLuint id = renderer->program_.id();
+    glProgramUniform3fv(id, renderer->program_.uniform("atlas_center"), 1, &package.center.x);
+    glProgramUniform1f(id, renderer->program_.uniform("atlas_radius"), package.radius);
+    glProgramUniform1f(id, renderer->program_.uniform("half_extent"), package.half_extent());
+    glProgramUniform1f(id, renderer->program_.uniform("resolution"), float(package.settings.resolution));
+    glProgramUniform1f(id, renderer->program_.uniform("capture_distance"), package.capture_distance());
+    glProgramUniform1i(id, renderer->program_.uniform("capture_ortho"), package.settings.projection == "ortho");
+    glProgramUniform1i(id, renderer->program_.uniform("view_count"), int(package.views.size()));
+    glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
+    glProgramUniform1i(id, renderer->program_.uniform("style"), style);
+    glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " while uploading");
+    return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+DrawStats AtlasRenderer::draw(const DrawParams& params)
+{
+    frame_.bind(params);
+    GLsizei instances = GLsizei(frame_.instance_count());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
+    glBindTextureUnit(ATLAS_COLOR_TEXTURE, color_pages_.get());
+    glBindTextureUnit(ATLAS_NORMAL_DEPTH_TEXTURE, normal_depth_pages_ ? normal_depth_pages_.get() : color_pages_.get());
+    glBindVertexArray(empty_vertex_array_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    program_.use();
+    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+    glBindVertexArray(0);
+    return {1, std::uint64_t(instances) * 2};
+}
+
+} // namespace
+
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+{
+    const auto* atlas = dynamic_cast<const ViewAtlasPackage*>(&package);
+    if (!atlas)
+        return error(StatusCode::invalid_argument,
+                     "view atlas: package holds '" + package.representation() + "', not a view atlas");
+    return AtlasRenderer::create(*atlas, options);
+}
+
+} // namespace standin::view_atlas

@@ -1,0 +1,119 @@
+// The view atlas's per-view block and the nearest-view search (C++ side: ViewGpu and the lookup
+// tables in renderer.cpp).
+#include "reps/view_atlas/shaders/atlas_layout.glsl"
+
+struct ViewData {
+    vec4 direction; // xyz: unit, from the centre towards the capture camera
+    vec4 axis_u;    // xyz: image columns
+    vec4 axis_v;    // xyz: image rows (down)
+    ivec4 crop;     // crop x, y, width, height in capture pixels
+    ivec4 atlas;    // page, x, y (texels), unused
+};
+
+layout(std430, binding = ATLAS_VIEWS_SSBO) readonly buffer ViewBlock {
+    ViewData items[];
+} views;
+
+layout(std430, binding = ATLAS_INDEX_SSBO) readonly buffer IndexBlock {
+    int entries[]; // 6 * LOOKUP_SIDE^2 lookup cells, then NEIGHBOURS per view
+} index_data;
+
+uniform vec3 atlas_center;     // object space
+uniform float atlas_radius;
+uniform float half_extent;     // of the captured square on the centre plane
+uniform float resolution;      // capture pixels per side
+uniform float capture_distance;
+uniform int capture_ortho;
+uniform int view_count;
+uniform float page_size;
+
+int lookup_cell(vec3 d)
+{
+    vec3 a = abs(d);
+    int face;
+    vec2 uv;
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x > 0.0 ? 0 : 1;
+        uv = d.yz / a.x;
+    } else if (a.y >= a.z) {
+        face = d.y > 0.0 ? 2 : 3;
+        uv = d.xz / a.y;
+    } else {
+        face = d.z > 0.0 ? 4 : 5;
+        uv = d.xy / a.z;
+    }
+    ivec2 cell = clamp(ivec2((uv * 0.5 + 0.5) * float(LOOKUP_SIDE)), ivec2(0), ivec2(LOOKUP_SIDE - 1));
+    return face * LOOKUP_SIDE * LOOKUP_SIDE + cell.y * LOOKUP_SIDE + cell.x;
+}
+
+// The view nearest to direction e (largest cosine): the lookup cube's guess, then a walk over
+// nearest-neighbour lists while a neighbour is nearer.
+int nearest_view(vec3 e)
+{
+    int k = index_data.entries[lookup_cell(e)];
+    float best = dot(views.items[k].direction.xyz, e);
+    int neighbour_base = 6 * LOOKUP_SIDE * LOOKUP_SIDE;
+    for (int step = 0; step < 64; ++step) {
+        int next = k;
+        for (int i = 0; i < NEIGHBOURS; ++i) {
+            int n = index_data.entries[neighbour_base + k * NEIGHBOURS + i];
+            if (n < 0) continue;
+            float c = dot(views.items[n].direction.xyz, e);
+            if (c > best || (c == best && n < next)) {
+                best = c;
+                next = n;
+            }
+        }
+        if (next == k) break;
+        k = next;
+    }
+    return k;
+}
+
+// The three views around e and their blend weights: cosine above the fourth-nearest's, so a view
+// enters and leaves the blend with weight 0 (no popping).
+void blend_views(vec3 e, out ivec3 ids, out vec3 weights)
+{
+    int k = nearest_view(e);
+    int best[4] = int[4](k, -1, -1, -1);
+    float cosines[4] = float[4](dot(views.items[k].direction.xyz, e), -2.0, -2.0, -2.0);
+    int neighbour_base = 6 * LOOKUP_SIDE * LOOKUP_SIDE;
+    for (int i = 0; i < NEIGHBOURS; ++i) {
+        int n = index_data.entries[neighbour_base + k * NEIGHBOURS + i];
+        if (n < 0) continue;
+        float c = dot(views.items[n].direction.xyz, e);
+        for (int slot = 1; slot < 4; ++slot) {
+            if (c > cosines[slot]) {
+                for (int m = 3; m > slot; --m) {
+                    cosines[m] = cosines[m - 1];
+                    best[m] = best[m - 1];
+                }
+                cosines[slot] = c;
+                best[slot] = n;
+                break;
+            }
+        }
+    }
+    float floor_cosine = cosines[3] > -1.5 ? cosines[3] : cosines[2] - 1e-3;
+    ids = ivec3(best[0], max(best[1], 0), max(best[2], 0));
+    weights = max(vec3(cosines[0], cosines[1], cosines[2]) - floor_cosine, vec3(0.0));
+    if (best[1] < 0) weights.y = 0.0;
+    if (best[2] < 0) weights.z = 0.0;
+    float sum = weights.x + weights.y + weights.z;
+    weights = sum > 0.0 ? weights / sum : vec3(1.0, 0.0, 0.0);
+}
+
+// Rotation taking unit a onto unit b (Rodrigues).
+mat3 rotation_between(vec3 a, vec3 b)
+{
+    vec3 axis = cross(a, b);
+    float s = length(axis), c = dot(a, b);
+    if (s < 1e-7) return mat3(1.0);
+    axis /= s;
+    mat3 k = mat3(0.0, axis.z, -axis.y, -axis.z, 0.0, axis.x, axis.y, -axis.x, 0.0);
+    return mat3(1.0) + s * k + (1.0 - c) * k * k;
+}
+
+// plane coordinates (along axis_u, axis_v, object units) of a capture pixel position
+vec2 plane_from_capture(vec2 pixel) { return -half_extent + pixel * (2.0 * half_extent / resolution); }
+vec2 capture_from_plane(vec2 plane) { return (plane + half_extent) * (resolution / (2.0 * half_extent)); }

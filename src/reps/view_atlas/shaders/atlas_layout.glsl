@@ -1,0 +1,23 @@
+// Constants shared by the view-atlas renderer's C++ (renderer.cpp includes this file) and its
+// shaders. Plain #defines only: both languages must parse this file.
+#ifndef STANDIN_ATLAS_LAYOUT_GLSL
+#define STANDIN_ATLAS_LAYOUT_GLSL
+
+// shader storage blocks
+#define ATLAS_VIEWS_SSBO 1     // ViewData[]
+#define ATLAS_INDEX_SSBO 2     // int[]: the direction lookup cube, then NEIGHBOURS per view
+
+// texture units
+#define ATLAS_COLOR_TEXTURE 0        // colour (lit or albedo), premultiplied by coverage; A: coverage
+#define ATLAS_NORMAL_DEPTH_TEXTURE 1 // normal * 0.5 + 0.5 and depth, premultiplied by coverage
+
+// styles (RenderOptions::style)
+#define STYLE_SEED 0       // the paper: the nearest view on a camera-facing quad, no correction
+#define STYLE_BASELINE 1   // impostor bakers: 3 views blended, one parallax offset step
+#define STYLE_CORRECTED 2  // 3 views blended, each intersected per pixel with its depth
+
+#define LOOKUP_SIDE 32     // cells per side of each face of the direction lookup cube
+#define NEIGHBOURS 12      // nearest other views kept per view
+#define MAX_LOD 4          // mip levels that never mix two views (crops sit on 16-texel cells)
+
+#endif
