@@ -132,4 +132,32 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
     return acc;
 }
 
+std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size)
+{
+    assert(tile_size > 0 && (tile_size & (tile_size - 1)) == 0);
+    std::vector<TileBox> tiles;
+    for (int tj = 0; tj < acc.height; tj += tile_size) {
+        for (int ti = 0; ti < acc.width; ti += tile_size) {
+            // the bounds of the covered texels of the tile and of their ranges
+            TileBox box;
+            box.texel_min = glm::ivec2(ti + tile_size, tj + tile_size);
+            box.texel_max = glm::ivec2(ti, tj);
+            bool occupied = false;
+            for (int j = tj; j < std::min(tj + tile_size, acc.height); ++j) {
+                for (int i = ti; i < std::min(ti + tile_size, acc.width); ++i) {
+                    const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+                    if (!(texel.flags & k_texel_covered)) continue;
+                    occupied = true;
+                    box.texel_min = glm::min(box.texel_min, glm::ivec2(i, j));
+                    box.texel_max = glm::max(box.texel_max, glm::ivec2(i + 1, j + 1));
+                    box.depth_min = std::min(box.depth_min, texel.min);
+                    box.depth_max = std::max(box.depth_max, texel.max);
+                }
+            }
+            if (occupied) tiles.push_back(box);
+        }
+    }
+    return tiles;
+}
+
 } // namespace standin::billboards

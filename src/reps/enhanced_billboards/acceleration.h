@@ -52,4 +52,18 @@ struct LinkSettings {
 HeightFieldAcceleration build_acceleration(const Billboard& billboard, int padded_width, int padded_height,
                                            int levels, const LinkSettings& settings);
 
+// The proxy of one occupied tile: the texel rectangle [texel_min, texel_max) of the covered texels
+// of one tile_size x tile_size tile, and the depth range (16-bit codes) of those texels and of the
+// walls to their linked neighbours (SurfaceTexel::min / max). A ray that meets the height field
+// inside the tile meets this box first.
+struct TileBox {
+    glm::ivec2 texel_min{0}, texel_max{0};
+    std::uint16_t depth_min = 65535, depth_max = 0;
+};
+
+// The boxes of the tiles of `acc` that hold covered texels, row by row (empty tiles have none), so
+// that every covered texel lies in exactly one box. tile_size is a power of two, at most 2^levels
+// so that tiles align with pyramid cells.
+std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size);
+
 } // namespace standin::billboards

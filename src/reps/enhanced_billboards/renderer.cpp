@@ -9,9 +9,16 @@
 //  - every hit writes its true depth (conservative depth layout, so early depth testing stays);
 //  - boxes that cross the near plane are drawn from their back faces, rays starting at the eye;
 //  - the coarse mesh fills only pixels where rays came near a surface and missed.
-// All billboards of all instances are one instanced draw (plus one for boxes around the eye);
-// textures are 2D arrays, one layer per billboard, read with texelFetch (no filtering, so the
-// empty background never bleeds into the colour).
+// Proxies: instead of the paper's one box per billboard (which covers nearly the whole model, so
+// every pixel marched ~5 boxes), every occupied 16 x 16-texel tile of a billboard is a box of its
+// own, as tight as its covered texels and their depths (build_tiles): empty tiles draw nothing and
+// rays inside a tile are short. Each frame the CPU sorts instances and tiles front to back and the
+// shader stops every ray at the nearest front hit already found at its pixel, so boxes behind the
+// visible surface cost a few instructions, not a march. Instances whose tiles would be small on
+// screen (and the "seed" march) draw one box per billboard instead.
+// All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
+// (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
+// with texelFetch (no filtering, so the empty background never bleeds into the colour).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 
@@ -23,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 namespace standin::billboards {
 
@@ -37,6 +45,16 @@ struct BillboardGpu {
 };
 static_assert(sizeof(BillboardGpu) == 176, "std430 layout of BillboardData");
 
+// std430 mirror of TileData in shaders/billboard.glsl
+struct TileGpu {
+    glm::vec4 box_min, box_max;
+    glm::ivec4 info; // billboard, highest pyramid level, unused, unused
+};
+static_assert(sizeof(TileGpu) == 48, "std430 layout of TileData");
+
+// a margin of a hundredth of a texel in depth keeps flat sheets inside their box
+constexpr float k_depth_margin = 1e-4f;
+
 // The box of the covered texels and their depths, in box space (a billboard's box is often larger
 // than what it holds; a tighter box means fewer fragments and shorter rays). Empty: min > max.
 void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, BillboardGpu& g)
@@ -50,18 +68,32 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
             hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), float(texel.depth) / 65535.0f));
         }
     }
-    // a margin of a hundredth of a texel in depth keeps flat sheets inside their box
-    g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, 1e-4f), 0.0f);
-    g.box_max = glm::vec4(hi + glm::vec3(0.0f, 0.0f, 1e-4f), 0.0f);
+    g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
+    g.box_max = glm::vec4(hi + glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
 }
 
 // at most 2^6-texel cells at the top of the pyramid: long rays cross a few top cells, and the
 // texture arrays pad to multiples of 64 texels only
 constexpr int k_max_pyramid_levels = 6;
+// tiles of 2^4 texels: a tile proxy per 16 x 16 texels
+constexpr int k_tile_level = 4;
+// instances whose tiles would cover fewer pixels across than this draw one box per billboard
+constexpr float k_min_tile_pixels = 6.0f;
+
+// What the CPU needs of a proxy box to sort and choose boxes each frame.
+struct ProxyInfo {
+    glm::vec3 centre_object; // of the box
+    int billboard = 0;
+};
+
+// One draw-list entry (std430 uvec2 in box.vert).
+struct DrawEntry {
+    std::uint32_t instance, tile;
+};
 
 struct ProgramLocations {
-    GLint billboard_count = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, top_level = -1,
-          debug_view = -1, counting = -1, mark_pixels = -1;
+    GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
+          mark_pixels = -1;
 };
 
 class BillboardRenderer final : public Renderer {
@@ -75,8 +107,10 @@ public:
 private:
     Status upload_billboards(const EnhancedBillboardsPackage& package);
     void upload_coarse_mesh(const Mesh& mesh);
-    void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at) const;
-    void prepare_pixel_flags(glm::ivec2 viewport);
+    void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
+    void prepare_pixel_images(glm::ivec2 viewport, bool flags);
+    std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
+    void append_proxies(std::uint32_t instance, bool fine, glm::vec3 forward_object, std::vector<DrawEntry>& out);
 
     RenderOptions options_;
     int march_mode_ = MARCH_EXACT, debug_view_ = DEBUG_NONE;
@@ -85,12 +119,22 @@ private:
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_;
-    gpu::Buffer billboards_, counters_;
+    gpu::Buffer billboards_, counters_, tiles_, draw_list_;
+    // proxies: tiles [0, fine_count_), then one whole-billboard box per billboard
+    std::vector<ProxyInfo> proxies_;
+    std::size_t fine_count_ = 0;
+    std::vector<glm::vec3> billboard_directions_; // object space
+    glm::vec3 bound_centre_{0.0f};                 // object-space sphere around every box
+    float bound_radius_ = 0.0f;
+    float tile_world_ = 0.0f;                      // object units across a tile
+    std::size_t draw_list_capacity_ = 0;
+    std::vector<DrawEntry> entries_, inside_entries_;
+    std::vector<std::pair<float, std::uint32_t>> sort_keys_;
     gpu::VertexArray empty_vertex_array_, coarse_vertex_array_;
     gpu::Buffer coarse_positions_, coarse_normals_, coarse_colors_, coarse_indices_;
     GLsizei coarse_index_count_ = 0;
-    gpu::Texture pixel_flags_;
-    glm::ivec2 pixel_flags_size_{0};
+    gpu::Texture pixel_flags_, pixel_depth_;
+    glm::ivec2 pixel_images_size_{0};
     gpu::FrameResources frame_;
     bool counting_ = false;
 };
@@ -147,11 +191,10 @@ Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
     Result<gpu::Program> program = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
     if (!program) return program;
-    at.billboard_count = program->uniform("billboard_count");
+    at.first_entry = program->uniform("first_entry");
     at.march_mode = program->uniform("march_mode");
     at.seed_steps = program->uniform("seed_steps");
     at.seed_hit_range = program->uniform("seed_hit_range");
-    at.top_level = program->uniform("top_level");
     at.debug_view = program->uniform("debug_view");
     at.counting = program->uniform("counting");
     at.mark_pixels = program->uniform("mark_pixels");
@@ -237,6 +280,9 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     LinkSettings links;
     links.depth_bits = package.settings.depth_bits;
     std::vector<BillboardGpu> gpu_billboards;
+    std::vector<TileGpu> fine, whole;
+    int tile_level = std::min(k_tile_level, levels);
+    glm::vec3 bound_lo(1e30f), bound_hi(-1e30f);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (int layer = 0; layer < layers; ++layer) {
         const Billboard& b = package.billboards[std::size_t(layer)];
@@ -252,6 +298,30 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         HeightFieldAcceleration acc = build_acceleration(b, width, height, levels, links);
         covered_box(acc, b, g);
         gpu_billboards.push_back(g);
+        // proxies: the occupied tiles, and the whole box of covered texels
+        for (const TileBox& t : build_tiles(acc, 1 << tile_level)) {
+            TileGpu tile;
+            tile.box_min = glm::vec4(glm::vec2(t.texel_min), float(t.depth_min) / 65535.0f - k_depth_margin, 0.0f);
+            tile.box_max = glm::vec4(glm::vec2(t.texel_max), float(t.depth_max) / 65535.0f + k_depth_margin, 0.0f);
+            tile.info = glm::ivec4(layer, tile_level, 0, 0);
+            fine.push_back(tile);
+            proxies_.push_back({glm::vec3(g.object_from_box * (0.5f * (tile.box_min + tile.box_max) +
+                                                               glm::vec4(0.0f, 0.0f, 0.0f, 1.0f))),
+                                layer});
+        }
+        TileGpu box{g.box_min, g.box_max, glm::ivec4(layer, levels, 0, 0)};
+        whole.push_back(box);
+        billboard_directions_.push_back(b.direction);
+        tile_world_ = std::max(tile_world_, float(1 << tile_level) * b.texel_size);
+        if (g.box_min.x <= g.box_max.x) {
+            for (int corner = 0; corner < 8; ++corner) {
+                glm::vec3 f(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+                glm::vec3 p = glm::vec3(g.object_from_box *
+                                        glm::vec4(glm::mix(glm::vec3(g.box_min), glm::vec3(g.box_max), f), 1.0f));
+                bound_lo = glm::min(bound_lo, p);
+                bound_hi = glm::max(bound_hi, p);
+            }
+        }
         glTextureSubImage3D(surface_maps_.get(), 0, 0, 0, layer, width, height, 1, GL_RGBA_INTEGER,
                             GL_UNSIGNED_SHORT, acc.surface.data());
         for (int level = 1; level <= levels; ++level)
@@ -259,6 +329,18 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                                 GL_RG_INTEGER, GL_UNSIGNED_SHORT, acc.pyramid[std::size_t(level - 1)].data());
     }
     billboards_ = gpu::make_buffer(gpu_billboards);
+    fine_count_ = fine.size();
+    for (std::size_t k = 0; k < whole.size(); ++k) {
+        const BillboardGpu& g = gpu_billboards[k];
+        proxies_.push_back({glm::vec3(g.object_from_box * (0.5f * (g.box_min + g.box_max) + glm::vec4(0, 0, 0, 1))),
+                            int(k)});
+    }
+    fine.insert(fine.end(), whole.begin(), whole.end());
+    tiles_ = gpu::make_buffer(fine);
+    if (bound_lo.x <= bound_hi.x) {
+        bound_centre_ = 0.5f * (bound_lo + bound_hi);
+        bound_radius_ = 0.5f * glm::length(bound_hi - bound_lo);
+    }
     return Status::ok();
 }
 
@@ -287,29 +369,119 @@ void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
     glVertexArrayElementBuffer(vao, coarse_indices_.get());
 }
 
-void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const ProgramLocations& at) const
+void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const ProgramLocations& at,
+                                           GLint first_entry) const
 {
     GLuint id = program.id();
-    glProgramUniform1i(id, at.billboard_count, billboard_count_);
+    glProgramUniform1i(id, at.first_entry, first_entry);
     glProgramUniform1i(id, at.march_mode, march_mode_);
     glProgramUniform1i(id, at.seed_steps, options_.steps);
     glProgramUniform1f(id, at.seed_hit_range, options_.hit_range);
-    glProgramUniform1i(id, at.top_level, top_level_);
     glProgramUniform1i(id, at.debug_view, debug_view_);
     glProgramUniform1i(id, at.counting, counting_ ? 1 : 0);
     glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
 }
 
-// the per-pixel hit / near-miss flags the coarse mesh reads, cleared every frame
-void BillboardRenderer::prepare_pixel_flags(glm::ivec2 viewport)
+// the per-pixel nearest front hit and the hit / near-miss flags the coarse mesh reads, cleared
+// every frame
+void BillboardRenderer::prepare_pixel_images(glm::ivec2 viewport, bool flags)
 {
-    if (!pixel_flags_ || pixel_flags_size_ != viewport) {
+    if (!pixel_depth_ || pixel_images_size_ != viewport) {
+        pixel_depth_ = gpu::make_texture_2d(GL_R32UI, viewport.x, viewport.y);
         pixel_flags_ = gpu::make_texture_2d(GL_R32UI, viewport.x, viewport.y);
-        pixel_flags_size_ = viewport;
+        pixel_images_size_ = viewport;
     }
-    const std::uint32_t zero = 0;
-    glClearTexImage(pixel_flags_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    const float far_depth = 1.0f;
+    std::uint32_t far_bits = 0;
+    std::memcpy(&far_bits, &far_depth, sizeof far_bits);
+    glClearTexImage(pixel_depth_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &far_bits);
+    glBindImageTexture(IMAGE_PIXEL_DEPTH, pixel_depth_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    if (flags) {
+        const std::uint32_t zero = 0;
+        glClearTexImage(pixel_flags_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    }
     glBindImageTexture(IMAGE_PIXEL_FLAGS, pixel_flags_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+}
+
+// The proxies of one instance, front to back along forward_object: tiles (fine) or one box per
+// billboard, those of billboards that see surfaces facing the eye first.
+void BillboardRenderer::append_proxies(std::uint32_t instance, bool fine, glm::vec3 forward_object,
+                                       std::vector<DrawEntry>& out)
+{
+    std::size_t first = fine ? 0 : fine_count_, last = fine ? fine_count_ : proxies_.size();
+    sort_keys_.clear();
+    for (std::size_t k = first; k < last; ++k) {
+        const ProxyInfo& p = proxies_[k];
+        bool facing = glm::dot(billboard_directions_[std::size_t(p.billboard)], forward_object) > 0.0f;
+        float key = glm::dot(p.centre_object - bound_centre_, forward_object) + (facing ? 0.0f : 4.0f * bound_radius_);
+        sort_keys_.push_back({key, std::uint32_t(k)});
+    }
+    std::sort(sort_keys_.begin(), sort_keys_.end());
+    for (const auto& [key, tile] : sort_keys_) out.push_back({instance, tile});
+}
+
+// The (instance, proxy) list of this frame: instances outside the view are left out; the others,
+// nearest first, go to the front-face pass, or to the inside pass when they may cross the near
+// plane. Returns the entry counts of the two passes (front first) and uploads the list.
+std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& params)
+{
+    static const glm::mat4 identity(1.0f);
+    std::span<const glm::mat4> transforms = params.world_from_object;
+    if (transforms.empty()) transforms = std::span<const glm::mat4>(&identity, 1);
+    const Camera& camera = params.camera;
+    glm::mat4 clip_from_world = camera.clip_from_world();
+    glm::mat4 rows = glm::transpose(clip_from_world);
+    // frustum planes (Gribb & Hartmann), not normalised: a sphere is outside when its centre is
+    // further than its radius times the plane normal's length on the outer side
+    std::array<glm::vec4, 6> planes = {rows[3] + rows[0], rows[3] - rows[0], rows[3] + rows[1],
+                                       rows[3] - rows[1], rows[3] + rows[2], rows[3] - rows[2]};
+    float pixels_per_unit_at_1 = float(params.viewport.y) /
+                                 (camera.orthographic ? 2.0f * camera.ortho_half_height
+                                                      : 2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f));
+    bool tiles = march_mode_ == MARCH_EXACT;
+
+    struct Visible {
+        float depth;
+        std::uint32_t instance;
+        bool inside, fine;
+    };
+    std::vector<Visible> visible;
+    for (std::size_t i = 0; i < transforms.size(); ++i) {
+        const glm::mat4& m = transforms[i];
+        glm::vec3 centre = glm::vec3(m * glm::vec4(bound_centre_, 1.0f));
+        float scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+        float radius = bound_radius_ * scale * 1.001f + 1e-6f;
+        bool outside = false;
+        for (const glm::vec4& plane : planes)
+            outside = outside || glm::dot(glm::vec3(plane), centre) + plane.w < -radius * glm::length(glm::vec3(plane));
+        if (outside) continue;
+        float depth = glm::dot(centre - camera.eye_world, camera.forward_world);
+        bool inside = depth - radius <= camera.near_plane * 1.01f;
+        float tile_pixels = tile_world_ * scale * pixels_per_unit_at_1 /
+                            (camera.orthographic ? 1.0f : std::max(depth - radius, camera.near_plane));
+        visible.push_back({depth, std::uint32_t(i), inside, tiles && tile_pixels >= k_min_tile_pixels});
+    }
+    std::sort(visible.begin(), visible.end(),
+              [](const Visible& a, const Visible& b) { return a.depth < b.depth || (a.depth == b.depth && a.instance < b.instance); });
+
+    entries_.clear();
+    inside_entries_.clear();
+    for (const Visible& v : visible) {
+        const glm::mat4& m = transforms[v.instance];
+        glm::vec3 centre = glm::vec3(m * glm::vec4(bound_centre_, 1.0f));
+        glm::vec3 forward_world = camera.orthographic ? camera.forward_world : centre - camera.eye_world;
+        glm::vec3 forward_object = glm::transpose(glm::mat3(m)) * forward_world; // ordering only: no scale needed
+        append_proxies(v.instance, v.fine, forward_object, v.inside ? inside_entries_ : entries_);
+    }
+    std::array<GLsizei, 2> counts = {GLsizei(entries_.size()), GLsizei(inside_entries_.size())};
+    entries_.insert(entries_.end(), inside_entries_.begin(), inside_entries_.end());
+    if (entries_.size() > draw_list_capacity_ || !draw_list_) {
+        draw_list_capacity_ = std::max<std::size_t>({entries_.size(), 2 * draw_list_capacity_, 64});
+        draw_list_ = gpu::make_buffer(nullptr, draw_list_capacity_ * sizeof(DrawEntry), GL_DYNAMIC_STORAGE_BIT);
+    }
+    if (!entries_.empty())
+        glNamedBufferSubData(draw_list_.get(), 0, GLsizeiptr(entries_.size() * sizeof(DrawEntry)), entries_.data());
+    return counts;
 }
 
 DrawStats BillboardRenderer::draw(const DrawParams& params)
@@ -318,12 +490,15 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
     frame_.bind(params);
     GLsizei instances = GLsizei(frame_.instance_count());
     bool coarse = coarse_index_count_ > 0;
-    if (coarse) prepare_pixel_flags(params.viewport);
+    prepare_pixel_images(params.viewport, coarse);
     glEnable(GL_DEPTH_TEST);
 
     // billboards: front faces of boxes beyond the near plane, back faces of boxes crossing it
     if (billboard_count_ > 0) {
+        std::array<GLsizei, 2> counts = build_draw_list(params);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BILLBOARDS_SSBO, billboards_.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TILES_SSBO, tiles_.get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_DRAW_LIST_SSBO, draw_list_.get());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS_SSBO, counters_.get());
         glBindTextureUnit(BINDING_ALBEDO_TEXTURE, color_maps_.get());
         glBindTextureUnit(BINDING_NORMAL_DEPTH_TEXTURE, normal_maps_.get());
@@ -332,17 +507,17 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindVertexArray(empty_vertex_array_.get());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
-        GLsizei boxes = GLsizei(billboard_count_) * instances;
         const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&front_, &front_at_},
                                                                                   {&inside_, &inside_at_}};
         for (int pass = 0; pass < 2; ++pass) {
+            if (counts[pass] == 0) continue;
             glCullFace(pass == 0 ? GL_BACK : GL_FRONT);
-            set_march_uniforms(*passes[pass].first, *passes[pass].second);
+            set_march_uniforms(*passes[pass].first, *passes[pass].second, pass == 0 ? 0 : counts[0]);
             passes[pass].first->use();
-            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, boxes);
+            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, counts[pass]);
             stats.draw_calls += 1;
+            stats.primitives += std::uint64_t(counts[pass]) * 12;
         }
-        stats.primitives += std::uint64_t(boxes) * 12;
         glDisable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }

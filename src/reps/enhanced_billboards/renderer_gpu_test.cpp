@@ -4,6 +4,7 @@
 // the ground-truth renderer, under a moving light, with holes filled by a coarse mesh.
 #include "test_support.h"
 
+#include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 
 #include <standin/camera.h>
@@ -403,6 +404,86 @@ TEST(BillboardRenderer, InstancesDrawInFewCallsWhereTheirTransformsPutThem)
     ASSERT_TRUE(render_offscreen(recording, camera, default_light(camera), 200, 100, crowd).is_ok());
     DrawStats stats = recording.stats;
     EXPECT_LE(stats.draw_calls, 3u);
+}
+
+TEST(BillboardRenderer, TileProxiesHoldExactlyTheCoveredTexelsAndTheirWalls)
+{
+    Billboard b = sphere_billboard({0, 0, -1}, {1, 0, 0}, 100);
+    HeightFieldAcceleration acc = build_acceleration(b, 128, 128, 6, LinkSettings{});
+    const int tile_size = 16;
+    std::vector<TileBox> tiles = build_tiles(acc, tile_size);
+    std::vector<int> owners(acc.surface.size(), 0);
+    for (const TileBox& t : tiles) {
+        // inside one tile, tight around covered texels, ranges of every texel inside the box
+        glm::ivec2 tile = t.texel_min / tile_size;
+        EXPECT_EQ((t.texel_max - 1) / tile_size, tile);
+        glm::ivec2 lo(1 << 20), hi(-1);
+        std::uint16_t dmin = 65535, dmax = 0;
+        for (int j = t.texel_min.y; j < t.texel_max.y; ++j) {
+            for (int i = t.texel_min.x; i < t.texel_max.x; ++i) {
+                const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+                if (!(texel.flags & k_texel_covered)) continue;
+                ++owners[std::size_t(j) * acc.width + i];
+                lo = glm::min(lo, glm::ivec2(i, j));
+                hi = glm::max(hi, glm::ivec2(i + 1, j + 1));
+                dmin = std::min(dmin, texel.min);
+                dmax = std::max(dmax, texel.max);
+            }
+        }
+        EXPECT_EQ(lo, t.texel_min);
+        EXPECT_EQ(hi, t.texel_max);
+        EXPECT_EQ(dmin, t.depth_min);
+        EXPECT_EQ(dmax, t.depth_max);
+    }
+    std::size_t covered = 0;
+    for (std::size_t k = 0; k < acc.surface.size(); ++k) {
+        bool is_covered = (acc.surface[k].flags & k_texel_covered) != 0;
+        covered += is_covered;
+        EXPECT_EQ(owners[k], is_covered ? 1 : 0) << "texel " << k % acc.width << "," << k / acc.width;
+    }
+    EXPECT_GT(covered, 7000u);
+    // a disc of radius 50 texels touches 7 x 7 tiles minus the corners
+    EXPECT_LT(tiles.size(), 49u);
+    EXPECT_GT(tiles.size(), 30u);
+}
+
+TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)
+{
+    test::gpu_context();
+    // one billboard (the hemisphere facing +z), as a greedy bake captures each surface once; the
+    // six-billboard sphere above holds every point three times over, and each copy is marched
+    EnhancedBillboardsPackage package = sphere_package(128, false);
+    RenderOptions options;
+    options.coarse_mesh = false;
+    for (float azimuth : {0.0f, 25.0f, 50.0f}) {
+        Camera camera = orbit(azimuth, 10.0f, 2.5f, k_width, k_height);
+        Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
+        Coverage c = compare_with_sphere(r.image.color, camera, k_margin);
+        EXPECT_EQ(c.spill, 0u);
+        if (azimuth == 0.0f) {
+            EXPECT_LT(double(c.holes), 0.01 * double(c.inside)); // elevation 10: the back rim is missing
+        }
+        double per_pixel = double(r.fetches) / double(std::max<std::size_t>(c.covered, 1));
+        std::printf("[ tiles ] azimuth %g: %.2f fetches per covered pixel\n", azimuth, per_pixel);
+        EXPECT_LT(per_pixel, 16.0) << "azimuth " << azimuth;
+    }
+}
+
+TEST(BillboardRenderer, CrowdInstancesOutsideTheViewAreNotDrawn)
+{
+    test::gpu_context();
+    auto renderer = make_renderer(sphere_package(64), RenderOptions{});
+    ASSERT_TRUE(renderer.is_ok());
+    Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 20.0f);
+    std::vector<glm::mat4> crowd;
+    for (int k = 0; k < 50; ++k) crowd.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(100.0f + 3.0f * k, 0, 0)));
+    crowd.push_back(glm::mat4(1.0f));
+    Recording recording(*renderer->get());
+    auto image = render_offscreen(recording, camera, default_light(camera), 200, 100, crowd);
+    ASSERT_TRUE(image.is_ok());
+    EXPECT_EQ(image->color.at(100, 50)[3], 255) << "the instance at the centre";
+    // one instance's proxies only (at most one box per 16 x 16 texels of six 64 x 64 billboards)
+    EXPECT_LE(recording.stats.primitives, 6u * 16u * 12u + 500u);
 }
 
 } // namespace

@@ -13,3 +13,14 @@ struct BillboardData {
 layout(std430, binding = BINDING_BILLBOARDS_SSBO) readonly buffer BillboardBlock {
     BillboardData items[];
 } billboards;
+
+// One proxy box: a tile of a billboard (or a whole billboard), in that billboard's box space.
+struct TileData {
+    vec4 box_min;  // xy: texel rectangle, z: depth range, of the covered texels and their walls
+    vec4 box_max;
+    ivec4 info;    // billboard, highest pyramid level the march climbs to, unused, unused
+};
+
+layout(std430, binding = BINDING_TILES_SSBO) readonly buffer TileBlock {
+    TileData items[];
+} tiles;

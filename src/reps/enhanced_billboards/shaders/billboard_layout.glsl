@@ -3,8 +3,18 @@
 #ifndef STANDIN_BILLBOARD_LAYOUT_GLSL
 #define STANDIN_BILLBOARD_LAYOUT_GLSL
 
+// shader storage blocks of this renderer (beside gpu/shaders/common/bindings.h's 0..2)
+#define BINDING_TILES_SSBO 3     // TileData: the proxy boxes drawn, one per occupied tile
+#define BINDING_DRAW_LIST_SSBO 4 // uvec2 (instance, tile) per drawn box, sorted front to back
+
 // image unit of the per-pixel flags the coarse mesh reads (r32ui)
 #define IMAGE_PIXEL_FLAGS 0
+// image unit of the nearest hit so far per pixel (r32ui: floatBitsToUint of its window depth with
+// the lowest bit replaced by PIXEL_DEPTH_BACK for the back of a sheet; cleared to 1.0), so that rays
+// behind it stop early (a depth test the shader does itself; see march.frag), and so that the
+// coarse mesh knows whether the nearest billboard surface is a front hit it must not cover
+#define IMAGE_PIXEL_DEPTH 1
+#define PIXEL_DEPTH_BACK 1u
 #define PIXEL_HIT 1u       // some billboard ray hit here
 #define PIXEL_NEAR_MISS 2u // a ray came within a texel of a billboard surface and missed
 

@@ -1,14 +1,20 @@
 #version 450 core
-// Enhanced billboards: every billboard of every instance is one instance of a 36-vertex box
-// (seed 000 §3.3: the box's faces towards the eye, at most three; back faces are culled by GL).
-// Boxes that cross the near plane are drawn instead by the INSIDE_PASS variant from their back
-// faces, so that views from inside a box see it.
+// Enhanced billboards: every proxy box (one per occupied tile of a billboard, or one per billboard
+// for instances far away) of every instance is one instance of a 36-vertex box (seed 000 §3.3:
+// the box's faces towards the eye, at most three; back faces are culled by GL). The draw list,
+// built on the CPU each frame, names (instance, tile) per box, front to back, and is split in two:
+// boxes beyond the near plane (front faces), and boxes of instances that may cross it, drawn by
+// the INSIDE_PASS variant from their back faces, so that views from inside a box see it.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/enhanced_billboards/shaders/billboard.glsl"
 
-uniform int billboard_count;
+layout(std430, binding = BINDING_DRAW_LIST_SSBO) readonly buffer DrawListBlock {
+    uvec2 entries[]; // instance, tile
+} draw_list;
 
-flat out int v_billboard;
+uniform int first_entry; // of this pass in the draw list
+
+flat out int v_tile;
 flat out int v_instance;
 flat out mat4 v_box_from_world;
 flat out mat4 v_world_from_box;
@@ -21,25 +27,13 @@ vec3 corner_position(int corner) { return vec3(corner & 1, (corner >> 1) & 1, (c
 
 void main()
 {
-    int billboard = gl_InstanceID % billboard_count;
-    int instance = gl_InstanceID / billboard_count;
-    BillboardData data = billboards.items[billboard];
+    uvec2 entry = draw_list.entries[first_entry + gl_InstanceID];
+    int instance = int(entry.x), tile = int(entry.y);
+    TileData box = tiles.items[tile];
+    BillboardData data = billboards.items[box.info.x];
     mat4 world_from_object = instances.world_from_object[instance];
     mat4 world_from_box = world_from_object * data.object_from_box;
-    vec3 box_min = data.box_min.xyz, box_size = data.box_max.xyz - data.box_min.xyz;
-
-    // does the box reach in front of the near plane?
-    bool crosses_near = false;
-    for (int i = 0; i < 8; ++i) {
-        vec4 clip = frame.clip_from_world * (world_from_box * vec4(box_min + corner_position(i) * box_size, 1.0));
-        crosses_near = crosses_near || clip.z < -clip.w;
-    }
-#ifdef INSIDE_PASS
-    bool drawn = crosses_near;
-#else
-    bool drawn = !crosses_near;
-#endif
-    drawn = drawn && all(greaterThanEqual(box_size, vec3(0.0)));
+    vec3 box_min = box.box_min.xyz, box_size = box.box_max.xyz - box.box_min.xyz;
 
     // mirroring transforms flip the winding
     int vertex = gl_VertexID % 3;
@@ -47,9 +41,9 @@ void main()
     int corner = k_corners[gl_VertexID - gl_VertexID % 3 + vertex];
     vec4 world = world_from_box * vec4(box_min + corner_position(corner) * box_size, 1.0);
 
-    v_billboard = billboard;
+    v_tile = tile;
     v_instance = instance;
     v_world_from_box = world_from_box;
     v_box_from_world = data.box_from_object * inverse(world_from_object);
-    gl_Position = drawn ? frame.clip_from_world * world : vec4(0.0, 0.0, 2.0, 1.0);
+    gl_Position = frame.clip_from_world * world;
 }

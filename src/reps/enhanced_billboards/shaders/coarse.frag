@@ -1,7 +1,8 @@
 #version 450 core
 // Hole filling with the coarse mesh (seed 000 §3.4), restricted to pixels where a billboard ray
-// came within a texel of a surface and missed (march.frag marks them), and never where a ray hit:
-// so it fills holes but neither covers a billboard hit nor grows the silhouette.
+// came within a texel of a surface and missed or saw the back of a sheet (march.frag marks them),
+// and never where the nearest billboard hit is a front one: so it fills holes but neither covers a
+// billboard hit nor grows the silhouette.
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
@@ -11,6 +12,7 @@ in vec3 v_normal_world;
 in vec4 v_color;
 
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
+layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 uniform int fill_near_misses_only;
 uniform int debug_view;
 
@@ -19,7 +21,9 @@ layout(location = 0) out vec4 out_color;
 void main()
 {
     uint flags = imageLoad(pixel_flags, ivec2(gl_FragCoord.xy)).r;
-    if ((flags & PIXEL_HIT) != 0u) discard;
+    uint nearest = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
+    bool front_hit = uintBitsToFloat(nearest & ~PIXEL_DEPTH_BACK) < 1.0 && (nearest & PIXEL_DEPTH_BACK) == 0u;
+    if (front_hit) discard;
     if (fill_near_misses_only != 0 && (flags & PIXEL_NEAR_MISS) == 0u) discard;
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);

@@ -1,6 +1,9 @@
 #version 450 core
-// Enhanced billboards, per fragment: the eye ray is clipped to the billboard's box and intersected
-// with its height field (seed 000 §3.3, 001 Fig. 7).
+// Enhanced billboards, per fragment: the eye ray is clipped to the proxy box (a tile of the
+// billboard, or the whole billboard) and intersected with the billboard's height field (seed 000
+// §3.3, 001 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
+// the shader keeps itself: a fragment whose depth the shader writes is tested late on some GPUs and
+// on llvmpipe, and boxes are drawn front to back, so most rays behind a hit never start).
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
 // depth, and linked neighbours (acceleration.h: same surface, jump within the normals' slope) are
 // joined by walls, so a surface has no gaps at any view, grazing included, and silhouettes are the
@@ -17,7 +20,7 @@ layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than th
 #include "gpu/shaders/common/lighting.glsl"
 #include "reps/enhanced_billboards/shaders/billboard.glsl"
 
-flat in int v_billboard;
+flat in int v_tile;
 flat in int v_instance;
 flat in mat4 v_box_from_world;
 flat in mat4 v_world_from_box;
@@ -27,6 +30,7 @@ layout(binding = BINDING_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_map
 layout(binding = BINDING_ACCELERATION_TEXTURE) uniform usampler2DArray surface_maps; // depth, min, max, flags
 layout(binding = BINDING_EXTRA_TEXTURE) uniform usampler2DArray minmax_maps;        // level k: cells of 2^(k+1)
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
+layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 
 layout(std430, binding = BINDING_COUNTERS_SSBO) buffer CounterBlock {
     uint counters[];
@@ -35,7 +39,6 @@ layout(std430, binding = BINDING_COUNTERS_SSBO) buffer CounterBlock {
 uniform int march_mode;
 uniform int seed_steps;
 uniform float seed_hit_range;
-uniform int top_level;
 uniform int debug_view;
 uniform int counting;
 uniform int mark_pixels;
@@ -58,7 +61,10 @@ vec3 safe_inverse(vec3 d)
 }
 
 // The exact crossing of ray o + t d (box space) with the column sheet, for t in [t0, t1].
-bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, out float t_hit,
+// The ray starts in a texel of start_rect (xy: first texel, zw: past the last) and stops at t1, or where it
+// leaves the billboard (size); the pyramid is climbed to top_level at most.
+bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec4 start_rect, int top_level,
+                 out float t_hit,
                  out ivec2 hit_texel, inout bool near)
 {
     vec3 inv = safe_inverse(d);
@@ -69,7 +75,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, out 
     int level = clamp(int(ceil(log2(footprint + 1.0))), 0, top_level);
     float t = t0;
     vec2 p = o.xy + t * d.xy + vec2(dir) * 1e-3;
-    ivec2 texel = clamp(ivec2(floor(p)), ivec2(0), size - 1);
+    ivec2 texel = clamp(ivec2(floor(p)), start_rect.xy, start_rect.zw - 1);
 
     for (int iteration = 0; iteration < 512; ++iteration) {
         ivec2 cell = texel >> level;
@@ -190,20 +196,35 @@ void finish(bool hit, bool near)
 
 void main()
 {
-    BillboardData data = billboards.items[v_billboard];
+    TileData tile = tiles.items[v_tile];
+    int billboard = tile.info.x, top_level = tile.info.y;
+    BillboardData data = billboards.items[billboard];
     int layer = data.info.x;
     ivec2 size = data.info.zw;
 
-    // the eye ray in box space, clipped to the box of covered texels (and to the near plane: t >= 0)
+    // the eye ray in box space, clipped to the proxy box (and to the near plane: t >= 0); t is the
+    // distance along the world ray in both spaces
     vec3 origin_world, direction_world;
     camera_ray(gl_FragCoord.xy, origin_world, direction_world);
     vec3 o = (v_box_from_world * vec4(origin_world, 1.0)).xyz;
     vec3 d = mat3(v_box_from_world) * direction_world;
     vec3 inv = safe_inverse(d);
-    vec3 t_a = (data.box_min.xyz - o) * inv, t_b = (data.box_max.xyz - o) * inv;
+    // (widened by a little across tile sides, so that a ray along a side between two tiles meets both)
+    const vec3 widen = vec3(5e-4, 5e-4, 0.0);
+    vec3 t_a = (tile.box_min.xyz - widen - o) * inv, t_b = (tile.box_max.xyz + widen - o) * inv;
     vec3 t_near = min(t_a, t_b), t_far = max(t_a, t_b);
     float t0 = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
     float t1 = min(min(t_far.x, t_far.y), t_far.z);
+
+    // and to the nearest hit so far: a hit beyond it would fail the depth test (GL_LESS); the
+    // margin keeps rounding of the round trip through window depth on the safe side
+    float nearest = uintBitsToFloat(imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r & ~PIXEL_DEPTH_BACK);
+    if (nearest < 1.0) {
+        vec2 ndc = gl_FragCoord.xy * frame.viewport_size.zw * 2.0 - 1.0;
+        vec4 p = frame.world_from_clip * vec4(ndc, nearest * 2.0 - 1.0, 1.0);
+        float t_limit = dot(p.xyz / p.w - origin_world, direction_world);
+        t1 = min(t1, t_limit + 1e-4 * abs(t_limit) + 1e-6);
+    }
 
     bool hit = false, near = false;
     float t_hit = 0.0;
@@ -219,11 +240,11 @@ void main()
                 int seed_fetches = g_fetches;
                 float t_exact;
                 ivec2 texel_exact;
-                near = march_exact(o, d, t0, t1, layer, size, t_exact, texel_exact, near) || near;
+                near = march_exact(o, d, t0, t1, layer, size, ivec4(0, 0, size), top_level, t_exact, texel_exact, near) || near;
                 g_fetches = seed_fetches;
             }
         } else {
-            hit = march_exact(o, d, t0, t1, layer, size, t_hit, texel, near);
+            hit = march_exact(o, d, t0, t1, layer, size, ivec4(tile.box_min.xy, tile.box_max.xy), top_level, t_hit, texel, near);
         }
     }
     if (!hit) {
@@ -249,8 +270,10 @@ void main()
     // in front of it, then fills
     bool back = dot(normal_world, to_eye) < 0.0;
     finish(!back, back);
+    imageAtomicMin(pixel_depth, ivec2(gl_FragCoord.xy),
+                   (floatBitsToUint(depth) & ~PIXEL_DEPTH_BACK) | (back ? PIXEL_DEPTH_BACK : 0u));
     vec3 color = shade(albedo.rgb, normal_world, to_eye, frame.light_to_world.xyz, frame.light_terms);
-    if (debug_view == DEBUG_BILLBOARD) color = billboard_color(v_billboard);
+    if (debug_view == DEBUG_BILLBOARD) color = billboard_color(billboard);
     if (debug_view == DEBUG_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
     if (debug_view == DEBUG_NORMAL) color = normal_world * 0.5 + 0.5;
     if (debug_view == DEBUG_FETCHES) color = heat(float(g_fetches) / 32.0);
