@@ -111,6 +111,8 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
                                     "screenshot " + d + "billboard.png\n"
                                     "debug fetches\n"
                                     "screenshot " + d + "fetches.png\n"
+                                    "debug boxes\n"
+                                    "screenshot " + d + "boxes.png\n"
                                     "debug holes\n"
                                     "screenshot " + d + "holes.png\n"
                                     "debug off\n"
@@ -148,7 +150,7 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
     EXPECT_GT(mean_difference(original, package, 0, w), 0.01); // two renderers, two pictures
 
     // debug views differ from the normal picture, and from one another
-    const char* views[] = {"normal", "billboard", "fetches", "holes"};
+    const char* views[] = {"normal", "billboard", "fetches", "boxes", "holes"};
     std::vector<ImageRGBA8> debug;
     for (const char* view : views) {
         debug.push_back(load(d + view + ".png"));

@@ -57,8 +57,9 @@ CommandRun add_view_command(CLI::App& root)
     command->get_option("--size")->description("Window size WIDTHxHEIGHT");
     add_render_options(*command, args->options, args->no_coarse);
     command->add_option("--debug-view", args->options.debug_view,
-                        "Start in a debug view: 'billboard', 'depth', 'normal', 'fetches', or 'holes' (against the model)")
-        ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches", "holes"}));
+                        "Start in a debug view: 'billboard', 'depth', 'normal', 'fetches', 'boxes', or 'holes' "
+                        "(against the model)")
+        ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches", "boxes", "holes"}));
     return [args] { return run_view(*args); };
 }
 

@@ -14,7 +14,8 @@ namespace standin::viewer {
 namespace {
 
 const char* const k_next_debug_view[][2] = {{"", "billboard"}, {"billboard", "depth"}, {"depth", "normal"},
-                                            {"normal", "fetches"}, {"fetches", "holes"}, {"holes", ""}};
+                                            {"normal", "fetches"}, {"fetches", "boxes"}, {"boxes", "holes"},
+                                            {"holes", ""}};
 
 bool pressed(int key) { return ImGui::IsKeyPressed(key, false); }
 bool pressed_repeat(int key) { return ImGui::IsKeyPressed(key, true); }

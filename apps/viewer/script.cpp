@@ -111,8 +111,8 @@ std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c)
         c.op = ScriptOp::debug;
         if (std::string e = want(1, "debug NAME|off"); !e.empty()) return e;
         c.word = w[1] == "off" ? "" : w[1];
-        return one_of(w[1], {"off", "billboard", "depth", "normal", "fetches", "holes"},
-                      "debug off|billboard|depth|normal|fetches|holes");
+        return one_of(w[1], {"off", "billboard", "depth", "normal", "fetches", "boxes", "holes"},
+                      "debug off|billboard|depth|normal|fetches|boxes|holes");
     }
     if (verb == "set") {
         c.op = ScriptOp::set;

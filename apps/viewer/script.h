@@ -9,7 +9,7 @@
 //   show original | show package N      N counts packages from 1 in command-line order
 //   split on|off|side                   split screen (original left) or side by side
 //   split-position F                    where the split lies, 0..1 of the width
-//   debug NAME|off                      billboard, depth, normal, fetches, holes
+//   debug NAME|off                      billboard, depth, normal, fetches, boxes, holes
 //   set march exact|seed | set steps N | set hit-range E | set coarse on|off
 //   resolution WxH | resolution window  render resolution, independent of the window
 //   window WxH                          window size

@@ -13,6 +13,7 @@ static const char* describe(const std::string& view)
     if (view == "depth") return "depth";
     if (view == "normal") return "normals";
     if (view == "fetches") return "height-field fetches per pixel (heat map)";
+    if (view == "boxes") return "billboard boxes (lines; front planes red)";
     return "holes against the original";
 }
 

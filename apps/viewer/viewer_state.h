@@ -50,7 +50,7 @@ struct FrameStats {
     std::size_t hole_pixels = 0, excess_pixels = 0; // debug view "holes" only
 };
 
-constexpr const char* k_debug_views[] = {"", "billboard", "depth", "normal", "fetches", "holes"};
+constexpr const char* k_debug_views[] = {"", "billboard", "depth", "normal", "fetches", "boxes", "holes"};
 
 struct ViewerState {
     std::vector<Subject> subjects; // the original first, when there is one

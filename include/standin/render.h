@@ -33,7 +33,7 @@ struct RenderOptions {
     float hit_range = 0.01f;      // seed march: hit range e, fraction of the box depth
     bool coarse_mesh = true;      // enhanced billboards: fill holes with the package's coarse mesh
     std::string style = "corrected"; // view atlas: "seed", "octahedral-baseline", "corrected"
-    std::string debug_view;       // "", "billboard", "depth", "normal", "fetches"
+    std::string debug_view;       // "", "billboard", "depth", "normal", "fetches", "boxes" (billboard boxes as lines)
 };
 
 // What one draw of a frame needs. Instances are object-to-world transforms; one identity

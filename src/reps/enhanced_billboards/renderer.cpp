@@ -19,6 +19,7 @@
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
 // with texelFetch (no filtering, so the empty background never bleeds into the colour).
+// Debug view "boxes" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 
@@ -30,6 +31,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 namespace standin::billboards {
@@ -91,6 +93,12 @@ struct DrawEntry {
     std::uint32_t instance, tile;
 };
 
+// One vertex of the "boxes" debug view's lines (boxes.vert).
+struct BoxLineVertex {
+    glm::vec3 position_object;
+    std::int32_t billboard = 0, front = 0; // front: on the front plane (depth 0)
+};
+
 struct ProgramLocations {
     GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
           mark_pixels = -1;
@@ -107,6 +115,8 @@ public:
 private:
     Status upload_billboards(const EnhancedBillboardsPackage& package);
     void upload_coarse_mesh(const Mesh& mesh);
+    void upload_box_lines(const EnhancedBillboardsPackage& package);
+    void draw_box_lines(DrawStats& stats);
     void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
     void prepare_pixel_images(glm::ivec2 viewport, bool flags);
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
@@ -137,6 +147,13 @@ private:
     glm::ivec2 pixel_images_size_{0};
     gpu::FrameResources frame_;
     bool counting_ = false;
+    // debug view "boxes" only
+    bool box_lines_ = false;
+    gpu::Program box_lines_program_;
+    GLint box_lines_alpha_at_ = -1;
+    gpu::VertexArray box_lines_vertex_array_;
+    gpu::Buffer box_lines_vertices_;
+    GLsizei box_lines_vertex_count_ = 0;
 };
 
 int debug_view_code(const std::string& name)
@@ -146,6 +163,7 @@ int debug_view_code(const std::string& name)
     if (name == "depth") return DEBUG_DEPTH;
     if (name == "normal") return DEBUG_NORMAL;
     if (name == "fetches") return DEBUG_FETCHES;
+    if (name == "boxes") return DEBUG_NONE; // the shaded picture, with box lines drawn over it
     return -1;
 }
 
@@ -232,10 +250,19 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->coarse_ = std::move(*coarse);
     renderer->coarse_near_only_at_ = renderer->coarse_.uniform("fill_near_misses_only");
     renderer->coarse_debug_at_ = renderer->coarse_.uniform("debug_view");
+    if (options.debug_view == "boxes") {
+        Result<gpu::Program> lines = gpu::Program::create(
+            {"reps/enhanced_billboards/shaders/boxes.vert", "reps/enhanced_billboards/shaders/boxes.frag"});
+        if (!lines) return lines.status();
+        renderer->box_lines_program_ = std::move(*lines);
+        renderer->box_lines_alpha_at_ = renderer->box_lines_program_.uniform("line_alpha");
+        renderer->box_lines_ = true;
+    }
 
     // upload maps and accelerations, then the coarse mesh
     STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
     if (options.coarse_mesh && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
+    if (renderer->box_lines_) renderer->upload_box_lines(package);
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     std::array<std::uint32_t, COUNTER_COUNT> zero{};
     renderer->counters_ = gpu::make_buffer(zero.data(), sizeof zero, GL_DYNAMIC_STORAGE_BIT);
@@ -367,6 +394,68 @@ void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
     attach_attribute(vao, ATTRIB_NORMAL, coarse_normals_.get(), 3, sizeof(glm::vec3));
     attach_attribute(vao, ATTRIB_COLOR, coarse_colors_.get(), 4, sizeof(glm::vec4));
     glVertexArrayElementBuffer(vao, coarse_indices_.get());
+}
+
+// The twelve edges of every billboard's whole box, in object space: corner bits (u, v, depth) pick
+// origin + {0, width} texels along axis_u, {0, height} along axis_v, {0, depth_range} along the
+// direction; an edge changes one bit, and the four edges with depth bit 0 outline the front plane.
+void BillboardRenderer::upload_box_lines(const EnhancedBillboardsPackage& package)
+{
+    std::vector<BoxLineVertex> vertices;
+    for (std::size_t k = 0; k < package.billboards.size(); ++k) {
+        const Billboard& b = package.billboards[k];
+        glm::vec3 extent_u = b.axis_u * (float(b.width) * b.texel_size);
+        glm::vec3 extent_v = b.axis_v * (float(b.height) * b.texel_size);
+        glm::vec3 extent_w = b.direction * b.depth_range;
+        auto corner = [&](int bits) {
+            return b.origin + float(bits & 1) * extent_u + float((bits >> 1) & 1) * extent_v +
+                   float((bits >> 2) & 1) * extent_w;
+        };
+        for (int from = 0; from < 8; ++from) {
+            for (int bit = 1; bit < 8; bit <<= 1) {
+                if (from & bit) continue;
+                std::int32_t front = (from & 4) == 0 && bit != 4 ? 1 : 0;
+                vertices.push_back({corner(from), std::int32_t(k), front});
+                vertices.push_back({corner(from | bit), std::int32_t(k), front});
+            }
+        }
+    }
+    box_lines_vertex_count_ = GLsizei(vertices.size());
+    if (vertices.empty()) return;
+    box_lines_vertices_ = gpu::make_buffer(vertices);
+    box_lines_vertex_array_ = gpu::make_vertex_array();
+    GLuint vao = box_lines_vertex_array_.get();
+    glVertexArrayVertexBuffer(vao, 0, box_lines_vertices_.get(), 0, GLsizei(sizeof(BoxLineVertex)));
+    glVertexArrayAttribFormat(vao, ATTRIB_POSITION, 3, GL_FLOAT, GL_FALSE, GLuint(offsetof(BoxLineVertex, position_object)));
+    glVertexArrayAttribIFormat(vao, ATTRIB_BOX_EDGE, 2, GL_INT, GLuint(offsetof(BoxLineVertex, billboard)));
+    glVertexArrayAttribBinding(vao, ATTRIB_POSITION, 0);
+    glVertexArrayAttribBinding(vao, ATTRIB_BOX_EDGE, 0);
+    glEnableVertexArrayAttrib(vao, ATTRIB_POSITION);
+    glEnableVertexArrayAttrib(vao, ATTRIB_BOX_EDGE);
+}
+
+// Debug view "boxes": the box lines of every instance over what was drawn, depth-tested against
+// it without writing depth: first the hidden parts, dimmed (blended at a third), then the visible
+// parts at full colour. Leaves depth testing at GL_LESS, depth writes on and blending off.
+void BillboardRenderer::draw_box_lines(DrawStats& stats)
+{
+    if (box_lines_vertex_count_ == 0) return;
+    GLsizei instances = GLsizei(frame_.instance_count());
+    box_lines_program_.use();
+    glBindVertexArray(box_lines_vertex_array_.get());
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    const std::pair<GLenum, float> passes[2] = {{GL_GREATER, 0.35f}, {GL_LEQUAL, 1.0f}};
+    for (const auto& [depth_func, alpha] : passes) {
+        glDepthFunc(depth_func);
+        glProgramUniform1f(box_lines_program_.id(), box_lines_alpha_at_, alpha);
+        glDrawArraysInstanced(GL_LINES, 0, box_lines_vertex_count_, instances);
+        stats.draw_calls += 1;
+    }
+    glDisable(GL_BLEND);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
 }
 
 void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const ProgramLocations& at,
@@ -533,6 +622,9 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         stats.draw_calls += 1;
         stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(instances);
     }
+
+    // debug view "boxes": the boxes over the picture (lines are not counted as primitives)
+    if (box_lines_) draw_box_lines(stats);
     glBindVertexArray(0);
     return stats;
 }

@@ -1,7 +1,8 @@
 // The enhanced-billboard renderer against analytic expectations, with hand-built packages: a unit
 // sphere captured by six axis billboards (depth, normal and coverage rasterised analytically
 // here), drawn from many views, inside a box, along a billboard plane, crossing a plane drawn by
-// the ground-truth renderer, under a moving light, with holes filled by a coarse mesh.
+// the ground-truth renderer, under a moving light, with holes filled by a coarse mesh; and the
+// "boxes" debug view's lines over the picture.
 #include "test_support.h"
 
 #include "reps/enhanced_billboards/acceleration.h"
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -484,6 +486,136 @@ TEST(BillboardRenderer, CrowdInstancesOutsideTheViewAreNotDrawn)
     EXPECT_EQ(image->color.at(100, 50)[3], 255) << "the instance at the centre";
     // one instance's proxies only (at most one box per 16 x 16 texels of six 64 x 64 billboards)
     EXPECT_LE(recording.stats.primitives, 6u * 16u * 12u + 500u);
+}
+
+// march.frag's billboard_color() (the "billboard" and "boxes" debug views), in 8-bit codes
+glm::ivec3 palette_color(int index)
+{
+    std::uint32_t h = std::uint32_t(index) * 2654435761u;
+    glm::vec3 c = glm::vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0f * 0.8f + 0.2f;
+    return glm::ivec3(glm::round(c * 255.0f));
+}
+
+// corner of a billboard's whole box: bit 0 along axis_u (width texels), bit 1 along axis_v, bit 2
+// along the direction (depth_range)
+glm::vec3 box_corner(const Billboard& b, int bits)
+{
+    return b.origin + float(bits & 1) * float(b.width) * b.texel_size * b.axis_u +
+           float((bits >> 1) & 1) * float(b.height) * b.texel_size * b.axis_v +
+           float((bits >> 2) & 1) * b.depth_range * b.direction;
+}
+
+// window position (x right, y down, pixel (x, y) covers [x, x+1) x [y, y+1)) of a world point
+glm::vec2 window_position(const Camera& camera, glm::vec3 world, int width, int height)
+{
+    glm::vec4 clip = camera.clip_from_world() * glm::vec4(world, 1.0f);
+    glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return {(ndc.x + 1.0f) * 0.5f * float(width), (1.0f - ndc.y) * 0.5f * float(height)};
+}
+
+float segment_distance(glm::vec2 p, glm::vec2 a, glm::vec2 b)
+{
+    glm::vec2 ab = b - a;
+    float t = glm::clamp(glm::dot(p - a, ab) / std::max(glm::dot(ab, ab), 1e-12f), 0.0f, 1.0f);
+    return glm::length(p - (a + t * ab));
+}
+
+TEST(BillboardRenderer, BoxesViewDrawsBoxEdgesAndFrontPlaneOverThePicture)
+{
+    test::gpu_context();
+    // one billboard looking down -z: box [-1, 1]^3, front plane z = 1; one moved instance
+    EnhancedBillboardsPackage package = sphere_package(128, false);
+    const Billboard& b = package.billboards[0];
+    const glm::vec3 offset(0.3f, -0.2f, 0.1f);
+    std::vector<glm::mat4> transforms = {glm::translate(glm::mat4(1.0f), offset)};
+    Camera camera = orbit(30, 25, 6.0f, k_width, k_height);
+    camera = look_at_camera(camera.eye_world + offset, offset, glm::vec3(0, 1, 0), 40.0f,
+                            float(k_width) / float(k_height), 0.1f, 20.0f);
+    RenderOptions options;
+    options.coarse_mesh = false;
+    auto plain_renderer = make_renderer(package, options);
+    options.debug_view = "boxes";
+    auto boxes_renderer = make_renderer(package, options);
+    ASSERT_TRUE(plain_renderer.is_ok() && boxes_renderer.is_ok()) << boxes_renderer.status().message();
+    auto plain = render_offscreen(**plain_renderer, camera, default_light(camera), k_width, k_height, transforms);
+    auto boxes = render_offscreen(**boxes_renderer, camera, default_light(camera), k_width, k_height, transforms);
+    ASSERT_TRUE(plain.is_ok() && boxes.is_ok());
+    EXPECT_EQ(plain->depth, boxes->depth) << "lines write no depth";
+
+    // edges: 12 of the box, the 4 with depth bit 0 outline the front plane
+    struct Edge {
+        glm::vec3 a, b;
+        bool front;
+    };
+    std::vector<Edge> edges;
+    for (int from = 0; from < 8; ++from)
+        for (int bit = 1; bit < 8; bit <<= 1)
+            if (!(from & bit))
+                edges.push_back({box_corner(b, from) + offset, box_corner(b, from | bit) + offset, !(from & 4) && bit != 4});
+    ASSERT_EQ(edges.size(), 12u);
+
+    auto near_colour = [&](glm::ivec2 pixel, glm::ivec3 colour, int tolerance) {
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                glm::ivec2 q = pixel + glm::ivec2(dx, dy);
+                if (q.x < 0 || q.y < 0 || q.x >= k_width || q.y >= k_height) continue;
+                const std::uint8_t* c = boxes->color.at(q.x, q.y);
+                if (c[3] == 255 && glm::all(glm::lessThanEqual(glm::abs(glm::ivec3(c[0], c[1], c[2]) - colour),
+                                                               glm::ivec3(tolerance))))
+                    return true;
+            }
+        return false;
+    };
+    // samples along the edges: in front of the sphere, the line colour (red on the front plane);
+    // behind it, never the full colour (dimmed)
+    const glm::ivec3 box_colour = palette_color(0), front_colour(255, 0, 0);
+    std::size_t visible = 0, visible_ok = 0, hidden = 0, hidden_full = 0;
+    for (const Edge& e : edges) {
+        for (int k = 1; k < 20; ++k) {
+            glm::vec3 p = glm::mix(e.a, e.b, 0.05f + 0.9f * float(k) / 20.0f);
+            Ray ray{camera.eye_world - offset, glm::normalize(p - camera.eye_world)};
+            float to_point = glm::length(p - camera.eye_world), to_sphere = sphere_hit(ray);
+            float miss = ray_distance_from_centre(ray);
+            if (std::abs(miss - k_radius) < 0.05f) continue; // near the silhouette
+            glm::ivec2 pixel(glm::floor(window_position(camera, p, k_width, k_height)));
+            glm::ivec3 colour = e.front ? front_colour : box_colour;
+            if (to_sphere < to_point) {
+                ++hidden;
+                hidden_full += near_colour(pixel, colour, 2);
+            } else {
+                ++visible;
+                visible_ok += near_colour(pixel, colour, 2);
+            }
+        }
+    }
+    EXPECT_GT(visible, 100u);
+    EXPECT_GT(hidden, 10u);
+    EXPECT_GE(double(visible_ok), 0.97 * double(visible)) << visible_ok << " of " << visible;
+    EXPECT_LE(double(hidden_full), 0.05 * double(hidden)) << hidden_full << " of " << hidden;
+
+    // far from every projected edge the picture is the plain one, exactly
+    std::size_t far_pixels = 0, far_covered = 0, far_changed = 0, changed = 0;
+    for (int y = 0; y < k_height; ++y) {
+        for (int x = 0; x < k_width; ++x) {
+            glm::vec2 centre(float(x) + 0.5f, float(y) + 0.5f);
+            float distance = INFINITY;
+            for (const Edge& e : edges)
+                distance = std::min(distance, segment_distance(centre, window_position(camera, e.a, k_width, k_height),
+                                                               window_position(camera, e.b, k_width, k_height)));
+            bool same = std::memcmp(plain->color.at(x, y), boxes->color.at(x, y), 4) == 0;
+            changed += !same;
+            if (distance < 2.5f) continue;
+            ++far_pixels;
+            far_covered += plain->color.at(x, y)[3] == 255;
+            far_changed += !same;
+        }
+    }
+    EXPECT_GT(far_covered, 3000u) << "the shaded sphere away from the edges is checked";
+    EXPECT_EQ(far_changed, 0u) << "of " << far_pixels << " pixels away from the box edges";
+    EXPECT_GT(changed, 600u);
+    std::printf("[ boxes ] edge samples: %zu of %zu visible in the line colour, %zu of %zu hidden at full colour; "
+                "%zu pixels changed, none of %zu away from the edges\n",
+                visible_ok, visible, hidden_full, hidden, changed, far_pixels);
 }
 
 } // namespace

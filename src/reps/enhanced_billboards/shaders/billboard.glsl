@@ -24,3 +24,10 @@ struct TileData {
 layout(std430, binding = BINDING_TILES_SSBO) readonly buffer TileBlock {
     TileData items[];
 } tiles;
+
+// The colour of billboard `index` in the debug views "billboard" and "boxes".
+vec3 billboard_color(int index)
+{
+    uint h = uint(index) * 2654435761u;
+    return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
+}

@@ -35,6 +35,9 @@
 #define DEBUG_DEPTH 2
 #define DEBUG_NORMAL 3
 #define DEBUG_FETCHES 4
+// debug view "boxes" is the shaded picture (DEBUG_NONE in the march) with box lines drawn over it
+// (boxes.vert): the vertex attribute of a line vertex's ivec2 (billboard, 1 on the front plane)
+#define ATTRIB_BOX_EDGE 1
 
 // surface texel flags (acceleration.h)
 #define TEXEL_COVERED 1u

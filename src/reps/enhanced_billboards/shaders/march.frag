@@ -176,12 +176,6 @@ vec3 heat(float x)
     return clamp(vec3(1.5 - abs(4.0 * x - 3.0), 1.5 - abs(4.0 * x - 2.0), 1.5 - abs(4.0 * x - 1.0)), 0.0, 1.0);
 }
 
-vec3 billboard_color(int index)
-{
-    uint h = uint(index) * 2654435761u;
-    return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
-}
-
 void finish(bool hit, bool near)
 {
     if (counting != 0) {
