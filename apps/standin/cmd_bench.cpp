@@ -31,6 +31,8 @@ struct BenchArgs {
     int warmup = 3;
     std::size_t crowd = 0;
     bool no_coverage = false;
+    RenderOptions render; // the renderers' options (--style, --march, ...), as for render and eval
+    bool no_coarse = false;
 };
 
 struct Measured {
@@ -120,6 +122,8 @@ static int run_bench(BenchArgs& args)
     if (args.frames < 1 || args.frames > 10000) return fail("--frames: must be within 1..10000");
     if (args.warmup < 0 || args.warmup > 1000) return fail("--warmup: must be within 0..1000");
     if (args.crowd > 1000000) return fail("--crowd: at most 1000000 instances");
+    args.render.coarse_mesh = !args.no_coarse;
+    if (Status s = check_render_options(args.render); !s) return fail(s);
 
     // the model and the context
     Result<Mesh> mesh = import_mesh(args.model);
@@ -176,7 +180,7 @@ static int run_bench(BenchArgs& args)
     for (std::size_t i = 0; i < measured.size(); ++i) {
         const Measured& m = measured[i];
         const Representation* representation = find_representation(m.representation);
-        RenderOptions render;
+        RenderOptions render = args.render;
         Result<std::unique_ptr<Renderer>> with_coarse = representation->make_renderer(*m.package, render);
         if (!with_coarse) return fail(with_coarse.status());
         render.coarse_mesh = false;
@@ -256,6 +260,7 @@ CommandRun add_bench_command(CLI::App& root)
         ->capture_default_str();
     command->add_option("--param", args->parameters, "Bake parameter NAME=VALUE (repeatable)");
     command->add_option("--keep", args->keep, "Keep the package baked with the defaults in this directory");
+    add_render_options(*command, args->render, args->no_coarse);
     return [args] { return run_bench(*args); };
 }
 

@@ -282,6 +282,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     Result<std::uint64_t> bytes = package_bytes(directory);
     if (!bytes) return bytes.status();
     package->package_bytes = *bytes;
+    package->directory = directory;
     return std::unique_ptr<Package>(std::move(package));
 }
 

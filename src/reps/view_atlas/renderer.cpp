@@ -9,6 +9,8 @@
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell).
+// Pages are split over up to ATLAS_MAX_ARRAYS texture arrays per map (plan_arrays: layer and byte
+// limits), the fragment stage picks a view's array by branching.
 // Load-time tables: a direction lookup cube (the nearest view of each cell's centre) and each view's
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
@@ -19,6 +21,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <numeric>
 
 namespace standin::view_atlas {
@@ -99,23 +103,107 @@ std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8
     return out;
 }
 
-gpu::Texture upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
-                          bool color, int size)
+// How the pages of one map are split over texture arrays: consecutive pages, at most
+// pages_per_array per array (GL_MAX_ARRAY_TEXTURE_LAYERS and the byte budget).
+struct ArrayPlan {
+    int pages_per_array = 1;
+    int arrays = 1;
+    std::uint64_t page_bytes = 0; // one page with its mip levels
+};
+
+std::uint64_t page_bytes_with_mips(int size)
 {
+    std::uint64_t bytes = 0;
+    for (int level = 0; level < k_mip_levels; ++level) bytes += std::uint64_t(std::max(size >> level, 1)) * std::max(size >> level, 1) * 4;
+    return bytes;
+}
+
+// the per-texture budget: k_texture_budget_bytes, or STANDIN_ATLAS_TEXTURE_BYTES when set
+std::uint64_t texture_budget_bytes()
+{
+    if (const char* value = std::getenv("STANDIN_ATLAS_TEXTURE_BYTES"); value && *value) {
+        char* end = nullptr;
+        unsigned long long bytes = std::strtoull(value, &end, 10);
+        if (end && *end == '\0' && bytes > 0) return bytes;
+    }
+    return k_texture_budget_bytes;
+}
+
+std::string mib(std::uint64_t bytes)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / double(1 << 20));
+    return text;
+}
+
+Result<ArrayPlan> plan_arrays(const ViewAtlasPackage& package, int max_layers)
+{
+    const int pages = std::max(int(package.color_pages.size()), 1), size = package.settings.page_size;
+    std::uint64_t budget = texture_budget_bytes();
+    ArrayPlan plan;
+    plan.page_bytes = page_bytes_with_mips(size);
+    std::uint64_t fit = std::min<std::uint64_t>(budget / plan.page_bytes, std::uint64_t(std::max(max_layers, 1)));
+    plan.pages_per_array = int(std::min<std::uint64_t>(fit, std::uint64_t(pages)));
+    plan.arrays = plan.pages_per_array > 0 ? (pages + plan.pages_per_array - 1) / plan.pages_per_array : 0;
+    if (plan.pages_per_array < 1 || plan.arrays > ATLAS_MAX_ARRAYS) {
+        std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
+        return error(StatusCode::unsupported,
+                     "view atlas: package " + name + " does not fit: " + std::to_string(pages) + " pages of " +
+                         std::to_string(size) + "² (" + mib(plan.page_bytes) + " each with mips, " +
+                         mib(plan.page_bytes * std::uint64_t(pages)) + " per map) need more than " +
+                         std::to_string(ATLAS_MAX_ARRAYS) + " texture arrays of at most " + std::to_string(fit) +
+                         " pages (" + mib(budget) + " per texture, GL_MAX_ARRAY_TEXTURE_LAYERS " +
+                         std::to_string(max_layers) + "); bake with fewer views or a lower --resolution");
+    }
+    return plan;
+}
+
+// Pages [first, first + count) of one map in one texture array.
+Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
+                                  bool color, int size, int first, int count)
+{
+    while (glGetError() != GL_NO_ERROR) {} // errors from before are not this allocation's
     GLuint name = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
-    glTextureStorage3D(name, k_mip_levels, GL_RGBA8, size, size, GLsizei(std::max<std::size_t>(pages.size(), 1)));
+    gpu::Texture texture(name);
+    glTextureStorage3D(name, k_mip_levels, GL_RGBA8, size, size, GLsizei(std::max(count, 1)));
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
+                                                " layers of " + std::to_string(size) + "²");
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (std::size_t k = 0; k < pages.size(); ++k) {
-        std::vector<std::uint8_t> data = premultiplied(pages[k], coverage[k], color);
+    for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
+        std::size_t page = std::size_t(first + k);
+        std::vector<std::uint8_t> data = premultiplied(pages[page], coverage[page], color);
         glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
     }
     glGenerateTextureMipmap(name);
-    return gpu::Texture(name);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " uploading pages");
+    return texture;
+}
+
+// Every page of one map, split as planned.
+Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>& pages, bool color,
+                  const ArrayPlan& plan, std::vector<gpu::Texture>& arrays)
+{
+    for (int a = 0; a < plan.arrays; ++a) {
+        int first = a * plan.pages_per_array;
+        int count = std::min(plan.pages_per_array, std::max(int(pages.size()), 1) - first);
+        Result<gpu::Texture> texture = upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count);
+        if (!texture) {
+            std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
+            return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + (color ? "colour" : "normal-depth") +
+                                                    " texture array " + std::to_string(a + 1) + " of " +
+                                                    std::to_string(plan.arrays) + " (" + mib(plan.page_bytes * std::uint64_t(count)) +
+                                                    "): " + texture.status().message());
+        }
+        arrays.push_back(std::move(*texture));
+    }
+    return Status::ok();
 }
 
 class AtlasRenderer final : public Renderer {
@@ -125,7 +213,7 @@ public:
 
 private:
     gpu::Program program_;
-    gpu::Texture color_pages_, normal_depth_pages_;
+    std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     gpu::Buffer views_, index_;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
@@ -169,26 +257,32 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view + "'");
     STANDIN_RETURN_IF_ERROR(check_package(package));
 
-    auto renderer = std::make_unique<AtlasRenderer>();
-    Result<gpu::Program> program =
-        gpu::Program::create({"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"});
-    if (!program) return program.status();
-    renderer->program_ = std::move(*program);
-
     GLint max_layers = 0, max_size = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-    if (int(package.color_pages.size()) > max_layers || package.settings.page_size > max_size)
-        return error(StatusCode::gpu_error, "view atlas: pages exceed GL_MAX_ARRAY_TEXTURE_LAYERS or GL_MAX_TEXTURE_SIZE");
+    if (package.settings.page_size > max_size)
+        return error(StatusCode::unsupported, "view atlas: page_size " + std::to_string(package.settings.page_size) +
+                                                  " exceeds GL_MAX_TEXTURE_SIZE " + std::to_string(max_size));
+    Result<ArrayPlan> plan = plan_arrays(package, max_layers);
+    if (!plan) return plan.status();
+
+    auto renderer = std::make_unique<AtlasRenderer>();
+    Result<gpu::Program> program = gpu::Program::create(
+        {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
+        {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}});
+    if (!program) return program.status();
+    renderer->program_ = std::move(*program);
+
     int size = package.settings.page_size;
-    renderer->color_pages_ = upload_pages(package.color_pages, package.color_pages, true, size);
+    STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, *plan, renderer->color_arrays_));
     if (package.has_surface())
-        renderer->normal_depth_pages_ = upload_pages(package.normal_depth_pages, package.color_pages, false, size);
+        STANDIN_RETURN_IF_ERROR(upload_map(package, package.normal_depth_pages, false, *plan, renderer->normal_depth_arrays_));
 
     std::vector<ViewGpu> views;
     for (const View& v : package.views)
         views.push_back({glm::vec4(v.direction, 0.0f), glm::vec4(v.axis_u, 0.0f), glm::vec4(v.axis_v, 0.0f),
-                         glm::ivec4(v.crop_x, v.crop_y, v.width, v.height), glm::ivec4(v.page, v.atlas_x, v.atlas_y, 0)});
+                         glm::ivec4(v.crop_x, v.crop_y, v.width, v.height), glm::ivec4(v.page % plan->pages_per_array, v.atlas_x, v.atlas_y,
+                                                                       v.page / plan->pages_per_array)});
     renderer->views_ = gpu::make_buffer(views);
     renderer->index_ = gpu::make_buffer(build_index(package.views));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
@@ -215,8 +309,11 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
-    glBindTextureUnit(ATLAS_COLOR_TEXTURE, color_pages_.get());
-    glBindTextureUnit(ATLAS_NORMAL_DEPTH_TEXTURE, normal_depth_pages_ ? normal_depth_pages_.get() : color_pages_.get());
+    for (std::size_t a = 0; a < color_arrays_.size(); ++a) {
+        glBindTextureUnit(GLuint(ATLAS_COLOR_TEXTURE + a), color_arrays_[a].get());
+        glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
+                          normal_depth_arrays_.empty() ? color_arrays_[a].get() : normal_depth_arrays_[a].get());
+    }
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

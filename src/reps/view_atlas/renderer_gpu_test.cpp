@@ -1,8 +1,10 @@
 // View atlases baked on the GPU from small generated meshes and drawn against the ground truth:
 // the seed style reproduces a captured view, the corrected style beats it away from the captured
-// views, bakes are byte-identical, and styles a package cannot serve are refused.
+// views, bakes are byte-identical, styles a package cannot serve are refused, and pages split over
+// several texture arrays (a forced small budget) draw exactly as one array.
 #include "test_support.h"
 
+#include "reps/view_atlas/shaders/atlas_layout.glsl"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/eval.h>
@@ -11,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace standin::view_atlas {
 namespace {
@@ -116,6 +119,61 @@ TEST(ViewAtlasRenderer, BakesAreByteIdentical)
     }
     for (const char* file : {"/manifest.json", "/page_000_color.png", "/page_000_normal_depth.png"})
         EXPECT_EQ(*read_file(dir + "/a.standin" + file), *read_file(dir + "/b.standin" + file)) << file;
+}
+
+// STANDIN_ATLAS_TEXTURE_BYTES set for the lifetime of this object
+struct TextureBudget {
+    explicit TextureBudget(std::uint64_t bytes) { setenv("STANDIN_ATLAS_TEXTURE_BYTES", std::to_string(bytes).c_str(), 1); }
+    ~TextureBudget() { unsetenv("STANDIN_ATLAS_TEXTURE_BYTES"); }
+};
+
+TEST(ViewAtlasRenderer, PagesSplitOverSeveralArraysDrawAsOne)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> baked =
+        bake_atlas(mesh, {{"layout", "hemi-octahedral"}, {"frames", "4"}, {"resolution", "128"}, {"page-size", "256"}});
+    ASSERT_TRUE(baked);
+    const auto& package = dynamic_cast<const ViewAtlasPackage&>(*baked);
+    const int pages = int(package.color_pages.size());
+    ASSERT_GE(pages, 3) << "the test needs several pages";
+    std::uint64_t page_bytes = 0; // 256² RGBA8 with its k_mip_levels levels
+    for (int level = 0; level < k_mip_levels; ++level) page_bytes += std::uint64_t(256 >> level) * (256 >> level) * 4;
+
+    for (const char* style : {"seed", "corrected"}) {
+        RenderOptions options;
+        options.style = style;
+        Result<std::unique_ptr<Renderer>> one = make_renderer(package, options);
+        ASSERT_TRUE(one.is_ok()) << one.status().message();
+        // one page per array: every page in its own array at layer 0
+        TextureBudget budget(page_bytes + page_bytes / 2);
+        Result<std::unique_ptr<Renderer>> split = make_renderer(package, options);
+        ASSERT_TRUE(split.is_ok()) << split.status().message();
+        for (float azimuth : {31.0f, 121.0f, 211.0f, 301.0f}) { // views on every page
+            OrbitView view;
+            view.azimuth_degrees = azimuth;
+            view.elevation_degrees = 37.0f;
+            Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
+            Light light = default_light(camera);
+            Result<RenderedImage> a = render_offscreen(**one, camera, light, 64, 64);
+            Result<RenderedImage> b = render_offscreen(**split, camera, light, 64, 64);
+            ASSERT_TRUE(a.is_ok() && b.is_ok());
+            EXPECT_GT(compare_images(a->color, a->color).intersection_pixels, 100u) << "nothing drawn";
+            EXPECT_EQ(a->color.pixels, b->color.pixels) << style << " at azimuth " << azimuth;
+        }
+    }
+
+    // a budget below one page, or one needing more arrays than the shader binds: refused by name
+    {
+        TextureBudget budget(page_bytes - 1);
+        Result<std::unique_ptr<Renderer>> refused = make_renderer(package, RenderOptions{});
+        ASSERT_FALSE(refused.is_ok());
+        EXPECT_NE(refused.status().message().find("does not fit"), std::string::npos) << refused.status().message();
+        EXPECT_NE(refused.status().message().find(std::to_string(pages) + " pages"), std::string::npos);
+    }
+    {
+        TextureBudget budget(page_bytes); // one page per array
+        EXPECT_EQ(make_renderer(package, RenderOptions{}).is_ok(), pages <= ATLAS_MAX_ARRAYS);
+    }
 }
 
 } // namespace

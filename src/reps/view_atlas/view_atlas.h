@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ namespace standin::view_atlas {
 // k_mip_levels - 1 mip levels of a page never mix two views (renderer.cpp clamps the level there).
 constexpr int k_cell = 16;
 constexpr int k_mip_levels = 5; // 1, 2, 4, 8, 16 texels
+// Bytes one GPU texture array may hold (llvmpipe refuses textures over 1 GiB).
+constexpr std::uint64_t k_texture_budget_bytes = 960ull << 20;
 
 struct BakeSettings {
     std::string layout = "icosahedral"; // "icosahedral", "octahedral", "hemi-octahedral"
@@ -69,6 +72,7 @@ public:
     // (2r) in [0, 1], 0 nearest to the capture camera.
     std::vector<ImageRGBA8> normal_depth_pages;
     std::uint64_t package_bytes = 0; // filled when read from disk
+    std::string directory;           // filled when read from disk (named in the renderer's errors)
 };
 
 // The capture directions of a layout (deterministic order).
@@ -87,6 +91,11 @@ int pack_views(std::vector<View>& views, int page_size);
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
+// The renderer uploads pages into texture arrays of at most GL_MAX_ARRAY_TEXTURE_LAYERS pages and
+// k_texture_budget_bytes each (mip levels included; the environment variable
+// STANDIN_ATLAS_TEXTURE_BYTES overrides the budget, e.g. to force several arrays on small packages
+// in tests), at most ATLAS_MAX_ARRAYS arrays per map (shaders/atlas_layout.glsl). A package that
+// needs more is refused with a status naming it and its sizes; so is one the GL cannot allocate.
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options);
 
 } // namespace standin::view_atlas

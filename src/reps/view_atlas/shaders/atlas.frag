@@ -19,22 +19,60 @@ flat in vec3 v_weights;
 flat in int v_instance;
 in vec2 v_atlas_texel;
 
-layout(binding = ATLAS_COLOR_TEXTURE) uniform sampler2DArray color_pages;
-layout(binding = ATLAS_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages;
+#ifndef ATLAS_ARRAYS
+#define ATLAS_ARRAYS 1 // texture arrays per map, 1..ATLAS_MAX_ARRAYS (renderer.cpp defines it)
+#endif
+layout(binding = ATLAS_COLOR_TEXTURE) uniform sampler2DArray color_pages[ATLAS_ARRAYS];
+layout(binding = ATLAS_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages[ATLAS_ARRAYS];
+#define MAP_COLOR 0
+#define MAP_NORMAL_DEPTH 1
 
 uniform int style;
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 
 layout(location = 0) out vec4 out_color;
 
-// A page sample at an atlas texel position, clamped inside the view's crop at that level.
-vec4 sample_page(sampler2DArray pages, ViewData view, vec2 texel, float lod)
+// A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
+// sampler is chosen by branching (indices into sampler arrays must be dynamically uniform).
+#define ATLAS_READ(i) if (array == i) return map == MAP_COLOR ? textureLod(color_pages[i], uvw, lod) : textureLod(normal_depth_pages[i], uvw, lod);
+vec4 read_array(int map, int array, vec3 uvw, float lod)
+{
+#if ATLAS_ARRAYS > 1
+    ATLAS_READ(1)
+#endif
+#if ATLAS_ARRAYS > 2
+    ATLAS_READ(2)
+#endif
+#if ATLAS_ARRAYS > 3
+    ATLAS_READ(3)
+#endif
+#if ATLAS_ARRAYS > 4
+    ATLAS_READ(4)
+#endif
+#if ATLAS_ARRAYS > 5
+    ATLAS_READ(5)
+#endif
+#if ATLAS_ARRAYS > 6
+    ATLAS_READ(6)
+#endif
+#if ATLAS_ARRAYS > 7
+    ATLAS_READ(7)
+#endif
+#if ATLAS_ARRAYS > 8
+#error "atlas.frag reads at most 8 texture arrays per map (ATLAS_MAX_ARRAYS)"
+#endif
+    return map == MAP_COLOR ? textureLod(color_pages[0], uvw, lod) : textureLod(normal_depth_pages[0], uvw, lod);
+}
+
+// A page sample of map MAP_COLOR or MAP_NORMAL_DEPTH at an atlas texel position, clamped inside
+// the view's crop at that level.
+vec4 sample_page(int map, ViewData view, vec2 texel, float lod)
 {
     lod = clamp(lod, 0.0, float(MAX_LOD));
     float margin = 0.5 * exp2(ceil(lod));
     vec2 lo = vec2(view.atlas.yz) + margin, hi = vec2(view.atlas.yz + view.crop.zw) - margin;
     texel = clamp(texel, lo, hi);
-    return textureLod(pages, vec3(texel / page_size, float(view.atlas.x)), lod);
+    return read_array(map, view.atlas.w, vec3(texel / page_size, float(view.atlas.x)), lod);
 }
 
 // atlas texel position of a point given in view-plane coordinates
@@ -48,8 +86,8 @@ vec2 atlas_texel(ViewData view, vec2 plane)
 vec2 surface_at(ViewData view, vec2 plane)
 {
     vec2 texel = atlas_texel(view, plane);
-    float coverage = sample_page(color_pages, view, texel, 0.0).a;
-    float depth = sample_page(normal_depth_pages, view, texel, 0.0).a;
+    float coverage = sample_page(MAP_COLOR, view, texel, 0.0).a;
+    float depth = sample_page(MAP_NORMAL_DEPTH, view, texel, 0.0).a;
     depth = coverage > 0.0 ? depth / coverage : 1.0;
     return vec2(atlas_radius - 2.0 * atlas_radius * depth, coverage);
 }
@@ -119,11 +157,11 @@ void main()
         ViewData view = views.items[v_views.x];
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
-        vec4 c = sample_page(color_pages, view, v_atlas_texel, lod);
+        vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         if (c.a < 0.5) discard;
         vec3 color = c.rgb / c.a;
         if (lit_maps == 0) {
-            vec3 n = sample_page(normal_depth_pages, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
+            vec3 n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
             color = shade_surface(color, n, direction_world);
         }
         out_color = vec4(color, 1.0);
@@ -150,16 +188,16 @@ void main()
             float t = -dot(o - atlas_center, w) / dw; // the centre plane
             vec3 p = o + t * d - atlas_center;
             vec2 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
-            vec4 nd = sample_page(normal_depth_pages, view, texel, lod);
-            float coverage = sample_page(color_pages, view, texel, lod).a;
+            vec4 nd = sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
+            float coverage = sample_page(MAP_COLOR, view, texel, lod).a;
             if (coverage > 0.0) { // one parallax step to the depth read there
                 float height = atlas_radius - 2.0 * atlas_radius * nd.a / coverage;
                 t += height / dw;
                 p = o + t * d - atlas_center;
                 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
             }
-            color_sum += v_weights[k] * sample_page(color_pages, view, texel, lod);
-            normal_sum += v_weights[k] * sample_page(normal_depth_pages, view, texel, lod);
+            color_sum += v_weights[k] * sample_page(MAP_COLOR, view, texel, lod);
+            normal_sum += v_weights[k] * sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
         }
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
@@ -188,13 +226,13 @@ void main()
         vec3 p = o + hits[k] * d - atlas_center;
         vec2 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
         float level = lod;
-        vec4 c = sample_page(color_pages, view, texel, level);
+        vec4 c = sample_page(MAP_COLOR, view, texel, level);
         if (c.a <= 0.0) {
             level = 0.0;
-            c = sample_page(color_pages, view, texel, level);
+            c = sample_page(MAP_COLOR, view, texel, level);
         }
         if (c.a <= 0.0) continue;
-        vec4 nd = sample_page(normal_depth_pages, view, texel, level);
+        vec4 nd = sample_page(MAP_NORMAL_DEPTH, view, texel, level);
         color_sum += v_weights[k] * vec4(c.rgb / c.a, 1.0);
         normal_sum += v_weights[k] * vec4(nd.rgb / max(c.a, 1e-6) * 2.0 - 1.0, 0.0);
         t_sum += v_weights[k] * hits[k];

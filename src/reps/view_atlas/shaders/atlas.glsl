@@ -7,7 +7,7 @@ struct ViewData {
     vec4 axis_u;    // xyz: image columns
     vec4 axis_v;    // xyz: image rows (down)
     ivec4 crop;     // crop x, y, width, height in capture pixels
-    ivec4 atlas;    // page, x, y (texels), unused
+    ivec4 atlas;    // layer in its texture array, x, y (texels), texture array
 };
 
 layout(std430, binding = ATLAS_VIEWS_SSBO) readonly buffer ViewBlock {

@@ -7,9 +7,12 @@
 #define ATLAS_VIEWS_SSBO 1     // ViewData[]
 #define ATLAS_INDEX_SSBO 2     // int[]: the direction lookup cube, then NEIGHBOURS per view
 
-// texture units
+// texture units: each map's pages lie in up to ATLAS_MAX_ARRAYS texture arrays (units
+// ATLAS_COLOR_TEXTURE + i and ATLAS_NORMAL_DEPTH_TEXTURE + i hold array i); a view's array is
+// ViewData.atlas.w, its layer ViewData.atlas.x
+#define ATLAS_MAX_ARRAYS 8
 #define ATLAS_COLOR_TEXTURE 0        // colour (lit or albedo), premultiplied by coverage; A: coverage
-#define ATLAS_NORMAL_DEPTH_TEXTURE 1 // normal * 0.5 + 0.5 and depth, premultiplied by coverage
+#define ATLAS_NORMAL_DEPTH_TEXTURE 8 // normal * 0.5 + 0.5 and depth, premultiplied by coverage
 
 // styles (RenderOptions::style)
 #define STYLE_SEED 0       // the paper: the nearest view on a camera-facing quad, no correction
