@@ -312,6 +312,8 @@ std::size_t count_source_faces(const std::vector<std::uint32_t>& pieces, const s
 // The coarse mesh for hole filling (seed §3.4: "usually 10 times fewer polygons"): QEM
 // simplification on the position-welded topology, sloppy simplification when QEM stops early at
 // locked borders. Vertex colours carry the albedo; no textures.
+constexpr std::size_t k_min_coarse_triangles = 256;
+
 Mesh make_coarse_mesh(const Mesh& mesh, float ratio)
 {
     Mesh coarse;
@@ -320,7 +322,11 @@ Mesh make_coarse_mesh(const Mesh& mesh, float ratio)
     std::vector<std::uint32_t> welded(index_count), simplified(index_count);
     meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), index_count, mesh.positions.data(),
                                       mesh.vertex_count(), sizeof(glm::vec3), sizeof(glm::vec3));
-    std::size_t target = std::max<std::size_t>(3, std::size_t(double(index_count / 3) * ratio) * 3);
+    // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one
+    // triangle, which fills no hole at all.
+    std::size_t triangles = index_count / 3;
+    std::size_t target_triangles = std::max(std::size_t(double(triangles) * ratio), std::min(triangles, k_min_coarse_triangles));
+    std::size_t target = std::max<std::size_t>(1, target_triangles) * 3;
     const float* positions = &mesh.positions[0].x;
     std::size_t count = meshopt_simplify(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
                                          sizeof(glm::vec3), target, 1.0f, 0, nullptr);

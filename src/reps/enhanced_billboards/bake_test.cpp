@@ -207,6 +207,22 @@ TEST(BakeBillboards, ClosedModelsAreCapturedWithFewBillboards)
     }
 }
 
+TEST(BakeBillboards, SmallModelsKeepAClosedCoarseMesh)
+{
+    // 10% of a few dozen triangles would be a handful that fills no hole: small models keep
+    // their coarse mesh at up to 256 triangles, here all of them.
+    GenerateOptions options;
+    options.shape = GeneratedShape::sphere;
+    options.target_triangles = 48;
+    Result<Mesh> mesh = generate_mesh(options);
+    ASSERT_TRUE(mesh) << mesh.status().message();
+    Baked baked = bake_mesh(*mesh, {{"resolution", "64"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const Mesh& coarse = baked.package->coarse_mesh;
+    EXPECT_EQ(coarse.triangle_count(), mesh->triangle_count());
+    EXPECT_NEAR(coarse.surface_area(), mesh->surface_area(), 1e-4 * mesh->surface_area());
+}
+
 TEST(BakeBillboards, GreedyNeedsFewerBillboardsThanAxis)
 {
     GenerateOptions options;
