@@ -488,6 +488,29 @@ TEST(BillboardRenderer, CrowdInstancesOutsideTheViewAreNotDrawn)
     EXPECT_LE(recording.stats.primitives, 6u * 16u * 12u + 500u);
 }
 
+TEST(BillboardRenderer, CoarseMeshIsDrawnOnlyOnInstancesLargeEnoughToShowHoles)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package(64);
+    package.coarse_mesh = coarse_sphere(1.0f);
+    const std::uint64_t coarse_triangles = package.coarse_mesh.triangle_count();
+    ASSERT_GT(coarse_triangles, 100u);
+    auto renderer = make_renderer(package, RenderOptions{});
+    ASSERT_TRUE(renderer.is_ok());
+    Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 4000.0f);
+    // a second copy 1000 units away covers a fraction of a pixel: billboards yes, coarse mesh no
+    std::vector<glm::mat4> near_only = {glm::mat4(1.0f)};
+    std::vector<glm::mat4> near_and_far = {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, -1000.0f))};
+    Recording recording(*renderer->get());
+    ASSERT_TRUE(render_offscreen(recording, camera, default_light(camera), 200, 100, near_only).is_ok());
+    std::uint64_t one = recording.stats.primitives;
+    ASSERT_TRUE(render_offscreen(recording, camera, default_light(camera), 200, 100, near_and_far).is_ok());
+    std::uint64_t two = recording.stats.primitives;
+    EXPECT_GT(one, coarse_triangles) << "the near instance gets its coarse mesh";
+    EXPECT_GT(two, one) << "the far instance's billboards are drawn";
+    EXPECT_LT(two - one, coarse_triangles) << "but not its coarse mesh";
+}
+
 // march.frag's billboard_color() (the "billboard" and "boxes" debug views), in 8-bit codes
 glm::ivec3 palette_color(int index)
 {

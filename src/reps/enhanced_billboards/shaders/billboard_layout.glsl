@@ -6,6 +6,7 @@
 // shader storage blocks of this renderer (beside gpu/shaders/common/bindings.h's 0..2)
 #define BINDING_TILES_SSBO 3     // TileData: the proxy boxes drawn, one per occupied tile
 #define BINDING_DRAW_LIST_SSBO 4 // uvec2 (instance, tile) per drawn box, sorted front to back
+#define BINDING_COARSE_LIST_SSBO 5 // uint instance index per coarse-mesh instance drawn
 
 // image unit of the per-pixel flags the coarse mesh reads (r32ui)
 #define IMAGE_PIXEL_FLAGS 0

@@ -1,6 +1,12 @@
 #version 450 core
 // The package's coarse mesh (seed 000 §3.4), drawn after the billboards to fill their holes.
 #include "gpu/shaders/common/frame.glsl"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
+
+// the instances large enough on screen to need hole filling (renderer.cpp)
+layout(std430, binding = BINDING_COARSE_LIST_SSBO) readonly buffer CoarseListBlock {
+    uint instance_index[];
+} coarse_list;
 
 layout(location = ATTRIB_POSITION) in vec3 position_object;
 layout(location = ATTRIB_NORMAL) in vec3 normal_object;
@@ -12,7 +18,7 @@ out vec4 v_color;
 
 void main()
 {
-    mat4 world_from_object = instances.world_from_object[gl_InstanceID];
+    mat4 world_from_object = instances.world_from_object[coarse_list.instance_index[gl_InstanceID]];
     vec4 world = world_from_object * vec4(position_object, 1.0);
     v_position_world = world.xyz;
     v_normal_world = mat3(world_from_object) * normal_object;
