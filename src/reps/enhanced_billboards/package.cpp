@@ -4,12 +4,12 @@
 // encoders); reading validates every field and every file, and refuses what it does not
 // understand with a status naming the file and the field.
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/manifest.h"
 
 #include <standin/files.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 namespace standin::billboards {
@@ -18,14 +18,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json vec3_json(glm::vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
-
-std::string billboard_file(std::size_t index, const char* map)
-{
-    char name[64];
-    std::snprintf(name, sizeof name, "billboard_%03zu_%s.png", index, map);
-    return name;
-}
+std::string billboard_file(std::size_t index, const char* map) { return manifest_io::numbered_png("billboard", index, map); }
 
 nlohmann::json settings_json(const BakeSettings& s)
 {
@@ -35,26 +28,6 @@ nlohmann::json settings_json(const BakeSettings& s)
             {"depth_bits", s.depth_bits},     {"coarse_ratio", s.coarse_ratio}};
 }
 
-nlohmann::json source_json(const SourceInfo& s)
-{
-    return {{"file_name", s.file_name},
-            {"content_hash", s.content_hash},
-            {"file_bytes", s.file_bytes},
-            {"triangles", s.triangles},
-            {"vertices", s.vertices},
-            {"bounds", {{"min", vec3_json(s.bounds.min)}, {"max", vec3_json(s.bounds.max)}}},
-            {"surface_area", s.surface_area}};
-}
-
-// Writes a file and records its size and hash in `files`.
-Status record_file(const std::string& directory, const std::string& name, nlohmann::json& files)
-{
-    Result<std::string> bytes = read_file((fs::path(directory) / name).string());
-    if (!bytes) return bytes.status();
-    files[name] = {{"bytes", bytes->size()}, {"fnv1a64", hex64(hash_bytes(*bytes))}};
-    return Status::ok();
-}
-
 ImageRGBA8 to_8_bits(const ImageRGBA16& image)
 {
     ImageRGBA8 out(image.width, image.height);
@@ -62,69 +35,7 @@ ImageRGBA8 to_8_bits(const ImageRGBA16& image)
     return out;
 }
 
-// ------------------------------------------------------------------------------------------------
-// Reading: every accessor names the manifest and the field it refuses.
-
-struct BadField {
-    std::string message;
-};
-
-class ManifestReader {
-public:
-    explicit ManifestReader(std::string path) : path_(std::move(path)) {}
-
-    const nlohmann::json& member(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        if (!object.is_object() || !object.contains(key)) fail(where + key, "is missing");
-        return object[key];
-    }
-    double number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_number()) fail(where + key, "is not a number");
-        double x = value.get<double>();
-        if (!std::isfinite(x) || x < lo || x > hi)
-            fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return x;
-    }
-    std::int64_t integer(const nlohmann::json& object, const std::string& key, const std::string& where, std::int64_t lo,
-                         std::int64_t hi) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_number_integer()) fail(where + key, "is not an integer");
-        std::int64_t x = value.get<std::int64_t>();
-        if (x < lo || x > hi)
-            fail(where + key, "= " + std::to_string(x) + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
-        return x;
-    }
-    std::string string(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_string()) fail(where + key, "is not a string");
-        return value.get<std::string>();
-    }
-    glm::vec3 vec3(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_array() || value.size() != 3) fail(where + key, "is not an array of 3 numbers");
-        glm::vec3 v;
-        for (int k = 0; k < 3; ++k) {
-            if (!value[k].is_number() || !std::isfinite(value[k].get<double>())) fail(where + key, "holds a non-finite value");
-            v[k] = value[k].get<float>();
-        }
-        return v;
-    }
-    [[noreturn]] void fail(const std::string& field, const std::string& problem) const
-    {
-        throw BadField{path_ + ": \"" + field + "\" " + problem};
-    }
-    const std::string& path() const { return path_; }
-
-private:
-    std::string path_;
-};
-
-BakeSettings read_settings(const ManifestReader& in, const nlohmann::json& manifest)
+BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
 {
     const nlohmann::json& bake = in.member(manifest, "bake", "");
     BakeSettings s;
@@ -141,38 +52,6 @@ BakeSettings read_settings(const ManifestReader& in, const nlohmann::json& manif
     if (s.depth_bits != 8 && s.depth_bits != 16) in.fail("bake.depth_bits", "must be 8 or 16");
     s.coarse_ratio = float(in.number(bake, "coarse_ratio", "bake.", 0.0, 1.0));
     return s;
-}
-
-SourceInfo read_source(const ManifestReader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& source = in.member(manifest, "source", "");
-    SourceInfo s;
-    s.file_name = in.string(source, "file_name", "source.");
-    s.content_hash = in.string(source, "content_hash", "source.");
-    s.file_bytes = std::uint64_t(in.integer(source, "file_bytes", "source.", 0, INT64_MAX));
-    s.triangles = std::size_t(in.integer(source, "triangles", "source.", 0, INT64_MAX));
-    s.vertices = std::size_t(in.integer(source, "vertices", "source.", 0, INT64_MAX));
-    const nlohmann::json& bounds = in.member(source, "bounds", "source.");
-    s.bounds.min = in.vec3(bounds, "min", "source.bounds.");
-    s.bounds.max = in.vec3(bounds, "max", "source.bounds.");
-    s.surface_area = in.number(source, "surface_area", "source.", 0.0, 1e300);
-    return s;
-}
-
-// Checks a listed file against its recorded size and hash.
-void check_file(const ManifestReader& in, const std::string& directory, const nlohmann::json& files, const std::string& name)
-{
-    if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "..")
-        in.fail("files", "names '" + name + "', which is not a plain file name");
-    const nlohmann::json& entry = in.member(files, name, "files.");
-    std::string path = (fs::path(directory) / name).string();
-    Result<std::string> bytes = read_file(path);
-    if (!bytes) throw BadField{path + ": listed in the manifest but cannot be read: " + bytes.status().message()};
-    std::int64_t size = in.integer(entry, "bytes", "files." + name + ".", 0, INT64_MAX);
-    if (std::uint64_t(size) != bytes->size())
-        throw BadField{path + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
-    if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
-        throw BadField{path + ": content does not match the manifest's hash (damaged file)"};
 }
 
 // Reads one PNG of a billboard, checking size and bit depth against the manifest.
@@ -203,7 +82,7 @@ Status read_map(const std::string& path, int width, int height, int bits, ImageR
     return Status::ok();
 }
 
-Billboard read_billboard(const ManifestReader& in, const std::string& directory, const nlohmann::json& files,
+Billboard read_billboard(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
                          const nlohmann::json& entry, std::size_t index, int depth_bits)
 {
     std::string where = "billboards[" + std::to_string(index) + "].";
@@ -212,11 +91,7 @@ Billboard read_billboard(const ManifestReader& in, const std::string& directory,
     b.axis_u = in.vec3(entry, "axis_u", where);
     b.axis_v = in.vec3(entry, "axis_v", where);
     b.direction = in.vec3(entry, "direction", where);
-    for (auto [axis, name] : {std::pair{b.axis_u, "axis_u"}, {b.axis_v, "axis_v"}, {b.direction, "direction"}})
-        if (std::abs(glm::length(axis) - 1.0f) > 1e-3f) in.fail(where + name, "is not a unit vector");
-    if (std::abs(glm::dot(b.axis_u, b.axis_v)) > 1e-3f || std::abs(glm::dot(b.axis_u, b.direction)) > 1e-3f ||
-        std::abs(glm::dot(b.axis_v, b.direction)) > 1e-3f)
-        in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
+    manifest_io::check_axes(in, where, b.axis_u, b.axis_v, b.direction);
     b.texel_size = float(in.number(entry, "texel_size", where, 1e-30, 1e30));
     b.depth_range = float(in.number(entry, "depth_range", where, 1e-30, 1e30));
     b.width = int(in.integer(entry, "width", where, 1, 1 << 15));
@@ -225,11 +100,11 @@ Billboard read_billboard(const ManifestReader& in, const std::string& directory,
     b.captured_area = in.number(entry, "captured_area", where, 0.0, 1e300);
     std::string color = in.string(in.member(entry, "color", where), "file", where + "color.");
     std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
-    check_file(in, directory, files, color);
-    check_file(in, directory, files, normal_depth);
+    manifest_io::check_file(in, directory, files, color);
+    manifest_io::check_file(in, directory, files, normal_depth);
     Status status = read_map((fs::path(directory) / color).string(), b.width, b.height, 8, &b.color, nullptr);
     if (status) status = read_map((fs::path(directory) / normal_depth).string(), b.width, b.height, depth_bits, nullptr, &b.normal_depth);
-    if (!status) throw BadField{status.message()};
+    if (!status) throw manifest_io::BadField{status.message()};
     return b;
 }
 
@@ -248,12 +123,12 @@ Status write(const Package& base, const std::string& directory)
             STANDIN_RETURN_IF_ERROR(write_png(to_8_bits(b.normal_depth), (fs::path(directory) / normal_depth).string()));
         else
             STANDIN_RETURN_IF_ERROR(write_png(b.normal_depth, (fs::path(directory) / normal_depth).string()));
-        STANDIN_RETURN_IF_ERROR(record_file(directory, color, files));
-        STANDIN_RETURN_IF_ERROR(record_file(directory, normal_depth, files));
-        boards.push_back({{"origin", vec3_json(b.origin)},
-                          {"axis_u", vec3_json(b.axis_u)},
-                          {"axis_v", vec3_json(b.axis_v)},
-                          {"direction", vec3_json(b.direction)},
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, color, files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, normal_depth, files));
+        boards.push_back({{"origin", manifest_io::vec3_json(b.origin)},
+                          {"axis_u", manifest_io::vec3_json(b.axis_u)},
+                          {"axis_v", manifest_io::vec3_json(b.axis_v)},
+                          {"direction", manifest_io::vec3_json(b.direction)},
                           {"extent", {b.width * b.texel_size, b.height * b.texel_size, b.depth_range}},
                           {"texel_size", b.texel_size},
                           {"depth_range", b.depth_range},
@@ -270,7 +145,7 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json coarse = nullptr;
     if (package.coarse_mesh.triangle_count() > 0) {
         STANDIN_RETURN_IF_ERROR(write_ply(package.coarse_mesh, (fs::path(directory) / "coarse.ply").string()));
-        STANDIN_RETURN_IF_ERROR(record_file(directory, "coarse.ply", files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, "coarse.ply", files));
         coarse = {{"file", "coarse.ply"},
                   {"triangles", package.coarse_mesh.triangle_count()},
                   {"vertices", package.coarse_mesh.vertex_count()}};
@@ -283,7 +158,7 @@ Status write(const Package& base, const std::string& directory)
         {"format", k_package_format},
         {"version", k_package_format_version},
         {"representation", package.representation()},
-        {"source", source_json(package.source)},
+        {"source", manifest_io::source_json(package.source)},
         {"bake", settings_json(package.settings)},
         {"faces_total", package.faces_total},
         {"area_total", package.area_total},
@@ -299,10 +174,10 @@ Status write(const Package& base, const std::string& directory)
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    ManifestReader in((fs::path(directory) / "manifest.json").string());
+    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), true);
     auto package = std::make_unique<EnhancedBillboardsPackage>();
     try {
-        package->source = read_source(in, manifest);
+        package->source = manifest_io::read_source(in, manifest);
         package->settings = read_settings(in, manifest);
         package->faces_total = std::size_t(in.integer(manifest, "faces_total", "", 0, INT64_MAX));
         package->area_total = in.number(manifest, "area_total", "", 0.0, 1e300);
@@ -324,12 +199,12 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& coarse = in.member(manifest, "coarse_mesh", "");
         if (!coarse.is_null()) {
             std::string name = in.string(coarse, "file", "coarse_mesh.");
-            check_file(in, directory, files, name);
+            manifest_io::check_file(in, directory, files, name);
             Result<Mesh> mesh = import_mesh((fs::path(directory) / name).string());
             if (!mesh) return mesh.status();
             package->coarse_mesh = std::move(*mesh);
         }
-    } catch (const BadField& bad) {
+    } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
     Result<std::uint64_t> bytes = package_bytes(directory);

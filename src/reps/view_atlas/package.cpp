@@ -2,12 +2,12 @@
 // direction, axes and rectangles, and the atlas pages as PNG (colour + coverage; normal + depth for
 // "surface" maps). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
 // every field and file and refuses what it does not understand with a status naming file and field.
+#include "reps/manifest.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 
 namespace standin::view_atlas {
@@ -16,14 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json vec3_json(glm::vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
-
-std::string page_file(std::size_t index, const char* map)
-{
-    char name[64];
-    std::snprintf(name, sizeof name, "page_%03zu_%s.png", index, map);
-    return name;
-}
+std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
 
 nlohmann::json settings_json(const BakeSettings& s)
 {
@@ -32,111 +25,14 @@ nlohmann::json settings_json(const BakeSettings& s)
             {"maps", s.maps}, {"page_size", s.page_size}};
 }
 
-nlohmann::json source_json(const SourceInfo& s)
-{
-    return {{"file_name", s.file_name},
-            {"content_hash", s.content_hash},
-            {"file_bytes", s.file_bytes},
-            {"triangles", s.triangles},
-            {"vertices", s.vertices},
-            {"bounds", {{"min", vec3_json(s.bounds.min)}, {"max", vec3_json(s.bounds.max)}}},
-            {"surface_area", s.surface_area}};
-}
-
 Status write_page(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)
 {
     std::string path = (fs::path(directory) / name).string();
     STANDIN_RETURN_IF_ERROR(write_png(image, path));
-    Result<std::string> bytes = read_file(path);
-    if (!bytes) return bytes.status();
-    files[name] = {{"bytes", bytes->size()}, {"fnv1a64", hex64(hash_bytes(*bytes))}};
-    return Status::ok();
+    return manifest_io::record_file(directory, name, files);
 }
 
-// ------------------------------------------------------------------------------------------------
-// Reading: every accessor names the manifest and the field it refuses.
-
-struct BadField {
-    std::string message;
-};
-
-class ManifestReader {
-public:
-    explicit ManifestReader(std::string path) : path_(std::move(path)) {}
-    const nlohmann::json& member(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        if (!object.is_object() || !object.contains(key)) fail(where + key, "is missing");
-        return object[key];
-    }
-    double number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_number()) fail(where + key, "is not a number");
-        double x = value.get<double>();
-        if (!std::isfinite(x) || x < lo || x > hi) fail(where + key, "= " + value.dump() + " is out of range");
-        return x;
-    }
-    std::int64_t integer(const nlohmann::json& object, const std::string& key, const std::string& where,
-                         std::int64_t lo, std::int64_t hi) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_number_integer()) fail(where + key, "is not an integer");
-        std::int64_t x = value.get<std::int64_t>();
-        if (x < lo || x > hi)
-            fail(where + key, "= " + std::to_string(x) + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
-        return x;
-    }
-    std::string string(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_string()) fail(where + key, "is not a string");
-        return value.get<std::string>();
-    }
-    std::string choice(const nlohmann::json& object, const std::string& key, const std::string& where,
-                       const std::vector<std::string>& choices) const
-    {
-        std::string value = string(object, key, where);
-        for (const std::string& c : choices)
-            if (c == value) return value;
-        fail(where + key, "= \"" + value + "\" is not known");
-    }
-    glm::vec3 vec3(const nlohmann::json& object, const std::string& key, const std::string& where) const
-    {
-        const nlohmann::json& value = member(object, key, where);
-        if (!value.is_array() || value.size() != 3) fail(where + key, "is not an array of 3 numbers");
-        glm::vec3 v;
-        for (int k = 0; k < 3; ++k) {
-            if (!value[k].is_number() || !std::isfinite(value[k].get<double>())) fail(where + key, "holds a non-finite value");
-            v[k] = value[k].get<float>();
-        }
-        return v;
-    }
-    [[noreturn]] void fail(const std::string& field, const std::string& problem) const
-    {
-        throw BadField{path_ + ": \"" + field + "\" " + problem};
-    }
-
-private:
-    std::string path_;
-};
-
-SourceInfo read_source(const ManifestReader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& source = in.member(manifest, "source", "");
-    SourceInfo s;
-    s.file_name = in.string(source, "file_name", "source.");
-    s.content_hash = in.string(source, "content_hash", "source.");
-    s.file_bytes = std::uint64_t(in.integer(source, "file_bytes", "source.", 0, INT64_MAX));
-    s.triangles = std::size_t(in.integer(source, "triangles", "source.", 0, INT64_MAX));
-    s.vertices = std::size_t(in.integer(source, "vertices", "source.", 0, INT64_MAX));
-    const nlohmann::json& bounds = in.member(source, "bounds", "source.");
-    s.bounds.min = in.vec3(bounds, "min", "source.bounds.");
-    s.bounds.max = in.vec3(bounds, "max", "source.bounds.");
-    s.surface_area = in.number(source, "surface_area", "source.", 0.0, 1e300);
-    return s;
-}
-
-BakeSettings read_settings(const ManifestReader& in, const nlohmann::json& manifest)
+BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
 {
     const nlohmann::json& bake = in.member(manifest, "bake", "");
     BakeSettings s;
@@ -152,18 +48,14 @@ BakeSettings read_settings(const ManifestReader& in, const nlohmann::json& manif
     return s;
 }
 
-View read_view(const ManifestReader& in, const nlohmann::json& entry, std::size_t index, const BakeSettings& s, int pages)
+View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, std::size_t index, const BakeSettings& s, int pages)
 {
     std::string where = "views[" + std::to_string(index) + "].";
     View v;
     v.direction = in.vec3(entry, "direction", where);
     v.axis_u = in.vec3(entry, "axis_u", where);
     v.axis_v = in.vec3(entry, "axis_v", where);
-    for (auto [axis, name] : {std::pair{v.axis_u, "axis_u"}, {v.axis_v, "axis_v"}, {v.direction, "direction"}})
-        if (std::abs(glm::length(axis) - 1.0f) > 1e-3f) in.fail(where + name, "is not a unit vector");
-    if (std::abs(glm::dot(v.axis_u, v.axis_v)) > 1e-3f || std::abs(glm::dot(v.axis_u, v.direction)) > 1e-3f ||
-        std::abs(glm::dot(v.axis_v, v.direction)) > 1e-3f)
-        in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
+    manifest_io::check_axes(in, where, v.axis_u, v.axis_v, v.direction);
     const int n = s.resolution;
     v.width = int(in.integer(entry, "width", where, 0, s.page_size));
     v.height = int(in.integer(entry, "height", where, 0, s.page_size));
@@ -180,28 +72,19 @@ View read_view(const ManifestReader& in, const nlohmann::json& entry, std::size_
 }
 
 // Checks a listed file against its recorded size and hash, then decodes it as an 8-bit page.
-ImageRGBA8 read_page(const ManifestReader& in, const std::string& directory, const nlohmann::json& files,
+ImageRGBA8 read_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
                      const std::string& name, int page_size)
 {
-    if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "..")
-        in.fail("files", "names '" + name + "', which is not a plain file name");
-    const nlohmann::json& entry = in.member(files, name, "files.");
+    manifest_io::check_file(in, directory, files, name);
     std::string path = (fs::path(directory) / name).string();
-    Result<std::string> bytes = read_file(path);
-    if (!bytes) throw BadField{path + ": listed in the manifest but cannot be read: " + bytes.status().message()};
-    std::int64_t size = in.integer(entry, "bytes", "files." + name + ".", 0, INT64_MAX);
-    if (std::uint64_t(size) != bytes->size())
-        throw BadField{path + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
-    if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
-        throw BadField{path + ": content does not match the manifest's hash (damaged file)"};
     int w = 0, h = 0;
     Result<int> depth = png_bit_depth(path, &w, &h);
-    if (!depth) throw BadField{depth.status().message()};
+    if (!depth) throw manifest_io::BadField{depth.status().message()};
     if (w != page_size || h != page_size || *depth != 8)
-        throw BadField{path + ": is " + std::to_string(w) + "x" + std::to_string(h) + " with " + std::to_string(*depth) +
+        throw manifest_io::BadField{path + ": is " + std::to_string(w) + "x" + std::to_string(h) + " with " + std::to_string(*depth) +
                        "-bit samples, the manifest says " + std::to_string(page_size) + " square, 8-bit"};
     Result<ImageRGBA8> image = read_png_rgba8(path);
-    if (!image) throw BadField{image.status().message()};
+    if (!image) throw manifest_io::BadField{image.status().message()};
     return std::move(*image);
 }
 
@@ -231,17 +114,17 @@ Status write(const Package& base, const std::string& directory)
     }
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views)
-        views.push_back({{"direction", vec3_json(v.direction)}, {"axis_u", vec3_json(v.axis_u)},
-                         {"axis_v", vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
+        views.push_back({{"direction", manifest_io::vec3_json(v.direction)}, {"axis_u", manifest_io::vec3_json(v.axis_u)},
+                         {"axis_v", manifest_io::vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
                          {"width", v.width}, {"height", v.height}, {"page", v.page},
                          {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}});
     nlohmann::json manifest = {
         {"format", k_package_format},
         {"version", k_package_format_version},
         {"representation", package.representation()},
-        {"source", source_json(package.source)},
+        {"source", manifest_io::source_json(package.source)},
         {"bake", settings_json(package.settings)},
-        {"sphere", {{"center", vec3_json(package.center)}, {"radius", package.radius}}},
+        {"sphere", {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}}},
         {"half_extent", package.half_extent()},
         {"pages", pages},
         {"views", views},
@@ -252,10 +135,10 @@ Status write(const Package& base, const std::string& directory)
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    ManifestReader in((fs::path(directory) / "manifest.json").string());
+    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), false);
     auto package = std::make_unique<ViewAtlasPackage>();
     try {
-        package->source = read_source(in, manifest);
+        package->source = manifest_io::read_source(in, manifest);
         package->settings = read_settings(in, manifest);
         const BakeSettings& s = package->settings;
         const nlohmann::json& sphere = in.member(manifest, "sphere", "");
@@ -276,7 +159,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");
         for (std::size_t k = 0; k < views.size(); ++k)
             package->views.push_back(read_view(in, views[k], k, s, int(pages.size())));
-    } catch (const BadField& bad) {
+    } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
     Result<std::uint64_t> bytes = package_bytes(directory);

@@ -1,0 +1,147 @@
+// Manifest helpers shared by the package codecs: both write and validate manifest.json the same
+// way (docs/FORMAT.md). See manifest.h.
+#include "reps/manifest.h"
+
+#include <standin/files.h>
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+#include <filesystem>
+
+namespace standin::manifest_io {
+
+namespace fs = std::filesystem;
+
+nlohmann::json vec3_json(glm::vec3 v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+nlohmann::json source_json(const SourceInfo& s)
+{
+    return {{"file_name", s.file_name},
+            {"content_hash", s.content_hash},
+            {"file_bytes", s.file_bytes},
+            {"triangles", s.triangles},
+            {"vertices", s.vertices},
+            {"bounds", {{"min", vec3_json(s.bounds.min)}, {"max", vec3_json(s.bounds.max)}}},
+            {"surface_area", s.surface_area}};
+}
+
+std::string numbered_png(const char* prefix, std::size_t index, const char* map)
+{
+    char name[64];
+    std::snprintf(name, sizeof name, "%s_%03zu_%s.png", prefix, index, map);
+    return name;
+}
+
+Status record_file(const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    Result<std::string> bytes = read_file((fs::path(directory) / name).string());
+    if (!bytes) return bytes.status();
+    files[name] = {{"bytes", bytes->size()}, {"fnv1a64", hex64(hash_bytes(*bytes))}};
+    return Status::ok();
+}
+
+const nlohmann::json& Reader::member(const nlohmann::json& object, const std::string& key, const std::string& where) const
+{
+    if (!object.is_object() || !object.contains(key)) fail(where + key, "is missing");
+    return object[key];
+}
+
+double Reader::number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const
+{
+    const nlohmann::json& value = member(object, key, where);
+    if (!value.is_number()) fail(where + key, "is not a number");
+    double x = value.get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi) {
+        if (bounds_in_range_errors_)
+            fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        fail(where + key, "= " + value.dump() + " is out of range");
+    }
+    return x;
+}
+
+std::int64_t Reader::integer(const nlohmann::json& object, const std::string& key, const std::string& where, std::int64_t lo,
+                             std::int64_t hi) const
+{
+    const nlohmann::json& value = member(object, key, where);
+    if (!value.is_number_integer()) fail(where + key, "is not an integer");
+    std::int64_t x = value.get<std::int64_t>();
+    if (x < lo || x > hi)
+        fail(where + key, "= " + std::to_string(x) + " is out of range " + std::to_string(lo) + ".." + std::to_string(hi));
+    return x;
+}
+
+std::string Reader::string(const nlohmann::json& object, const std::string& key, const std::string& where) const
+{
+    const nlohmann::json& value = member(object, key, where);
+    if (!value.is_string()) fail(where + key, "is not a string");
+    return value.get<std::string>();
+}
+
+std::string Reader::choice(const nlohmann::json& object, const std::string& key, const std::string& where,
+                           const std::vector<std::string>& choices) const
+{
+    std::string value = string(object, key, where);
+    for (const std::string& c : choices)
+        if (c == value) return value;
+    fail(where + key, "= \"" + value + "\" is not known");
+}
+
+glm::vec3 Reader::vec3(const nlohmann::json& object, const std::string& key, const std::string& where) const
+{
+    const nlohmann::json& value = member(object, key, where);
+    if (!value.is_array() || value.size() != 3) fail(where + key, "is not an array of 3 numbers");
+    glm::vec3 v;
+    for (int k = 0; k < 3; ++k) {
+        if (!value[k].is_number() || !std::isfinite(value[k].get<double>())) fail(where + key, "holds a non-finite value");
+        v[k] = value[k].get<float>();
+    }
+    return v;
+}
+
+void Reader::fail(const std::string& field, const std::string& problem) const
+{
+    throw BadField{path_ + ": \"" + field + "\" " + problem};
+}
+
+SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
+{
+    const nlohmann::json& source = in.member(manifest, "source", "");
+    SourceInfo s;
+    s.file_name = in.string(source, "file_name", "source.");
+    s.content_hash = in.string(source, "content_hash", "source.");
+    s.file_bytes = std::uint64_t(in.integer(source, "file_bytes", "source.", 0, INT64_MAX));
+    s.triangles = std::size_t(in.integer(source, "triangles", "source.", 0, INT64_MAX));
+    s.vertices = std::size_t(in.integer(source, "vertices", "source.", 0, INT64_MAX));
+    const nlohmann::json& bounds = in.member(source, "bounds", "source.");
+    s.bounds.min = in.vec3(bounds, "min", "source.bounds.");
+    s.bounds.max = in.vec3(bounds, "max", "source.bounds.");
+    s.surface_area = in.number(source, "surface_area", "source.", 0.0, 1e300);
+    return s;
+}
+
+void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction)
+{
+    for (auto [axis, name] : {std::pair{axis_u, "axis_u"}, {axis_v, "axis_v"}, {direction, "direction"}})
+        if (std::abs(glm::length(axis) - 1.0f) > 1e-3f) in.fail(where + name, "is not a unit vector");
+    if (std::abs(glm::dot(axis_u, axis_v)) > 1e-3f || std::abs(glm::dot(axis_u, direction)) > 1e-3f ||
+        std::abs(glm::dot(axis_v, direction)) > 1e-3f)
+        in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
+}
+
+void check_file(const Reader& in, const std::string& directory, const nlohmann::json& files, const std::string& name)
+{
+    if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "..")
+        in.fail("files", "names '" + name + "', which is not a plain file name");
+    const nlohmann::json& entry = in.member(files, name, "files.");
+    std::string path = (fs::path(directory) / name).string();
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) throw BadField{path + ": listed in the manifest but cannot be read: " + bytes.status().message()};
+    std::int64_t size = in.integer(entry, "bytes", "files." + name + ".", 0, INT64_MAX);
+    if (std::uint64_t(size) != bytes->size())
+        throw BadField{path + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
+    if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
+        throw BadField{path + ": content does not match the manifest's hash (damaged file)"};
+}
+
+} // namespace standin::manifest_io
