@@ -45,9 +45,8 @@ static int run_render(RenderArgs& args)
         Result<std::unique_ptr<Renderer>> made = representation->make_renderer(**package, args.options);
         if (!made) return fail(made.status());
         renderer = std::move(*made);
-        // frame the package as its source model (Mesh::bounding_sphere)
-        const Bounds& bounds = (*package)->source.bounds;
-        sphere = {bounds.center(), 0.5f * bounds.diagonal()};
+        // frame the package as its source model
+        sphere = bounding_sphere_of((*package)->source.bounds);
     } else {
         Result<Mesh> mesh = import_mesh(args.input);
         if (!mesh) return fail(mesh.status());

@@ -92,8 +92,7 @@ Status load_subjects(const std::vector<std::string>& inputs, const RenderOptions
     if (original) {
         state.sphere = original->mesh->bounding_sphere();
     } else {
-        const Bounds& bounds = packages.front().package->source.bounds;
-        state.sphere = {bounds.center(), 0.5f * bounds.diagonal()};
+        state.sphere = bounding_sphere_of(packages.front().package->source.bounds);
     }
     state.subjects.clear();
     state.original = original ? 0 : -1;

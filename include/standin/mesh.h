@@ -45,6 +45,10 @@ struct BoundingSphere {
     float radius = 1.0f;
 };
 
+// The sphere around a box (its centre, half its diagonal). The one rule that frames a model and
+// its packages identically: packages store their source's bounds and use this too.
+inline BoundingSphere bounding_sphere_of(const Bounds& box) { return {box.center(), 0.5f * box.diagonal()}; }
+
 struct Mesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;  // unit length, one per vertex

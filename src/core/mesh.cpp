@@ -65,8 +65,7 @@ Bounds Mesh::bounds() const
 
 BoundingSphere Mesh::bounding_sphere() const
 {
-    Bounds b = bounds();
-    return {b.center(), 0.5f * b.diagonal()};
+    return bounding_sphere_of(bounds());
 }
 
 double Mesh::triangle_area(std::size_t triangle) const
