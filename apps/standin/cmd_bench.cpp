@@ -100,20 +100,22 @@ static nlohmann::json frame_json(const FrameRecord& r, const std::string& packag
                         {"covered_pixels", r.covered_pixels},
                         {"primitives", r.primitives}};
     j["fetches_per_pixel"] = r.fetches_per_pixel >= 0.0 ? nlohmann::json(r.fetches_per_pixel) : nlohmann::json(nullptr);
+    j["overdraw"] = r.fragments_per_pixel >= 0.0 ? nlohmann::json(r.fragments_per_pixel) : nlohmann::json(nullptr);
     if (r.subject != "mesh") j["package"] = package;
     return j;
 }
 
 static void print_frames(const std::vector<FrameRecord>& records)
 {
-    std::printf("%-8s %-10s %-18s %9s %8s %10s %10s %12s %10s\n", "scene", "size", "subject", "instances", "distance",
-                "gpu ms", "wall ms", "covered px", "fetch/px");
+    std::printf("%-8s %-10s %-18s %9s %8s %10s %10s %12s %10s %9s\n", "scene", "size", "subject", "instances", "distance",
+                "gpu ms", "wall ms", "covered px", "fetch/px", "overdraw");
     for (const FrameRecord& r : records) {
-        char size[32], fetch[32] = "-";
+        char size[32], fetch[32] = "-", overdraw[32] = "-";
         std::snprintf(size, sizeof size, "%dx%d", r.width, r.height);
         if (r.fetches_per_pixel >= 0.0) std::snprintf(fetch, sizeof fetch, "%.2f", r.fetches_per_pixel);
-        std::printf("%-8s %-10s %-18s %9zu %8g %10.3f %10.3f %12zu %10s\n", r.scene.c_str(), size, r.subject.c_str(),
-                    r.instances, r.distance_rel, r.ms_median, r.wall_ms_median, r.covered_pixels, fetch);
+        if (r.fragments_per_pixel >= 0.0) std::snprintf(overdraw, sizeof overdraw, "%.2f", r.fragments_per_pixel);
+        std::printf("%-8s %-10s %-18s %9zu %8g %10.3f %10.3f %12zu %10s %9s\n", r.scene.c_str(), size, r.subject.c_str(),
+                    r.instances, r.distance_rel, r.ms_median, r.wall_ms_median, r.covered_pixels, fetch, overdraw);
     }
 }
 

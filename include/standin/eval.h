@@ -237,6 +237,7 @@ struct FrameRecord {
     double wall_ms_median = 0.0; // submission to glFinish; the figure to compare on llvmpipe
     std::size_t covered_pixels = 0;
     double fetches_per_pixel = -1.0; // -1 where the renderer does not count fetches
+    double fragments_per_pixel = -1.0; // overdraw: fragment-stage runs per covered pixel; -1 where not counted
     std::uint64_t primitives = 0;
 };
 

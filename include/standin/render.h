@@ -60,6 +60,8 @@ public:
     // Counters some renderers keep on the GPU (height-field fetches); zero when not supported.
     virtual void set_counting(bool) {}
     virtual std::uint64_t read_fetch_count() { return 0; }
+    // Fragment-stage invocations while counting (overdraw = fragments / covered pixels).
+    virtual std::uint64_t read_fragment_count() { return 0; }
 };
 
 // The ground-truth renderer for the original mesh: per-pixel shading with the shared lighting

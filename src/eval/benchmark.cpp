@@ -58,6 +58,7 @@ static Result<FrameRecord> time_subject(Renderer& renderer, const std::string& s
     record.wall_ms_median = times->wall_median_ms;
     record.covered_pixels = times->covered_pixels;
     record.fetches_per_pixel = times->fetches_per_pixel;
+    record.fragments_per_pixel = times->fragments_per_pixel;
     record.primitives = times->stats.primitives;
     return record;
 }

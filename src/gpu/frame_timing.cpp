@@ -76,8 +76,11 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
     clear_target(fbo.get());
     renderer.draw(params);
     std::uint64_t fetches = renderer.read_fetch_count();
+    std::uint64_t fragments = renderer.read_fragment_count();
     renderer.set_counting(false);
     if (fetches > 0 && result.covered_pixels > 0) result.fetches_per_pixel = double(fetches) / double(result.covered_pixels);
+    if (fragments > 0 && result.covered_pixels > 0)
+        result.fragments_per_pixel = double(fragments) / double(result.covered_pixels);
 
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum gl_error = glGetError();

@@ -16,6 +16,7 @@ struct FrameTimes {
     DrawStats stats;                 // of the last frame
     std::size_t covered_pixels = 0;  // alpha > 0 after the last frame
     double fetches_per_pixel = -1.0; // -1 when the renderer does not count fetches
+    double fragments_per_pixel = -1.0; // fragment-stage runs per covered pixel (overdraw); -1 when not counted
 };
 
 // Renders `params` (viewport = framebuffer size) warmup + frames times into an RGBA8 + depth

@@ -115,9 +115,11 @@ public:
                                                     const RenderOptions& options);
     DrawStats draw(const DrawParams& params) override;
     void set_counting(bool on) override;
-    std::uint64_t read_fetch_count() override;
+    std::uint64_t read_fetch_count() override { return read_counter(COUNTER_FETCHES); }
+    std::uint64_t read_fragment_count() override { return read_counter(COUNTER_FRAGMENTS); }
 
 private:
+    std::uint64_t read_counter(int index);
     Status upload_billboards(const EnhancedBillboardsPackage& package);
     void upload_coarse_mesh(const Mesh& mesh);
     void upload_box_lines(const EnhancedBillboardsPackage& package);
@@ -660,12 +662,12 @@ void BillboardRenderer::set_counting(bool on)
     glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero.data());
 }
 
-std::uint64_t BillboardRenderer::read_fetch_count()
+std::uint64_t BillboardRenderer::read_counter(int index)
 {
     std::array<std::uint32_t, COUNTER_COUNT> counts{};
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts.data());
-    return counts[COUNTER_FETCHES];
+    return counts[std::size_t(index)];
 }
 
 } // namespace
