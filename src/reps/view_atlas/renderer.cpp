@@ -3,9 +3,12 @@
 // Saraiva et al. (seeds/003_069a77515c8fea15.txt §3): style "seed" shows the view nearest to the
 // viewing direction (largest cosine) on a camera-facing quad through the sphere's centre.
 // Beyond the paper (its §7): "octahedral-baseline" blends the three views around the direction with
-// one parallax step, as impostor bakers do; "corrected" (default) intersects each of the three
-// views' depth per pixel, blends the hits on one surface, lights the stored normals and writes
-// true depth.
+// one parallax step, as impostor bakers do; "corrected" (default) picks the three views around each
+// pixel's own ray, intersects each view's height field exactly (texel tops and the walls between
+// neighbours of one surface, never across a depth edge), votes on coverage, blends the hits on the
+// nearest surface, lights the stored normals and writes true depth. Its proxy is a cut-out hull:
+// the nearest view's crop prism instead of the bounding sphere's quad (overdraw measured by the
+// fragment counter, `standin bench`).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell).
@@ -33,8 +36,30 @@ namespace {
 struct ViewGpu {
     glm::vec4 direction, axis_u, axis_v;
     glm::ivec4 crop, atlas;
+    glm::vec4 depth_range;
 };
-static_assert(sizeof(ViewGpu) == 80, "std430 layout of ViewData");
+static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
+
+// The heights above the centre plane of a view's nearest and farthest stored surface (x, y; x < y
+// when the view holds nothing), so the corrected style walks only the slab between them.
+glm::vec2 depth_range(const ViewAtlasPackage& package, const View& view)
+{
+    glm::vec2 range(-1.0f, 1.0f);
+    if (!package.has_surface() || view.width == 0) return range;
+    int nearest = 256, farthest = -1; // depth codes: 0 nearest the capture camera
+    const ImageRGBA8& color = package.color_pages[std::size_t(view.page)];
+    const ImageRGBA8& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
+    for (int y = view.atlas_y; y < view.atlas_y + view.height; ++y)
+        for (int x = view.atlas_x; x < view.atlas_x + view.width; ++x)
+            if (color.at(x, y)[3] >= 128) {
+                int code = normal_depth.at(x, y)[3];
+                nearest = std::min(nearest, code);
+                farthest = std::max(farthest, code);
+            }
+    if (farthest < 0) return range;
+    auto height = [&](int code) { return package.radius - 2.0f * package.radius * float(code) / 255.0f; };
+    return {height(nearest), height(farthest)};
+}
 
 int style_code(const std::string& name)
 {
@@ -210,11 +235,19 @@ class AtlasRenderer final : public Renderer {
 public:
     static Result<std::unique_ptr<Renderer>> create(const ViewAtlasPackage& package, const RenderOptions& options);
     DrawStats draw(const DrawParams& params) override;
+    void set_counting(bool on) override;
+    std::uint64_t read_fetch_count() override { return read_counter(ATLAS_COUNTER_FETCHES); }
+    std::uint64_t read_fragment_count() override { return read_counter(ATLAS_COUNTER_FRAGMENTS); }
 
 private:
+    std::uint64_t read_counter(int index);
+
     gpu::Program program_;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
-    gpu::Buffer views_, index_;
+    gpu::Buffer views_, index_, counters_;
+    int style_ = STYLE_CORRECTED;
+    GLint counting_at_ = -1;
+    bool counting_ = false;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
 };
@@ -282,10 +315,14 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     for (const View& v : package.views)
         views.push_back({glm::vec4(v.direction, 0.0f), glm::vec4(v.axis_u, 0.0f), glm::vec4(v.axis_v, 0.0f),
                          glm::ivec4(v.crop_x, v.crop_y, v.width, v.height), glm::ivec4(v.page % plan->pages_per_array, v.atlas_x, v.atlas_y,
-                                                                       v.page / plan->pages_per_array)});
+                                                                       v.page / plan->pages_per_array),
+                         glm::vec4(depth_range(package, v), 0.0f, 0.0f)});
     renderer->views_ = gpu::make_buffer(views);
     renderer->index_ = gpu::make_buffer(build_index(package.views));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
+    renderer->counters_ = gpu::make_buffer(std::vector<std::uint32_t>(ATLAS_COUNTER_COUNT, 0u), GL_DYNAMIC_STORAGE_BIT);
+    renderer->style_ = style;
+    renderer->counting_at_ = renderer->program_.uniform("counting");
 
     GLuint id = renderer->program_.id();
     glProgramUniform3fv(id, renderer->program_.uniform("atlas_center"), 1, &package.center.x);
@@ -309,6 +346,8 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_COUNTERS_SSBO, counters_.get());
+    glProgramUniform1i(program_.id(), counting_at_, counting_ ? 1 : 0);
     for (std::size_t a = 0; a < color_arrays_.size(); ++a) {
         glBindTextureUnit(GLuint(ATLAS_COLOR_TEXTURE + a), color_arrays_[a].get());
         glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
@@ -318,9 +357,29 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     program_.use();
-    glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+    if (style_ == STYLE_CORRECTED) { // the cut-out hull: a box, 36 vertices (shaders/atlas.vert)
+        glDrawArraysInstanced(GL_TRIANGLES, 0, 36, instances);
+    } else {
+        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+    }
     glBindVertexArray(0);
-    return {1, std::uint64_t(instances) * 2};
+    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return {1, std::uint64_t(instances) * (style_ == STYLE_CORRECTED ? 12u : 2u)};
+}
+
+void AtlasRenderer::set_counting(bool on)
+{
+    counting_ = on;
+    std::uint32_t zero[ATLAS_COUNTER_COUNT] = {};
+    glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero);
+}
+
+std::uint64_t AtlasRenderer::read_counter(int index)
+{
+    std::uint32_t counts[ATLAS_COUNTER_COUNT] = {};
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts);
+    return counts[index];
 }
 
 } // namespace

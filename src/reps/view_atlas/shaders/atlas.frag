@@ -5,9 +5,9 @@
 // STYLE_BASELINE: the way impostor bakers draw: the three views around the viewing direction, each
 // read where the eye ray crosses the centre plane moved by one parallax step along its depth,
 // blended by weight.
-// STYLE_CORRECTED: each of the three views is intersected with the eye ray as a height field
-// (linear search over its texels, then bisection: the surface point the view really holds), hits on
-// the same surface are blended, the true depth is written and the stored normal is lit.
+// STYLE_CORRECTED: the three views around each pixel's ray direction are intersected with the ray as
+// height fields (an exact walk over their texels that does not take depth edges for surfaces),
+// hits on the nearest surface are blended, the true depth is written and the stored normal is lit.
 // Filtering never bleeds the background: pages hold colour premultiplied by coverage, are mip-mapped
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
@@ -27,7 +27,12 @@ layout(binding = ATLAS_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth
 #define MAP_COLOR 0
 #define MAP_NORMAL_DEPTH 1
 
+layout(std430, binding = ATLAS_COUNTERS_SSBO) buffer CounterBlock {
+    uint counters[ATLAS_COUNTER_COUNT];
+};
+
 uniform int style;
+uniform int counting; // 1: add this fragment and its texture reads to the counters
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 
 layout(location = 0) out vec4 out_color;
@@ -81,60 +86,196 @@ vec2 atlas_texel(ViewData view, vec2 plane)
     return vec2(view.atlas.yz) + capture_from_plane(plane) - vec2(view.crop.xy);
 }
 
-// A view's surface depth along its direction (object units from the centre plane, towards the
-// capture camera positive) and coverage at a view-plane point.
-vec2 surface_at(ViewData view, vec2 plane)
+// --- the corrected style's height-field intersection ---------------------------------------------
+// A view is a height field over its capture plane: texel (i, j) holds a flat top at its stored
+// height (object units above the centre plane, towards the capture camera). As in the enhanced
+// billboards' march (reps/enhanced_billboards/acceleration.h), the surface is the texel tops plus
+// the walls between neighbours that continue one surface (height step within what their normals'
+// slope allows); a larger step is a depth edge, where the view saw one surface in front of another
+// and knows nothing of the gap between them. A ray that enters a column below its top through such
+// an edge is in space the view did not see: no hit, and the view abstains instead of voting "empty".
+#define RAY_MISS 0   // passed through the view's box without meeting or passing under a surface
+#define RAY_HIT 1
+#define RAY_HIDDEN 2 // passed under a surface the view saw: it cannot tell what is there
+
+uint g_fetches = 0u;
+
+void count_fragment()
 {
-    vec2 texel = atlas_texel(view, plane);
-    float coverage = sample_page(MAP_COLOR, view, texel, 0.0).a;
-    float depth = sample_page(MAP_NORMAL_DEPTH, view, texel, 0.0).a;
-    depth = coverage > 0.0 ? depth / coverage : 1.0;
-    return vec2(atlas_radius - 2.0 * atlas_radius * depth, coverage);
+    if (counting == 0) return;
+    atomicAdd(counters[ATLAS_COUNTER_FRAGMENTS], 1u);
+    atomicAdd(counters[ATLAS_COUNTER_FETCHES], g_fetches);
 }
 
-// Intersects ray o + t d (object space) with one view's height field. Returns t or -1.
-float intersect_view(ViewData view, vec3 o, vec3 d)
+vec4 fetch_array(int map, int array, ivec3 texel)
+{
+    g_fetches += 1u;
+#define ATLAS_FETCH(i) if (array == i) return map == MAP_COLOR ? texelFetch(color_pages[i], texel, 0) : texelFetch(normal_depth_pages[i], texel, 0);
+#if ATLAS_ARRAYS > 1
+    ATLAS_FETCH(1)
+#endif
+#if ATLAS_ARRAYS > 2
+    ATLAS_FETCH(2)
+#endif
+#if ATLAS_ARRAYS > 3
+    ATLAS_FETCH(3)
+#endif
+#if ATLAS_ARRAYS > 4
+    ATLAS_FETCH(4)
+#endif
+#if ATLAS_ARRAYS > 5
+    ATLAS_FETCH(5)
+#endif
+#if ATLAS_ARRAYS > 6
+    ATLAS_FETCH(6)
+#endif
+#if ATLAS_ARRAYS > 7
+    ATLAS_FETCH(7)
+#endif
+    return map == MAP_COLOR ? texelFetch(color_pages[0], texel, 0) : texelFetch(normal_depth_pages[0], texel, 0);
+}
+
+// One texel of a view's height field at level 0: x: covered (0/1), y: height, zw: the normal's
+// slope along axis_u and axis_v (height per unit of plane distance, capped).
+vec4 height_texel(ViewData view, ivec2 capture_texel)
+{
+    ivec2 local = capture_texel - view.crop.xy;
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, view.crop.zw))) return vec4(0.0);
+    ivec3 at = ivec3(view.atlas.yz + local, view.atlas.x);
+    if (fetch_array(MAP_COLOR, view.atlas.w, at).a < 0.5) return vec4(0.0);
+    vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+    vec3 n = nd.rgb * 2.0 - 1.0;
+    vec3 n_view = vec3(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz), dot(n, view.direction.xyz));
+    const float max_slope = 8.0; // about 83 degrees, as the billboards' LinkSettings
+    vec2 slope = min(abs(n_view.xy) / max(abs(n_view.z), 1e-3), vec2(max_slope));
+    return vec4(1.0, atlas_radius - 2.0 * atlas_radius * nd.a, slope);
+}
+
+// Whether neighbouring covered texels a and b (across axis 0: u, 1: v) continue one surface: the
+// height step is within 1.5x what the steeper normal allows across one texel, plus 8-bit depth
+// quantisation.
+bool linked(vec4 a, vec4 b, int axis, float texel)
+{
+    float slope = max(a[2 + axis], b[2 + axis]);
+    float quantum = 2.0 * atlas_radius / 255.0;
+    return abs(a.y - b.y) <= 1.5 * slope * texel + 1.5 * quantum;
+}
+
+// Intersects ray o + t d (object space) with one view's height field: a digital walk over the
+// texels under the ray between the view's nearest and farthest stored heights. Returns (t, result).
+vec2 intersect_view(ViewData view, vec3 o, vec3 d)
 {
     vec3 u = view.axis_u.xyz, v = view.axis_v.xyz, w = view.direction.xyz;
     vec3 ro = vec3(dot(o - atlas_center, u), dot(o - atlas_center, v), dot(o - atlas_center, w));
     vec3 rd = vec3(dot(d, u), dot(d, v), dot(d, w));
-    // the crop's box: plane rectangle x depth [-r, r]
-    vec2 lo = plane_from_capture(vec2(view.crop.xy)), hi = plane_from_capture(vec2(view.crop.xy + view.crop.zw));
-    vec3 box_lo = vec3(lo, -atlas_radius), box_hi = vec3(hi, atlas_radius);
-    vec3 inv = 1.0 / vec3(abs(rd.x) < 1e-12 ? 1e-12 : rd.x, abs(rd.y) < 1e-12 ? 1e-12 : rd.y,
-                          abs(rd.z) < 1e-12 ? 1e-12 : rd.z);
-    vec3 ta = (box_lo - ro) * inv, tb = (box_hi - ro) * inv;
-    vec3 tn = min(ta, tb), tf = max(ta, tb);
-    float t0 = max(max(tn.x, tn.y), max(tn.z, 0.0)), t1 = min(min(tf.x, tf.y), tf.z);
-    if (t0 >= t1) return -1.0;
-    // linear search, about one and a half texels per step, then bisection
+    if (rd.z > -1e-4 || view.depth_range.x < view.depth_range.y) return vec2(-1.0, RAY_MISS);
     float texel = 2.0 * half_extent / resolution;
-    float travel = length(rd.xy) * (t1 - t0) / texel;
-    int steps = clamp(int(ceil(travel / 1.5)) + 4, 8, 160);
-    float dt = (t1 - t0) / float(steps);
-    float t_prev = t0;
-    bool above = false; // a hit is a crossing from above the surface to below it: a ray that
-                        // enters the box below the surface is where this view saw nothing
-    for (int i = 0; i <= steps; ++i) {
-        float t = t0 + dt * float(i);
-        vec3 p = ro + t * rd;
-        vec2 s = surface_at(view, p.xy);
-        bool below = s.y >= 0.5 && p.z <= s.x;
-        if (!below) {
-            above = true;
-        } else if (above) {
-            float a = t_prev, b = t;
-            for (int j = 0; j < 6; ++j) {
-                float m = 0.5 * (a + b);
-                vec3 q = ro + m * rd;
-                vec2 sm = surface_at(view, q.xy);
-                if (sm.y >= 0.5 && q.z <= sm.x) b = m; else a = m;
-            }
-            return b;
+    // the slab between the stored heights, and the crop's rectangle
+    float t0 = (view.depth_range.x + 1e-4 * atlas_radius - ro.z) / rd.z; // reaches the nearest height
+    float t1 = (view.depth_range.y - 1e-4 * atlas_radius - ro.z) / rd.z; // passes the farthest
+    vec2 lo = plane_from_capture(vec2(view.crop.xy)), hi = plane_from_capture(vec2(view.crop.xy + view.crop.zw));
+    for (int a = 0; a < 2; ++a) {
+        if (abs(rd[a]) < 1e-9) {
+            if (ro[a] < lo[a] || ro[a] > hi[a]) return vec2(-1.0, RAY_MISS);
+            continue;
         }
-        t_prev = t;
+        float ta = (lo[a] - ro[a]) / rd[a], tb = (hi[a] - ro[a]) / rd[a];
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
     }
-    return -1.0;
+    t0 = max(t0, 0.0);
+    if (t0 >= t1) return vec2(-1.0, RAY_MISS);
+
+    // digital walk in capture pixels (Amanatides & Woo)
+    float scale = resolution / (2.0 * half_extent);
+    vec2 p = capture_from_plane((ro + t0 * rd).xy);
+    vec2 dp = rd.xy * scale; // capture pixels per unit t
+    ivec2 cell = clamp(ivec2(floor(p)), view.crop.xy, view.crop.xy + view.crop.zw - 1);
+    ivec2 step_dir = ivec2(dp.x >= 0.0 ? 1 : -1, dp.y >= 0.0 ? 1 : -1);
+    vec2 inv = vec2(abs(dp.x) > 1e-9 ? 1.0 / abs(dp.x) : 1e30, abs(dp.y) > 1e-9 ? 1.0 / abs(dp.y) : 1e30);
+    vec2 boundary = vec2(cell) + vec2(step_dir.x > 0 ? 1.0 : 0.0, step_dir.y > 0 ? 1.0 : 0.0);
+    vec2 t_next = t0 + abs(boundary - p) * inv;
+    vec2 t_delta = inv;
+
+    float t_enter = t0;
+    int entered_across = -1; // axis crossed into the current texel, -1 at the start
+    vec4 previous = vec4(0.0);
+    bool previous_above = true; // the ray left the previous texel above its top (or it was empty)
+    bool hidden = false;
+    int steps = int(abs(p.x - capture_from_plane((ro + t1 * rd).xy).x) + abs(p.y - capture_from_plane((ro + t1 * rd).xy).y)) + 3;
+    steps = min(steps, 1024);
+    for (int i = 0; i < steps; ++i) {
+        vec4 current = height_texel(view, cell);
+        float t_exit = min(min(t_next.x, t_next.y), t1);
+        if (current.x > 0.5) {
+            float z_enter = ro.z + t_enter * rd.z;
+            if (z_enter <= current.y) {
+                // entered below the top: a wall of this surface, or the far side of a depth edge
+                if (entered_across >= 0 && previous.x > 0.5 && previous_above && linked(previous, current, entered_across, texel))
+                    return vec2(t_enter, RAY_HIT);
+                hidden = true;
+            } else {
+                float t_top = (current.y - ro.z) / rd.z;
+                if (t_top <= t_exit) return vec2(max(t_top, t_enter), RAY_HIT);
+            }
+        }
+        previous = current;
+        previous_above = current.x < 0.5 || ro.z + t_exit * rd.z > current.y;
+        if (t_exit >= t1) break;
+        if (t_next.x < t_next.y) {
+            cell.x += step_dir.x;
+            t_next.x += t_delta.x;
+            entered_across = 0;
+        } else {
+            cell.y += step_dir.y;
+            t_next.y += t_delta.y;
+            entered_across = 1;
+        }
+        t_enter = t_exit;
+    }
+    return vec2(-1.0, hidden ? RAY_HIDDEN : RAY_MISS);
+}
+
+// A view's colour (premultiplied, alpha 1) and normal-depth at a hit at plane point `plane` and
+// height `height`: bilinear over the level-0 texels of the hit's own surface only (height within
+// what their normals' slope allows), so that colour does not leak across a depth edge (plain
+// filtering would ring the front object with its colour on the surface behind it); from level 1 on
+// the coverage-respecting mip levels, blended in over the first level.
+void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4 color, out vec4 normal_depth)
+{
+    float texel = 2.0 * half_extent / resolution;
+    vec2 p = capture_from_plane(plane) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    vec2 f = p - vec2(base);
+    color = vec4(0.0);
+    normal_depth = vec4(0.0);
+    float weight_sum = 0.0;
+    if (lod < 1.0) {
+        for (int k = 0; k < 4; ++k) {
+            ivec2 corner = ivec2(k & 1, k >> 1);
+            vec4 t = height_texel(view, base + corner);
+            if (t.x < 0.5) continue;
+            float tolerance = 1.5 * max(t.z, t.w) * texel + 1.5 * (2.0 * atlas_radius / 255.0) + texel;
+            if (abs(t.y - height) > tolerance) continue;
+            float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y) + 1e-6;
+            ivec3 at = ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x);
+            color += w * fetch_array(MAP_COLOR, view.atlas.w, at);
+            normal_depth += w * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+            weight_sum += w;
+        }
+    }
+    vec2 texel_position = atlas_texel(view, plane);
+    if (weight_sum <= 0.0) { // far away, or no texel of the surface around: the filtered maps
+        color = sample_page(MAP_COLOR, view, texel_position, max(lod, 0.0));
+        normal_depth = sample_page(MAP_NORMAL_DEPTH, view, texel_position, max(lod, 0.0));
+        return;
+    }
+    color /= weight_sum;
+    normal_depth /= weight_sum;
+    if (lod > 0.0) {
+        color = mix(color, sample_page(MAP_COLOR, view, texel_position, lod), lod);
+        normal_depth = mix(normal_depth, sample_page(MAP_NORMAL_DEPTH, view, texel_position, lod), lod);
+    }
 }
 
 vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world)
@@ -158,6 +299,8 @@ void main()
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
+        g_fetches = lit_maps != 0 ? 1u : 2u;
+        count_fragment();
         if (c.a < 0.5) discard;
         vec3 color = c.rgb / c.a;
         if (lit_maps == 0) {
@@ -198,7 +341,9 @@ void main()
             }
             color_sum += v_weights[k] * sample_page(MAP_COLOR, view, texel, lod);
             normal_sum += v_weights[k] * sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
+            g_fetches += 6u;
         }
+        count_fragment();
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
@@ -207,37 +352,49 @@ void main()
         return;
     }
 
-    // corrected: every view's own intersection; the nearest hits (one surface) are blended
-    float hits[3] = float[3](-1.0, -1.0, -1.0);
-    float t_min = 1e30, hit_weight = 0.0;
+    // corrected: the views around this pixel's own ray direction (not the instance's: near the model
+    // a perspective camera's rays spread by the field of view, and each ray is best served by the
+    // views taken along it), each intersected exactly; a view that sees no surface along the ray
+    // votes "empty", one whose ray went under a surface it saw abstains, and the hits on the
+    // nearest surface are blended by weight.
+    ivec3 ids;
+    vec3 weights;
+    blend_views(-d, ids, weights);
+    vec2 hits[3];
+    float t_min = 1e30, hit_vote = 0.0, miss_vote = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (v_weights[k] <= 0.0) continue;
-        hits[k] = intersect_view(views.items[v_views[k]], o, d);
-        if (hits[k] >= 0.0) {
-            t_min = min(t_min, hits[k]);
-            hit_weight += v_weights[k];
+        hits[k] = vec2(-1.0, RAY_MISS);
+        if (weights[k] <= 0.0) continue;
+        hits[k] = intersect_view(views.items[ids[k]], o, d);
+        if (hits[k].y == RAY_HIT) {
+            t_min = min(t_min, hits[k].x);
+            hit_vote += weights[k];
+        } else if (hits[k].y == RAY_MISS) {
+            miss_vote += weights[k];
         }
     }
-    if (hit_weight < 0.5) discard;
-    float same_surface = 4.0 * (2.0 * half_extent / resolution); // four texels
+    if (hit_vote <= 0.0 || hit_vote < miss_vote) {
+        count_fragment();
+        discard;
+    }
+    // hits within two texels of the nearest are the same surface; weight fades out to four texels so
+    // that a view's hit does not enter or leave the blend abruptly as the camera moves
+    float texel_size = 2.0 * half_extent / resolution;
     for (int k = 0; k < 3; ++k) {
-        if (hits[k] < 0.0 || hits[k] > t_min + same_surface) continue;
-        ViewData view = views.items[v_views[k]];
-        vec3 p = o + hits[k] * d - atlas_center;
-        vec2 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
-        float level = lod;
-        vec4 c = sample_page(MAP_COLOR, view, texel, level);
-        if (c.a <= 0.0) {
-            level = 0.0;
-            c = sample_page(MAP_COLOR, view, texel, level);
-        }
+        if (hits[k].y != RAY_HIT) continue;
+        float weight = weights[k] * clamp(2.0 - (hits[k].x - t_min) / (2.0 * texel_size), 0.0, 1.0);
+        if (weight <= 0.0) continue;
+        ViewData view = views.items[ids[k]];
+        vec3 p = o + hits[k].x * d - atlas_center;
+        vec4 c, nd;
+        surface_sample(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)), dot(p, view.direction.xyz), lod, c, nd);
         if (c.a <= 0.0) continue;
-        vec4 nd = sample_page(MAP_NORMAL_DEPTH, view, texel, level);
-        color_sum += v_weights[k] * vec4(c.rgb / c.a, 1.0);
-        normal_sum += v_weights[k] * vec4(nd.rgb / max(c.a, 1e-6) * 2.0 - 1.0, 0.0);
-        t_sum += v_weights[k] * hits[k];
-        t_weight += v_weights[k];
+        color_sum += weight * vec4(c.rgb / c.a, 1.0);
+        normal_sum += weight * vec4(nd.rgb / c.a * 2.0 - 1.0, 0.0);
+        t_sum += weight * hits[k].x;
+        t_weight += weight;
     }
+    count_fragment();
     if (t_weight <= 0.0) discard;
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;

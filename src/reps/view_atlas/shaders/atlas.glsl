@@ -8,6 +8,8 @@ struct ViewData {
     vec4 axis_v;    // xyz: image rows (down)
     ivec4 crop;     // crop x, y, width, height in capture pixels
     ivec4 atlas;    // layer in its texture array, x, y (texels), texture array
+    vec4 depth_range; // x: height of the nearest stored surface above the centre plane (object
+                      // units, towards the capture camera), y: of the farthest; x < y when empty
 };
 
 layout(std430, binding = ATLAS_VIEWS_SSBO) readonly buffer ViewBlock {

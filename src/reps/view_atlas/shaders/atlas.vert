@@ -1,8 +1,9 @@
 #version 450 core
-// View atlas: one quad per instance. Style seed (seed 003 §3): the crop rectangle of the nearest
-// view on the plane through the sphere's centre, turned to face the camera. Other styles: a quad
-// facing the camera that covers the bounding sphere (the fragment stage casts rays), or the whole
-// screen when the eye is inside the sphere.
+// View atlas: one proxy per instance. Style seed (seed 003 §3): the crop rectangle of the nearest
+// view on the plane through the sphere's centre, turned to face the camera (a 4-vertex strip).
+// Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
+// Corrected: the cut-out hull below (36 vertices). The fragment stage casts the rays; with the eye
+// inside the proxy, the whole screen.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
@@ -37,10 +38,52 @@ void main()
         return;
     }
 
-    blend_views(e, v_views, v_weights);
     v_atlas_texel = vec2(0.0);
     float distance_to_center = length(eye_object - atlas_center);
     bool ortho = frame.forward_world.w > 0.5;
+
+    if (style == STYLE_CORRECTED) {
+        // The cut-out hull: the prism of the nearest view's crop, from its nearest stored height down
+        // to the back of the sphere. Every point of the model projects into every view's crop, so
+        // this prism holds the whole model; drawn as its faces towards the eye (36 vertices, the
+        // others collapsed), each covered pixel runs the fragment stage once.
+        int k = nearest_view(e);
+        v_views = ivec3(k, 0, 0);
+        v_weights = vec3(1.0, 0.0, 0.0);
+        ViewData view = views.items[k];
+        vec3 lo = vec3(plane_from_capture(vec2(view.crop.xy)), -atlas_radius);
+        vec3 hi = vec3(plane_from_capture(vec2(view.crop.xy + view.crop.zw)),
+                       min(view.depth_range.x + 2.0 * atlas_radius / 255.0, atlas_radius));
+        mat3 view_to_object = mat3(view.axis_u.xyz, view.axis_v.xyz, view.direction.xyz);
+        vec3 eye_view = transpose(view_to_object) * (eye_object - atlas_center);
+        int face = gl_VertexID / 6, axis = face >> 1;
+        float side = (face & 1) == 0 ? 1.0 : -1.0;
+        const int quad_corner[6] = int[6](0, 1, 2, 0, 2, 3);
+        int q = quad_corner[gl_VertexID % 6];
+        vec2 ab = vec2(q == 1 || q == 2 ? 1.0 : 0.0, q >= 2 ? 1.0 : 0.0);
+        vec3 at;
+        at[axis] = side > 0.0 ? hi[axis] : lo[axis];
+        at[(axis + 1) % 3] = mix(lo[(axis + 1) % 3], hi[(axis + 1) % 3], ab.x);
+        at[(axis + 2) % 3] = mix(lo[(axis + 2) % 3], hi[(axis + 2) % 3], ab.y);
+        vec3 normal = vec3(0.0);
+        normal[axis] = side;
+        vec3 e_view = transpose(view_to_object) * e;
+        bool faces_eye = ortho ? dot(normal, e_view) > 0.0 : dot(normal, eye_view - at) > 0.0;
+        bool inside = !ortho && all(greaterThan(eye_view, lo)) && all(lessThan(eye_view, hi));
+        if (view.crop.z == 0 || view.depth_range.x < view.depth_range.y) {
+            gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // nothing seen: no fragments
+        } else if (inside) {
+            gl_Position = face == 0 ? vec4(ab * 2.0 - 1.0, -1.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
+        } else if (!faces_eye) {
+            gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        } else {
+            vec3 p = atlas_center + view_to_object * at;
+            gl_Position = frame.clip_from_world * (world_from_object * vec4(p, 1.0));
+        }
+        return;
+    }
+
+    blend_views(e, v_views, v_weights);
     if (!ortho && distance_to_center < atlas_radius * 1.01) {
         gl_Position = vec4(corner * 2.0 - 1.0, -1.0, 1.0); // inside the sphere: the whole screen
         return;

@@ -6,6 +6,10 @@
 // shader storage blocks
 #define ATLAS_VIEWS_SSBO 1     // ViewData[]
 #define ATLAS_INDEX_SSBO 2     // int[]: the direction lookup cube, then NEIGHBOURS per view
+#define ATLAS_COUNTERS_SSBO 3  // uint[ATLAS_COUNTER_COUNT], written when counting
+#define ATLAS_COUNTER_FRAGMENTS 0 // fragment invocations (overdraw = fragments / covered pixels)
+#define ATLAS_COUNTER_FETCHES 1   // texture reads
+#define ATLAS_COUNTER_COUNT 2
 
 // texture units: each map's pages lie in up to ATLAS_MAX_ARRAYS texture arrays (units
 // ATLAS_COLOR_TEXTURE + i and ATLAS_NORMAL_DEPTH_TEXTURE + i hold array i); a view's array is
