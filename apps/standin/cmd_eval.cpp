@@ -65,8 +65,13 @@ static Result<Subject> load_subject(const EvalArgs& args)
 static std::string command_line(const EvalArgs& args)
 {
     std::string line = "standin eval " + args.model + " " + args.standin + " --protocol " + args.protocol;
-    if (args.options.march != "exact") line += " --march " + args.options.march;
+    // every option that changes a figure, so the JSON says how to reproduce it
+    if (args.options.march != "exact")
+        line += " --march " + args.options.march + " --steps " + std::to_string(args.options.steps) + " --hit-range " +
+                std::to_string(args.options.hit_range);
+    if (args.options.style != RenderOptions{}.style) line += " --style " + args.options.style;
     if (args.no_coarse) line += " --no-coarse";
+    line += " --frames " + std::to_string(args.frames);
     if (!args.json.empty()) line += " --json " + args.json;
     if (!args.report.empty()) line += " --report " + args.report;
     return line;
