@@ -26,7 +26,7 @@ constexpr std::uint64_t k_texture_budget_bytes = 960ull << 20;
 
 struct BakeSettings {
     std::string layout = "icosahedral"; // "icosahedral", "octahedral", "hemi-octahedral"
-    int subdivisions = 3;               // icosahedral: 20 * 4^k views
+    int subdivisions = 2;               // icosahedral: 20 * 4^k views (320: docs/RESULTS.md "Defaults")
     int frames = 16;                    // (hemi-)octahedral: frames x frames views
     std::string projection = "ortho";   // "ortho" or "perspective" (camera at the base distance)
     float fov = 40.0f;                  // perspective capture, vertical = horizontal, degrees
