@@ -76,7 +76,7 @@ CommandRun add_render_command(CLI::App& root)
     add_view_options(*command, args->view);
     add_render_options(*command, args->options, args->no_coarse);
     command->add_option("--debug-view", args->options.debug_view,
-                        "Package renderers: 'billboard' (colour by billboard), 'depth', 'normal', 'fetches' (heat map), "
+                        "Package renderers: 'billboard' (colour by billboard; view atlas: by view), 'depth', 'normal', 'fetches' (heat map), "
                         "'boxes' (billboard boxes as lines over the picture, red front planes)")
         ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches", "boxes"}));
     return [args] { return run_render(*args); };

@@ -69,6 +69,16 @@ int style_code(const std::string& name)
     return -1;
 }
 
+int debug_view_code(const std::string& name)
+{
+    if (name.empty()) return ATLAS_DEBUG_NONE;
+    if (name == "billboard") return ATLAS_DEBUG_VIEW; // the views are this representation's billboards
+    if (name == "depth") return ATLAS_DEBUG_DEPTH;
+    if (name == "normal") return ATLAS_DEBUG_NORMAL;
+    if (name == "fetches") return ATLAS_DEBUG_FETCHES;
+    return -1;
+}
+
 glm::vec3 lookup_cell_center(int face, int x, int y)
 {
     glm::vec2 uv((float(x) + 0.5f) / LOOKUP_SIDE * 2.0f - 1.0f, (float(y) + 0.5f) / LOOKUP_SIDE * 2.0f - 1.0f);
@@ -286,8 +296,10 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     if (style == STYLE_CORRECTED && package.settings.projection != "ortho")
         return error(StatusCode::unsupported, "view atlas: --style corrected needs orthographic views (bake with "
                                               "--projection ortho); use --style seed or octahedral-baseline");
-    if (!options.debug_view.empty())
-        return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view + "'");
+    int debug_view = debug_view_code(options.debug_view);
+    if (debug_view < 0)
+        return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view +
+                                                       "' (it has billboard = colour by view, depth, normal, fetches)");
     STANDIN_RETURN_IF_ERROR(check_package(package));
 
     GLint max_layers = 0, max_size = 0;
@@ -334,6 +346,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1i(id, renderer->program_.uniform("view_count"), int(package.views.size()));
     glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
     glProgramUniform1i(id, renderer->program_.uniform("style"), style);
+    glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " while uploading");

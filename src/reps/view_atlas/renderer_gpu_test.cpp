@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
 #include <cstdlib>
 
 namespace standin::view_atlas {
@@ -295,6 +296,50 @@ TEST(ViewAtlasRenderer, CorrectedDrawsWithTheEyeInsideTheHull)
     ImageMetrics m = compare(**truth, **corrected, mesh, view, 96);
     EXPECT_GT(m.truth_pixels, 1000u);
     EXPECT_GT(m.iou, 0.9);
+}
+
+// Debug views: "billboard" colours each pixel by its main view, and near the model a perspective
+// camera's rays pick several views (the per-pixel choice); the normal view of a sphere's centre
+// faces the camera; billboard-only views are refused by name.
+TEST(ViewAtlasRenderer, DebugViewsShowPerPixelViewsAndNormals)
+{
+    GenerateOptions generate;
+    generate.target_triangles = 2000;
+    Result<Mesh> sphere = generate_mesh(generate);
+    ASSERT_TRUE(sphere.is_ok());
+    std::unique_ptr<Package> package = bake_atlas(*sphere, {{"subdivisions", "2"}, {"resolution", "64"}, {"page-size", "1024"}});
+    ASSERT_TRUE(package);
+    OrbitView view; // perspective at the base distance: the rays spread over 40 degrees
+    view.azimuth_degrees = 17.0f;
+    view.elevation_degrees = 11.0f;
+    Camera camera = orbit_camera(sphere->bounding_sphere(), view, 1.0f);
+    auto render = [&](const char* debug) {
+        RenderOptions options;
+        options.debug_view = debug;
+        Result<std::unique_ptr<Renderer>> renderer = make_renderer(*package, options);
+        EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+        Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 64, 64);
+        EXPECT_TRUE(image.is_ok());
+        return image->color;
+    };
+    ImageRGBA8 by_view = render("billboard");
+    std::set<std::uint32_t> colors;
+    for (std::size_t p = 0; p < by_view.pixels.size(); p += 4)
+        if (by_view.pixels[p + 3] > 0)
+            colors.insert(std::uint32_t(by_view.pixels[p]) << 16 | std::uint32_t(by_view.pixels[p + 1]) << 8 | by_view.pixels[p + 2]);
+    EXPECT_GE(colors.size(), 4u) << "one view per instance would give one colour";
+
+    ImageRGBA8 normals = render("normal");
+    const std::uint8_t* centre = normals.at(32, 32);
+    glm::vec3 n = glm::vec3(centre[0], centre[1], centre[2]) / 255.0f * 2.0f - 1.0f;
+    glm::vec3 to_eye = -glm::normalize(camera.forward_world);
+    EXPECT_GT(glm::dot(glm::normalize(n), to_eye), 0.95f);
+
+    RenderOptions boxes;
+    boxes.debug_view = "boxes";
+    Result<std::unique_ptr<Renderer>> refused = make_renderer(*package, boxes);
+    ASSERT_FALSE(refused.is_ok());
+    EXPECT_NE(refused.status().message().find("boxes"), std::string::npos);
 }
 
 TEST(ViewAtlasRenderer, BakesAreByteIdentical)

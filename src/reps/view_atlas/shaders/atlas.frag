@@ -12,6 +12,7 @@
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
+#include "gpu/shaders/common/debug_colors.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 flat in ivec3 v_views;
@@ -32,6 +33,7 @@ layout(std430, binding = ATLAS_COUNTERS_SSBO) buffer CounterBlock {
 };
 
 uniform int style;
+uniform int debug_view; // ATLAS_DEBUG_*
 uniform int counting; // 1: add this fragment and its texture reads to the counters
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 
@@ -141,9 +143,10 @@ vec4 height_texel(ViewData view, ivec2 capture_texel)
 {
     ivec2 local = capture_texel - view.crop.xy;
     if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, view.crop.zw))) return vec4(0.0);
-    ivec3 at = ivec3(view.atlas.yz + local, view.atlas.x);
-    if (fetch_array(MAP_COLOR, view.atlas.w, at).a < 0.5) return vec4(0.0);
-    vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+    // one read: normal-depth pages are premultiplied by coverage, so an empty texel is all zero at
+    // level 0, while a unit normal encoded as n * 0.5 + 0.5 has a component of at least 0.21
+    vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
+    if (max(nd.r, max(nd.g, nd.b)) < 0.1) return vec4(0.0);
     vec3 n = nd.rgb * 2.0 - 1.0;
     vec3 n_view = vec3(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz), dot(n, view.direction.xyz));
     const float max_slope = 8.0; // about 83 degrees, as the billboards' LinkSettings
@@ -285,6 +288,16 @@ vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world)
     return shade(albedo, normal_world, -direction_world, frame.light_to_world.xyz, frame.light_terms);
 }
 
+// The picture of a debug view in place of the shaded colour.
+vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
+{
+    if (debug_view == ATLAS_DEBUG_VIEW) return index_color(view);
+    if (debug_view == ATLAS_DEBUG_DEPTH) return vec3(1.0 - window_z);
+    if (debug_view == ATLAS_DEBUG_NORMAL) return normalize(normal_world) * 0.5 + 0.5;
+    if (debug_view == ATLAS_DEBUG_FETCHES) return heat(float(g_fetches) / 160.0);
+    return shaded;
+}
+
 void main()
 {
     mat4 world_from_object = instances.world_from_object[v_instance];
@@ -302,12 +315,12 @@ void main()
         g_fetches = lit_maps != 0 ? 1u : 2u;
         count_fragment();
         if (c.a < 0.5) discard;
-        vec3 color = c.rgb / c.a;
+        vec3 color = c.rgb / c.a, n = -d; // lit-only packages have no normals
         if (lit_maps == 0) {
-            vec3 n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
+            n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
             color = shade_surface(color, n, direction_world);
         }
-        out_color = vec4(color, 1.0);
+        out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
         return;
     }
@@ -347,7 +360,8 @@ void main()
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
-        out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world), 1.0);
+        vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world);
+        out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
         return;
     }
@@ -380,6 +394,8 @@ void main()
     // hits within two texels of the nearest are the same surface; weight fades out to four texels so
     // that a view's hit does not enter or leave the blend abruptly as the camera moves
     float texel_size = 2.0 * half_extent / resolution;
+    int main_view = ids.x;
+    float main_weight = 0.0;
     for (int k = 0; k < 3; ++k) {
         if (hits[k].y != RAY_HIT) continue;
         float weight = weights[k] * clamp(2.0 - (hits[k].x - t_min) / (2.0 * texel_size), 0.0, 1.0);
@@ -393,12 +409,17 @@ void main()
         normal_sum += weight * vec4(nd.rgb / c.a * 2.0 - 1.0, 0.0);
         t_sum += weight * hits[k].x;
         t_weight += weight;
+        if (weight > main_weight) {
+            main_weight = weight;
+            main_view = ids[k];
+        }
     }
     count_fragment();
     if (t_weight <= 0.0) discard;
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;
     vec3 albedo = color_sum.rgb / t_weight;
-    out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world), 1.0);
+    vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world);
     gl_FragDepth = window_depth(p_world);
+    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
 }

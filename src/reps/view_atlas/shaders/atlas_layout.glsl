@@ -23,6 +23,13 @@
 #define STYLE_BASELINE 1   // impostor bakers: 3 views blended, one parallax offset step
 #define STYLE_CORRECTED 2  // 3 views blended, each intersected per pixel with its depth
 
+// debug views (RenderOptions::debug_view)
+#define ATLAS_DEBUG_NONE 0
+#define ATLAS_DEBUG_VIEW 1    // "billboard": colour by the view contributing most
+#define ATLAS_DEBUG_DEPTH 2   // window depth, near white
+#define ATLAS_DEBUG_NORMAL 3  // the normal used for shading, world space
+#define ATLAS_DEBUG_FETCHES 4 // texture reads of this pixel, heat map over 0..160
+
 #define LOOKUP_SIDE 32     // cells per side of each face of the direction lookup cube
 #define NEIGHBOURS 12      // nearest other views kept per view
 #define MAX_LOD 4          // mip levels that never mix two views (crops sit on 16-texel cells)
