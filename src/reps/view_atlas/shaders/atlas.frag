@@ -137,11 +137,11 @@ float intersect_view(ViewData view, vec3 o, vec3 d)
     return -1.0;
 }
 
-vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world)
+vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world, vec3 position_world)
 {
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
-    return shade(albedo, normal_world, -direction_world, frame.light_to_world.xyz, frame.light_terms);
+    return shade_at(albedo, normal_world, -direction_world, position_world);
 }
 
 void main()
@@ -162,7 +162,7 @@ void main()
         vec3 color = c.rgb / c.a;
         if (lit_maps == 0) {
             vec3 n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
-            color = shade_surface(color, n, direction_world);
+            color = shade_surface(color, n, direction_world, fragment_world_position());
         }
         out_color = vec4(color, 1.0);
         gl_FragDepth = gl_FragCoord.z;
@@ -202,7 +202,7 @@ void main()
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
-        out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world), 1.0);
+        out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world, fragment_world_position()), 1.0);
         gl_FragDepth = gl_FragCoord.z;
         return;
     }
@@ -242,6 +242,6 @@ void main()
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;
     vec3 albedo = color_sum.rgb / t_weight;
-    out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world), 1.0);
+    out_color = vec4(lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world, p_world), 1.0);
     gl_FragDepth = window_depth(p_world);
 }
