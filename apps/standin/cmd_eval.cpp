@@ -27,6 +27,7 @@ struct EvalArgs {
     std::size_t samples = 100000;
     RenderOptions options;
     bool no_coarse = false;
+    ShadowArgs shadows;
 };
 
 // A stand-in to evaluate: a package's renderer, or a mesh's (then also its surface).
@@ -67,6 +68,7 @@ static std::string command_line(const EvalArgs& args)
     std::string line = "standin eval " + args.model + " " + args.standin + " --protocol " + args.protocol;
     if (args.options.march != "exact") line += " --march " + args.options.march;
     if (args.no_coarse) line += " --no-coarse";
+    if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
     if (!args.json.empty()) line += " --json " + args.json;
     if (!args.report.empty()) line += " --report " + args.report;
     return line;
@@ -93,6 +95,7 @@ static int run_eval(EvalArgs& args)
 {
     args.options.coarse_mesh = !args.no_coarse;
     if (Status s = check_render_options(args.options); !s) return fail(s);
+    if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.frames < 0 || args.frames > 1000) return fail("--frames: must be within 0..1000");
     if (args.samples < 1) return fail("--samples: must be positive");
     Result<Protocol> protocol = make_protocol(args.protocol);
@@ -129,6 +132,8 @@ static int run_eval(EvalArgs& args)
         };
     EvalOptions options;
     options.timed_frames = args.frames;
+    options.shadows = args.shadows.enabled;
+    options.shadow_resolution = args.shadows.resolution;
     Result<EvalResult> result =
         evaluate(**truth, *subject->renderer, mesh->bounding_sphere(), *protocol, options, stderr_progress(), sink);
     if (!result) return fail(result.status());
@@ -143,6 +148,7 @@ static int run_eval(EvalArgs& args)
     nlohmann::json identity = {{"model", args.model},
                                {"package", args.standin},
                                {"representation", subject->representation},
+                               {"shadows", args.shadows.enabled},
                                {"command", command_line(args)}};
     nlohmann::json json = eval_to_json(*result, identity);
     if (!args.json.empty())
@@ -180,6 +186,7 @@ CommandRun add_eval_command(CLI::App& root)
     command->add_option("--samples", args->samples, "Mesh stand-ins: surface samples for the distance")
         ->capture_default_str();
     add_render_options(*command, args->options, args->no_coarse);
+    add_shadow_options(*command, args->shadows);
     return [args] { return run_eval(*args); };
 }
 
