@@ -73,7 +73,8 @@ public:
 // ray hits, the view atlas' 'corrected' intersections; the atlas' 'seed' and 'octahedral-baseline'
 // styles cast and receive at their camera-facing quad's depth). Shading looks the map up at each
 // shaded point's world position: 5 x 5 percentage-closer taps, each a bilinear depth compare, with a
-// slope-scaled depth bias and a one-texel offset along the normal (lighting.glsl).
+// depth bias (a constant one, bias_world(), plus a slope-scaled one) and a one-texel offset along
+// the normal (lighting.glsl).
 // The light's camera is orthographic, along the light direction, and fits a world-space sphere
 // around everything that casts or receives shadows.
 class ShadowMap {
@@ -93,6 +94,10 @@ public:
     glm::mat4 shadow_from_world() const; // world -> [0, 1]^3: map u, v and window depth
     float texel_world() const;     // world units across one texel
     float depth_per_world() const; // window-depth units per world unit along the light
+    // The constant depth bias, world units: 0.6% of the scene's radius (at least 1.5 texels).
+    // Stand-ins rebuild depth to about a texel of their own maps (an atlas view of 256 texels
+    // across the sphere: 0.8% of the radius), and a smaller bias speckles them with acne.
+    float bias_world() const;
     int resolution() const;
     unsigned texture() const;      // the GL texture name (compare mode on, for sampler2DShadow)
 

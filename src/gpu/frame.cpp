@@ -20,6 +20,7 @@ FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm:
         u.shadow_from_world = shadow_map->shadow_from_world();
         u.shadow_terms = glm::vec4(1.0f, 1.0f / float(shadow_map->resolution()), shadow_map->texel_world(),
                                    shadow_map->depth_per_world());
+        u.shadow_bias = glm::vec4(shadow_map->bias_world(), 0.0f, 0.0f, 0.0f);
     }
     return u;
 }

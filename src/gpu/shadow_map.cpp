@@ -20,8 +20,11 @@ struct ShadowMap::State {
     gpu::Framebuffer fbo;
     int resolution = 0;
     Camera camera;
-    float texel_world = 0.0f, depth_per_world = 0.0f;
+    float texel_world = 0.0f, depth_per_world = 0.0f, bias_world = 0.0f;
 };
+
+// the constant depth bias, relative to the scene's radius (ShadowMap::bias_world)
+constexpr float k_bias_rel = 0.006f;
 
 ShadowMap::ShadowMap() : state_(std::make_unique<State>()) {}
 ShadowMap::~ShadowMap() = default;
@@ -80,6 +83,7 @@ Status ShadowMap::render(Renderer& casters, const Light& light, const BoundingSp
     s.camera = light_camera(light, scene);
     s.texel_world = 2.0f * s.camera.ortho_half_height / float(s.resolution);
     s.depth_per_world = 1.0f / (s.camera.far_plane - s.camera.near_plane);
+    s.bias_world = std::max(k_bias_rel * std::max(scene.radius, 0.0f), 1.5f * s.texel_world);
 
     // draw the casters into the depth target, then restore what was bound
     GLint previous_fbo = 0, previous_viewport[4] = {0, 0, 0, 0};
@@ -119,6 +123,7 @@ glm::mat4 ShadowMap::shadow_from_world() const
 
 float ShadowMap::texel_world() const { return state_->texel_world; }
 float ShadowMap::depth_per_world() const { return state_->depth_per_world; }
+float ShadowMap::bias_world() const { return state_->bias_world; }
 int ShadowMap::resolution() const { return state_->resolution; }
 unsigned ShadowMap::texture() const { return state_->depth.get(); }
 

@@ -35,19 +35,19 @@ vec3 shade(vec3 albedo_srgb, vec3 normal_world, vec3 to_eye_world, vec3 to_light
 layout(binding = BINDING_SHADOW_TEXTURE) uniform sampler2DShadow shadow_map;
 
 #define SHADOW_PCF_RADIUS 2      // 5 x 5 taps, each a bilinear compare of 2 x 2 texels
-#define SHADOW_BIAS_TEXELS 1.5   // constant depth bias
 #define SHADOW_SLOPE_TEXELS 3.0  // per unit of tan(angle to the light): the kernel's half width + 1
 #define SHADOW_MAX_TAN 8.0
 
 // The fraction of the light reaching a world-space point with unit normal n (facing the light:
-// n_dot_l > 0): 1 lit, 0 in shadow. The depth bias grows with the slope of the surface seen from
-// the light, since the receiver's depth changes by tan(angle) texels per texel across the taps;
-// the point also moves one texel along its normal, off the surface that casts onto itself.
+// n_dot_l > 0): 1 lit, 0 in shadow. The depth bias is the map's constant one (ShadowMap::
+// bias_world) plus a slope term, since the receiver's depth changes by tan(angle) texels per texel
+// across the taps; the point also moves one texel along its normal, off the surface that casts
+// onto itself.
 float light_visibility(vec3 position_world, vec3 n, float n_dot_l)
 {
     float texel_world = frame.shadow_terms.z;
     float tan_angle = min(sqrt(max(1.0 - n_dot_l * n_dot_l, 0.0)) / n_dot_l, SHADOW_MAX_TAN);
-    float bias_world = texel_world * (SHADOW_BIAS_TEXELS + SHADOW_SLOPE_TEXELS * tan_angle);
+    float bias_world = frame.shadow_bias.x + texel_world * SHADOW_SLOPE_TEXELS * tan_angle;
     vec4 s = frame.shadow_from_world * vec4(position_world + n * texel_world, 1.0);
     vec3 p = s.xyz / s.w;
     if (any(lessThan(p, vec3(0.0))) || any(greaterThan(p, vec3(1.0)))) return 1.0; // outside the map
