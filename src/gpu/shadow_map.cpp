@@ -31,7 +31,6 @@ ShadowMap::~ShadowMap() = default;
 
 Result<std::unique_ptr<ShadowMap>> ShadowMap::create(int resolution)
 {
-    if (!gpu::has_current_context()) return error(StatusCode::gpu_error, "shadow map: no current OpenGL context");
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (resolution < 1 || resolution > max_size)
