@@ -102,6 +102,12 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
                                     "screenshot " + d + "original.png\n"
                                     "show package 1\n"
                                     "screenshot " + d + "package.png\n"
+                                    "light 60 25\n"
+                                    "screenshot " + d + "lit.png\n"
+                                    "shadows on\n"
+                                    "screenshot " + d + "shadows.png\n"
+                                    "shadows off\n"
+                                    "light camera\n"
                                     "split on\n"
                                     "screenshot " + d + "split.png\n"
                                     "split off\n"
@@ -148,6 +154,11 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
     EXPECT_GT(foreground_fraction(split, 0, half - 3), 0.02);
     EXPECT_GT(foreground_fraction(split, half + 3, w), 0.02);
     EXPECT_GT(mean_difference(original, package, 0, w), 0.01); // two renderers, two pictures
+
+    // shadows darken parts of the stand-in, and cover the same pixels
+    ImageRGBA8 lit = load(d + "lit.png"), shadowed = load(d + "shadows.png");
+    EXPECT_GT(mean_difference(lit, shadowed, 0, w), 0.1);
+    EXPECT_NEAR(foreground_fraction(shadowed, 0, w), foreground_fraction(lit, 0, w), 0.01);
 
     // debug views differ from the normal picture, and from one another
     const char* views[] = {"normal", "billboard", "fetches", "boxes", "holes"};

@@ -75,8 +75,8 @@ TEST(ViewerScript, ExtraCommands)
     std::vector<ScriptCommand> c = parse_ok("window 320x240\nresolution window\nsplit side\nsplit-position 0.25\n"
                                             "set march seed\nset steps 50\nset hit-range 0.02\nset coarse off\n"
                                             "projection orthographic\npan 0.1 -0.2\nlight camera\npanels off\n"
-                                            "overlay on\nreload\nreset\ndebug holes\n");
-    ASSERT_EQ(c.size(), 16u);
+                                            "overlay on\nreload\nreset\ndebug holes\nshadows on\n");
+    ASSERT_EQ(c.size(), 17u);
     EXPECT_EQ(c[0].op, ScriptOp::window);
     EXPECT_EQ(c[0].size[0], 320);
     EXPECT_EQ(c[1].word, "window");
@@ -95,6 +95,8 @@ TEST(ViewerScript, ExtraCommands)
     EXPECT_EQ(c[13].op, ScriptOp::reload);
     EXPECT_EQ(c[14].op, ScriptOp::reset);
     EXPECT_EQ(c[15].word, "holes");
+    EXPECT_EQ(c[16].op, ScriptOp::shadows);
+    EXPECT_EQ(c[16].word, "on");
 }
 
 TEST(ViewerScript, UnknownCommandNamesTheLine)
@@ -121,6 +123,7 @@ TEST(ViewerScript, BadArgumentsAreRefusedWithTheirLine)
         {"resolution 0x300", "WxH"},
         {"resolution 400x300x2", "WxH"},
         {"light 10", "light AZIMUTH ELEVATION"},
+        {"shadows maybe", "shadows on|off"},
         {"screenshot out.jpg", ".png"},
         {"wait -1", "frames"},
         {"wait 1.5", "frames"},

@@ -27,6 +27,7 @@ struct EvalArgs {
     std::size_t samples = 100000;
     RenderOptions options;
     bool no_coarse = false;
+    ShadowArgs shadows;
 };
 
 // A stand-in to evaluate: a package's renderer, or a mesh's (then also its surface).
@@ -71,6 +72,7 @@ static std::string command_line(const EvalArgs& args)
                 std::to_string(args.options.hit_range);
     if (args.options.style != RenderOptions{}.style) line += " --style " + args.options.style;
     if (args.no_coarse) line += " --no-coarse";
+    if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
     line += " --frames " + std::to_string(args.frames);
     if (!args.json.empty()) line += " --json " + args.json;
     if (!args.report.empty()) line += " --report " + args.report;
@@ -98,6 +100,7 @@ static int run_eval(EvalArgs& args)
 {
     args.options.coarse_mesh = !args.no_coarse;
     if (Status s = check_render_options(args.options); !s) return fail(s);
+    if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.frames < 0 || args.frames > 1000) return fail("--frames: must be within 0..1000");
     if (args.samples < 1) return fail("--samples: must be positive");
     Result<Protocol> protocol = make_protocol(args.protocol);
@@ -134,6 +137,8 @@ static int run_eval(EvalArgs& args)
         };
     EvalOptions options;
     options.timed_frames = args.frames;
+    options.shadows = args.shadows.enabled;
+    options.shadow_resolution = args.shadows.resolution;
     Result<EvalResult> result =
         evaluate(**truth, *subject->renderer, mesh->bounding_sphere(), *protocol, options, stderr_progress(), sink);
     if (!result) return fail(result.status());
@@ -148,6 +153,7 @@ static int run_eval(EvalArgs& args)
     nlohmann::json identity = {{"model", args.model},
                                {"package", args.standin},
                                {"representation", subject->representation},
+                               {"shadows", args.shadows.enabled},
                                {"command", command_line(args)}};
     nlohmann::json json = eval_to_json(*result, identity);
     if (!args.json.empty())
@@ -185,6 +191,7 @@ CommandRun add_eval_command(CLI::App& root)
     command->add_option("--samples", args->samples, "Mesh stand-ins: surface samples for the distance")
         ->capture_default_str();
     add_render_options(*command, args->options, args->no_coarse);
+    add_shadow_options(*command, args->shadows);
     return [args] { return run_eval(*args); };
 }
 

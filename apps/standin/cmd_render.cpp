@@ -20,6 +20,7 @@ struct RenderArgs {
     ViewArgs view;
     RenderOptions options;
     bool no_coarse = false;
+    ShadowArgs shadows;
 };
 
 static int run_render(RenderArgs& args)
@@ -29,6 +30,7 @@ static int run_render(RenderArgs& args)
     if (Status s = parse_view(args.view, width, height, view); !s) return fail(s);
     args.options.coarse_mesh = !args.no_coarse;
     if (Status s = check_render_options(args.options); !s) return fail(s);
+    if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
         return fail(args.output + ": output must be a .png file");
 
@@ -57,7 +59,12 @@ static int run_render(RenderArgs& args)
     }
 
     Camera camera = orbit_camera(sphere, view, float(width) / float(height));
-    Result<RenderedImage> image = render_offscreen(*renderer, camera, light_for(args.view, camera), width, height);
+    ShadowOptions shadows;
+    shadows.enabled = args.shadows.enabled;
+    shadows.scene = sphere;
+    shadows.resolution = args.shadows.resolution;
+    Result<RenderedImage> image =
+        render_offscreen(*renderer, camera, light_for(args.view, camera), width, height, {}, shadows);
     if (!image) return fail(image.status());
     if (Status s = write_png(image->color, args.output); !s) return fail(s);
     std::fprintf(stderr, "standin: wrote %s (%dx%d, %s)\n", args.output.c_str(), width, height,
@@ -75,6 +82,7 @@ CommandRun add_render_command(CLI::App& root)
     command->add_option("-o,--output", args->output, "Output PNG")->required();
     add_view_options(*command, args->view);
     add_render_options(*command, args->options, args->no_coarse);
+    add_shadow_options(*command, args->shadows);
     command->add_option("--debug-view", args->options.debug_view,
                         "Package renderers: 'billboard' (colour by billboard; view atlas: by view), 'depth', 'normal', 'fetches' (heat map), "
                         "'boxes' (billboard boxes as lines over the picture, red front planes)")

@@ -91,6 +91,23 @@ void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coar
         ->capture_default_str();
 }
 
+void add_shadow_options(CLI::App& command, ShadowArgs& args)
+{
+    command.add_flag("--shadows", args.enabled,
+                     "Cast shadows: the same renderer first draws the scene from the light into a depth map "
+                     "(orthographic, fitted to the bounding sphere), then shading dims the light where that map "
+                     "sees something nearer (5x5 filtered taps)");
+    command.add_option("--shadow-resolution", args.resolution, "Shadow map size in texels (square)")
+        ->capture_default_str();
+}
+
+Status check_shadow_options(const ShadowArgs& args)
+{
+    if (args.resolution < 16 || args.resolution > 16384)
+        return error(StatusCode::invalid_argument, "--shadow-resolution: must be within 16..16384");
+    return Status::ok();
+}
+
 Status check_render_options(const RenderOptions& options)
 {
     if (options.steps < 1 || options.steps > 10000)

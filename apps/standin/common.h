@@ -34,6 +34,14 @@ void add_view_options(CLI::App& command, ViewArgs& args);
 Status parse_view(const ViewArgs& args, int& width, int& height, OrbitView& view);
 Light light_for(const ViewArgs& args, const Camera& camera);
 
+// --shadows, --shadow-resolution (render and eval)
+struct ShadowArgs {
+    bool enabled = false;
+    int resolution = 2048;
+};
+void add_shadow_options(CLI::App& command, ShadowArgs& args);
+Status check_shadow_options(const ShadowArgs& args);
+
 // --march, --steps, --hit-range, --no-coarse (accepted by render, eval and bench alike)
 void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coarse);
 Status check_render_options(const RenderOptions& options);

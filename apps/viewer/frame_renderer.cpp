@@ -3,6 +3,8 @@
 // compares the stand-in's coverage with the original's, pixel by pixel, at the same camera.
 #include "frame_renderer.h"
 
+#include <standin/log.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstring>
@@ -70,16 +72,27 @@ SubjectStats FrameRenderer::render_subject(ViewerState& state, int index, Target
     glDisable(GL_CULL_FACE);
     if (!subject.renderer) return stats;
 
-    // draw, timed by a GPU timer query and by the CPU up to glFinish
+    // draw, timed by a GPU timer query and by the CPU up to glFinish (shadow map included)
     DrawParams params;
     params.camera = current_camera(state, aspect);
     params.light = current_light(state, params.camera);
     params.viewport = target.size;
+    if (state.shadows && !shadow_map_) {
+        Result<std::unique_ptr<ShadowMap>> made = ShadowMap::create();
+        if (made) shadow_map_ = std::move(*made);
+        else log_message(LogLevel::warning, made.status().message());
+        if (!made) state.shadows = false;
+    }
     bool counting = !subject.is_original() && (state.count_fetches || state.debug_view == "fetches");
     subject.renderer->set_counting(counting);
     glFinish();
     auto start = std::chrono::steady_clock::now();
     timer_.begin();
+    if (state.shadows && shadow_map_) {
+        Status drawn = shadow_map_->render(*subject.renderer, params.light, state.sphere);
+        if (drawn) params.shadow_map = shadow_map_.get();
+        else log_message(LogLevel::warning, drawn.message());
+    }
     stats.draw = subject.renderer->draw(params);
     timer_.end();
     glFinish();

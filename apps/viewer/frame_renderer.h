@@ -39,6 +39,7 @@ private:
     void compose_holes(ViewerState& state);
 
     Target targets_[3]; // left (or single), right, holes composite
+    std::unique_ptr<ShadowMap> shadow_map_; // made on the first frame with shadows
     gpu::GpuTimer timer_;
 };
 

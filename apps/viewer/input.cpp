@@ -82,6 +82,7 @@ void keyboard(ViewerState& state)
     }
 
     // the application
+    if (pressed(GLFW_KEY_H)) state.shadows = !state.shadows;
     if (pressed(GLFW_KEY_F1)) state.show_panels = !state.show_panels;
     if (pressed(GLFW_KEY_F2)) state.show_overlay = !state.show_overlay;
     if (pressed(GLFW_KEY_F5)) state.want_reload = true;
@@ -94,7 +95,7 @@ void keyboard(ViewerState& state)
 const char* const k_key_help =
     "left drag: orbit    right/middle or Shift+left drag: pan\n"
     "wheel, +/-: zoom    arrows: orbit    Ctrl+left drag: light\n"
-    "R: reset camera and light    O: orthographic\n"
+    "R: reset camera and light    O: orthographic    H: shadows\n"
     "Tab: original <-> stand-in    0: original    1-9: package N\n"
     "S: alone / split / side by side    D: next debug view\n"
     "F1: panels    F2: overlay    F5: reload shaders\n"

@@ -142,6 +142,12 @@ std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c)
         if (!parse_size(w[1], c.size[0], c.size[1])) return "expected a size WxH within 1x1..16384x16384, got '" + w[1] + "'";
         return {};
     }
+    if (verb == "shadows") {
+        c.op = ScriptOp::shadows;
+        if (std::string e = want(1, "shadows on|off"); !e.empty()) return e;
+        c.word = w[1];
+        return one_of(c.word, {"on", "off"}, "shadows on|off");
+    }
     if (verb == "panels" || verb == "overlay") {
         c.op = verb == "panels" ? ScriptOp::panels : ScriptOp::overlay;
         if (std::string e = want(1, (verb + " on|off").c_str()); !e.empty()) return e;

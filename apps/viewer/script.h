@@ -6,6 +6,7 @@
 //   projection perspective|orthographic
 //   reset                               camera, pan and light back to their defaults
 //   light AZIMUTH ELEVATION             fixed world-space light; `light camera` follows the camera
+//   shadows on|off                      shadows of the light (a shadow map per subject and frame)
 //   show original | show package N      N counts packages from 1 in command-line order
 //   split on|off|side                   split screen (original left) or side by side
 //   split-position F                    where the split lies, 0..1 of the width
@@ -30,14 +31,14 @@ namespace standin::viewer {
 
 enum class ScriptOp {
     camera, pan, projection, reset, light, show, split, split_position, debug, set, resolution, window,
-    panels, overlay, reload, screenshot, wait, quit,
+    panels, overlay, reload, screenshot, wait, quit, shadows,
 };
 
 // One parsed line. Which fields are meaningful depends on op:
 //   camera: numbers[0..2]; pan, light: numbers[0..1] (light: word "camera" instead when it follows
 //   the camera); split_position: numbers[0]; resolution, window: size (resolution: word "window"
 //   with size 0x0 to follow the window); wait: count; show: word "original" or "package" with
-//   count = N (1-based); projection, split, debug, panels, overlay: word (debug "off" is "");
+//   count = N (1-based); projection, split, debug, panels, overlay, shadows: word (debug "off" is "");
 //   set: word = knob name, value = its value; screenshot: word = path.
 struct ScriptCommand {
     ScriptOp op = ScriptOp::quit;

@@ -22,6 +22,7 @@ static void camera_section(ViewerState& state)
 
 static void light_section(ViewerState& state)
 {
+    ImGui::Checkbox("shadows (H)", &state.shadows);
     ImGui::Checkbox("light follows the camera", &state.light_follows_camera);
     if (state.light_follows_camera) return;
     ImGui::SliderFloat("light azimuth", &state.light_azimuth, -180.0f, 180.0f, "%.1f deg");

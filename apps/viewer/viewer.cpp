@@ -167,6 +167,7 @@ Status ScriptRunner::run(const ScriptCommand& c, ViewerState& state, GLFWwindow*
         yield = true;
         break;
     case ScriptOp::panels: state.show_panels = c.word == "on"; break;
+    case ScriptOp::shadows: state.shadows = c.word == "on"; break;
     case ScriptOp::overlay: state.show_overlay = c.word == "on"; break;
     case ScriptOp::reload:
         if (Status s = reload_shaders(state, shader_directory()); !s) return fail(c, s.message());

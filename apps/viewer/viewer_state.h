@@ -67,6 +67,7 @@ struct ViewerState {
     OrbitView orbit;
     glm::vec2 pan{0.0f};           // orbit centre offset along the camera's right and up, in radii
     bool light_follows_camera = true;
+    bool shadows = false;          // shadows of the light (render.h ShadowMap), fitted to `sphere`
     float light_azimuth = 0.0f, light_elevation = 45.0f;
     bool home_light_follows = true;
     float home_light_azimuth = 0.0f, home_light_elevation = 45.0f;

@@ -135,6 +135,10 @@ struct EvalOptions {
     // GPU time of this many frames per view and subject after one warm-up frame (median kept,
     // for the frame-rate-vs-resolution chart); 0 skips timing.
     int timed_frames = 3;
+    // Shadows of the light (ShadowMap), for truth and stand-in alike: each draws its own shadow
+    // map, from the same light, fitted to the model's bounding sphere. Timed frames leave them out.
+    bool shadows = false;
+    int shadow_resolution = 2048;
 };
 
 struct ViewResult {

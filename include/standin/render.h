@@ -36,6 +36,8 @@ struct RenderOptions {
     std::string debug_view;       // "", "billboard", "depth", "normal", "fetches", "boxes" (billboard boxes as lines)
 };
 
+class ShadowMap;
+
 // What one draw of a frame needs. Instances are object-to-world transforms; one identity
 // transform when empty.
 struct DrawParams {
@@ -43,6 +45,10 @@ struct DrawParams {
     Light light;
     glm::ivec2 viewport{800, 600};
     std::span<const glm::mat4> world_from_object;
+    // Shadows of `light`: a map drawn beforehand for the same light (ShadowMap::render); shading
+    // multiplies the light's direct term by the fraction of the map's taps that see the light.
+    // Null: no shadows, and shading is exactly what it is without this field.
+    const ShadowMap* shadow_map = nullptr;
 };
 
 struct DrawStats {
@@ -64,6 +70,52 @@ public:
     virtual std::uint64_t read_fragment_count() { return 0; }
 };
 
+// Dynamic shadows of the one directional light (issue #6, seed 003 §7): a depth map of the scene
+// seen from the light, drawn by the same renderers with their true depth (the mesh, the billboards'
+// ray hits, the view atlas' 'corrected' intersections; the atlas' 'seed' and 'octahedral-baseline'
+// styles cast and receive at their camera-facing quad's depth). Shading looks the map up at each
+// shaded point's world position: 5 x 5 percentage-closer taps, each a bilinear depth compare, with a
+// depth bias (a constant one, bias_world(), plus a slope-scaled one) and a one-texel offset along
+// the normal (lighting.glsl).
+// The light's camera is orthographic, along the light direction, and fits a world-space sphere
+// around everything that casts or receives shadows.
+class ShadowMap {
+public:
+    // A square DEPTH_COMPONENT32F map of resolution^2 texels (1..GL_MAX_TEXTURE_SIZE). Needs a
+    // current context; fails with a status naming the size when it is out of range.
+    static Result<std::unique_ptr<ShadowMap>> create(int resolution = 2048);
+    ~ShadowMap();
+
+    // Clears the map and draws `casters` (with their instances, identity when empty) from `light`
+    // into it. `scene` is a world-space sphere holding every caster and receiver: parts outside it
+    // neither cast nor receive. Restores the framebuffer binding and viewport it found.
+    Status render(Renderer& casters, const Light& light, const BoundingSphere& scene,
+                  std::span<const glm::mat4> world_from_object = {});
+
+    const Camera& camera() const;   // the light's camera of the last render()
+    glm::mat4 shadow_from_world() const; // world -> [0, 1]^3: map u, v and window depth
+    float texel_world() const;     // world units across one texel
+    float depth_per_world() const; // window-depth units per world unit along the light
+    // The constant depth bias, world units: 0.6% of the scene's radius (at least 1.5 texels).
+    // Stand-ins rebuild depth to about a texel of their own maps (an atlas view of 256 texels
+    // across the sphere: 0.8% of the radius), and a smaller bias speckles them with acne.
+    float bias_world() const;
+    int resolution() const;
+    unsigned texture() const;      // the GL texture name (compare mode on, for sampler2DShadow)
+
+private:
+    ShadowMap();
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// Shadows of a render_offscreen call: off by default.
+struct ShadowOptions {
+    bool enabled = false;
+    BoundingSphere scene;  // world space, around every caster and receiver (see ShadowMap::render)
+    int resolution = 2048; // of the shadow map
+};
+
 // The ground-truth renderer for the original mesh: per-pixel shading with the shared lighting
 // include, textures sampled per pixel. Needs a current context.
 Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh);
@@ -76,9 +128,11 @@ struct RenderedImage {
 };
 
 // Renders one frame offscreen at width x height (MSAA off, so that results are exact and
-// repeatable) and reads it back. Needs a current context.
+// repeatable) and reads it back. With shadows enabled, the same renderer and instances first draw
+// a shadow map from `light` (ShadowMap). Needs a current context.
 Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera, const Light& light,
                                        int width, int height,
-                                       std::span<const glm::mat4> world_from_object = {});
+                                       std::span<const glm::mat4> world_from_object = {},
+                                       const ShadowOptions& shadows = {});
 
 } // namespace standin

@@ -105,9 +105,14 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
         // the same camera and light for both
         Camera camera = orbit_camera(sphere, view.orbit, float(view.width) / float(view.height));
         Light light = default_light(camera);
-        Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height);
+        ShadowOptions shadows;
+        shadows.enabled = options.shadows;
+        shadows.scene = sphere;
+        shadows.resolution = options.shadow_resolution;
+        Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height, {}, shadows);
         if (!truth_image) return truth_image.status();
-        Result<RenderedImage> standin_image = render_offscreen(standin, camera, light, view.width, view.height);
+        Result<RenderedImage> standin_image =
+            render_offscreen(standin, camera, light, view.width, view.height, {}, shadows);
         if (!standin_image) return standin_image.status();
 
         // compare, time, hand the images on

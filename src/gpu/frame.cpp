@@ -4,7 +4,8 @@
 
 namespace standin::gpu {
 
-FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport)
+FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport,
+                                  const ShadowMap* shadow_map)
 {
     FrameUniforms u;
     u.clip_from_world = camera.clip_from_world();
@@ -15,12 +16,18 @@ FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm:
     u.light_to_world = glm::vec4(glm::normalize(light.direction_to_light_world), 0.0f);
     u.light_terms = glm::vec4(light.ambient, light.diffuse, light.specular, light.shininess);
     u.viewport_size = glm::vec4(float(viewport.x), float(viewport.y), 1.0f / float(viewport.x), 1.0f / float(viewport.y));
+    if (shadow_map) {
+        u.shadow_from_world = shadow_map->shadow_from_world();
+        u.shadow_terms = glm::vec4(1.0f, 1.0f / float(shadow_map->resolution()), shadow_map->texel_world(),
+                                   shadow_map->depth_per_world());
+        u.shadow_bias = glm::vec4(shadow_map->bias_world(), 0.0f, 0.0f, 0.0f);
+    }
     return u;
 }
 
 void FrameResources::bind(const DrawParams& params)
 {
-    FrameUniforms uniforms = make_frame_uniforms(params.camera, params.light, params.viewport);
+    FrameUniforms uniforms = make_frame_uniforms(params.camera, params.light, params.viewport, params.shadow_map);
     if (!frame_buffer_) frame_buffer_ = make_buffer(nullptr, sizeof(FrameUniforms), GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(frame_buffer_.get(), 0, sizeof uniforms, &uniforms);
 
@@ -35,6 +42,7 @@ void FrameResources::bind(const DrawParams& params)
     instance_count_ = transforms.size();
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, frame_buffer_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_INSTANCES_SSBO, instance_buffer_.get());
+    glBindTextureUnit(BINDING_SHADOW_TEXTURE, params.shadow_map ? GLuint(params.shadow_map->texture()) : 0u);
 }
 
 } // namespace standin::gpu

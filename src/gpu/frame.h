@@ -20,15 +20,21 @@ struct FrameUniforms {
     glm::vec4 light_to_world;
     glm::vec4 light_terms;    // ambient, diffuse, specular, shininess
     glm::vec4 viewport_size;  // w, h, 1/w, 1/h
+    glm::mat4 shadow_from_world{1.0f}; // world -> shadow map u, v, depth (ShadowMap)
+    glm::vec4 shadow_terms{0.0f};      // on (1) or off (0), 1/resolution, texel_world, depth_per_world
+    glm::vec4 shadow_bias{0.0f};       // bias_world, unused x 3
 };
-static_assert(sizeof(FrameUniforms) == 3 * 64 + 5 * 16, "std140 layout of FrameBlock");
+static_assert(sizeof(FrameUniforms) == 4 * 64 + 7 * 16, "std140 layout of FrameBlock");
 
-FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport);
+// shadow_map may be null (no shadows)
+FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport,
+                                  const ShadowMap* shadow_map = nullptr);
 
 // Owns the frame UBO and the instance SSBO and binds them; renderers keep one each.
 class FrameResources {
 public:
-    // Uploads uniforms and instances (identity when empty) and binds both.
+    // Uploads uniforms and instances (identity when empty) and binds both, and the shadow map's
+    // texture when params has one (otherwise unbinds that unit: a map being drawn is never read).
     void bind(const DrawParams& params);
     std::size_t instance_count() const { return instance_count_; }
 

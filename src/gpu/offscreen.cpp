@@ -1,5 +1,6 @@
 // Offscreen rendering for tests, eval and the CLI: one frame into an RGBA8 + 32-bit float depth
-// framebuffer without multisampling (exact, repeatable pixels), read back top row first.
+// framebuffer without multisampling (exact, repeatable pixels), read back top row first; with
+// shadows, after a shadow map drawn by the same renderer (shadow_map.cpp).
 #include "gpu/gl.h"
 
 #include <standin/render.h>
@@ -10,7 +11,8 @@
 namespace standin {
 
 Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera, const Light& light, int width,
-                                       int height, std::span<const glm::mat4> world_from_object)
+                                       int height, std::span<const glm::mat4> world_from_object,
+                                       const ShadowOptions& shadows)
 {
     if (!gpu::has_current_context()) return error(StatusCode::gpu_error, "render: no current OpenGL context");
     GLint max_size = 0;
@@ -18,6 +20,15 @@ Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera,
     if (width < 1 || height < 1 || width > max_size || height > max_size)
         return error(StatusCode::invalid_argument, "render: size " + std::to_string(width) + "x" +
                                                        std::to_string(height) + " out of range 1.." + std::to_string(max_size));
+    // the shadow map first: the same renderer and instances seen from the light
+    std::unique_ptr<ShadowMap> shadow_map;
+    if (shadows.enabled) {
+        Result<std::unique_ptr<ShadowMap>> made = ShadowMap::create(shadows.resolution);
+        if (!made) return made.status();
+        shadow_map = std::move(*made);
+        STANDIN_RETURN_IF_ERROR(shadow_map->render(renderer, light, shadows.scene, world_from_object));
+    }
+
     gpu::Texture color = gpu::make_texture_2d(GL_RGBA8, width, height);
     gpu::Texture depth = gpu::make_texture_2d(GL_DEPTH_COMPONENT32F, width, height);
     gpu::Framebuffer fbo = gpu::make_framebuffer();
@@ -41,6 +52,7 @@ Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera,
     params.light = light;
     params.viewport = {width, height};
     params.world_from_object = world_from_object;
+    params.shadow_map = shadow_map.get();
     renderer.draw(params);
 
     RenderedImage result;

@@ -20,5 +20,5 @@ void main()
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
-    out_color = vec4(shade(albedo.rgb, v_normal_world, to_eye, frame.light_to_world.xyz, frame.light_terms), 1.0);
+    out_color = vec4(shade_at(albedo.rgb, v_normal_world, to_eye, v_position_world), 1.0);
 }

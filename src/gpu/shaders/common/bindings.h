@@ -14,6 +14,7 @@
 #define BINDING_NORMAL_DEPTH_TEXTURE 1
 #define BINDING_ACCELERATION_TEXTURE 2
 #define BINDING_EXTRA_TEXTURE 3
+#define BINDING_SHADOW_TEXTURE 16 // above the view atlas' 0..15 (16+ units: every GL 4.5 driver we run on has 32)
 // vertex attributes
 #define ATTRIB_POSITION 0
 #define ATTRIB_NORMAL 1

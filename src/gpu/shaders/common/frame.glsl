@@ -10,6 +10,10 @@ layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock {
     vec4 light_to_world;    // xyz: unit direction towards the light
     vec4 light_terms;       // ambient, diffuse, specular, shininess
     vec4 viewport_size;     // width, height, 1/width, 1/height
+    mat4 shadow_from_world; // world -> shadow map u, v, window depth (lighting.glsl)
+    vec4 shadow_terms;      // x: 1 with a shadow map, else 0; y: 1/resolution; z: world units per
+                            // texel; w: window-depth units per world unit along the light
+    vec4 shadow_bias;       // x: constant depth bias, world units; yzw: unused
 } frame;
 
 layout(std430, binding = BINDING_INSTANCES_SSBO) readonly buffer InstanceBlock {

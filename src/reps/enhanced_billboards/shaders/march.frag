@@ -266,7 +266,7 @@ void main()
     finish(!back, back);
     imageAtomicMin(pixel_depth, ivec2(gl_FragCoord.xy),
                    (floatBitsToUint(depth) & ~PIXEL_DEPTH_BACK) | (back ? PIXEL_DEPTH_BACK : 0u));
-    vec3 color = shade(albedo.rgb, normal_world, to_eye, frame.light_to_world.xyz, frame.light_terms);
+    vec3 color = shade_at(albedo.rgb, normal_world, to_eye, p_world);
     if (debug_view == DEBUG_BILLBOARD) color = billboard_color(billboard);
     if (debug_view == DEBUG_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
     if (debug_view == DEBUG_NORMAL) color = normal_world * 0.5 + 0.5;

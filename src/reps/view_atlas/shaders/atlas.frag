@@ -281,11 +281,11 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     }
 }
 
-vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world)
+vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world, vec3 position_world)
 {
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
-    return shade(albedo, normal_world, -direction_world, frame.light_to_world.xyz, frame.light_terms);
+    return shade_at(albedo, normal_world, -direction_world, position_world);
 }
 
 // The picture of a debug view in place of the shaded colour.
@@ -318,7 +318,7 @@ void main()
         vec3 color = c.rgb / c.a, n = -d; // lit-only packages have no normals
         if (lit_maps == 0) {
             n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
-            color = shade_surface(color, n, direction_world);
+            color = shade_surface(color, n, direction_world, fragment_world_position());
         }
         out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
@@ -360,7 +360,7 @@ void main()
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
-        vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world);
+        vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world, fragment_world_position());
         out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
         return;
@@ -419,7 +419,7 @@ void main()
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;
     vec3 albedo = color_sum.rgb / t_weight;
-    vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world);
+    vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world, p_world);
     gl_FragDepth = window_depth(p_world);
     out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
 }
