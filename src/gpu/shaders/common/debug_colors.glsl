@@ -1,4 +1,6 @@
 // Colours of the renderers' debug views, shared so that every representation's pictures read alike.
+#ifndef STANDIN_DEBUG_COLORS_GLSL
+#define STANDIN_DEBUG_COLORS_GLSL
 
 // A heat map, blue (0) through green and yellow to red (1).
 vec3 heat(float x)
@@ -13,3 +15,5 @@ vec3 index_color(int index)
     uint h = uint(index) * 2654435761u;
     return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
 }
+
+#endif

@@ -1,5 +1,6 @@
 // The per-billboard block of the enhanced-billboard renderer (C++ side: BillboardGpu in
 // renderer.cpp). Box space: x, y in texels along axis_u, axis_v; z in [0, 1] of the depth range.
+#include "gpu/shaders/common/debug_colors.glsl"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 struct BillboardData {
@@ -26,8 +27,4 @@ layout(std430, binding = BINDING_TILES_SSBO) readonly buffer TileBlock {
 } tiles;
 
 // The colour of billboard `index` in the debug views "billboard" and "boxes".
-vec3 billboard_color(int index)
-{
-    uint h = uint(index) * 2654435761u;
-    return vec3(float(h & 255u), float((h >> 8) & 255u), float((h >> 16) & 255u)) / 255.0 * 0.8 + 0.2;
-}
+vec3 billboard_color(int index) { return index_color(index); }

@@ -170,12 +170,6 @@ bool march_seed(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, float
     return false;
 }
 
-vec3 heat(float x)
-{
-    x = clamp(x, 0.0, 1.0);
-    return clamp(vec3(1.5 - abs(4.0 * x - 3.0), 1.5 - abs(4.0 * x - 2.0), 1.5 - abs(4.0 * x - 1.0)), 0.0, 1.0);
-}
-
 void finish(bool hit, bool near)
 {
     if (counting != 0) {
