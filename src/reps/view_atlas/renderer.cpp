@@ -14,7 +14,8 @@
 // where two crops would mix (view_atlas.h, k_cell).
 // Pages are split over up to ATLAS_MAX_ARRAYS texture arrays per map (plan_arrays: layer and byte
 // limits), the fragment stage picks a view's array by branching.
-// Load-time tables: a direction lookup cube (the nearest view of each cell's centre) and each view's
+// Load-time tables: per-view height ranges and per-cell highest surfaces for the corrected walk; a
+// direction lookup cube (the nearest view of each cell's centre) and each view's
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
 
@@ -39,6 +40,7 @@ struct ViewGpu {
     glm::vec4 depth_range;
 };
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
+static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
 // The heights above the centre plane of a view's nearest and farthest stored surface (x, y; x < y
 // when the view holds nothing), so the corrected style walks only the slab between them.
@@ -193,6 +195,38 @@ Result<ArrayPlan> plan_arrays(const ViewAtlasPackage& package, int max_layers)
     return plan;
 }
 
+// Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest depth code of its covered texels (255
+// when empty): the corrected walk skips the cells a ray passes above. One R8 texture array, one layer
+// per page (page_size / ATLAS_CELL squared texels each).
+Result<gpu::Texture> upload_cell_tops(const ViewAtlasPackage& package)
+{
+    const int size = package.settings.page_size, cells = size / ATLAS_CELL;
+    const int pages = std::max(int(package.color_pages.size()), 1);
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    gpu::Texture texture(name);
+    glTextureStorage3D(name, 1, GL_R8, cells, cells, pages);
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    std::vector<std::uint8_t> tops(std::size_t(cells) * cells);
+    for (std::size_t page = 0; page < package.normal_depth_pages.size(); ++page) {
+        std::fill(tops.begin(), tops.end(), std::uint8_t(255));
+        const ImageRGBA8& color = package.color_pages[page];
+        const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x)
+                if (color.at(x, y)[3] >= 128) {
+                    std::uint8_t& top = tops[std::size_t(y / ATLAS_CELL) * cells + std::size_t(x / ATLAS_CELL)];
+                    top = std::min(top, normal_depth.at(x, y)[3]);
+                }
+        glTextureSubImage3D(name, 0, 0, 0, GLint(page), cells, cells, 1, GL_RED, GL_UNSIGNED_BYTE, tops.data());
+    }
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " uploading cell heights");
+    return texture;
+}
+
 // Pages [first, first + count) of one map in one texture array.
 Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
                                   bool color, int size, int first, int count)
@@ -254,6 +288,7 @@ private:
 
     gpu::Program program_;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
+    gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
     gpu::Buffer views_, index_, counters_;
     int style_ = STYLE_CORRECTED;
     GLint counting_at_ = -1;
@@ -320,8 +355,12 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
 
     int size = package.settings.page_size;
     STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, *plan, renderer->color_arrays_));
-    if (package.has_surface())
+    if (package.has_surface()) {
         STANDIN_RETURN_IF_ERROR(upload_map(package, package.normal_depth_pages, false, *plan, renderer->normal_depth_arrays_));
+        Result<gpu::Texture> cell_tops = upload_cell_tops(package);
+        if (!cell_tops) return cell_tops.status();
+        renderer->cell_tops_ = std::move(*cell_tops);
+    }
 
     std::vector<ViewGpu> views;
     for (const View& v : package.views)
@@ -347,6 +386,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
     glProgramUniform1i(id, renderer->program_.uniform("style"), style);
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
+    glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " while uploading");
@@ -366,6 +406,7 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
                           normal_depth_arrays_.empty() ? color_arrays_[a].get() : normal_depth_arrays_[a].get());
     }
+    if (cell_tops_.get() != 0) glBindTextureUnit(ATLAS_CELL_TEXTURE, cell_tops_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

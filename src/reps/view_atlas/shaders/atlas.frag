@@ -154,6 +154,19 @@ vec4 height_texel(ViewData view, ivec2 capture_texel)
     return vec4(1.0, atlas_radius - 2.0 * atlas_radius * nd.a, slope);
 }
 
+layout(binding = ATLAS_CELL_TEXTURE) uniform sampler2DArray cell_tops;
+uniform int pages_per_array; // a view's page is atlas.w * pages_per_array + atlas.x
+
+// The height of the highest surface in the ATLAS_CELL cell holding a view's capture texel (-r when
+// the cell is empty).
+float cell_top(ViewData view, ivec2 capture_texel)
+{
+    g_fetches += 1u;
+    ivec2 atlas_cell = (view.atlas.yz + capture_texel - view.crop.xy) / ATLAS_CELL;
+    float code = texelFetch(cell_tops, ivec3(atlas_cell, view.atlas.w * pages_per_array + view.atlas.x), 0).r;
+    return atlas_radius - 2.0 * atlas_radius * code;
+}
+
 // Whether neighbouring covered texels a and b (across axis 0: u, 1: v) continue one surface: the
 // height step is within 1.5x what the steeper normal allows across one texel, plus 8-bit depth
 // quantisation.
@@ -189,31 +202,64 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d)
     t0 = max(t0, 0.0);
     if (t0 >= t1) return vec2(-1.0, RAY_MISS);
 
-    // digital walk in capture pixels (Amanatides & Woo)
+    // digital walk in capture pixels (Amanatides & Woo), skipping whole ATLAS_CELL cells the ray
+    // passes above (their highest surface is below where the ray leaves them); crossings are
+    // computed from the start point so that skips and steps agree exactly
     float scale = resolution / (2.0 * half_extent);
-    vec2 p = capture_from_plane((ro + t0 * rd).xy);
+    vec2 p0 = capture_from_plane((ro + t0 * rd).xy);
     vec2 dp = rd.xy * scale; // capture pixels per unit t
-    ivec2 cell = clamp(ivec2(floor(p)), view.crop.xy, view.crop.xy + view.crop.zw - 1);
     ivec2 step_dir = ivec2(dp.x >= 0.0 ? 1 : -1, dp.y >= 0.0 ? 1 : -1);
     vec2 inv = vec2(abs(dp.x) > 1e-9 ? 1.0 / abs(dp.x) : 1e30, abs(dp.y) > 1e-9 ? 1.0 / abs(dp.y) : 1e30);
-    vec2 boundary = vec2(cell) + vec2(step_dir.x > 0 ? 1.0 : 0.0, step_dir.y > 0 ? 1.0 : 0.0);
-    vec2 t_next = t0 + abs(boundary - p) * inv;
-    vec2 t_delta = inv;
+    ivec2 crop_lo = view.crop.xy, crop_hi = view.crop.xy + view.crop.zw - 1;
+    ivec2 cell = clamp(ivec2(floor(p0)), crop_lo, crop_hi);
+    // where the ray crosses the vertical and horizontal line x = X / y = Y (capture pixels)
+    #define CROSSING(axis, line) (t0 + abs(float(line) - p0[axis]) * inv[axis])
+    vec2 t_next = vec2(CROSSING(0, cell.x + max(step_dir.x, 0)), CROSSING(1, cell.y + max(step_dir.y, 0)));
 
     float t_enter = t0;
     int entered_across = -1; // axis crossed into the current texel, -1 at the start
     vec4 previous = vec4(0.0);
-    bool previous_above = true; // the ray left the previous texel above its top (or it was empty)
+    ivec2 previous_cell = cell;
+    bool previous_unread = false; // the previous texel lies in a skipped cell: read it if needed
+    bool previous_above = true;   // the ray left the previous texel above its top (or it was empty)
     bool hidden = false;
-    int steps = int(abs(p.x - capture_from_plane((ro + t1 * rd).xy).x) + abs(p.y - capture_from_plane((ro + t1 * rd).xy).y)) + 3;
-    steps = min(steps, 1024);
+    ivec2 block = ivec2(-1);
+    vec2 p1 = capture_from_plane((ro + t1 * rd).xy);
+    int steps = min(int(abs(p0.x - p1.x) + abs(p0.y - p1.y)) + 3, 1024);
     for (int i = 0; i < steps; ++i) {
+        if (any(lessThan(cell, crop_lo)) || any(greaterThan(cell, crop_hi))) break; // left the crop
+        ivec2 cell_block = (cell - view.crop.xy) / ATLAS_CELL;
+        if (cell_block != block) {
+            block = cell_block;
+            ivec2 block_lo = view.crop.xy + block * ATLAS_CELL;
+            float t_leave = min(min(CROSSING(0, block_lo.x + (step_dir.x > 0 ? ATLAS_CELL : 0)),
+                                    CROSSING(1, block_lo.y + (step_dir.y > 0 ? ATLAS_CELL : 0))), t1);
+            if (ro.z + t_leave * rd.z > cell_top(view, cell)) {
+                if (t_leave >= t1) break;
+                // jump to the texel after the cell's exit
+                int axis = CROSSING(0, block_lo.x + (step_dir.x > 0 ? ATLAS_CELL : 0)) <
+                                   CROSSING(1, block_lo.y + (step_dir.y > 0 ? ATLAS_CELL : 0)) ? 0 : 1;
+                vec2 p = p0 + (t_leave - t0) * dp;
+                ivec2 next = ivec2(floor(p));
+                next[axis] = block_lo[axis] + (step_dir[axis] > 0 ? ATLAS_CELL : -1);
+                previous_cell = next;
+                previous_cell[axis] -= step_dir[axis];
+                previous_unread = true;
+                previous_above = true;
+                entered_across = axis;
+                cell = next;
+                t_next = vec2(CROSSING(0, cell.x + max(step_dir.x, 0)), CROSSING(1, cell.y + max(step_dir.y, 0)));
+                t_enter = t_leave;
+                continue;
+            }
+        }
         vec4 current = height_texel(view, cell);
         float t_exit = min(min(t_next.x, t_next.y), t1);
         if (current.x > 0.5) {
             float z_enter = ro.z + t_enter * rd.z;
             if (z_enter <= current.y) {
                 // entered below the top: a wall of this surface, or the far side of a depth edge
+                if (entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell);
                 if (entered_across >= 0 && previous.x > 0.5 && previous_above && linked(previous, current, entered_across, texel))
                     return vec2(t_enter, RAY_HIT);
                 hidden = true;
@@ -223,19 +269,21 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d)
             }
         }
         previous = current;
+        previous_unread = false;
         previous_above = current.x < 0.5 || ro.z + t_exit * rd.z > current.y;
         if (t_exit >= t1) break;
         if (t_next.x < t_next.y) {
             cell.x += step_dir.x;
-            t_next.x += t_delta.x;
+            t_next.x = CROSSING(0, cell.x + max(step_dir.x, 0));
             entered_across = 0;
         } else {
             cell.y += step_dir.y;
-            t_next.y += t_delta.y;
+            t_next.y = CROSSING(1, cell.y + max(step_dir.y, 0));
             entered_across = 1;
         }
         t_enter = t_exit;
     }
+    #undef CROSSING
     return vec2(-1.0, hidden ? RAY_HIDDEN : RAY_MISS);
 }
 

@@ -17,6 +17,10 @@
 #define ATLAS_MAX_ARRAYS 8
 #define ATLAS_COLOR_TEXTURE 0        // colour (lit or albedo), premultiplied by coverage; A: coverage
 #define ATLAS_NORMAL_DEPTH_TEXTURE 8 // normal * 0.5 + 0.5 and depth, premultiplied by coverage
+#define ATLAS_CELL_TEXTURE 17        // one array, layer = global page: per ATLAS_CELL x ATLAS_CELL texel
+                                     // cell, the nearest depth code of its covered texels (R8;
+                                     // 255 when empty), so the corrected walk skips cells it passes over
+#define ATLAS_CELL 16                // texels per cell side: view_atlas.h k_cell, crops sit on cells
 
 // styles (RenderOptions::style)
 #define STYLE_SEED 0       // the paper: the nearest view on a camera-facing quad, no correction
