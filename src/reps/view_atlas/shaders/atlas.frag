@@ -38,6 +38,10 @@ uniform int counting; // 1: add this fragment and its texture reads to the count
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 
 layout(location = 0) out vec4 out_color;
+// Every style writes a depth at or behind its proxy's (corrected: the hit, clamped to the hull's
+// face, which it can pass only by a texel of another view's height field), so early depth tests
+// can reject fragments behind what is drawn (crowds).
+layout(depth_greater) out float gl_FragDepth;
 
 // A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
 // sampler is chosen by branching (indices into sampler arrays must be dynamically uniform).
@@ -468,6 +472,6 @@ void main()
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;
     vec3 albedo = color_sum.rgb / t_weight;
     vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world, p_world);
-    gl_FragDepth = window_depth(p_world);
+    gl_FragDepth = max(window_depth(p_world), gl_FragCoord.z);
     out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
 }
