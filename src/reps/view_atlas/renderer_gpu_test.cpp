@@ -14,6 +14,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <set>
@@ -340,6 +342,34 @@ TEST(ViewAtlasRenderer, DebugViewsShowPerPixelViewsAndNormals)
     Result<std::unique_ptr<Renderer>> refused = make_renderer(*package, boxes);
     ASSERT_FALSE(refused.is_ok());
     EXPECT_NE(refused.status().message().find("boxes"), std::string::npos);
+}
+
+// Instances turned, scaled and mirrored draw where and as the mesh does: each pixel's ray is taken
+// into its instance's object space before views are chosen, and the hull is drawn without culling.
+TEST(ViewAtlasRenderer, CorrectedInstancesMatchTheMeshUnderTheirTransforms)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "2"}, {"resolution", "128"}, {"page-size", "2048"}});
+    ASSERT_TRUE(package);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
+    Result<std::unique_ptr<Renderer>> corrected = atlas_renderer(*package, "corrected");
+    ASSERT_TRUE(truth.is_ok() && corrected.is_ok());
+    std::vector<glm::mat4> transforms = {
+        glm::translate(glm::mat4(1.0f), glm::vec3(-2.2f, 0.0f, 0.0f)) *
+            glm::rotate(glm::mat4(1.0f), glm::radians(70.0f), glm::normalize(glm::vec3(1.0f, 0.3f, 0.0f))),
+        glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 0.4f, -1.0f)) * glm::scale(glm::mat4(1.0f), glm::vec3(0.6f)),
+        glm::translate(glm::mat4(1.0f), glm::vec3(2.2f, -0.3f, 0.5f)) * glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f)) *
+            glm::rotate(glm::mat4(1.0f), glm::radians(-35.0f), glm::vec3(0.0f, 0.0f, 1.0f))};
+    Camera camera = look_at_camera({0.5f, 2.0f, 7.0f}, {0, 0, 0}, {0, 1, 0}, 45.0f, 2.0f, 0.5f, 30.0f);
+    Light light = default_light(camera);
+    Result<RenderedImage> a = render_offscreen(**truth, camera, light, 256, 128, transforms);
+    Result<RenderedImage> b = render_offscreen(**corrected, camera, light, 256, 128, transforms);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    ImageMetrics m = compare_images(a->color, b->color);
+    std::printf("three instances: IoU %.3f, Luv %.2f\n", m.iou, m.luv_mean);
+    EXPECT_GT(m.truth_pixels, 3000u);
+    EXPECT_GT(m.iou, 0.95);
+    EXPECT_LT(m.luv_mean, 4.0);
 }
 
 TEST(ViewAtlasRenderer, BakesAreByteIdentical)
