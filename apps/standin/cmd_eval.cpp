@@ -71,6 +71,7 @@ static std::string command_line(const EvalArgs& args)
         line += " --march " + args.options.march + " --steps " + std::to_string(args.options.steps) + " --hit-range " +
                 std::to_string(args.options.hit_range);
     if (args.options.style != RenderOptions{}.style) line += " --style " + args.options.style;
+    if (args.options.texture_format != RenderOptions{}.texture_format) line += " --texture-format " + args.options.texture_format;
     if (args.no_coarse) line += " --no-coarse";
     if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
     line += " --frames " + std::to_string(args.frames);

@@ -89,6 +89,11 @@ void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coar
                        "'octahedral-baseline' (3 views, one parallax step) or 'seed' (nearest view, no correction)")
         ->check(CLI::IsMember({"corrected", "octahedral-baseline", "seed"}))
         ->capture_default_str();
+    command.add_option("--texture-format", options.texture_format,
+                       "View atlas colour pages on the GPU: 'rgba8' (default) or 'bc3' (DXT5 compressed at load, a "
+                       "quarter of the colour memory, 5/8 of the total)")
+        ->check(CLI::IsMember({"rgba8", "bc3"}))
+        ->capture_default_str();
 }
 
 void add_shadow_options(CLI::App& command, ShadowArgs& args)

@@ -33,6 +33,9 @@ struct RenderOptions {
     float hit_range = 0.01f;      // seed march: hit range e, fraction of the box depth
     bool coarse_mesh = true;      // enhanced billboards: fill holes with the package's coarse mesh
     std::string style = "corrected"; // view atlas: "seed", "octahedral-baseline", "corrected"
+    // View atlas colour pages on the GPU: "rgba8", or "bc3" (DXT5, compressed at load time: a
+    // quarter of the colour memory; normal-depth stays RGBA8, the walk needs its exact depths).
+    std::string texture_format = "rgba8";
     std::string debug_view;       // "", "billboard", "depth", "normal", "fetches", "boxes" (billboard boxes as lines)
 };
 

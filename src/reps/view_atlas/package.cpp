@@ -175,6 +175,8 @@ nlohmann::json ViewAtlasPackage::summary() const
     for (const View& v : views) texels += std::uint64_t(v.width) * v.height;
     std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * color_pages.size();
     std::uint64_t gpu_bytes = page_texels * 4 * (has_surface() ? 2 : 1) * 4 / 3; // RGBA8 pages with mips
+    // --texture-format bc3: colour pages at one byte per texel (DXT5), normal-depth still RGBA8
+    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + (has_surface() ? 4 : 0)) * 4 / 3;
     return {{"representation", representation()},
             {"source", source.file_name},
             {"layout", settings.layout},
@@ -188,6 +190,7 @@ nlohmann::json ViewAtlasPackage::summary() const
             {"crop_texels", texels},
             {"uncropped_texels", std::uint64_t(settings.resolution) * settings.resolution * views.size()},
             {"gpu_texture_bytes", gpu_bytes},
+            {"gpu_texture_bytes_bc3", gpu_bytes_bc3},
             {"package_bytes", package_bytes}};
 }
 

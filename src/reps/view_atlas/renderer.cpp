@@ -23,6 +23,9 @@
 #include "gpu/gl.h"
 #include "reps/view_atlas/shaders/atlas_layout.glsl"
 
+#include <squish.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -227,6 +230,86 @@ Result<gpu::Texture> upload_cell_tops(const ViewAtlasPackage& package)
     return texture;
 }
 
+// The next mip level of a premultiplied RGBA8 square: the mean of each 2x2 block, rounded, as
+// glGenerateMipmap's box filter does.
+std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size)
+{
+    const int half = std::max(size / 2, 1);
+    std::vector<std::uint8_t> out(std::size_t(half) * half * 4);
+    for (int y = 0; y < half; ++y)
+        for (int x = 0; x < half; ++x)
+            for (int c = 0; c < 4; ++c) {
+                auto at = [&](int dx, int dy) {
+                    return unsigned(level[(std::size_t(std::min(2 * y + dy, size - 1)) * size + std::min(2 * x + dx, size - 1)) * 4 + c]);
+                };
+                out[(std::size_t(y) * half + x) * 4 + c] = std::uint8_t((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2) / 4);
+            }
+    return out;
+}
+
+// DXT5 blocks of an RGBA8 square (side a multiple of 4 or below 4), rows of blocks in parallel
+// (each block depends on its texels only, so the result does not depend on the thread count).
+std::vector<std::uint8_t> compress_bc3(const std::vector<std::uint8_t>& rgba, int size)
+{
+    const int blocks = std::max((size + 3) / 4, 1);
+    std::vector<std::uint8_t> out(std::size_t(blocks) * blocks * 16);
+    tbb::parallel_for(0, blocks, [&](int by) {
+        for (int bx = 0; bx < blocks; ++bx) {
+            std::uint8_t texels[16 * 4];
+            int mask = 0;
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    int x = bx * 4 + i, y = by * 4 + j, k = j * 4 + i;
+                    if (x < size && y < size) {
+                        mask |= 1 << k;
+                        std::copy_n(&rgba[(std::size_t(y) * size + x) * 4], 4, &texels[k * 4]);
+                    } else {
+                        std::fill_n(&texels[k * 4], 4, std::uint8_t(0));
+                    }
+                }
+            squish::CompressMasked(texels, mask, &out[(std::size_t(by) * blocks + bx) * 16],
+                                   squish::kDxt5 | squish::kColourClusterFit);
+        }
+    });
+    return out;
+}
+
+// Colour pages [first, first + count) as DXT5 (RenderOptions::texture_format "bc3"): premultiplied,
+// mip levels made here (compressed formats cannot be mip-mapped by the GL), each level compressed.
+// Coverage survives exactly: a block whose alpha is only 0 and 255 stores both as its end points.
+Result<gpu::Texture> upload_compressed_color_pages(const std::vector<ImageRGBA8>& pages, int size, int first, int count)
+{
+    while (glGetError() != GL_NO_ERROR) {}
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    gpu::Texture texture(name);
+    glTextureStorage3D(name, k_mip_levels, GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, size, size, GLsizei(std::max(count, 1)));
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
+                                                " DXT5 layers of " + std::to_string(size) + "²");
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
+        const ImageRGBA8& page = pages[std::size_t(first + k)];
+        std::vector<std::uint8_t> level = premultiplied(page, page, true);
+        int level_size = size;
+        for (int m = 0; m < k_mip_levels; ++m) {
+            if (m > 0) {
+                level = half_level(level, level_size);
+                level_size = std::max(level_size / 2, 1);
+            }
+            std::vector<std::uint8_t> blocks = compress_bc3(level, level_size);
+            glCompressedTextureSubImage3D(name, m, 0, 0, GLint(k), level_size, level_size, 1,
+                                          GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, GLsizei(blocks.size()), blocks.data());
+        }
+    }
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " uploading DXT5 pages");
+    return texture;
+}
+
 // Pages [first, first + count) of one map in one texture array.
 Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
                                   bool color, int size, int first, int count)
@@ -257,12 +340,14 @@ Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const st
 
 // Every page of one map, split as planned.
 Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>& pages, bool color,
-                  const ArrayPlan& plan, std::vector<gpu::Texture>& arrays)
+                  const ArrayPlan& plan, bool compressed, std::vector<gpu::Texture>& arrays)
 {
     for (int a = 0; a < plan.arrays; ++a) {
         int first = a * plan.pages_per_array;
         int count = std::min(plan.pages_per_array, std::max(int(pages.size()), 1) - first);
-        Result<gpu::Texture> texture = upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count);
+        Result<gpu::Texture> texture =
+            compressed ? upload_compressed_color_pages(pages, package.settings.page_size, first, count)
+                       : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count);
         if (!texture) {
             std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
             return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + (color ? "colour" : "normal-depth") +
@@ -331,6 +416,9 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     if (style == STYLE_CORRECTED && package.settings.projection != "ortho")
         return error(StatusCode::unsupported, "view atlas: --style corrected needs orthographic views (bake with "
                                               "--projection ortho); use --style seed or octahedral-baseline");
+    if (options.texture_format != "rgba8" && options.texture_format != "bc3")
+        return error(StatusCode::invalid_argument,
+                     "view atlas: --texture-format must be 'rgba8' or 'bc3', not '" + options.texture_format + "'");
     int debug_view = debug_view_code(options.debug_view);
     if (debug_view < 0)
         return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view +
@@ -354,9 +442,14 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->program_ = std::move(*program);
 
     int size = package.settings.page_size;
-    STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, *plan, renderer->color_arrays_));
+    const bool compressed = options.texture_format == "bc3";
+    if (compressed && !epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc"))
+        return error(StatusCode::unsupported, "view atlas: --texture-format bc3 needs GL_EXT_texture_compression_s3tc, "
+                                              "which this OpenGL lacks; use rgba8");
+    STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, *plan, compressed, renderer->color_arrays_));
     if (package.has_surface()) {
-        STANDIN_RETURN_IF_ERROR(upload_map(package, package.normal_depth_pages, false, *plan, renderer->normal_depth_arrays_));
+        STANDIN_RETURN_IF_ERROR(
+            upload_map(package, package.normal_depth_pages, false, *plan, false, renderer->normal_depth_arrays_));
         Result<gpu::Texture> cell_tops = upload_cell_tops(package);
         if (!cell_tops) return cell_tops.status();
         renderer->cell_tops_ = std::move(*cell_tops);

@@ -372,6 +372,42 @@ TEST(ViewAtlasRenderer, CorrectedInstancesMatchTheMeshUnderTheirTransforms)
     EXPECT_LT(m.luv_mean, 4.0);
 }
 
+// Compact colour pages (DXT5, compressed at load): coverage is kept exactly (binary alpha is a
+// block's end points), colour within DXT's 5:6:5 end points, for every style.
+TEST(ViewAtlasRenderer, CompressedColourPagesKeepCoverageAndColour)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "2"}, {"resolution", "96"}, {"page-size", "1024"}});
+    ASSERT_TRUE(package);
+    OrbitView view;
+    view.azimuth_degrees = 29.0f;
+    view.elevation_degrees = 33.0f;
+    Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
+    for (const char* style : {"seed", "corrected"}) {
+        RenderOptions options;
+        options.style = style;
+        Result<std::unique_ptr<Renderer>> plain = make_renderer(*package, options);
+        options.texture_format = "bc3";
+        Result<std::unique_ptr<Renderer>> compact = make_renderer(*package, options);
+        ASSERT_TRUE(plain.is_ok() && compact.is_ok()) << compact.status().message();
+        Result<RenderedImage> a = render_offscreen(**plain, camera, default_light(camera), 128, 128);
+        Result<RenderedImage> b = render_offscreen(**compact, camera, default_light(camera), 128, 128);
+        ASSERT_TRUE(a.is_ok() && b.is_ok());
+        ImageMetrics m = compare_images(a->color, b->color);
+        std::printf("%s: bc3 against rgba8: IoU %.4f, Luv %.2f, PSNR %.1f dB\n", style, m.iou, m.luv_mean, m.psnr);
+        EXPECT_GT(m.truth_pixels, 2000u);
+        if (std::string(style) == "corrected") {
+            EXPECT_EQ(m.iou, 1.0) << "the walk does not read the colour pages";
+        }
+        EXPECT_GT(m.iou, 0.995);
+        EXPECT_LT(m.luv_mean, 2.5);
+        EXPECT_GT(m.psnr, 35.0);
+    }
+    RenderOptions bad;
+    bad.texture_format = "bc7";
+    EXPECT_FALSE(make_renderer(*package, bad).is_ok());
+}
+
 TEST(ViewAtlasRenderer, BakesAreByteIdentical)
 {
     Mesh mesh = torus();
