@@ -408,6 +408,39 @@ TEST(ViewAtlasRenderer, CompressedColourPagesKeepCoverageAndColour)
     EXPECT_FALSE(make_renderer(*package, bad).is_ok());
 }
 
+// Seen small (mip levels above 0), a parallax step that leaves a view's crop reads nothing: it used
+// to be clamped to the crop's border and repeated the border's texels outwards as streaks.
+TEST(ViewAtlasRenderer, BaselineReadsNothingOutsideACrop)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "2"}, {"resolution", "128"}, {"page-size", "2048"}});
+    ASSERT_TRUE(package);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
+    Result<std::unique_ptr<Renderer>> baseline = atlas_renderer(*package, "octahedral-baseline");
+    ASSERT_TRUE(truth.is_ok() && baseline.is_ok());
+    const int size = 48;
+    for (float azimuth : {23.0f, 77.0f, 161.0f}) {
+        OrbitView view;
+        view.azimuth_degrees = azimuth;
+        view.elevation_degrees = 20.0f;
+        Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
+        Result<RenderedImage> a = render_offscreen(**truth, camera, default_light(camera), size, size);
+        Result<RenderedImage> b = render_offscreen(**baseline, camera, default_light(camera), size, size);
+        ASSERT_TRUE(a.is_ok() && b.is_ok());
+        int far_spill = 0;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x) {
+                if (b->color.at(x, y)[3] == 0) continue;
+                bool near_truth = false;
+                for (int v = std::max(y - 3, 0); v <= std::min(y + 3, size - 1) && !near_truth; ++v)
+                    for (int u = std::max(x - 3, 0); u <= std::min(x + 3, size - 1) && !near_truth; ++u)
+                        near_truth = a->color.at(u, v)[3] != 0;
+                far_spill += !near_truth;
+            }
+        EXPECT_EQ(far_spill, 0) << "azimuth " << azimuth << ": pixels drawn more than 3 pixels from the model";
+    }
+}
+
 TEST(ViewAtlasRenderer, BakesAreByteIdentical)
 {
     Mesh mesh = torus();

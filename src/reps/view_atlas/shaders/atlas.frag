@@ -75,10 +75,12 @@ vec4 read_array(int map, int array, vec3 uvw, float lod)
     return map == MAP_COLOR ? textureLod(color_pages[0], uvw, lod) : textureLod(normal_depth_pages[0], uvw, lod);
 }
 
-// A page sample of map MAP_COLOR or MAP_NORMAL_DEPTH at an atlas texel position, clamped inside
-// the view's crop at that level.
+// A page sample of map MAP_COLOR or MAP_NORMAL_DEPTH at an atlas texel position: empty outside the
+// view's crop, clamped inside it at that level (so that filtering never reads a neighbouring crop).
 vec4 sample_page(int map, ViewData view, vec2 texel, float lod)
 {
+    if (any(lessThan(texel, vec2(view.atlas.yz))) || any(greaterThan(texel, vec2(view.atlas.yz + view.crop.zw))))
+        return vec4(0.0); // clamping would repeat the crop's border texels outwards as streaks
     lod = clamp(lod, 0.0, float(MAX_LOD));
     float margin = 0.5 * exp2(ceil(lod));
     vec2 lo = vec2(view.atlas.yz) + margin, hi = vec2(view.atlas.yz + view.crop.zw) - margin;
