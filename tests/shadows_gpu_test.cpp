@@ -219,23 +219,6 @@ TEST(Shadows, OffIsTheFrameWithoutAShadowMap)
     EXPECT_FALSE(render_offscreen(**renderer, camera, light, 64, 64, {}, bad).is_ok());
 }
 
-std::unique_ptr<Package> bake_package(const Mesh& mesh, const std::string& representation,
-                                      const std::vector<std::pair<std::string, std::string>>& values)
-{
-    SourceInfo source;
-    source.bounds = mesh.bounds();
-    BakeParameters parameters;
-    for (const auto& [name, value] : values) parameters.set(name, value);
-    Progress progress;
-    BakeContext context{mesh, source, parameters, progress, 0};
-    const Representation* r = find_representation(representation);
-    EXPECT_TRUE(r);
-    if (!r) return nullptr;
-    Result<std::unique_ptr<Package>> package = r->bake(context);
-    EXPECT_TRUE(package.is_ok()) << package.status().message();
-    return package.is_ok() ? std::move(*package) : nullptr;
-}
-
 // How the dark plate pixels of a stand-in overlap the mesh's (over pixels both show as plate).
 struct ShadowOverlap {
     double iou = 0.0;
@@ -249,7 +232,7 @@ ShadowOverlap standin_shadow_overlap(const std::string& representation,
 {
     test::gpu_context();
     Mesh mesh = plate_and_sphere();
-    std::unique_ptr<Package> package = bake_package(mesh, representation, bake_values);
+    std::unique_ptr<Package> package = test::bake(mesh, representation, bake_values);
     if (!package) return {};
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
     Result<std::unique_ptr<Renderer>> standin = find_representation(representation)->make_renderer(*package, options);

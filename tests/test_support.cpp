@@ -70,4 +70,21 @@ GpuContext& gpu_context()
     return **context;
 }
 
+std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
+                              const std::vector<std::pair<std::string, std::string>>& values)
+{
+    SourceInfo source;
+    source.bounds = mesh.bounds();
+    BakeParameters parameters;
+    for (const auto& [name, value] : values) parameters.set(name, value);
+    Progress progress;
+    BakeContext context{mesh, source, parameters, progress, 1};
+    const Representation* r = find_representation(representation);
+    EXPECT_TRUE(r) << representation;
+    if (!r) return nullptr;
+    Result<std::unique_ptr<Package>> package = r->bake(context);
+    EXPECT_TRUE(package.is_ok()) << package.status().message();
+    return package.is_ok() ? std::move(*package) : nullptr;
+}
+
 } // namespace standin::test

@@ -1,9 +1,14 @@
 // Helpers shared by the tests: paths, running the CLI, one GL context per test process.
 #pragma once
 
+#include <standin/mesh.h>
+#include <standin/package.h>
 #include <standin/render.h>
 
+#include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace standin::test {
 
@@ -23,5 +28,10 @@ CommandResult run_cli(const std::string& arguments);
 
 // The process-wide headless GL context, created on first use; fails the test if none exists.
 GpuContext& gpu_context();
+
+// Bakes `mesh` as `representation` (registry name) with bake parameters NAME=VALUE on one thread;
+// fails the test and returns null when the baker refuses.
+std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
+                              const std::vector<std::pair<std::string, std::string>>& values);
 
 } // namespace standin::test

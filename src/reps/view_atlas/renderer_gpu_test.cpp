@@ -37,15 +37,7 @@ Mesh torus()
 std::unique_ptr<Package> bake_atlas(const Mesh& mesh, const std::vector<std::pair<std::string, std::string>>& values)
 {
     test::gpu_context();
-    SourceInfo source;
-    source.bounds = mesh.bounds();
-    BakeParameters parameters;
-    for (const auto& [name, value] : values) parameters.set(name, value);
-    Progress progress;
-    BakeContext context{mesh, source, parameters, progress, 1};
-    Result<std::unique_ptr<Package>> package = bake(context);
-    EXPECT_TRUE(package.is_ok()) << package.status().message();
-    return package.is_ok() ? std::move(*package) : nullptr;
+    return test::bake(mesh, "view-atlas", values);
 }
 
 ImageMetrics compare(Renderer& truth, Renderer& standin, const Mesh& mesh, const OrbitView& view, int size)
