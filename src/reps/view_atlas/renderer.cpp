@@ -45,23 +45,54 @@ struct ViewGpu {
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
 static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
+// Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth codes of its
+// covered texels (255 / 0 when empty), from one pass over the pages: the corrected walk skips cells
+// a ray passes above (nearest codes, uploaded by upload_cell_tops), and each view's height range is
+// the range over its crop's cells (crops sit on whole cells).
+struct CellDepths {
+    int cells = 0;                         // per page side
+    std::vector<std::uint8_t> nearest, farthest; // page-major, then row-major cells
+};
+
+CellDepths cell_depths(const ViewAtlasPackage& package)
+{
+    CellDepths depths;
+    if (!package.has_surface()) return depths;
+    const int size = package.settings.page_size;
+    depths.cells = size / ATLAS_CELL;
+    const std::size_t per_page = std::size_t(depths.cells) * depths.cells;
+    depths.nearest.assign(per_page * package.color_pages.size(), 255);
+    depths.farthest.assign(per_page * package.color_pages.size(), 0);
+    for (std::size_t page = 0; page < package.color_pages.size(); ++page) {
+        const ImageRGBA8& color = package.color_pages[page];
+        const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x)
+                if (color.at(x, y)[3] >= 128) {
+                    std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
+                    std::uint8_t code = normal_depth.at(x, y)[3];
+                    depths.nearest[cell] = std::min(depths.nearest[cell], code);
+                    depths.farthest[cell] = std::max(depths.farthest[cell], code);
+                }
+    }
+    return depths;
+}
+
 // The heights above the centre plane of a view's nearest and farthest stored surface (x, y; x < y
 // when the view holds nothing), so the corrected style walks only the slab between them.
-glm::vec2 depth_range(const ViewAtlasPackage& package, const View& view)
+glm::vec2 depth_range(const ViewAtlasPackage& package, const CellDepths& depths, const View& view)
 {
-    glm::vec2 range(-1.0f, 1.0f);
-    if (!package.has_surface() || view.width == 0) return range;
-    int nearest = 256, farthest = -1; // depth codes: 0 nearest the capture camera
-    const ImageRGBA8& color = package.color_pages[std::size_t(view.page)];
-    const ImageRGBA8& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
-    for (int y = view.atlas_y; y < view.atlas_y + view.height; ++y)
-        for (int x = view.atlas_x; x < view.atlas_x + view.width; ++x)
-            if (color.at(x, y)[3] >= 128) {
-                int code = normal_depth.at(x, y)[3];
-                nearest = std::min(nearest, code);
-                farthest = std::max(farthest, code);
-            }
-    if (farthest < 0) return range;
+    if (depths.cells == 0 || view.width == 0) return {-1.0f, 1.0f};
+    int nearest = 255, farthest = -1;
+    const std::size_t page = std::size_t(view.page) * depths.cells * depths.cells;
+    for (int cy = view.atlas_y / ATLAS_CELL; cy < (view.atlas_y + view.height) / ATLAS_CELL; ++cy)
+        for (int cx = view.atlas_x / ATLAS_CELL; cx < (view.atlas_x + view.width) / ATLAS_CELL; ++cx) {
+            std::size_t cell = page + std::size_t(cy) * depths.cells + std::size_t(cx);
+            if (depths.nearest[cell] > depths.farthest[cell]) continue; // empty
+            nearest = std::min<int>(nearest, depths.nearest[cell]);
+            farthest = std::max<int>(farthest, depths.farthest[cell]);
+        }
+    if (farthest < 0) return {-1.0f, 1.0f};
     auto height = [&](int code) { return package.radius - 2.0f * package.radius * float(code) / 255.0f; };
     return {height(nearest), height(farthest)};
 }
@@ -198,35 +229,40 @@ Result<ArrayPlan> plan_arrays(const ViewAtlasPackage& package, int max_layers)
     return plan;
 }
 
-// Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest depth code of its covered texels (255
-// when empty): the corrected walk skips the cells a ray passes above. One R8 texture array, one layer
-// per page (page_size / ATLAS_CELL squared texels each).
-Result<gpu::Texture> upload_cell_tops(const ViewAtlasPackage& package)
+// The cells' nearest depth codes as one R8 texture array, one layer per page.
+Result<gpu::Texture> upload_cell_tops(const CellDepths& depths, int pages)
 {
-    const int size = package.settings.page_size, cells = size / ATLAS_CELL;
-    const int pages = std::max(int(package.color_pages.size()), 1);
     GLuint name = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
     gpu::Texture texture(name);
-    glTextureStorage3D(name, 1, GL_R8, cells, cells, pages);
+    glTextureStorage3D(name, 1, GL_R8, depths.cells, depths.cells, std::max(pages, 1));
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    std::vector<std::uint8_t> tops(std::size_t(cells) * cells);
-    for (std::size_t page = 0; page < package.normal_depth_pages.size(); ++page) {
-        std::fill(tops.begin(), tops.end(), std::uint8_t(255));
-        const ImageRGBA8& color = package.color_pages[page];
-        const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
-        for (int y = 0; y < size; ++y)
-            for (int x = 0; x < size; ++x)
-                if (color.at(x, y)[3] >= 128) {
-                    std::uint8_t& top = tops[std::size_t(y / ATLAS_CELL) * cells + std::size_t(x / ATLAS_CELL)];
-                    top = std::min(top, normal_depth.at(x, y)[3]);
-                }
-        glTextureSubImage3D(name, 0, 0, 0, GLint(page), cells, cells, 1, GL_RED, GL_UNSIGNED_BYTE, tops.data());
-    }
+    const std::size_t per_page = std::size_t(depths.cells) * depths.cells;
+    for (int page = 0; page < pages; ++page)
+        glTextureSubImage3D(name, 0, 0, 0, page, depths.cells, depths.cells, 1, GL_RED, GL_UNSIGNED_BYTE,
+                            depths.nearest.data() + std::size_t(page) * per_page);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " uploading cell heights");
+    return texture;
+}
+
+// An empty texture array of `count` pages of size² with k_mip_levels levels, filtered trilinearly.
+Result<gpu::Texture> allocate_page_array(GLenum format, int size, int count)
+{
+    while (glGetError() != GL_NO_ERROR) {} // errors from before are not this allocation's
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    gpu::Texture texture(name);
+    glTextureStorage3D(name, k_mip_levels, format, size, size, GLsizei(std::max(count, 1)));
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
+                                                " layers of " + std::to_string(size) + "²");
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return texture;
 }
 
@@ -279,18 +315,10 @@ std::vector<std::uint8_t> compress_bc3(const std::vector<std::uint8_t>& rgba, in
 // Coverage survives exactly: a block whose alpha is only 0 and 255 stores both as its end points.
 Result<gpu::Texture> upload_compressed_color_pages(const std::vector<ImageRGBA8>& pages, int size, int first, int count)
 {
-    while (glGetError() != GL_NO_ERROR) {}
-    GLuint name = 0;
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
-    gpu::Texture texture(name);
-    glTextureStorage3D(name, k_mip_levels, GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, size, size, GLsizei(std::max(count, 1)));
-    if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
-                                                " DXT5 layers of " + std::to_string(size) + "²");
-    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    Result<gpu::Texture> allocated = allocate_page_array(GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, size, count);
+    if (!allocated) return allocated.status();
+    gpu::Texture texture = std::move(*allocated);
+    GLuint name = texture.get();
     for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
         const ImageRGBA8& page = pages[std::size_t(first + k)];
         std::vector<std::uint8_t> level = premultiplied(page, page, true);
@@ -314,18 +342,10 @@ Result<gpu::Texture> upload_compressed_color_pages(const std::vector<ImageRGBA8>
 Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
                                   bool color, int size, int first, int count)
 {
-    while (glGetError() != GL_NO_ERROR) {} // errors from before are not this allocation's
-    GLuint name = 0;
-    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
-    gpu::Texture texture(name);
-    glTextureStorage3D(name, k_mip_levels, GL_RGBA8, size, size, GLsizei(std::max(count, 1)));
-    if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
-                                                " layers of " + std::to_string(size) + "²");
-    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    Result<gpu::Texture> allocated = allocate_page_array(GL_RGBA8, size, count);
+    if (!allocated) return allocated.status();
+    gpu::Texture texture = std::move(*allocated);
+    GLuint name = texture.get();
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
         std::size_t page = std::size_t(first + k);
@@ -442,6 +462,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->program_ = std::move(*program);
 
     int size = package.settings.page_size;
+    const CellDepths depths = cell_depths(package); // one pass over the pages for the walk's tables
     const bool compressed = options.texture_format == "bc3";
     if (compressed && !epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc"))
         return error(StatusCode::unsupported, "view atlas: --texture-format bc3 needs GL_EXT_texture_compression_s3tc, "
@@ -450,7 +471,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     if (package.has_surface()) {
         STANDIN_RETURN_IF_ERROR(
             upload_map(package, package.normal_depth_pages, false, *plan, false, renderer->normal_depth_arrays_));
-        Result<gpu::Texture> cell_tops = upload_cell_tops(package);
+        Result<gpu::Texture> cell_tops = upload_cell_tops(depths, int(package.color_pages.size()));
         if (!cell_tops) return cell_tops.status();
         renderer->cell_tops_ = std::move(*cell_tops);
     }
@@ -460,7 +481,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         views.push_back({glm::vec4(v.direction, 0.0f), glm::vec4(v.axis_u, 0.0f), glm::vec4(v.axis_v, 0.0f),
                          glm::ivec4(v.crop_x, v.crop_y, v.width, v.height), glm::ivec4(v.page % plan->pages_per_array, v.atlas_x, v.atlas_y,
                                                                        v.page / plan->pages_per_array),
-                         glm::vec4(depth_range(package, v), 0.0f, 0.0f)});
+                         glm::vec4(depth_range(package, depths, v), 0.0f, 0.0f)});
     renderer->views_ = gpu::make_buffer(views);
     renderer->index_ = gpu::make_buffer(build_index(package.views));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
