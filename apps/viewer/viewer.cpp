@@ -11,7 +11,8 @@
 #include <standin/image.h>
 #include <standin/package.h>
 
-// epoxy (gpu/gl.h) declares the GL functions; GLFW must not include a GL header of its own
+// epoxy declares the GL functions; GLFW must not include a GL header of its own
+#include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>

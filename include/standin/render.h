@@ -117,6 +117,57 @@ struct ShadowOptions {
 // include, textures sampled per pixel. Needs a current context.
 Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh);
 
+// An offscreen target: RGBA8 colour and 32-bit float depth, no multisampling (exact, repeatable
+// pixels). What render_offscreen and the benchmarks draw into; an application that composes several
+// renderers' pictures (the viewer) keeps a few. Needs a current context.
+class RenderTarget {
+public:
+    // Refuses sizes outside 1..GL_MAX_RENDERBUFFER_SIZE with invalid_argument naming them, and
+    // reports gpu_error when the driver cannot allocate the target.
+    static Result<RenderTarget> create(int width, int height);
+    RenderTarget(RenderTarget&&) noexcept;
+    RenderTarget& operator=(RenderTarget&&) noexcept;
+    ~RenderTarget();
+
+    // Binds it as the framebuffer, sets the viewport to its size, depth testing (GL_LESS, writes
+    // on), no blending, no culling.
+    void bind() const;
+    // Clears colour to `rgba` and depth to 1.
+    void clear(const float rgba[4]) const;
+    int width() const;
+    int height() const;
+    unsigned framebuffer() const;   // the GL framebuffer name
+    unsigned color_texture() const; // the GL texture name of the colour attachment
+    // Read back, top row first.
+    ImageRGBA8 read_color() const;
+    std::vector<float> read_depth() const;
+
+private:
+    RenderTarget();
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// GPU time of the commands between begin() and end() (a GL_TIME_ELAPSED query). On llvmpipe the
+// query misses deferred rasterisation: compare wall time to glFinish there. Needs a current context.
+class GpuTimer {
+public:
+    GpuTimer();
+    ~GpuTimer();
+    GpuTimer(const GpuTimer&) = delete;
+    GpuTimer& operator=(const GpuTimer&) = delete;
+    void begin();
+    void end();
+    double milliseconds(); // waits for the result
+
+private:
+    unsigned query_ = 0;
+};
+
+// Where shaders are read from instead of the copies embedded at build time: the src/ folder of a
+// source tree (an interactive viewer reloads them after edits). Empty: embedded only.
+void set_shader_source_directory(const std::string& src_root);
+
 // The result of an offscreen render: colour (transparent background) and window-space depth
 // (1 where nothing was drawn), both top row first.
 struct RenderedImage {

@@ -12,6 +12,9 @@
 #include <cmath>
 #include <numeric>
 
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
+
 namespace standin {
 
 namespace {

@@ -4,7 +4,7 @@
 // encoders); reading validates every field and every file, and refuses what it does not
 // understand with a status naming the file and the field.
 #include "reps/enhanced_billboards/billboards.h"
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
 
 #include <standin/files.h>
 

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cstdio>
 
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
+
 namespace standin::billboards {
 
 namespace {

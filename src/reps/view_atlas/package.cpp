@@ -2,7 +2,7 @@
 // direction, axes and rectangles, and the atlas pages as PNG (colour + coverage; normal + depth for
 // "surface" maps). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
 // every field and file and refuses what it does not understand with a status naming file and field.
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>

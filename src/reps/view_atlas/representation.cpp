@@ -5,6 +5,9 @@
 
 #include <cstdio>
 
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
+
 namespace standin::view_atlas {
 
 namespace {

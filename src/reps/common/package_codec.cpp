@@ -1,6 +1,6 @@
 // Manifest helpers shared by the package codecs: both write and validate manifest.json the same
 // way (docs/FORMAT.md). See manifest.h.
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
 
 #include <standin/files.h>
 
