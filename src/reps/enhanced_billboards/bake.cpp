@@ -56,7 +56,8 @@ Status resolve_parameters(Options& parameters)
     if (parameters.given("texel-size") && parameters.given("resolution"))
         return error(StatusCode::invalid_argument, "--texel-size and --resolution: give one or the other");
     const std::string& directions = parameters.choice("directions");
-    if (parameters.given("direction-count") && directions != "sphere")
+    // (its default is accepted with any set, as every declared default is)
+    if (parameters.integer("direction-count") != k_default_direction_count && directions != "sphere")
         return error(StatusCode::invalid_argument, "--direction-count: applies to --directions sphere only");
     if (directions != "sphere") parameters.set_integer("direction-count", directions == "seed" ? 36 * 18 : 6);
     int depth_bits = parameters.integer("depth-bits");
