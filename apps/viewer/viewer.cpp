@@ -8,6 +8,7 @@
 #include "script.h"
 #include "viewer_state.h"
 
+#include <standin/files.h>
 #include <standin/image.h>
 
 // epoxy (gpu/gl.h) declares the GL functions; GLFW must not include a GL header of its own
@@ -30,6 +31,8 @@
 namespace standin::viewer {
 
 namespace {
+
+constexpr std::uint64_t k_max_script_bytes = 16u << 20;
 
 const char* const k_no_display_hint = "; use 'standin render' for offscreen pictures";
 
@@ -346,11 +349,9 @@ Status run_window(ViewerState& state, GLFWwindow* window, ScriptRunner* script)
 
 Result<std::unique_ptr<ScriptRunner>> load_script(const std::string& path)
 {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return error(StatusCode::not_found, path + ": cannot read the script");
-    std::ostringstream text;
-    text << file.rdbuf();
-    Result<std::vector<ScriptCommand>> commands = parse_script(text.str(), path);
+    Result<std::string> text = read_file(path, k_max_script_bytes); // a regular file of sane size
+    if (!text) return text.status();
+    Result<std::vector<ScriptCommand>> commands = parse_script(*text, path);
     if (!commands) return commands.status();
     return std::make_unique<ScriptRunner>(std::move(*commands), path);
 }
@@ -366,6 +367,9 @@ Status run_viewer(const ViewerArgs& args)
         if (!loaded) return loaded.status();
         script = std::move(*loaded);
     }
+    // the window outlives the subjects: renderers are destroyed while their context exists, also
+    // when a return below leaves early
+    WindowSession session;
     ViewerState state;
     RenderOptions options = args.options;
     options.debug_view.clear(); // set below, once the renderers exist
@@ -380,7 +384,6 @@ Status run_viewer(const ViewerArgs& args)
     state.render_follows_window = args.render_width <= 0;
     if (!state.render_follows_window) state.render_size = {args.render_width, args.render_height};
 
-    WindowSession session;
     STANDIN_RETURN_IF_ERROR(open_window(session, args));
     if (!args.options.debug_view.empty()) {
         // the renderers are built in run_window; record the view so that they are built with it
