@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "common.h"
 
+#include <standin/files.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
 
@@ -57,6 +58,8 @@ static int run_bake(const BakeArgs& args, const std::vector<std::pair<std::strin
     if (output.size() < 9 || output.substr(output.size() - 8) != ".standin")
         return fail(args.output + ": name the package NAME.standin");
 
+    if (Status s = check_output_is_not_input(output, {args.input}); !s) return fail(s);
+
     auto start = std::chrono::steady_clock::now();
     Result<Mesh> mesh = import_mesh(args.input);
     if (!mesh) return fail(mesh.status());
@@ -67,7 +70,7 @@ static int run_bake(const BakeArgs& args, const std::vector<std::pair<std::strin
     Progress progress = stderr_progress();
     BakeContext context{*mesh, *source, parameters, progress, args.threads};
     Result<std::unique_ptr<Package>> package = representation->bake(context);
-    if (!package) return fail(package.status());
+    if (!package) return fail(naming_file(package.status(), args.input));
     if (Status s = write_package(**package, output); !s) return fail(s);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "common.h"
 
+#include <standin/files.h>
 #include <standin/image.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
@@ -33,19 +34,22 @@ static int run_render(RenderArgs& args)
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
         return fail(args.output + ": output must be a .png file");
+    if (Status s = check_output_path(args.output); !s) return fail(s);
+    if (Status s = check_output_is_not_input(args.output, {args.input}); !s) return fail(s);
 
     // a directory is a package, drawn by its representation's renderer; a file is a model
     Result<std::unique_ptr<GpuContext>> context = create_headless_context();
     if (!context) return fail(context.status());
     std::unique_ptr<Renderer> renderer;
     BoundingSphere sphere;
-    if (std::filesystem::is_directory(args.input)) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(args.input, ec)) {
         Result<std::unique_ptr<Package>> package = read_package(args.input);
         if (!package) return fail(package.status());
         const Representation* representation = find_representation((*package)->representation());
         if (!representation) return fail(args.input + ": unknown representation " + (*package)->representation());
         Result<std::unique_ptr<Renderer>> made = representation->make_renderer(**package, args.options);
-        if (!made) return fail(made.status());
+        if (!made) return fail(naming_file(made.status(), args.input));
         renderer = std::move(*made);
         // frame the package as its source model
         sphere = bounding_sphere_of((*package)->source.bounds);
