@@ -4,7 +4,9 @@
 #include "common.h"
 
 #include <cstdio>
+#include <exception>
 #include <map>
+#include <new>
 #include <string>
 
 int main(int argc, char** argv)
@@ -41,9 +43,16 @@ int main(int argc, char** argv)
         return fail(message + " (see 'standin --help')");
     }
     install_log_sink(verbose);
-    for (CLI::App* sub : app.get_subcommands()) {
-        auto it = runs.find(sub->get_name());
-        if (it != runs.end()) return it->second();
+    // the boundary: whatever a command did not turn into a Status is still one line and exit 2
+    try {
+        for (CLI::App* sub : app.get_subcommands()) {
+            auto it = runs.find(sub->get_name());
+            if (it != runs.end()) return it->second();
+        }
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory (STANDIN_MEMORY_LIMIT sets the budget that refuses such inputs up front)");
+    } catch (const std::exception& e) {
+        return fail(std::string("unexpected error: ") + e.what());
     }
     return fail("no command given (see 'standin --help')");
 }
