@@ -801,7 +801,7 @@ static Result<const aiScene*> read_any(const std::string& path, const std::strin
     if (!ply && ply.status().code() == StatusCode::unsupported) {
         Result<const aiScene*> scene = read_scene(importer, path);
         if (scene) report.warnings.push_back(ply.status().message() + "; read by assimp instead");
-        return scene ? scene : Result<const aiScene*>(ply.status());
+        return scene ? scene : Result<const aiScene*>(error(StatusCode::bad_data, ply.status().message()));
     }
     if (!ply) return ply.status();
     report.warnings.insert(report.warnings.end(), ply->warnings.begin(), ply->warnings.end());
