@@ -123,6 +123,11 @@ struct ShadowOptions {
 // include, textures sampled per pixel. Needs a current context.
 Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh);
 
+// Whether a width x height colour + depth target and its read-back fit GL_MAX_RENDERBUFFER_SIZE,
+// GL_MAX_TEXTURE_SIZE and the memory budget (limits.h): ok, or invalid_argument naming `what`, the
+// size and the limit. Needs a current context. render_offscreen checks it; the viewer too.
+Status check_render_target(int width, int height, const std::string& what);
+
 // The result of an offscreen render: colour (transparent background) and window-space depth
 // (1 where nothing was drawn), both top row first.
 struct RenderedImage {
