@@ -124,6 +124,7 @@ struct SurfaceDistance {
 // probability proportional to area (deterministic for a given seed), each measured to the
 // closest point of `to` (embree 3 point queries). Both meshes must pass validate_mesh;
 // invalid_argument when samples is 0.
+constexpr std::size_t k_max_surface_samples = 100'000'000; // 1.6 GB of points and distances
 Result<SurfaceDistance> surface_distance(const Mesh& from, const Mesh& to, std::size_t samples = 100000,
                                          std::uint32_t seed = 1);
 

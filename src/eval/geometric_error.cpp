@@ -116,7 +116,8 @@ std::vector<glm::vec3> sample_surface(const Mesh& mesh, std::size_t samples, std
 
 Result<SurfaceDistance> surface_distance(const Mesh& from, const Mesh& to, std::size_t samples, std::uint32_t seed)
 {
-    if (samples == 0) return error(StatusCode::invalid_argument, "surface distance: samples must be positive");
+    if (samples == 0 || samples > k_max_surface_samples)
+        return error(StatusCode::invalid_argument, "surface distance: samples must be within 1.." + std::to_string(k_max_surface_samples));
     STANDIN_RETURN_IF_ERROR(validate_mesh(from, "surface distance: source mesh"));
     STANDIN_RETURN_IF_ERROR(validate_mesh(to, "surface distance: target mesh"));
 

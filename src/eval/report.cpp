@@ -221,7 +221,7 @@ Result<ReportWriter> ReportWriter::begin(const std::string& directory)
     if (fs::is_directory(final_path, ec) && !fs::is_empty(final_path, ec) && !fs::exists(final_path / "index.html", ec))
         return error(StatusCode::invalid_argument,
                      final_path.string() + ": exists and is not a report (no index.html); refusing to replace it");
-    if (!final_path.parent_path().empty()) fs::create_directories(final_path.parent_path(), ec);
+    STANDIN_RETURN_IF_ERROR(check_output_path(final_path.string())); // folders are never created
     ReportWriter writer;
     writer.state_ = std::make_unique<State>();
     writer.state_->directory = final_path.string();

@@ -101,7 +101,7 @@ glm::vec3 Reader::vec3(const nlohmann::json& object, const std::string& key, con
 
 void Reader::fail(const std::string& field, const std::string& problem) const
 {
-    throw BadField{path_ + ": \"" + field + "\" " + problem};
+    throw BadField{quoted(path_) + ": \"" + one_line(field, 200) + "\" " + problem};
 }
 
 SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
@@ -117,6 +117,12 @@ SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
     s.bounds.min = in.vec3(bounds, "min", "source.bounds.");
     s.bounds.max = in.vec3(bounds, "max", "source.bounds.");
     s.surface_area = in.number(source, "surface_area", "source.", 0.0, 1e300);
+    for (int k = 0; k < 3; ++k) {
+        if (!(s.bounds.min[k] <= s.bounds.max[k])) in.fail("source.bounds", "has min above max");
+        if (std::abs(s.bounds.min[k]) > k_max_coordinate || std::abs(s.bounds.max[k]) > k_max_coordinate)
+            in.fail("source.bounds", "lies beyond +-1e15, where float arithmetic overflows");
+    }
+    if (!(s.bounds.diagonal() > 0.0f) || !std::isfinite(s.bounds.diagonal())) in.fail("source.bounds", "has no extent");
     return s;
 }
 
@@ -192,19 +198,26 @@ void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, gl
         in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
 }
 
+bool is_plain_file_name(const std::string& name)
+{
+    if (name.empty() || name == "." || name == ".." || name.size() > 255) return false;
+    for (unsigned char c : name)
+        if (c == '/' || c == '\\' || c < 0x20 || c == 0x7f) return false;
+    return true;
+}
+
 void check_file(const Reader& in, const std::string& directory, const nlohmann::json& files, const std::string& name)
 {
-    if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "..")
-        in.fail("files", "names '" + name + "', which is not a plain file name");
+    if (!is_plain_file_name(name)) in.fail("files", "names " + quoted(name) + ", which is not a plain file name");
     const nlohmann::json& entry = in.member(files, name, "files.");
     std::string path = (fs::path(directory) / name).string();
     Result<std::string> bytes = read_file(path);
-    if (!bytes) throw BadField{path + ": listed in the manifest but cannot be read: " + bytes.status().message()};
+    if (!bytes) throw BadField{bytes.status().message() + " (listed in the manifest)"};
     std::int64_t size = in.integer(entry, "bytes", "files." + name + ".", 0, INT64_MAX);
     if (std::uint64_t(size) != bytes->size())
-        throw BadField{path + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
+        throw BadField{quoted(path) + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
     if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
-        throw BadField{path + ": content does not match the manifest's hash (damaged file)"};
+        throw BadField{quoted(path) + ": content does not match the manifest's hash (damaged file)"};
 }
 
 } // namespace standin::manifest_io

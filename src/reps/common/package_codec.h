@@ -69,6 +69,14 @@ Options read_settings(const Reader& in, const nlohmann::json& manifest, std::spa
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction);
 
+// A name a manifest may give a file: one path component inside the package (not empty, not "." or
+// "..", no '/' or '\\', no control characters, at most 255 bytes).
+bool is_plain_file_name(const std::string& name);
+
+// Largest coordinate a package's bounds (and an imported model) may hold: squares and cross products
+// of coordinates must stay finite in float.
+constexpr float k_max_coordinate = 1e15f;
+
 // Checks a listed file against its recorded size and hash.
 void check_file(const Reader& in, const std::string& directory, const nlohmann::json& files, const std::string& name);
 
