@@ -67,7 +67,7 @@ public:
     virtual std::uint64_t read_counter(Counter) { return 0; }
 };
 
-// Dynamic shadows of the one directional light (issue #6, seed 003 §7): a depth map of the scene
+// Dynamic shadows of the one directional light (issue #6, Saraiva et al. §7): a depth map of the scene
 // seen from the light, drawn by the same renderers with their true depth (the mesh, the billboards'
 // ray hits, the view atlas' 'corrected' intersections; the atlas' 'seed' and 'octahedral-baseline'
 // styles cast and receive at their camera-facing quad's depth). Shading looks the map up at each

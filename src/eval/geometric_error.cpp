@@ -1,5 +1,5 @@
 // One-sided surface distance from one mesh to another, the geometric error of mesh stand-ins
-// (seeds/002_a689820beeeeb7b7.txt §5.1 reports it against the original; Metro, Cignoni et al.
+// (Bauman, Livny & El-Sana §5.1 reports it against the original; Metro, Cignoni et al.
 // 1998, and MeshLab's Hausdorff filter measure it the same way): sample points on the surface of
 // `from` by area, find the closest point of `to` with embree 3 point queries.
 #include <standin/eval.h>

@@ -1,5 +1,5 @@
 // Greedy construction of enhanced billboards.
-// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.2, §3.4, §4.3), WSCG 2006 (001 §3.1, Fig. 3).
+// Vichitvejpaisal 2005 (§3.2, §3.4, §4.3), Vichitvejpaisal & Kanongchaiyos 2006 (§3.1, Fig. 3).
 //
 // Steps: one texel size for the whole model (seed: bounding-box diagonal -> 512 texels); then,
 // while faces are left, choose a direction, capture what a billboard along it can hold

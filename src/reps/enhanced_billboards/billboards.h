@@ -1,4 +1,4 @@
-// Enhanced billboards in memory (seed 000 §3.1, 001 §3.1): oriented boxes, each with a colour +
+// Enhanced billboards in memory (Vichitvejpaisal 2005 §3.1, Vichitvejpaisal & Kanongchaiyos 2006 §3.1): oriented boxes, each with a colour +
 // coverage image and a normal + depth image over its front plane. Shared by the baker, the package
 // codec and the renderer of this folder.
 #pragma once

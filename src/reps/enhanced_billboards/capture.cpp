@@ -1,5 +1,5 @@
 // Capturing the faces one enhanced billboard can hold, exactly.
-// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.1 conditions 1-3, §3.2 steps 6-9, §4.3).
+// Vichitvejpaisal 2005 (§3.1 conditions 1-3, §3.2 steps 6-9, §4.3).
 //
 // For a direction w the faces still to capture are split into
 //   S   facing the plane (n.w < 0), and S_p those of S not grazing (-n.w >= sin(grazing angle));

@@ -1,5 +1,5 @@
 // The GPU renderer of enhanced billboards: per-pixel ray casting of each billboard's height field
-// inside its box (Vichitvejpaisal 2005, seeds/000_54bac8cf9a729e92.txt §3.3; 001 Fig. 7), with
+// inside its box (Vichitvejpaisal 2005 §3.3; Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7), with
 // the coarse mesh filling holes (000 §3.4).
 // Differences from the paper, all in shaders/march.frag:
 //  - default march "exact": the depth map is treated as a sheet of texel columns whose neighbours

@@ -1,5 +1,5 @@
 // Baking a view atlas.
-// Saraiva, Oliveira, Pereira & Araújo (seeds/003_069a77515c8fea15.txt §3): render the model from
+// Saraiva, Oliveira, Pereira & Araújo (§3): render the model from
 // the face centres of a subdivided icosahedron, orthographically or with a perspective camera at the
 // base distance r / sin(fov/2), lit by the renderer's fixed light; crop every image to its content.
 // Steps: choose the directions (layout.cpp); render each view with the ground-truth renderer on the

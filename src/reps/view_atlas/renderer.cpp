@@ -1,6 +1,6 @@
 // The GPU renderer of view atlases: one quad per instance, views chosen per instance in the vertex
 // stage (shaders/atlas.vert), the atlas read per pixel (shaders/atlas.frag).
-// Saraiva et al. (seeds/003_069a77515c8fea15.txt §3): style "seed" shows the view nearest to the
+// Saraiva et al. (§3): style "seed" shows the view nearest to the
 // viewing direction (largest cosine) on a camera-facing quad through the sphere's centre.
 // Beyond the paper (its §7): "octahedral-baseline" blends the three views around the direction with
 // one parallax step, as impostor bakers do; "corrected" (default) picks the three views around each

@@ -1,7 +1,7 @@
 #version 450 core
 // Enhanced billboards, per fragment: the eye ray is clipped to the proxy box (a tile of the
-// billboard, or the whole billboard) and intersected with the billboard's height field (seed 000
-// §3.3, 001 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
+// billboard, or the whole billboard) and intersected with the billboard's height field (Vichitvejpaisal 2005
+// §3.3; Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
 // the shader keeps itself: a fragment whose depth the shader writes is tested late on some GPUs and
 // on llvmpipe, and boxes are drawn front to back, so most rays behind a hit never start).
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
@@ -145,7 +145,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
     return false;
 }
 
-// The seed's linear search (001 Fig. 7): equal steps over the box diagonal from the entry point.
+// The seed's linear search (Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7): equal steps over the box diagonal from the entry point.
 bool march_seed(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, float diagonal_t,
                 out float t_hit, out ivec2 hit_texel, inout bool near)
 {

@@ -1,6 +1,6 @@
 #version 450 core
 // View atlas, per fragment.
-// STYLE_SEED: the nearest view's texel (seed 003 §3), lit colour as baked or, with surface maps,
+// STYLE_SEED: the nearest view's texel (Saraiva et al. §3), lit colour as baked or, with surface maps,
 // albedo lit from the stored normal.
 // STYLE_BASELINE: the way impostor bakers draw: the three views around the viewing direction, each
 // read where the eye ray crosses the centre plane moved by one parallax step along its depth,
