@@ -47,16 +47,27 @@ const nlohmann::json& Reader::member(const nlohmann::json& object, const std::st
     return object[key];
 }
 
+Reader::Reader(const std::string& directory)
+    : directory_(directory), path_((fs::path(directory) / "manifest.json").string())
+{
+}
+
+Result<std::unique_ptr<Package>> read_fields(const std::function<std::unique_ptr<Package>()>& body)
+{
+    try {
+        return body();
+    } catch (const BadField& bad) {
+        return error(StatusCode::bad_data, bad.message);
+    }
+}
+
 double Reader::number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const
 {
     const nlohmann::json& value = member(object, key, where);
     if (!value.is_number()) fail(where + key, "is not a number");
     double x = value.get<double>();
-    if (!std::isfinite(x) || x < lo || x > hi) {
-        if (bounds_in_range_errors_)
-            fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        fail(where + key, "= " + value.dump() + " is out of range");
-    }
+    if (!std::isfinite(x) || x < lo || x > hi)
+        fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return x;
 }
 
@@ -218,6 +229,72 @@ void check_file(const Reader& in, const std::string& directory, const nlohmann::
         throw BadField{quoted(path) + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
     if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
         throw BadField{quoted(path) + ": content does not match the manifest's hash (damaged file)"};
+}
+
+Status write_image(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_png(image, (fs::path(directory) / name).string()));
+    return record_file(directory, name, files);
+}
+
+Status write_image(const ImageRGBA16& image, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_png(image, (fs::path(directory) / name).string()));
+    return record_file(directory, name, files);
+}
+
+nlohmann::json manifest_header(const Package& package, const Options& parameters)
+{
+    return {{"format", k_package_format},
+            {"version", k_package_format_version},
+            {"representation", package.representation()},
+            {"source", source_json(package.source)},
+            {"bake", settings_json(parameters)}};
+}
+
+Status write_manifest(const std::string& directory, const nlohmann::json& manifest, int indent)
+{
+    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(indent) + "\n");
+}
+
+// Size and bit depth of a listed PNG against the manifest, before it is decoded.
+static std::string checked_png(const Reader& in, const nlohmann::json& files, const std::string& name, int width,
+                               int height, int bits)
+{
+    check_file(in, in.directory(), files, name);
+    std::string path = (fs::path(in.directory()) / name).string();
+    int w = 0, h = 0;
+    Result<int> depth = png_bit_depth(path, &w, &h);
+    if (!depth) throw BadField{depth.status().message()};
+    if (w != width || h != height)
+        throw BadField{quoted(path) + ": is " + std::to_string(w) + "x" + std::to_string(h) + ", the manifest says " +
+                       std::to_string(width) + "x" + std::to_string(height)};
+    if (*depth != bits)
+        throw BadField{quoted(path) + ": has " + std::to_string(*depth) + "-bit samples, the manifest says " + std::to_string(bits)};
+    return path;
+}
+
+ImageRGBA8 read_image8(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height)
+{
+    Result<ImageRGBA8> image = read_png_rgba8(checked_png(in, files, name, width, height, 8));
+    if (!image) throw BadField{image.status().message()};
+    return std::move(*image);
+}
+
+ImageRGBA16 read_image16(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height,
+                         int bits)
+{
+    std::string path = checked_png(in, files, name, width, height, bits);
+    if (bits == 16) {
+        Result<ImageRGBA16> image = read_png_rgba16(path);
+        if (!image) throw BadField{image.status().message()};
+        return std::move(*image);
+    }
+    Result<ImageRGBA8> image = read_png_rgba8(path);
+    if (!image) throw BadField{image.status().message()};
+    ImageRGBA16 wide(image->width, image->height);
+    for (std::size_t k = 0; k < image->pixels.size(); ++k) wide.pixels[k] = std::uint16_t(image->pixels[k] * 257);
+    return wide;
 }
 
 } // namespace standin::manifest_io

@@ -26,6 +26,7 @@
 #include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
+#include "gpu/mesh_buffers.h"
 #include "gpu/shaders/common/bindings.h"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
@@ -150,8 +151,8 @@ private:
     gpu::Buffer coarse_list_;
     std::size_t coarse_list_capacity_ = 0;
     std::vector<std::pair<float, std::uint32_t>> sort_keys_;
-    gpu::VertexArray empty_vertex_array_, coarse_vertex_array_;
-    gpu::Buffer coarse_positions_, coarse_normals_, coarse_colors_, coarse_indices_;
+    gpu::VertexArray empty_vertex_array_;
+    gpu::MeshBuffers coarse_mesh_;
     GLsizei coarse_index_count_ = 0;
     gpu::Texture pixel_flags_, pixel_depth_;
     glm::ivec2 pixel_images_size_{0};
@@ -362,29 +363,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     return Status::ok();
 }
 
-void attach_attribute(GLuint vao, GLuint attribute, GLuint buffer, int components, std::size_t stride)
-{
-    glVertexArrayVertexBuffer(vao, attribute, buffer, 0, GLsizei(stride));
-    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(vao, attribute, attribute);
-    glEnableVertexArrayAttrib(vao, attribute);
-}
-
 void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
 {
-    coarse_positions_ = gpu::make_buffer(mesh.positions);
-    coarse_normals_ = gpu::make_buffer(mesh.normals);
-    std::vector<glm::vec4> colors = mesh.colors;
-    if (colors.size() != mesh.positions.size()) colors.assign(mesh.positions.size(), glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
-    coarse_colors_ = gpu::make_buffer(colors);
-    coarse_indices_ = gpu::make_buffer(mesh.indices);
-    coarse_index_count_ = GLsizei(mesh.indices.size());
-    coarse_vertex_array_ = gpu::make_vertex_array();
-    GLuint vao = coarse_vertex_array_.get();
-    attach_attribute(vao, ATTRIB_POSITION, coarse_positions_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_NORMAL, coarse_normals_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_COLOR, coarse_colors_.get(), 4, sizeof(glm::vec4));
-    glVertexArrayElementBuffer(vao, coarse_indices_.get());
+    coarse_mesh_ = gpu::MeshBuffers::upload(mesh);
+    coarse_index_count_ = coarse_mesh_.index_count();
 }
 
 // The twelve edges of every billboard's whole box, in object space: corner bits (u, v, depth) pick
@@ -623,7 +605,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
         glProgramUniform1i(coarse_.id(), coarse_debug_at_, debug_view_);
         coarse_.use();
-        glBindVertexArray(coarse_vertex_array_.get());
+        coarse_mesh_.bind();
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
         glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_, GL_UNSIGNED_INT, nullptr, coarse_count);
         stats.draw_calls += 1;
