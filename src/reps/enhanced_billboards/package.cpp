@@ -4,6 +4,7 @@
 // encoders); reading validates every field and every file, and refuses what it does not
 // understand with a status naming the file and the field.
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/package_cast.h"
 #include "reps/common/package_codec.h"
 
 #include <standin/files.h>
@@ -54,7 +55,7 @@ Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& fi
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& package = dynamic_cast<const EnhancedBillboardsPackage&>(base);
+    const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json boards = nlohmann::json::array();
     for (std::size_t k = 0; k < package.billboards.size(); ++k) {

@@ -22,6 +22,7 @@
 // Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/package_cast.h"
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
@@ -622,11 +623,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
 
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
-    const auto* billboards = dynamic_cast<const EnhancedBillboardsPackage*>(&package);
-    if (!billboards)
-        return error(StatusCode::invalid_argument,
-                     "enhanced billboards: package holds '" + package.representation() + "', not enhanced billboards");
-    return BillboardRenderer::create(*billboards, settings);
+    return BillboardRenderer::create(reps::package_cast<EnhancedBillboardsPackage>(package), settings);
 }
 
 } // namespace standin::billboards

@@ -3,6 +3,7 @@
 // "surface" maps). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
 // every field and file and refuses what it does not understand with a status naming file and field.
 #include "reps/common/package_codec.h"
+#include "reps/common/package_cast.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
@@ -53,7 +54,7 @@ float ViewAtlasPackage::capture_distance() const { return base_distance(radius, 
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& package = dynamic_cast<const ViewAtlasPackage&>(base);
+    const auto& package = reps::package_cast<ViewAtlasPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json pages = nlohmann::json::array();
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
