@@ -18,9 +18,7 @@ namespace standin::billboards {
 // the stored shading normal of a texel, decoded
 static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
 {
-    const std::uint16_t* nd = billboard.normal_depth.at(i, j);
-    glm::vec3 n(nd[0], nd[1], nd[2]);
-    return n / 65535.0f * 2.0f - 1.0f;
+    return reps::decode_normal(billboard.normal_depth.at(i, j));
 }
 
 // depth change per texel along `axis` that the normal implies, in texels of depth, capped (the
@@ -37,8 +35,8 @@ static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction)
 // links of every covered texel to its covered neighbours on the same surface
 static void link_neighbours(const Billboard& b, const LinkSettings& settings, HeightFieldAcceleration& acc)
 {
-    float codes_per_world = 65535.0f / std::max(b.depth_range, 1e-30f);
-    float quantum_codes = settings.depth_bits >= 16 ? 1.0f : 65535.0f / float((1 << settings.depth_bits) - 1);
+    float codes_per_world = reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
+    float quantum_codes = settings.depth_bits >= 16 ? 1.0f : reps::k_depth_codes / float((1 << settings.depth_bits) - 1);
     auto at = [&](int i, int j) -> SurfaceTexel& { return acc.surface[std::size_t(j) * acc.width + i]; };
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {

@@ -69,8 +69,8 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
         for (int i = 0; i < b.width; ++i) {
             const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
             if (!(texel.flags & k_texel_covered)) continue;
-            lo = glm::min(lo, glm::vec3(float(i), float(j), float(texel.depth) / 65535.0f));
-            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), float(texel.depth) / 65535.0f));
+            lo = glm::min(lo, glm::vec3(float(i), float(j), reps::decode_depth(texel.depth)));
+            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), reps::decode_depth(texel.depth)));
         }
     }
     g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
@@ -321,8 +321,8 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         // proxies: the occupied tiles, and the whole box of covered texels
         for (const TileBox& t : build_tiles(acc, 1 << tile_level)) {
             TileGpu tile;
-            tile.box_min = glm::vec4(glm::vec2(t.texel_min), float(t.depth_min) / 65535.0f - k_depth_margin, 0.0f);
-            tile.box_max = glm::vec4(glm::vec2(t.texel_max), float(t.depth_max) / 65535.0f + k_depth_margin, 0.0f);
+            tile.box_min = glm::vec4(glm::vec2(t.texel_min), reps::decode_depth(t.depth_min) - k_depth_margin, 0.0f);
+            tile.box_max = glm::vec4(glm::vec2(t.texel_max), reps::decode_depth(t.depth_max) + k_depth_margin, 0.0f);
             tile.info = glm::ivec4(layer, tile_level, 0, 0);
             fine.push_back(tile);
             proxies_.push_back({glm::vec3(g.object_from_box * (0.5f * (tile.box_min + tile.box_max) +

@@ -14,6 +14,7 @@
 #define HF_CURVATURE_TEXELS 0.5 // a curved surface turns between two normals: half a texel
 #define HF_QUANTA 2.0           // a step of two depth codes is rounding, not an edge
 #define HF_MAX_SLOPE 8.0        // texels of depth per texel (about 83 degrees): steeper is a wall
+#define HF_DEPTH_CODES 65535.0  // the one depth encoding: d in [0, 1] as a 16-bit code (surface_image.h)
 
 // what a ray met in one texel column (hf_cross_column)
 #define HF_MISS 0  // nothing in this column

@@ -43,7 +43,7 @@ uniform int mark_pixels;
 
 layout(location = 0) out vec4 out_color;
 
-const float k_codes = 65535.0;
+const float k_codes = HF_DEPTH_CODES;
 int g_fetches = 0;
 
 uvec4 fetch_surface(ivec2 texel, int layer)
