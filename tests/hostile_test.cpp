@@ -171,6 +171,12 @@ const HostileCase k_refused[] = {
          return std::pair{"info " + d + "/fans.ply", std::string("STANDIN_MAX_TRIANGLES")};
      },
      "STANDIN_MAX_TRIANGLES=100000"},
+    {"a model beyond the memory budget, refused before conversion",
+     [](const std::string& d) {
+         write_bytes(d + "/cone.ply", cone_ply(20000));
+         return std::pair{"bake " + d + "/cone.ply -o " + d + "/cone.standin", std::string("memory budget")};
+     },
+     "STANDIN_MEMORY_LIMIT=1M"},
     {"PLY element with a huge count and no properties",
      [](const std::string& d) {
          write_bytes(d + "/count.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
