@@ -103,6 +103,10 @@ struct ImportOptions {
 Result<Mesh> import_mesh(const std::string& path, ImportReport* report = nullptr,
                          const ImportOptions& options = {});
 
+// Whether import_mesh reads files with the extension of `path` (".ply", ".glb", ... any format
+// assimp reads), by name alone: what a folder of models given to a batch bake keeps.
+bool is_model_file_name(const std::string& path);
+
 // Checks invariants that every later stage relies on (at least one triangle, index ranges, finite
 // values, per-vertex arrays of one size, material and texture indices). bad_data naming `what`.
 Status validate_mesh(const Mesh& mesh, const std::string& what);

@@ -98,7 +98,12 @@ public:
         std::string choice;
         bool flag = false;
         bool given = false;
+        bool requested = false; // given, with another value than the declared default
     };
+    // The options given with another value than their default, as text by name: what a user asked
+    // for beyond the defaults (a package records it; a batch bake compares it to skip up-to-date
+    // packages).
+    std::map<std::string, std::string> requested() const;
     // In declaration order.
     const std::vector<std::pair<std::string, Value>>& values() const { return values_; }
 

@@ -174,6 +174,13 @@ Result<Options> Options::parse(std::span<const OptionSpec> specs, const OptionVa
             if (!parsed) return parsed.status();
             value = *parsed;
             value.given = true;
+            value.requested = spec.default_value.empty() || it->second != spec.default_value;
+            if (value.requested && !spec.default_value.empty()) {
+                // "0.010" asks for the default 0.01 too: compare the parsed values
+                Result<Value> fallback = parse_option_value(spec, spec.default_value);
+                value.requested = !fallback || fallback->integer != value.integer || fallback->number != value.number ||
+                                  fallback->choice != value.choice || fallback->flag != value.flag;
+            }
         } else if (!spec.default_value.empty()) {
             Result<Value> parsed = parse_option_value(spec, spec.default_value);
             assert(parsed.is_ok() && "a declared default must satisfy its own declaration");
@@ -217,6 +224,14 @@ bool Options::declared(std::string_view name) const
 void Options::set_integer(std::string_view name, int value) { at(name, OptionType::integer).integer = value; }
 void Options::set_number(std::string_view name, float value) { at(name, OptionType::number).number = value; }
 void Options::set_choice(std::string_view name, std::string value) { at(name, OptionType::choice).choice = std::move(value); }
+
+std::map<std::string, std::string> Options::requested() const
+{
+    std::map<std::string, std::string> out;
+    for (const auto& [name, value] : values_)
+        if (value.requested) out[name] = text(name);
+    return out;
+}
 
 std::string Options::text(std::string_view name) const
 {

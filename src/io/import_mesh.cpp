@@ -54,6 +54,17 @@ static std::string assimp_message(std::string text)
     return text.empty() ? "unknown error" : one_line(text, 200);
 }
 
+bool is_model_file_name(const std::string& path)
+{
+    std::string extension = fs::path(path).extension().string();
+    if (extension.size() < 2) return false;
+    for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+    // files that only accompany a model (materials, glTF buffers) are not models of their own
+    if (extension == ".mtl" || extension == ".bin") return false;
+    Assimp::Importer importer;
+    return importer.IsExtensionSupported(extension);
+}
+
 static Status check_source_file(const std::string& path, const std::string& extension)
 {
     STANDIN_RETURN_IF_ERROR(check_regular_file(path));

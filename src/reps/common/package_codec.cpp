@@ -249,7 +249,8 @@ nlohmann::json manifest_header(const Package& package, const Options& parameters
             {"version", k_package_format_version},
             {"representation", package.representation()},
             {"source", source_json(package.source)},
-            {"bake", settings_json(parameters)}};
+            {"bake", settings_json(parameters)},
+            {"requested", parameters.requested()}};
 }
 
 Status write_manifest(const std::string& directory, const nlohmann::json& manifest, int indent)
