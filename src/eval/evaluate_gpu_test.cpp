@@ -125,8 +125,9 @@ TEST(Evaluate, CliJsonMatchesRecomputationFromSavedImages)
     std::string line = json["verdict"]["line"].get<std::string>();
     EXPECT_NE(html->find("<h2>Verdict</h2>"), std::string::npos);
     EXPECT_NE(line.find("at 1x the base distance"), std::string::npos) << line;
-    if (json["device"].get<std::string>().find("llvmpipe") != std::string::npos)
+    if (json["device"].get<std::string>().find("llvmpipe") != std::string::npos) {
         EXPECT_EQ(json["verdict"]["timing"], "wall");
+    }
 }
 
 TEST(Evaluate, WorsePackageScoresWorse)
