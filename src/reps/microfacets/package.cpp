@@ -1,0 +1,301 @@
+// Microfacet packages on disk (docs/FORMAT.md, "Microfacets"): manifest.json with the grid, the
+// octree levels, the captured views and the pages; voxels.bin with every level's Morton codes; the
+// pages as PNG (colour + coverage 8-bit, normal + depth 16-bit, or 8-bit for depth_bits 8).
+// Writing is deterministic (sorted keys, fixed PNG encoder); reading checks every field and file and
+// refuses what it does not understand with a status naming the file and the field.
+#include "reps/manifest.h"
+#include "reps/microfacets/microfacets.h"
+
+#include <standin/files.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+namespace standin::microfacets {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* k_voxels_file = "voxels.bin";
+
+std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
+
+nlohmann::json settings_json(const BakeSettings& s)
+{
+    return {{"level", s.level}, {"min_level", s.min_level}, {"layout", s.layout}, {"subdivisions", s.subdivisions},
+            {"frames", s.frames}, {"resolution", s.resolution}, {"depth_bits", s.depth_bits},
+            {"geometry_from", s.geometry_from}, {"geometry_amount", s.geometry_amount},
+            {"fill_holes", s.fill_holes}, {"page_size", s.page_size}};
+}
+
+BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
+{
+    const nlohmann::json& bake = in.member(manifest, "bake", "");
+    BakeSettings s;
+    s.level = int(in.integer(bake, "level", "bake.", 1, k_max_grid_level));
+    s.min_level = int(in.integer(bake, "min_level", "bake.", 0, s.level));
+    s.layout = in.choice(bake, "layout", "bake.", {"icosahedral", "octahedral", "hemi-octahedral", "circle"});
+    s.subdivisions = int(in.integer(bake, "subdivisions", "bake.", 0, 5));
+    s.frames = int(in.integer(bake, "frames", "bake.", 2, 256));
+    s.resolution = int(in.integer(bake, "resolution", "bake.", 16, 4096));
+    s.depth_bits = int(in.integer(bake, "depth_bits", "bake.", 8, 16));
+    if (s.depth_bits != 8 && s.depth_bits != 16) in.fail("bake.depth_bits", "is neither 8 nor 16");
+    s.geometry_from = in.choice(bake, "geometry_from", "bake.", {"full", "simplified", "noisy"});
+    s.geometry_amount = float(in.number(bake, "geometry_amount", "bake.", 0.0, 1.0));
+    const nlohmann::json& fill = in.member(bake, "fill_holes", "bake.");
+    if (!fill.is_boolean()) in.fail("bake.fill_holes", "is not true or false");
+    s.fill_holes = fill.get<bool>();
+    s.page_size = int(in.integer(bake, "page_size", "bake.", 256, 16384));
+    if (s.page_size % view_atlas::k_cell != 0) in.fail("bake.page_size", "is not a multiple of " + std::to_string(view_atlas::k_cell));
+    return s;
+}
+
+nlohmann::json view_json(const View& v)
+{
+    return {{"direction", manifest_io::vec3_json(v.direction)}, {"axis_u", manifest_io::vec3_json(v.axis_u)},
+            {"axis_v", manifest_io::vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
+            {"width", v.width}, {"height", v.height}, {"page", v.page}, {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}};
+}
+
+// A view's fields: axes unit and orthogonal, rectangles on whole cells inside their capture and page.
+View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, const std::string& where, const BakeSettings& s,
+               int pages)
+{
+    const int cell = view_atlas::k_cell, n = s.resolution;
+    View v;
+    v.direction = in.vec3(entry, "direction", where);
+    v.axis_u = in.vec3(entry, "axis_u", where);
+    v.axis_v = in.vec3(entry, "axis_v", where);
+    manifest_io::check_axes(in, where, v.axis_u, v.axis_v, v.direction);
+    v.width = int(in.integer(entry, "width", where, 0, s.page_size));
+    v.height = int(in.integer(entry, "height", where, 0, s.page_size));
+    v.crop_x = int(in.integer(entry, "crop_x", where, -1, n));
+    v.crop_y = int(in.integer(entry, "crop_y", where, -1, n));
+    v.page = int(in.integer(entry, "page", where, 0, std::max(0, pages - 1)));
+    v.atlas_x = int(in.integer(entry, "atlas_x", where, 0, s.page_size - v.width));
+    v.atlas_y = int(in.integer(entry, "atlas_y", where, 0, s.page_size - v.height));
+    if (v.width % cell || v.height % cell || v.atlas_x % cell || v.atlas_y % cell)
+        in.fail(where + "width", "rectangles must lie on whole cells of " + std::to_string(cell) + " texels");
+    if (v.crop_x + v.width > n + 2 * cell || v.crop_y + v.height > n + 2 * cell)
+        in.fail(where + "crop_x", "the crop reaches beyond the capture");
+    return v;
+}
+
+// The octree's levels from voxels.bin: codes inside their level's grid, ascending, and each level
+// exactly the OR of the next finer one.
+Octree read_octree(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& manifest,
+                   const nlohmann::json& files, const BakeSettings& s)
+{
+    Octree tree;
+    tree.min_level = s.min_level;
+    tree.max_level = s.level;
+    const nlohmann::json& grid = in.member(manifest, "grid", "");
+    tree.grid.origin = in.vec3(grid, "origin", "grid.");
+    tree.grid.size = float(in.number(grid, "size", "grid.", 1e-30, 1e30));
+    std::string name = in.string(manifest, "voxels", "");
+    manifest_io::check_file(in, directory, files, name);
+    std::string path = (fs::path(directory) / name).string();
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) throw manifest_io::BadField{bytes.status().message()};
+    const nlohmann::json& levels = in.member(manifest, "levels", "");
+    if (!levels.is_array() || levels.size() != std::size_t(s.level - s.min_level + 1))
+        in.fail("levels", "does not list the levels min_level..level");
+    std::size_t offset = 0;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+        std::string where = "levels[" + std::to_string(k) + "].";
+        int level = s.min_level + int(k);
+        if (in.integer(levels[k], "level", where, level, level) != level) in.fail(where + "level", "is out of order");
+        auto count = std::size_t(in.integer(levels[k], "count", where, 0, std::int64_t(1) << (3 * level)));
+        if (std::size_t(in.integer(levels[k], "offset", where, 0, INT64_MAX)) != offset)
+            in.fail(where + "offset", "does not follow the previous level");
+        if ((offset + count) * 4 > bytes->size()) in.fail(where + "count", "reaches beyond the end of " + name);
+        std::vector<std::uint32_t> codes(count);
+        std::memcpy(codes.data(), bytes->data() + offset * 4, count * 4); // little-endian, as written
+        const std::uint64_t cells = std::uint64_t(1) << (3 * level);
+        for (std::size_t i = 0; i < count; ++i)
+            if (codes[i] >= cells || (i > 0 && codes[i] <= codes[i - 1]))
+                throw manifest_io::BadField{path + ": level " + std::to_string(level) + " code " + std::to_string(i) +
+                                            " is outside the grid or not ascending"};
+        tree.levels.push_back(std::move(codes));
+        offset += count;
+    }
+    if (offset * 4 != bytes->size()) throw manifest_io::BadField{path + ": holds more codes than the levels list"};
+    for (int level = s.min_level; level < s.level; ++level)
+        if (coarsen(tree.at(level + 1)) != tree.at(level))
+            throw manifest_io::BadField{path + ": level " + std::to_string(level) + " is not the OR of level " + std::to_string(level + 1)};
+    return tree;
+}
+
+// Checks a page against the manifest's size and bit depth before decoding it.
+Result<int> page_depth(const std::string& path, int page_size)
+{
+    int w = 0, h = 0;
+    Result<int> depth = png_bit_depth(path, &w, &h);
+    if (!depth) return depth.status();
+    if (w != page_size || h != page_size)
+        return error(StatusCode::bad_data, path + ": is " + std::to_string(w) + "x" + std::to_string(h) +
+                                               ", the manifest says " + std::to_string(page_size) + " square");
+    return depth;
+}
+
+ImageRGBA8 read_color_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
+                           const std::string& name, int page_size)
+{
+    manifest_io::check_file(in, directory, files, name);
+    std::string path = (fs::path(directory) / name).string();
+    Result<int> depth = page_depth(path, page_size);
+    if (!depth) throw manifest_io::BadField{depth.status().message()};
+    if (*depth != 8) throw manifest_io::BadField{path + ": has " + std::to_string(*depth) + "-bit samples, colour pages are 8-bit"};
+    Result<ImageRGBA8> image = read_png_rgba8(path);
+    if (!image) throw manifest_io::BadField{image.status().message()};
+    return std::move(*image);
+}
+
+// 16-bit, or 8-bit widened (x 257) when the package's depth is 8-bit.
+ImageRGBA16 read_normal_depth_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
+                                   const std::string& name, int page_size, int bits)
+{
+    manifest_io::check_file(in, directory, files, name);
+    std::string path = (fs::path(directory) / name).string();
+    Result<int> depth = page_depth(path, page_size);
+    if (!depth) throw manifest_io::BadField{depth.status().message()};
+    if (*depth != bits)
+        throw manifest_io::BadField{path + ": has " + std::to_string(*depth) + "-bit samples, the manifest says depth_bits " +
+                                    std::to_string(bits)};
+    if (bits == 16) {
+        Result<ImageRGBA16> image = read_png_rgba16(path);
+        if (!image) throw manifest_io::BadField{image.status().message()};
+        return std::move(*image);
+    }
+    Result<ImageRGBA8> image = read_png_rgba8(path);
+    if (!image) throw manifest_io::BadField{image.status().message()};
+    ImageRGBA16 wide(image->width, image->height);
+    for (std::size_t i = 0; i < wide.pixels.size(); ++i) wide.pixels[i] = std::uint16_t(image->pixels[i] * 257);
+    return wide;
+}
+
+Status write_normal_depth(const ImageRGBA16& page, int bits, const std::string& path)
+{
+    if (bits == 16) return write_png(page, path);
+    ImageRGBA8 narrow(page.width, page.height);
+    for (std::size_t i = 0; i < narrow.pixels.size(); ++i) narrow.pixels[i] = std::uint8_t(page.pixels[i] / 257);
+    return write_png(narrow, path);
+}
+
+} // namespace
+
+Status write(const Package& base, const std::string& directory)
+{
+    const auto& package = dynamic_cast<const MicrofacetsPackage&>(base);
+    const BakeSettings& s = package.settings;
+    nlohmann::json files = nlohmann::json::object();
+
+    // voxels.bin: every level's codes, coarsest first, little-endian uint32
+    std::string voxels;
+    nlohmann::json levels = nlohmann::json::array();
+    for (int level = s.min_level; level <= s.level; ++level) {
+        const std::vector<std::uint32_t>& codes = package.octree.at(level);
+        levels.push_back({{"level", level}, {"voxel_size", package.octree.grid.voxel_size(level)},
+                          {"count", codes.size()}, {"offset", voxels.size() / 4}});
+        voxels.append(reinterpret_cast<const char*>(codes.data()), codes.size() * 4);
+    }
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / k_voxels_file).string(), voxels));
+    STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, k_voxels_file, files));
+
+    nlohmann::json pages = nlohmann::json::array();
+    for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
+        std::string color = page_file(k, "color"), normal_depth = page_file(k, "normal_depth");
+        STANDIN_RETURN_IF_ERROR(write_png(package.color_pages[k], (fs::path(directory) / color).string()));
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, color, files));
+        STANDIN_RETURN_IF_ERROR(write_normal_depth(package.normal_depth_pages[k], s.depth_bits, (fs::path(directory) / normal_depth).string()));
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, normal_depth, files));
+        pages.push_back({{"color", color}, {"normal_depth", normal_depth}});
+    }
+    nlohmann::json views = nlohmann::json::array();
+    for (const View& v : package.views) views.push_back(view_json(v));
+    nlohmann::json manifest = {
+        {"format", k_package_format},
+        {"version", k_package_format_version},
+        {"representation", package.representation()},
+        {"source", manifest_io::source_json(package.source)},
+        {"bake", settings_json(s)},
+        {"grid", {{"origin", manifest_io::vec3_json(package.octree.grid.origin)}, {"size", package.octree.grid.size}}},
+        {"levels", levels},
+        {"voxels", k_voxels_file},
+        {"sphere", {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}}},
+        {"half_extent", package.radius},
+        {"max_view_angle_degrees", glm::degrees(package.max_view_angle)},
+        {"pages", pages},
+        {"views", views},
+        {"files", files},
+    };
+    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(1) + "\n");
+}
+
+Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
+{
+    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), true);
+    auto package = std::make_unique<MicrofacetsPackage>();
+    try {
+        package->source = manifest_io::read_source(in, manifest);
+        package->settings = read_settings(in, manifest);
+        const BakeSettings& s = package->settings;
+        const nlohmann::json& files = in.member(manifest, "files", "");
+        if (!files.is_object()) in.fail("files", "is not an object");
+        package->octree = read_octree(in, directory, manifest, files, s);
+        const nlohmann::json& sphere = in.member(manifest, "sphere", "");
+        package->center = in.vec3(sphere, "center", "sphere.");
+        package->radius = float(in.number(sphere, "radius", "sphere.", 1e-30, 1e30));
+        if (std::abs(in.number(manifest, "half_extent", "", 1e-30, 1e30) - package->radius) > 1e-6 * package->radius)
+            in.fail("half_extent", "differs from sphere.radius (captures are orthographic)");
+        package->max_view_angle = glm::radians(float(in.number(manifest, "max_view_angle_degrees", "", 0.0, 180.0)));
+        const nlohmann::json& pages = in.member(manifest, "pages", "");
+        if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
+        for (std::size_t k = 0; k < pages.size(); ++k) {
+            std::string where = "pages[" + std::to_string(k) + "].";
+            package->color_pages.push_back(read_color_page(in, directory, files, in.string(pages[k], "color", where), s.page_size));
+            package->normal_depth_pages.push_back(read_normal_depth_page(
+                in, directory, files, in.string(pages[k], "normal_depth", where), s.page_size, s.depth_bits));
+        }
+        const nlohmann::json& views = in.member(manifest, "views", "");
+        if (!views.is_array() || views.empty() || views.size() > 65535) in.fail("views", "is not an array of 1..65535 views");
+        for (std::size_t k = 0; k < views.size(); ++k)
+            package->views.push_back(read_view(in, views[k], "views[" + std::to_string(k) + "].", s, int(pages.size())));
+    } catch (const manifest_io::BadField& bad) {
+        return error(StatusCode::bad_data, bad.message);
+    }
+    Result<std::uint64_t> bytes = package_bytes(directory);
+    if (!bytes) return bytes.status();
+    package->package_bytes = *bytes;
+    package->directory = directory;
+    return std::unique_ptr<Package>(std::move(package));
+}
+
+nlohmann::json MicrofacetsPackage::summary() const
+{
+    nlohmann::json levels = nlohmann::json::object();
+    for (int level = settings.min_level; level <= settings.level; ++level)
+        levels[std::to_string(1 << level) + "^3"] = octree.at(level).size();
+    std::uint64_t texels = 0;
+    for (const View& v : views) texels += std::uint64_t(v.width) * v.height;
+    std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * color_pages.size();
+    return {{"representation", representation()},
+            {"source", source.file_name},
+            {"facets_per_level", levels},
+            {"layout", settings.layout},
+            {"views", views.size()},
+            {"resolution", settings.resolution},
+            {"depth_bits", settings.depth_bits},
+            {"geometry_from", settings.geometry_from},
+            {"max_view_angle_degrees", glm::degrees(max_view_angle)},
+            {"pages", color_pages.size()},
+            {"page_size", settings.page_size},
+            {"crop_texels", texels},
+            // colour RGBA8 with mips, normal-depth RGBA16 without
+            {"gpu_texture_bytes", page_texels * 4 * 4 / 3 + page_texels * 8},
+            {"package_bytes", package_bytes}};
+}
+
+} // namespace standin::microfacets
