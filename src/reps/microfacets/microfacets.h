@@ -29,9 +29,9 @@ struct BakeSettings {
     int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
     int min_level = 2;               // coarsest level kept (2: 4^3), what distant instances draw
     std::string layout = "icosahedral"; // the view atlas's sphere layouts, or "circle" (the seed's turntable)
-    int subdivisions = 2;            // icosahedral: 20 * 4^k views
+    int subdivisions = 1;            // icosahedral: 20 * 4^k views (80: docs/RESULTS.md "Microfacets")
     int frames = 36;                 // circle: views on the circle; (hemi-)octahedral: frames^2 views
-    int resolution = 256;            // capture image side, pixels
+    int resolution = 512;            // capture image side, pixels
     int depth_bits = 16;             // 16, or 8 (the seed's range images: "quantized as integer in [0, 255]")
     std::string geometry_from = "full"; // "full", or the incomplete-scan experiment: "simplified", "noisy"
     float geometry_amount = 0.1f;    // simplified: fraction of the triangles kept; noisy: amplitude / radius
@@ -56,9 +56,10 @@ public:
     std::vector<View> views; // captured orthographically: half extent = radius (view_atlas.h, View)
     // RGB: albedo, sRGB-encoded; A: coverage 0 / 255.
     std::vector<ImageRGBA8> color_pages;
-    // RGB: world normal * 0.5 + 0.5; A: depth (r - dot(p - centre, direction)) / (2r) in [0, 1],
-    // 0 nearest the capture camera, in 16 bits (multiples of 257 when depth_bits is 8). All zero
-    // where the colour page's coverage is 0 (a covered texel never has a zero normal).
+    // RGB: world normal * 0.5 + 0.5 in 8 bits, held in the high byte (n8 << 8); A: depth
+    // (r - dot(p - centre, direction)) / (2r) in [0, 1], 0 nearest the capture camera, in 16 bits
+    // (multiples of 257 when depth_bits is 8). All zero where the colour page's coverage is 0 (a
+    // covered texel never has a zero normal).
     std::vector<ImageRGBA16> normal_depth_pages;
     std::uint64_t package_bytes = 0; // filled when read from disk
     std::string directory;           // filled when read from disk (named in the renderer's errors)

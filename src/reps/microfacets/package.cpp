@@ -153,7 +153,8 @@ ImageRGBA8 read_color_page(const manifest_io::Reader& in, const std::string& dir
     return std::move(*image);
 }
 
-// 16-bit, or 8-bit widened (x 257) when the package's depth is 8-bit.
+// 16-bit, or 8-bit widened when the package's depth is 8-bit (normals to the high byte, depth x 257,
+// as the baker holds them in memory).
 ImageRGBA16 read_normal_depth_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
                                    const std::string& name, int page_size, int bits)
 {
@@ -172,7 +173,8 @@ ImageRGBA16 read_normal_depth_page(const manifest_io::Reader& in, const std::str
     Result<ImageRGBA8> image = read_png_rgba8(path);
     if (!image) throw manifest_io::BadField{image.status().message()};
     ImageRGBA16 wide(image->width, image->height);
-    for (std::size_t i = 0; i < wide.pixels.size(); ++i) wide.pixels[i] = std::uint16_t(image->pixels[i] * 257);
+    for (std::size_t i = 0; i < wide.pixels.size(); ++i)
+        wide.pixels[i] = std::uint16_t(i % 4 == 3 ? image->pixels[i] * 257 : image->pixels[i] << 8);
     return wide;
 }
 
@@ -180,7 +182,8 @@ Status write_normal_depth(const ImageRGBA16& page, int bits, const std::string& 
 {
     if (bits == 16) return write_png(page, path);
     ImageRGBA8 narrow(page.width, page.height);
-    for (std::size_t i = 0; i < narrow.pixels.size(); ++i) narrow.pixels[i] = std::uint8_t(page.pixels[i] / 257);
+    for (std::size_t i = 0; i < narrow.pixels.size(); ++i)
+        narrow.pixels[i] = std::uint8_t(i % 4 == 3 ? page.pixels[i] / 257 : page.pixels[i] >> 8);
     return write_png(narrow, path);
 }
 

@@ -7,7 +7,8 @@
 //     a pixel), per-facet view selection (lookup cells, the seed's cone, or every view) and blend
 //     weights, quad or point; scan.comp and scatter.comp compact the kept facets in work order into
 //     a quad list and a point list and write the two indirect draws' counts;
-//  3. one indirect draw of the quads (facets.vert/.frag: view-facing squares of side sqrt(3) W,
+//  3. one indirect draw of the quads (two triangles each, not instances: llvmpipe draws instances one
+//     at a time; facets.vert/.frag: view-facing squares of side sqrt(3) W,
 //     textured from their views, clipped by eq. 1, lit from stored normals, true depth) and one of
 //     the points (points.vert/.frag).
 // So a crowd is three dispatches and two draws whatever its size, and nothing depends on thread
@@ -58,7 +59,7 @@ constexpr GLuint k_max_groups_x = 65535;
 
 struct Codes {
     int select = MF_SELECT_LOOKUP, facet = MF_FACET_BILLBOARD, primitive = MF_PRIMITIVE_AUTO;
-    int coverage = MF_COVERAGE_ANY, debug_view = MF_DEBUG_NONE;
+    int coverage = MF_COVERAGE_ANY, clip = MF_CLIP_SEED, debug_view = MF_DEBUG_NONE;
 };
 
 Result<Codes> codes_of(const RenderConfig& c)
@@ -78,18 +79,21 @@ Result<Codes> codes_of(const RenderConfig& c)
     };
     Codes codes;
     STANDIN_RETURN_IF_ERROR(pick(c.select, {{"lookup", MF_SELECT_LOOKUP}, {"cone", MF_SELECT_CONE}, {"all", MF_SELECT_ALL}}, "select", codes.select));
-    STANDIN_RETURN_IF_ERROR(pick(c.facet, {{"billboard", MF_FACET_BILLBOARD}, {"fixed", MF_FACET_FIXED}}, "facet", codes.facet));
+    STANDIN_RETURN_IF_ERROR(pick(c.facet, {{"billboard", MF_FACET_BILLBOARD}, {"fixed", MF_FACET_FIXED}, {"box", MF_FACET_BOX}}, "facet", codes.facet));
     STANDIN_RETURN_IF_ERROR(pick(c.primitive, {{"auto", MF_PRIMITIVE_AUTO}, {"quads", MF_PRIMITIVE_QUADS}, {"points", MF_PRIMITIVE_POINTS}},
                                  "primitive", codes.primitive));
     STANDIN_RETURN_IF_ERROR(pick(c.coverage, {{"any", MF_COVERAGE_ANY}, {"vote", MF_COVERAGE_VOTE}}, "coverage", codes.coverage));
+    STANDIN_RETURN_IF_ERROR(pick(c.clip, {{"seed", MF_CLIP_SEED}, {"voxel", MF_CLIP_VOXEL}, {"ray", MF_CLIP_RAY}}, "clip", codes.clip));
     STANDIN_RETURN_IF_ERROR(pick(c.debug_view, {{"", MF_DEBUG_NONE}, {"billboard", MF_DEBUG_VIEW}, {"depth", MF_DEBUG_DEPTH},
                                                 {"normal", MF_DEBUG_NORMAL}, {"fetches", MF_DEBUG_FETCHES},
                                                 {"level", MF_DEBUG_LEVEL}, {"facets", MF_DEBUG_FACETS}},
                                  "debug-view", codes.debug_view));
+    if (codes.facet == MF_FACET_BOX && codes.clip != MF_CLIP_RAY)
+        return error(StatusCode::invalid_argument, "microfacets: --facet box needs --clip ray (a box has no plane to project a view on)");
     if (c.views < 1 || c.views > k_max_blend)
         return error(StatusCode::invalid_argument, "microfacets: --views must be 1.." + std::to_string(k_max_blend));
-    if (!(c.max_error_pixels > 0.0f) || !(c.point_pixels >= 0.0f))
-        return error(StatusCode::invalid_argument, "microfacets: --pixel-error must be positive and --point-pixels not negative");
+    if (!std::isfinite(c.max_error_pixels) || !(c.point_pixels >= 0.0f))
+        return error(StatusCode::invalid_argument, "microfacets: --pixel-error must be finite and --point-pixels not negative");
     return codes;
 }
 
@@ -226,6 +230,8 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     STANDIN_RETURN_IF_ERROR(check_package(package));
 
     auto r = std::make_unique<MicrofacetRenderer>();
+    r->config_ = config;
+    if (r->config_.max_error_pixels <= 0.0f) r->config_.max_error_pixels = codes->clip == MF_CLIP_RAY ? 4.0f : 1.0f;
     r->package_.center = package.center;
     r->package_.radius = package.radius;
     r->package_.grid_size = package.octree.grid.size;
@@ -234,7 +240,6 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     r->package_.max_level = package.settings.level;
     for (int level = package.settings.min_level; level <= package.settings.level; ++level)
         r->package_.facets[level] = package.octree.at(level).size();
-    r->config_ = config;
     r->codes_ = *codes;
     for (auto [program, stages] : {std::pair{&r->select_, std::vector<std::string>{"reps/microfacets/shaders/select.comp"}},
                                    {&r->scan_, {"reps/microfacets/shaders/scan.comp"}},
@@ -301,10 +306,15 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1i(id, program->uniform("max_color_lod"), k_mip_levels - 1);
         glProgramUniform1i(id, program->uniform("debug_view"), r->codes_.debug_view);
         glProgramUniform1i(id, program->uniform("coverage_rule"), r->codes_.coverage);
+        glProgramUniform1i(id, program->uniform("clip_rule"), r->codes_.clip);
+        glProgramUniform1f(id, program->uniform("wall_texels"), config.wall_texels);
         glProgramUniform1i(id, program->uniform("min_level"), package.settings.min_level);
         glProgramUniform1i(id, program->uniform("max_level"), package.settings.level);
     }
+    const int vertices_per_facet = r->codes_.facet == MF_FACET_BOX ? MF_VERTICES_PER_FACET : 6;
     glProgramUniform1i(r->quads_program_.id(), r->quads_program_.uniform("facet_shape"), r->codes_.facet);
+    glProgramUniform1i(r->quads_program_.id(), r->quads_program_.uniform("vertices_per_facet"), vertices_per_facet);
+    glProgramUniform1ui(r->scan_.id(), r->scan_.uniform("vertices_per_facet"), GLuint(vertices_per_facet));
     GLuint select = r->select_.id();
     glProgramUniform1uiv(select, r->select_.uniform("level_first"), MF_MAX_LEVELS + 1, r->level_first_);
     glProgramUniform1i(select, r->select_.uniform("forced_level"), config.level);
@@ -312,7 +322,7 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     glProgramUniform1i(select, r->select_.uniform("blend_count"), config.views);
     glProgramUniform1i(select, r->select_.uniform("primitive"), r->codes_.primitive);
     glProgramUniform1f(select, r->select_.uniform("point_pixels"), config.point_pixels);
-    glProgramUniform1f(select, r->select_.uniform("max_error_pixels"), config.max_error_pixels);
+    glProgramUniform1f(select, r->select_.uniform("max_error_pixels"), r->config_.max_error_pixels);
     glProgramUniform1f(select, r->select_.uniform("tan_delta"), std::tan(package.max_view_angle));
     glProgramUniform1ui(select, r->select_.uniform("lookup_list"), r->lookup_list_);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
@@ -421,7 +431,7 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
         lods_ = gpu::make_buffer(nullptr, std::size_t(lods_capacity_), GL_DYNAMIC_STORAGE_BIT);
     }
     glNamedBufferSubData(lods_.get(), 0, GLsizeiptr(lod_bytes), plan.instances.data());
-    const std::uint32_t commands[8] = {4, 0, 0, 0, 0, 1, 0, 0};
+    const std::uint32_t commands[8] = {0, 1, 0, 0, 0, 1, 0, 0};
     glNamedBufferSubData(commands_.get(), 0, sizeof commands, commands);
     if (codes_.select == MF_SELECT_CONE) {
         // the seed's cone around each instance's bounding sphere, their union for a crowd
@@ -484,7 +494,7 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     glDisable(GL_CULL_FACE);
     glProgramUniform1i(quads_program_.id(), quads_program_.uniform("counting"), counting_ ? 1 : 0);
     quads_program_.use();
-    glDrawArraysIndirect(GL_TRIANGLE_STRIP, nullptr);
+    glDrawArraysIndirect(GL_TRIANGLES, nullptr);
     glEnable(GL_PROGRAM_POINT_SIZE);
     GLuint points = points_program_.id();
     glProgramUniform1i(points, points_program_.uniform("counting"), counting_ ? 1 : 0);
@@ -499,7 +509,7 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     // what was drawn (a read-back: the counts live on the GPU)
     std::uint32_t drawn[8] = {};
     glGetNamedBufferSubData(commands_.get(), 0, sizeof drawn, drawn);
-    return {2, std::uint64_t(drawn[1]) * 2 + drawn[4]};
+    return {2, std::uint64_t(drawn[0]) / 3 + drawn[4]};
 }
 
 void MicrofacetRenderer::set_counting(bool on)

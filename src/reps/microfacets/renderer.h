@@ -12,13 +12,19 @@ namespace standin::microfacets {
 struct RenderConfig {
     std::string select = "lookup";   // "lookup" (per-cell candidates), "cone" (the seed's, Table 1 c), "all" (row a)
     int views = 3;                   // 1 (the seed's nearest view) .. 4 blended
-    std::string facet = "billboard"; // "billboard" (the seed), "fixed" (axis-aligned, Fig. 8)
+    std::string facet = "billboard"; // "billboard" (the seed), "fixed" (axis-aligned, Fig. 8), "box" (the voxel's outline; clip "ray")
     std::string primitive = "auto";  // "auto" (points below point_pixels), "quads", "points" (Table 1 b)
-    std::string coverage = "any";    // "any" view passes eq. 1, or "vote" (half the weight passes)
+    std::string coverage = "vote";   // "vote": views that pass hold half the weight of those that can tell; "any"
     int level = -1;                  // >= 0: draw this octree level (the seed's fixed levels); -1: LOD cut
-    float max_error_pixels = 1.0f;   // the LOD bound on eq. 2 (Yamazaki et al. 2002 §4.1: under a pixel)
+    // The LOD bound on eq. 2 in pixels (Yamazaki et al. 2002 §4.1: under a pixel); <= 0: 1 for the
+    // clips that project views on the facet, 4 for "ray", whose walk places the surface itself (the
+    // bound then only sizes the facets: docs/RESULTS.md "Microfacets")
+    float max_error_pixels = 0.0f;
     float point_pixels = 1.0f;       // auto: facets narrower than this are drawn as points
     std::string debug_view;          // "", "billboard" (by view), "depth", "normal", "fetches", "level", "facets"
+    std::string clip = "ray";        // "seed" (eq. 1), "voxel" (and the surface inside the facet's voxel),
+                                     // "ray" (the pixel's ray in the voxel against the view's depth)
+    float wall_texels = 4.0f;        // clip "ray": a column entered up to this many texels under its top is a wall
 };
 
 Result<std::unique_ptr<Renderer>> make_microfacet_renderer(const MicrofacetsPackage& package, const RenderConfig& config);

@@ -160,6 +160,7 @@ TEST(MicrofacetRenderer, EquationOneClipsAFacetFartherThanHalfAVoxel)
     config.views = 1;
     config.level = 1;
     config.primitive = "quads";
+    config.clip = "seed";
     // the stored surface through the voxel centre (z = 0.5), 0.4 W above it and 0.6 W below
     std::size_t pixels[3];
     float heights[3] = {0.5f, 0.9f, -0.1f};
@@ -175,6 +176,18 @@ TEST(MicrofacetRenderer, EquationOneClipsAFacetFartherThanHalfAVoxel)
     EXPECT_NEAR(double(pixels[0]), 64.0 * 64.0 * side * side, 64.0 * 3.0);
     EXPECT_EQ(pixels[1], pixels[0]);
     EXPECT_EQ(pixels[2], 0u);
+    // the ray clip: the surface inside the voxel is found (also where the square reaches beyond it,
+    // seen face on), the one outside it is not
+    config.clip = "ray";
+    for (int k = 0; k < 3; ++k) {
+        MicrofacetsPackage package = one_facet(heights[k]);
+        Result<std::unique_ptr<Renderer>> r = make_microfacet_renderer(package, config);
+        ASSERT_TRUE(r.is_ok()) << r.status().message();
+        std::size_t n = covered(render(**r, camera, 64).color);
+        if (k < 2) EXPECT_GT(n, pixels[0] / 2) << k;
+        else EXPECT_EQ(n, 0u);
+    }
+    config.clip = "seed";
     // the depth written is the stored surface's, not the facet's
     MicrofacetsPackage package = one_facet(0.9f);
     Result<std::unique_ptr<Renderer>> r = make_microfacet_renderer(package, config);
@@ -192,6 +205,7 @@ TEST(MicrofacetRenderer, GpuCutMatchesTheCpuCut)
     const MicrofacetsPackage& p = as_microfacets(package);
     RenderConfig config;
     config.primitive = "quads";
+    config.max_error_pixels = 1.0f;
     std::unique_ptr<Renderer> facets = renderer_for(*package, config);
     ASSERT_TRUE(facets);
     for (float distance : {1.3f, 2.5f, 6.0f}) {

@@ -14,6 +14,7 @@
 #include "reps/microfacets/shaders/microfacets_sample.glsl"
 
 in vec3 v_position;
+flat in vec3 v_center;
 flat in uint v_instance;
 flat in int v_level;
 flat in uvec4 v_views;
@@ -47,12 +48,21 @@ void main()
     }
 
     vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;
-    float weight = 0.0, best = -1.0;
+    float weight = 0.0, best = -1.0, abstained = 0.0;
     int best_view = int(v_views.x);
+    InstanceLod lod = lods.items[v_instance];
+    vec3 ray_origin = lod.forward_object.w > 0.5 ? p - lod.forward_object.xyz * (4.0 * mf_radius) : lod.eye_object.xyz;
+    vec3 ray = lod.forward_object.w > 0.5 ? lod.forward_object.xyz : normalize(p - lod.eye_object.xyz);
     for (int k = 0; k < MF_MAX_BLEND; ++k) {
         float wk = v_weights[k];
         if (wk <= 0.0) continue;
-        ViewSample s = sample_view(views.items[v_views[k]], p, w, color_lod(span));
+        ViewSample s;
+        if (clip_rule == MF_CLIP_RAY) {
+            int outcome = walk_view(views.items[v_views[k]], ray_origin, ray, v_center, w, color_lod(span), s);
+            if (outcome == RAY_HIDDEN) abstained += wk;
+        } else {
+            s = sample_view(views.items[v_views[k]], p, v_center, w, color_lod(span));
+        }
         if (!s.passed) continue;
         color += wk * s.color;
         normal += wk * s.normal;
@@ -64,7 +74,8 @@ void main()
         }
     }
     if (counting != 0) atomicAdd(counters[MF_COUNTER_FETCHES], g_fetches);
-    bool covered = coverage_rule == MF_COVERAGE_VOTE ? weight >= 0.5 : weight > 0.0;
+    // "vote": the views that hit hold at least half the weight of those that could tell
+    bool covered = coverage_rule == MF_COVERAGE_VOTE ? weight > 0.0 && weight >= 0.5 * (1.0 - abstained) : weight > 0.0;
     if (!covered) discard;
     color /= weight;
 

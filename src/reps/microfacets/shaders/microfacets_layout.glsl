@@ -40,11 +40,17 @@
 #define MF_SELECT_ALL 2    // every view for every facet (Table 1 row a)
 #define MF_FACET_BILLBOARD 0 // squares of side sqrt(3) W facing the eye (the seed)
 #define MF_FACET_FIXED 1     // squares of side W across the object axis nearest the view (Fig. 8)
+#define MF_FACET_BOX 2       // the voxel's faces towards the eye: its exact outline, each pixel once
+                             // (for MF_CLIP_RAY, which walks the ray inside the voxel)
+#define MF_VERTICES_PER_FACET 18 // quads: 6 vertices (two triangles) per square, 3 squares for a box
 #define MF_PRIMITIVE_AUTO 0   // quads, points where a facet is smaller than a pixel
 #define MF_PRIMITIVE_QUADS 1
 #define MF_PRIMITIVE_POINTS 2 // one colour per facet (Table 1 row b)
 #define MF_COVERAGE_ANY 0  // a pixel is covered where any blended view passes eq. 1
 #define MF_COVERAGE_VOTE 1 // where the passing views hold at least half the weight
+#define MF_CLIP_SEED 0     // eq. 1: the view's surface within W/2 of the facet, along the view
+#define MF_CLIP_VOXEL 1    // and inside the facet's voxel (grown by a texel)
+#define MF_CLIP_RAY 2      // the pixel's ray inside the voxel intersected with the view's depth
 
 // debug views
 #define MF_DEBUG_NONE 0

@@ -37,7 +37,7 @@ void main()
     for (int k = 0; k < MF_MAX_BLEND; ++k) {
         float wk = facet_weight(f, k);
         if (wk <= 0.0) continue;
-        ViewSample s = sample_view(views.items[facet_view(f, k)], c, w, color_lod(1.7320508 * w));
+        ViewSample s = sample_view(views.items[facet_view(f, k)], c, c, w, color_lod(1.7320508 * w));
         if (!s.passed) continue;
         color += wk * s.color;
         normal += wk * s.normal;

@@ -10,12 +10,14 @@ layout(std430, binding = MF_GROUPS_SSBO) buffer GroupBlock {
     uvec2 counts[];
 } groups;
 
-// {count, instanceCount, first, baseInstance} for the quads (4, quads, 0, 0) and points (points, 1, 0, 0)
+// {count, instanceCount, first, baseInstance} for the quads (vertices_per_facet x quads, 1, 0, 0:
+// triangles, not instances, which llvmpipe draws one at a time) and the points (points, 1, 0, 0)
 layout(std430, binding = MF_COMMANDS_SSBO) buffer CommandBlock {
     uint commands[8];
 };
 
 uniform uint group_count;
+uniform uint vertices_per_facet; // 6 (a square: two triangles) or 18 (a box's three faces)
 
 shared uvec2 s_sums[MF_SCAN_SIZE];
 
@@ -41,7 +43,7 @@ void main()
         running += count;
     }
     if (lane == uint(MF_SCAN_SIZE) - 1u) {
-        commands[1] = s_sums[lane].x; // quads: instances of a 4-vertex strip
+        commands[0] = vertices_per_facet * s_sums[lane].x;
         commands[4] = s_sums[lane].y; // points: vertices
     }
 }
