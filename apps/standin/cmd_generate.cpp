@@ -46,8 +46,8 @@ CommandRun add_generate_command(CLI::App& root)
 {
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
-        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a noisy displaced sphere, a shrub (branches "
-                    "and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
+        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a sphere with a noisy radius, a shrub "
+                    "(branches and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
                     "benchmarks up to millions of faces)");
     command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball")
         ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball"}))

@@ -565,7 +565,8 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
             glm::vec3 transformed = normal_from_object * glm::vec3(n.x, n.y, n.z);
             float length = glm::length(transformed);
             // a singular transform leaves no usable direction: recompute the whole mesh below
-            if (length > 0.0f && std::isfinite(length)) normal = transformed / length;
+            // (unit normals are kept bit for bit: a package's coarse mesh must read back as written)
+            if (length > 0.0f && std::isfinite(length)) normal = std::abs(length - 1.0f) <= 1e-6f ? transformed : transformed / length;
             else keep_normals = false;
         }
         mesh_.normals.push_back(normal);

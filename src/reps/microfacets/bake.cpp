@@ -30,50 +30,6 @@ namespace standin::microfacets {
 
 namespace {
 
-Result<BakeSettings> read_settings(const BakeParameters& parameters)
-{
-    BakeSettings s;
-    auto level = parameters.get_int("level", s.level, 1, k_max_grid_level);
-    if (!level) return level.status();
-    s.level = *level;
-    auto min_level = parameters.get_int("min-level", std::min(s.min_level, s.level), 0, s.level);
-    if (!min_level) return min_level.status();
-    s.min_level = *min_level;
-    auto layout = parameters.get_choice("layout", s.layout, {"icosahedral", "octahedral", "hemi-octahedral", "circle"});
-    if (!layout) return layout.status();
-    s.layout = *layout;
-    auto subdivisions = parameters.get_int("subdivisions", s.subdivisions, 0, 5);
-    if (!subdivisions) return subdivisions.status();
-    s.subdivisions = *subdivisions;
-    auto frames = parameters.get_int("frames", s.frames, 2, 256);
-    if (!frames) return frames.status();
-    s.frames = *frames;
-    auto resolution = parameters.get_int("resolution", s.resolution, 16, 4096);
-    if (!resolution) return resolution.status();
-    s.resolution = *resolution;
-    auto depth_bits = parameters.get_choice("depth-bits", std::to_string(s.depth_bits), {"16", "8"});
-    if (!depth_bits) return depth_bits.status();
-    s.depth_bits = std::stoi(*depth_bits);
-    auto geometry_from = parameters.get_choice("geometry-from", s.geometry_from, {"full", "simplified", "noisy"});
-    if (!geometry_from) return geometry_from.status();
-    s.geometry_from = *geometry_from;
-    auto amount = parameters.get_float("geometry-amount", s.geometry_amount, 0.0f, 1.0f);
-    if (!amount) return amount.status();
-    s.geometry_amount = *amount;
-    auto fill_holes = parameters.get_choice("fill-holes", s.fill_holes ? "on" : "off", {"on", "off"});
-    if (!fill_holes) return fill_holes.status();
-    s.fill_holes = *fill_holes == "on";
-    auto page_size = parameters.get_int("page-size", s.page_size, 256, 16384);
-    if (!page_size) return page_size.status();
-    s.page_size = *page_size;
-    if (s.page_size % view_atlas::k_cell != 0)
-        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(view_atlas::k_cell));
-    if (s.resolution + 2 * view_atlas::k_cell > s.page_size)
-        return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
-    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("microfacets"));
-    return s;
-}
-
 // A hash of a vertex index in [-1, 1], the same on every run.
 float vertex_noise(std::uint32_t index)
 {
@@ -186,9 +142,8 @@ std::vector<glm::vec3> capture_directions(const BakeSettings& settings)
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    Result<BakeSettings> settings = read_settings(context.parameters);
-    if (!settings) return settings.status();
-    const BakeSettings& s = *settings;
+    const BakeSettings s = settings_from(context.parameters);
+    STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "microfacets"));
     const bool degraded = s.geometry_from != "full";
     Mesh geometry = degraded ? degraded_geometry(context.mesh, s) : Mesh{};
@@ -196,6 +151,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 
     auto package = std::make_unique<MicrofacetsPackage>();
     package->source = context.source;
+    package->parameters = context.parameters;
     package->settings = s;
     BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;

@@ -42,11 +42,9 @@ struct BakeSettings {
 class MicrofacetsPackage final : public Package {
 public:
     std::string representation() const override { return "microfacets"; }
-    nlohmann::json summary() const override;
 
-    std::uint64_t facet_count(int level) const { return octree.at(level).size(); }
-
-    BakeSettings settings;
+    Options parameters;    // as baked
+    BakeSettings settings; // settings_from(parameters)
     Octree octree;          // levels settings.min_level .. settings.level
     glm::vec3 center{0.0f}; // bounding sphere of the source (the capture frame)
     float radius = 1.0f;
@@ -61,18 +59,23 @@ public:
     // (multiples of 257 when depth_bits is 8). All zero where the colour page's coverage is 0 (a
     // covered texel never has a zero normal).
     std::vector<ImageRGBA16> normal_depth_pages;
-    std::uint64_t package_bytes = 0; // filled when read from disk
-    std::string directory;           // filled when read from disk (named in the renderer's errors)
 };
 
 // The capture directions of a layout: the view atlas's sphere layouts (view_atlas::layout_directions)
 // or "circle": `frames` directions on the horizontal circle, azimuth 360 k / frames from +Z.
 std::vector<glm::vec3> capture_directions(const BakeSettings& settings);
 
-// Entry points for the registry (src/reps/registry.cpp).
+// The bake parameters typed (representation.cpp), and the checks between them.
+BakeSettings settings_from(const Options& parameters);
+Status check_settings(const BakeSettings& settings);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options);
+// Uploads a package (one texture array per map: a package that does not fit is refused naming its
+// sizes); run-time options as declared in representation.cpp (renderer.h RenderConfig).
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
 
 } // namespace standin::microfacets

@@ -3,7 +3,7 @@
 // pages as PNG (colour + coverage 8-bit, normal + depth 16-bit, or 8-bit for depth_bits 8).
 // Writing is deterministic (sorted keys, fixed PNG encoder); reading checks every field and file and
 // refuses what it does not understand with a status naming the file and the field.
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
 #include "reps/microfacets/microfacets.h"
 
 #include <standin/files.h>
@@ -21,36 +21,6 @@ namespace {
 constexpr const char* k_voxels_file = "voxels.bin";
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
-
-nlohmann::json settings_json(const BakeSettings& s)
-{
-    return {{"level", s.level}, {"min_level", s.min_level}, {"layout", s.layout}, {"subdivisions", s.subdivisions},
-            {"frames", s.frames}, {"resolution", s.resolution}, {"depth_bits", s.depth_bits},
-            {"geometry_from", s.geometry_from}, {"geometry_amount", s.geometry_amount},
-            {"fill_holes", s.fill_holes}, {"page_size", s.page_size}};
-}
-
-BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& bake = in.member(manifest, "bake", "");
-    BakeSettings s;
-    s.level = int(in.integer(bake, "level", "bake.", 1, k_max_grid_level));
-    s.min_level = int(in.integer(bake, "min_level", "bake.", 0, s.level));
-    s.layout = in.choice(bake, "layout", "bake.", {"icosahedral", "octahedral", "hemi-octahedral", "circle"});
-    s.subdivisions = int(in.integer(bake, "subdivisions", "bake.", 0, 5));
-    s.frames = int(in.integer(bake, "frames", "bake.", 2, 256));
-    s.resolution = int(in.integer(bake, "resolution", "bake.", 16, 4096));
-    s.depth_bits = int(in.integer(bake, "depth_bits", "bake.", 8, 16));
-    if (s.depth_bits != 8 && s.depth_bits != 16) in.fail("bake.depth_bits", "is neither 8 nor 16");
-    s.geometry_from = in.choice(bake, "geometry_from", "bake.", {"full", "simplified", "noisy"});
-    s.geometry_amount = float(in.number(bake, "geometry_amount", "bake.", 0.0, 1.0));
-    const nlohmann::json& fill = in.member(bake, "fill_holes", "bake.");
-    if (!fill.is_boolean()) in.fail("bake.fill_holes", "is not true or false");
-    s.fill_holes = fill.get<bool>();
-    s.page_size = int(in.integer(bake, "page_size", "bake.", 256, 16384));
-    if (s.page_size % view_atlas::k_cell != 0) in.fail("bake.page_size", "is not a multiple of " + std::to_string(view_atlas::k_cell));
-    return s;
-}
 
 nlohmann::json view_json(const View& v)
 {
@@ -223,7 +193,7 @@ Status write(const Package& base, const std::string& directory)
         {"version", k_package_format_version},
         {"representation", package.representation()},
         {"source", manifest_io::source_json(package.source)},
-        {"bake", settings_json(s)},
+        {"bake", manifest_io::settings_json(package.parameters)},
         {"grid", {{"origin", manifest_io::vec3_json(package.octree.grid.origin)}, {"size", package.octree.grid.size}}},
         {"levels", levels},
         {"voxels", k_voxels_file},
@@ -243,7 +213,9 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     auto package = std::make_unique<MicrofacetsPackage>();
     try {
         package->source = manifest_io::read_source(in, manifest);
-        package->settings = read_settings(in, manifest);
+        package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        package->settings = settings_from(package->parameters);
+        if (Status valid = check_settings(package->settings); !valid) in.fail("bake", valid.message());
         const BakeSettings& s = package->settings;
         const nlohmann::json& files = in.member(manifest, "files", "");
         if (!files.is_object()) in.fail("files", "is not an object");
@@ -269,36 +241,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
-    Result<std::uint64_t> bytes = package_bytes(directory);
-    if (!bytes) return bytes.status();
-    package->package_bytes = *bytes;
-    package->directory = directory;
     return std::unique_ptr<Package>(std::move(package));
-}
-
-nlohmann::json MicrofacetsPackage::summary() const
-{
-    nlohmann::json levels = nlohmann::json::object();
-    for (int level = settings.min_level; level <= settings.level; ++level)
-        levels[std::to_string(1 << level) + "^3"] = octree.at(level).size();
-    std::uint64_t texels = 0;
-    for (const View& v : views) texels += std::uint64_t(v.width) * v.height;
-    std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * color_pages.size();
-    return {{"representation", representation()},
-            {"source", source.file_name},
-            {"facets_per_level", levels},
-            {"layout", settings.layout},
-            {"views", views.size()},
-            {"resolution", settings.resolution},
-            {"depth_bits", settings.depth_bits},
-            {"geometry_from", settings.geometry_from},
-            {"max_view_angle_degrees", glm::degrees(max_view_angle)},
-            {"pages", color_pages.size()},
-            {"page_size", settings.page_size},
-            {"crop_texels", texels},
-            // colour RGBA8 with mips, normal-depth RGBA16 without
-            {"gpu_texture_bytes", page_texels * 4 * 4 / 3 + page_texels * 8},
-            {"package_bytes", package_bytes}};
 }
 
 } // namespace standin::microfacets

@@ -20,6 +20,7 @@
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
 
+#include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "reps/microfacets/shaders/microfacets_layout.glsl"
@@ -59,7 +60,7 @@ constexpr GLuint k_max_groups_x = 65535;
 
 struct Codes {
     int select = MF_SELECT_LOOKUP, facet = MF_FACET_BILLBOARD, primitive = MF_PRIMITIVE_AUTO;
-    int coverage = MF_COVERAGE_ANY, clip = MF_CLIP_SEED, debug_view = MF_DEBUG_NONE;
+    int coverage = MF_COVERAGE_ANY, clip = MF_CLIP_SEED;
 };
 
 Result<Codes> codes_of(const RenderConfig& c)
@@ -84,10 +85,6 @@ Result<Codes> codes_of(const RenderConfig& c)
                                  "primitive", codes.primitive));
     STANDIN_RETURN_IF_ERROR(pick(c.coverage, {{"any", MF_COVERAGE_ANY}, {"vote", MF_COVERAGE_VOTE}}, "coverage", codes.coverage));
     STANDIN_RETURN_IF_ERROR(pick(c.clip, {{"seed", MF_CLIP_SEED}, {"voxel", MF_CLIP_VOXEL}, {"ray", MF_CLIP_RAY}}, "clip", codes.clip));
-    STANDIN_RETURN_IF_ERROR(pick(c.debug_view, {{"", MF_DEBUG_NONE}, {"billboard", MF_DEBUG_VIEW}, {"depth", MF_DEBUG_DEPTH},
-                                                {"normal", MF_DEBUG_NORMAL}, {"fetches", MF_DEBUG_FETCHES},
-                                                {"level", MF_DEBUG_LEVEL}, {"facets", MF_DEBUG_FACETS}},
-                                 "debug-view", codes.debug_view));
     if (codes.facet == MF_FACET_BOX && codes.clip != MF_CLIP_RAY)
         return error(StatusCode::invalid_argument, "microfacets: --facet box needs --clip ray (a box has no plane to project a view on)");
     if (c.views < 1 || c.views > k_max_blend)
@@ -159,14 +156,12 @@ class MicrofacetRenderer final : public Renderer {
 public:
     static Result<std::unique_ptr<Renderer>> create(const MicrofacetsPackage& package, const RenderConfig& config);
     DrawStats draw(const DrawParams& params) override;
-    void set_counting(bool on) override;
-    std::uint64_t read_fetch_count() override { return read_counter(MF_COUNTER_FETCHES); }
-    std::uint64_t read_fragment_count() override { return read_counter(MF_COUNTER_FRAGMENTS); }
+    void set_counting(bool on) override { counters_.set_counting(on); }
+    std::uint64_t read_counter(Counter counter) override { return counters_.read(int(counter)); }
 
 private:
     DrawPlan make_plan(const DrawParams& params) const;
     void reserve(GLuint work_groups, std::uint64_t work, std::uint64_t capacity);
-    std::uint64_t read_counter(int index);
 
     // what the per-draw plan needs of the package (which may go before the renderer)
     struct PackageFacts {
@@ -184,9 +179,9 @@ private:
 
     gpu::Program select_, scan_, scatter_, quads_program_, points_program_;
     gpu::Texture color_pages_, normal_depth_pages_;
-    gpu::Buffer views_, lookup_, nodes_, lods_, selected_, groups_, quads_, points_, commands_, counters_;
+    gpu::Buffer views_, lookup_, nodes_, lods_, selected_, groups_, quads_, points_, commands_;
     std::uint64_t lods_capacity_ = 0, selected_capacity_ = 0, list_capacity_ = 0, groups_capacity_ = 0;
-    bool counting_ = false;
+    gpu::Counters counters_;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
 };
@@ -287,7 +282,6 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     if (nodes.empty()) nodes.push_back(0u);
     r->nodes_ = gpu::make_buffer(nodes);
     r->commands_ = gpu::make_buffer(nullptr, 8 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
-    r->counters_ = gpu::make_buffer(std::vector<std::uint32_t>(MF_COUNTER_COUNT, 0u), GL_DYNAMIC_STORAGE_BIT);
     r->empty_vertex_array_ = gpu::make_vertex_array();
 
     // uniforms that do not change
@@ -304,7 +298,7 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         GLuint id = program->id();
         glProgramUniform1f(id, program->uniform("page_size"), float(package.settings.page_size));
         glProgramUniform1i(id, program->uniform("max_color_lod"), k_mip_levels - 1);
-        glProgramUniform1i(id, program->uniform("debug_view"), r->codes_.debug_view);
+        glProgramUniform1i(id, program->uniform("debug_view"), int(config.debug_view));
         glProgramUniform1i(id, program->uniform("coverage_rule"), r->codes_.coverage);
         glProgramUniform1i(id, program->uniform("clip_rule"), r->codes_.clip);
         glProgramUniform1f(id, program->uniform("wall_texels"), config.wall_texels);
@@ -458,7 +452,7 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_QUADS_SSBO, quads_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_POINTS_SSBO, points_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_COMMANDS_SSBO, commands_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_COUNTERS_SSBO, counters_.get());
+    counters_.bind();
 
     // step 2: select, scan, scatter
     const ScreenScale scale = screen_scale(params.camera, params.viewport.y);
@@ -492,39 +486,24 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    glProgramUniform1i(quads_program_.id(), quads_program_.uniform("counting"), counting_ ? 1 : 0);
+    glProgramUniform1i(quads_program_.id(), quads_program_.uniform("counting"), counters_.counting() ? 1 : 0);
     quads_program_.use();
     glDrawArraysIndirect(GL_TRIANGLES, nullptr);
     glEnable(GL_PROGRAM_POINT_SIZE);
     GLuint points = points_program_.id();
-    glProgramUniform1i(points, points_program_.uniform("counting"), counting_ ? 1 : 0);
+    glProgramUniform1i(points, points_program_.uniform("counting"), counters_.counting() ? 1 : 0);
     glProgramUniform1f(points, points_program_.uniform("screen_pixels"), scale.pixels);
     points_program_.use();
     glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(4 * sizeof(std::uint32_t)));
     glDisable(GL_PROGRAM_POINT_SIZE);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindVertexArray(0);
-    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (counters_.counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
 
     // what was drawn (a read-back: the counts live on the GPU)
     std::uint32_t drawn[8] = {};
     glGetNamedBufferSubData(commands_.get(), 0, sizeof drawn, drawn);
     return {2, std::uint64_t(drawn[0]) / 3 + drawn[4]};
-}
-
-void MicrofacetRenderer::set_counting(bool on)
-{
-    counting_ = on;
-    std::uint32_t zero[MF_COUNTER_COUNT] = {};
-    glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero);
-}
-
-std::uint64_t MicrofacetRenderer::read_counter(int index)
-{
-    std::uint32_t counts[MF_COUNTER_COUNT] = {};
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts);
-    return counts[index];
 }
 
 } // namespace
@@ -534,18 +513,30 @@ Result<std::unique_ptr<Renderer>> make_microfacet_renderer(const MicrofacetsPack
     return MicrofacetRenderer::create(package, config);
 }
 
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+RenderConfig config_from(const RenderSettings& settings)
+{
+    const Options& o = settings.options;
+    RenderConfig c;
+    c.select = o.choice("select");
+    c.views = o.integer("views");
+    c.facet = o.choice("facet");
+    c.primitive = o.choice("primitive");
+    c.coverage = o.choice("coverage");
+    c.level = o.integer("level");
+    c.max_error_pixels = o.number("pixel-error");
+    c.point_pixels = o.number("point-pixels");
+    c.debug_view = settings.debug_view;
+    c.clip = o.choice("clip");
+    c.wall_texels = o.number("wall-texels");
+    return c;
+}
+
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
     const auto* microfacets = dynamic_cast<const MicrofacetsPackage*>(&package);
     if (!microfacets)
         return error(StatusCode::invalid_argument, "microfacets: package holds '" + package.representation() + "', not microfacets");
-    // until the representation seam passes declared options (issue #11): --style picks the seed's
-    // nearest view ("seed") or fixed facets ("fixed"), anything else the defaults
-    RenderConfig config;
-    if (options.style == "seed") config.views = 1;
-    if (options.style == "fixed") config.facet = "fixed";
-    config.debug_view = options.debug_view;
-    return MicrofacetRenderer::create(*microfacets, config);
+    return MicrofacetRenderer::create(*microfacets, config_from(settings));
 }
 
 } // namespace standin::microfacets

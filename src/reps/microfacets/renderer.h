@@ -1,6 +1,5 @@
-// The microfacet renderer's run-time settings and its constructor, for the registry's entry point
-// (microfacets.h make_renderer) and for tests and benchmarks that set what RenderOptions cannot
-// express yet.
+// The microfacet renderer's run-time settings, typed (the declared options of representation.cpp),
+// and its constructor, for the registry's entry point (microfacets.h make_renderer) and for tests.
 #pragma once
 
 #include "reps/microfacets/microfacets.h"
@@ -21,11 +20,14 @@ struct RenderConfig {
     // bound then only sizes the facets: docs/RESULTS.md "Microfacets")
     float max_error_pixels = 0.0f;
     float point_pixels = 1.0f;       // auto: facets narrower than this are drawn as points
-    std::string debug_view;          // "", "billboard" (by view), "depth", "normal", "fetches", "level", "facets"
+    DebugView debug_view = DebugView::none; // parts (by view), depth, normal, fetches, proxies, level
     std::string clip = "ray";        // "seed" (eq. 1), "voxel" (and the surface inside the facet's voxel),
                                      // "ray" (the pixel's ray in the voxel against the view's depth)
     float wall_texels = 4.0f;        // clip "ray": a column entered up to this many texels under its top is a wall
 };
+
+// The declared run-time options, typed.
+RenderConfig config_from(const RenderSettings& settings);
 
 Result<std::unique_ptr<Renderer>> make_microfacet_renderer(const MicrofacetsPackage& package, const RenderConfig& config);
 

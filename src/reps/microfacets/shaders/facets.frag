@@ -9,22 +9,19 @@
 // cast and receive shadows like the mesh.
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
-#include "gpu/shaders/common/debug_colors.glsl"
+#include "gpu/shaders/common/counters.glsl"
 #include "reps/microfacets/shaders/microfacets.glsl"
 #include "reps/microfacets/shaders/microfacets_sample.glsl"
 
 in vec3 v_position;
 flat in vec3 v_center;
+in vec2 v_corner; // position on the facet's square, [-1, 1]^2
 flat in uint v_instance;
 flat in int v_level;
 flat in uvec4 v_views;
 flat in vec4 v_weights;
 
-layout(std430, binding = MF_COUNTERS_SSBO) buffer CounterBlock {
-    uint counters[MF_COUNTER_COUNT];
-};
-
-uniform int debug_view;    // MF_DEBUG_*
+uniform int debug_view;    // DEBUG_VIEW_*
 uniform int counting;      // 1: add this fragment and its texture reads to the counters
 uniform int coverage_rule; // MF_COVERAGE_*
 uniform int min_level, max_level;
@@ -38,14 +35,8 @@ void main()
     // the colour's mip level: the capture texels a pixel spans on the facet
     vec3 dpdx = dFdx(p), dpdy = dFdy(p);
     float span = max(length(dpdx), length(dpdy));
+    float edge = max(abs(v_corner.x), abs(v_corner.y)), edge_width = fwidth(edge);
     float w = voxel_size(v_level);
-    if (counting != 0) atomicAdd(counters[MF_COUNTER_FRAGMENTS], 1u);
-
-    if (debug_view == MF_DEBUG_FACETS) {
-        out_color = vec4(index_color(int(v_views.x)), 1.0);
-        gl_FragDepth = gl_FragCoord.z;
-        return;
-    }
 
     vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;
     float weight = 0.0, best = -1.0, abstained = 0.0;
@@ -73,9 +64,15 @@ void main()
             best_view = int(v_views[k]);
         }
     }
-    if (counting != 0) atomicAdd(counters[MF_COUNTER_FETCHES], g_fetches);
+    if (counting != 0) count_fragment(g_fetches);
     // "vote": the views that hit hold at least half the weight of those that could tell
     bool covered = coverage_rule == MF_COVERAGE_VOTE ? weight > 0.0 && weight >= 0.5 * (1.0 - abstained) : weight > 0.0;
+    // DEBUG_VIEW_PROXIES: every facet's outline (a line a pixel wide) over the picture
+    if (debug_view == DEBUG_VIEW_PROXIES && edge > 1.0 - edge_width) {
+        out_color = vec4(index_color(int(v_views.x)), 1.0);
+        gl_FragDepth = gl_FragCoord.z;
+        return;
+    }
     if (!covered) discard;
     color /= weight;
 
@@ -86,10 +83,10 @@ void main()
     gl_FragDepth = depth;
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - surface_world);
 
-    if (debug_view == MF_DEBUG_VIEW) out_color = vec4(index_color(best_view), 1.0);
-    else if (debug_view == MF_DEBUG_DEPTH) out_color = vec4(vec3(1.0 - depth), 1.0);
-    else if (debug_view == MF_DEBUG_NORMAL) out_color = vec4(normal_world * 0.5 + 0.5, 1.0);
-    else if (debug_view == MF_DEBUG_FETCHES) out_color = vec4(heat(float(g_fetches) / 16.0), 1.0);
-    else if (debug_view == MF_DEBUG_LEVEL) out_color = vec4(heat(float(v_level - min_level) / float(max(max_level - min_level, 1))), 1.0);
+    if (debug_view == DEBUG_VIEW_PARTS) out_color = vec4(index_color(best_view), 1.0);
+    else if (debug_view == DEBUG_VIEW_DEPTH) out_color = vec4(vec3(1.0 - depth), 1.0);
+    else if (debug_view == DEBUG_VIEW_NORMAL) out_color = vec4(normal_world * 0.5 + 0.5, 1.0);
+    else if (debug_view == DEBUG_VIEW_FETCHES) out_color = vec4(fetches_color(g_fetches), 1.0);
+    else if (debug_view == DEBUG_VIEW_LEVEL) out_color = vec4(heat(float(v_level - min_level) / float(max(max_level - min_level, 1))), 1.0);
     else out_color = vec4(shade_at(color, normal_world, to_eye, surface_world), 1.0);
 }

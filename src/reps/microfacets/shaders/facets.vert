@@ -22,6 +22,7 @@ uniform int vertices_per_facet; // 6, or 18 for MF_FACET_BOX
 
 out vec3 v_position; // object space, on the facet's plane through the voxel centre
 flat out vec3 v_center;
+out vec2 v_corner; // position on the square, [-1, 1]^2 (DEBUG_VIEW_PROXIES outlines)
 flat out uint v_instance;
 flat out int v_level;
 flat out uvec4 v_views;
@@ -85,6 +86,7 @@ void main()
     v_views = uvec4(uint(facet_view(f, 0)), uint(facet_view(f, 1)), uint(facet_view(f, 2)), uint(facet_view(f, 3)));
     v_weights = vec4(facet_weight(f, 0), facet_weight(f, 1), facet_weight(f, 2), facet_weight(f, 3));
     v_center = c;
+    v_corner = corner;
     if (facet_shape == MF_FACET_BOX) {
         vec3 p;
         if (!box_corner(lod, c, w, (gl_VertexID % vertices_per_facet) / 6, corner, p)) {

@@ -3,25 +3,27 @@
 #ifndef STANDIN_MICROFACETS_LAYOUT_GLSL
 #define STANDIN_MICROFACETS_LAYOUT_GLSL
 
-// shader storage blocks (binding 0 is the frame's instance transforms, gpu/shaders/common/bindings.h)
-#define MF_VIEWS_SSBO 1     // ViewData[]
-#define MF_LOOKUP_SSBO 2    // uint[]: per lookup cell (first << 8 | count), the candidates, then the
-                            // per-draw list of MF_SELECT_CONE / MF_SELECT_ALL (count, then views)
-#define MF_NODES_SSBO 3     // uint[]: the octree's Morton codes, levels min..max concatenated
-#define MF_INSTANCES_SSBO 4 // InstanceLod[]: per instance eye, axes, work range and levels
-#define MF_SELECTED_SSBO 5  // Facet[] per work item (select.comp), with its rank in its group
-#define MF_GROUPS_SSBO 6    // uvec2[] per work group: quads and points kept; then their offsets
-#define MF_QUADS_SSBO 7     // Facet[]: the facets drawn as quads, in work order
-#define MF_POINTS_SSBO 8    // Facet[]: the facets drawn as points, in work order
-#define MF_COMMANDS_SSBO 9  // two DrawArraysIndirectCommand (quads, points)
-#define MF_COUNTERS_SSBO 10 // uint[MF_COUNTER_COUNT], written when counting
-#define MF_COUNTER_FRAGMENTS 0 // fragment invocations (overdraw = fragments / covered pixels)
-#define MF_COUNTER_FETCHES 1   // texture reads
-#define MF_COUNTER_COUNT 2
+#include "gpu/shaders/common/bindings.h"
+#include "gpu/shaders/common/debug_views.h"
 
-// texture units (the shadow map is BINDING_SHADOW_TEXTURE, 16)
-#define MF_COLOR_TEXTURE 0        // colour pages: albedo premultiplied by coverage, mip-mapped
-#define MF_NORMAL_DEPTH_TEXTURE 1 // normal * 0.5 + 0.5 and depth, 16-bit, level 0 only
+// shader storage blocks: the frame's instances and the shared counters are the GPU layer's
+// (bindings.h); this renderer's start at BINDING_FIRST_RENDERER_SSBO
+#define MF_VIEWS_SSBO (BINDING_FIRST_RENDERER_SSBO + 0)     // ViewData[]
+#define MF_LOOKUP_SSBO (BINDING_FIRST_RENDERER_SSBO + 1)    // uint[]: per lookup cell (first << 8 | count),
+                                                            // the candidates, then the per-draw list of
+                                                            // MF_SELECT_CONE / MF_SELECT_ALL (count, views)
+#define MF_NODES_SSBO (BINDING_FIRST_RENDERER_SSBO + 2)     // uint[]: the octree's codes, levels min..max
+#define MF_INSTANCES_SSBO (BINDING_FIRST_RENDERER_SSBO + 3) // InstanceLod[]: eye, axes, work range, levels
+#define MF_SELECTED_SSBO (BINDING_FIRST_RENDERER_SSBO + 4)  // Facet[] per work item, with its rank in its group
+#define MF_GROUPS_SSBO (BINDING_FIRST_RENDERER_SSBO + 5)    // uvec2[] per work group: quads and points kept,
+                                                            // then their offsets
+#define MF_QUADS_SSBO (BINDING_FIRST_RENDERER_SSBO + 6)     // Facet[]: drawn as quads, in work order
+#define MF_POINTS_SSBO (BINDING_FIRST_RENDERER_SSBO + 7)    // Facet[]: drawn as points, in work order
+#define MF_COMMANDS_SSBO (BINDING_FIRST_RENDERER_SSBO + 8)  // two DrawArraysIndirectCommand (quads, points)
+
+// texture units (the shadow map is BINDING_SHADOW_TEXTURE)
+#define MF_COLOR_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 0)        // albedo premultiplied by coverage, mip-mapped
+#define MF_NORMAL_DEPTH_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 1) // normal * 0.5 + 0.5 and depth, 16-bit
 
 #define MF_GROUP_SIZE 256      // select.comp / scatter.comp work group; ranks in a group fit 16 bits
 #define MF_SCAN_SIZE 1024      // scan.comp: one group over every group's counts
@@ -51,14 +53,5 @@
 #define MF_CLIP_SEED 0     // eq. 1: the view's surface within W/2 of the facet, along the view
 #define MF_CLIP_VOXEL 1    // and inside the facet's voxel (grown by a texel)
 #define MF_CLIP_RAY 2      // the pixel's ray inside the voxel intersected with the view's depth
-
-// debug views
-#define MF_DEBUG_NONE 0
-#define MF_DEBUG_VIEW 1    // colour by the view with the largest weight (Fig. 13 d)
-#define MF_DEBUG_DEPTH 2
-#define MF_DEBUG_NORMAL 3
-#define MF_DEBUG_FETCHES 4 // texture reads of this pixel, heat map over 0..16
-#define MF_DEBUG_LEVEL 5   // the octree level drawn, heat map over min..max
-#define MF_DEBUG_FACETS 6  // the facets themselves, untextured and unclipped, coloured by view (Fig. 2)
 
 #endif
