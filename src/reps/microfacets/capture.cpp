@@ -11,6 +11,8 @@
 //     turned into heights along the direction.
 #include "reps/microfacets/capture.h"
 
+#include "gpu/gl.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -61,6 +63,9 @@ Result<std::unique_ptr<SurfaceCapturer>> SurfaceCapturer::create(const Mesh& col
         if (!made) return made.status();
         capturer->geometry_ = std::move(*made);
     }
+    Result<RenderTarget> target = RenderTarget::create(resolution, resolution);
+    if (!target) return target.status();
+    capturer->target_ = std::make_unique<RenderTarget>(std::move(*target));
     return capturer;
 }
 
@@ -76,27 +81,38 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     // pure ambient: the renderer's shading returns the albedo
     const Light albedo_light{out.direction, 1.0f, 0.0f, 0.0f, 1.0f};
 
-    Result<RenderedImage> color = render_offscreen(*albedo_, camera, albedo_light, n, n);
-    if (!color) return color.status();
-    Result<RenderedImage> normal = render_offscreen(*normals_, camera, albedo_light, n, n);
-    if (!normal) return normal.status();
-    RenderedImage geometry_image;
+    // one pass per image into the same target, reading back only what each pass gives
+    DrawParams params;
+    params.camera = camera;
+    params.light = albedo_light;
+    params.viewport = {n, n};
+    const float transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    auto draw = [&](Renderer& renderer) {
+        target_->bind();
+        target_->clear(transparent);
+        renderer.draw(params);
+    };
+    draw(*albedo_);
+    out.albedo = target_->read_color();
+    std::vector<float> depth;
+    if (!geometry_) depth = target_->read_depth();
+    draw(*normals_);
+    out.normal = target_->read_color();
     if (geometry_) {
-        Result<RenderedImage> rendered = render_offscreen(*geometry_, camera, albedo_light, n, n);
-        if (!rendered) return rendered.status();
-        geometry_image = std::move(*rendered);
+        draw(*geometry_);
+        depth = target_->read_depth();
     }
-    const RenderedImage& range_source = geometry_ ? geometry_image : *color;
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " capturing a view");
 
-    out.albedo = std::move(color->color);
-    out.normal = std::move(normal->color);
     // heights: orthographic window depth is linear between the planes
     const float eye_distance = glm::dot(camera.eye_world - sphere_.center, out.direction);
     out.range.width = out.range.height = n;
     out.range.depth.assign(std::size_t(n) * n, 0.0f);
     out.range.valid.assign(std::size_t(n) * n, 0);
     for (std::size_t p = 0; p < out.range.depth.size(); ++p) {
-        float window = range_source.depth[p];
+        float window = depth[p];
         if (window >= 1.0f) continue; // nothing drawn
         float view_depth = camera.near_plane + window * (camera.far_plane - camera.near_plane);
         out.range.depth[p] = eye_distance - view_depth;

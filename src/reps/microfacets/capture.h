@@ -42,6 +42,7 @@ public:
 
 private:
     std::unique_ptr<Renderer> albedo_, normals_, geometry_;
+    std::unique_ptr<RenderTarget> target_; // one target for every capture: no allocation per view
     BoundingSphere sphere_;
     int resolution_ = 0;
 };
