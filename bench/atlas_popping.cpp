@@ -110,7 +110,6 @@ int main(int argc, char** argv)
     if (!context) return std::fprintf(stderr, "%s\n", context.status().message().c_str()), 1;
     Result<std::unique_ptr<Package>> package = read_package(package_path);
     if (!package) return std::fprintf(stderr, "%s\n", package.status().message().c_str()), 1;
-    const Representation* representation = find_representation((*package)->representation());
     BoundingSphere sphere = mesh->bounding_sphere();
 
     // the ground truth's own frame-to-frame change
