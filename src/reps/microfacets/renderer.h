@@ -10,7 +10,7 @@ namespace standin::microfacets {
 
 struct RenderConfig {
     std::string select = "lookup";   // "lookup" (per-cell candidates), "cone" (the seed's, Table 1 c), "all" (row a)
-    int views = 3;                   // 1 (the seed's nearest view) .. 4 blended
+    int views = 4;                   // 1 (the seed's nearest view) .. 4 blended
     std::string facet = "billboard"; // "billboard" (the seed), "fixed" (axis-aligned, Fig. 8), "box" (the voxel's outline; clip "ray")
     std::string primitive = "auto";  // "auto" (points below point_pixels), "quads", "points" (Table 1 b)
     std::string coverage = "vote";   // "vote": views that pass hold half the weight of those that can tell; "any"

@@ -101,6 +101,7 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
     vec2 next = vec2(delta.x >= 0.0 ? float(cell.x + 1) - a.x : a.x - float(cell.x),
                      delta.y >= 0.0 ? float(cell.y + 1) - a.y : a.y - float(cell.y)) * inverse;
     float s_in = 0.0;
+    float previous_top = -1e30; // the last column's top, -1e30 when it was empty (or none yet)
     for (int step = 0; step < 64; ++step) { // at most |dx| + |dy| + 1 texels; 64 for a voxel much larger than them
         float s_out = min(min(next.x, next.y), 1.0);
         float h_in = mix(h0, h1, s_in), h_out = mix(h0, h1, s_out);
@@ -108,11 +109,15 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
             ivec2 at = view.atlas.yz + cell - view.crop.xy;
             vec4 nd = texelFetch(normal_depth_pages, ivec3(at, view.atlas.x), 0);
             g_fetches += 1u;
+            float top = -1e30;
             if (nd.r + nd.g + nd.b > 0.0) {
-                float top = stored_height(nd.a);
-                // entered this column under its top: a steep surface's wall (within wall_texels
-                // texels of height), hit where the ray enters; deeper, a surface in front hides it
-                if (top > h_in + wall_texels * texel) return RAY_HIDDEN;
+                top = stored_height(nd.a);
+                // entered this column under its top: the wall of a steep surface when the column
+                // before held the same surface (a step of at most wall_texels texels; the first
+                // column: a texel, for the voxel's edge), hit where the ray enters; otherwise the
+                // view saw a surface in front of the ray here and cannot tell what is behind it
+                if (top > h_in && top - (step == 0 ? h_in : previous_top) > wall_texels * texel)
+                    return RAY_HIDDEN;
                 if (top >= h_out) {
                     s.passed = true;
                     s.surface = mix(p0, p1, clamp((h0 - top) / (h0 - h1), s_in, 1.0));
@@ -129,6 +134,9 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
                     return RAY_HIT;
                 }
             }
+            previous_top = top;
+        } else {
+            previous_top = -1e30;
         }
         if (cell == last || s_out >= 1.0) break;
         if (next.x < next.y) {
