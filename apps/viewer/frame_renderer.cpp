@@ -48,7 +48,7 @@ FrameRenderer::FrameRenderer() = default;
 void FrameRenderer::ensure(Target& target, glm::ivec2 size)
 {
     if (target.target && target.size == size) return;
-    Result<RenderTarget> made = RenderTarget::create(size.x, size.y); // the viewer keeps sizes within range
+    Result<RenderTarget> made = RenderTarget::create(size.x, size.y, "viewer"); // the viewer keeps sizes within range
     if (!made) {
         log_message(LogLevel::error, made.status().message());
         return;
@@ -152,6 +152,12 @@ FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
     glm::ivec2 size = state.render_size;
     if (state.render_follows_window) size = mode == Layout::side_by_side ? framebuffer_size / 2 : framebuffer_size;
     size = glm::max(size, glm::ivec2(1));
+    // a size beyond the GL limits or the memory budget is halved until it fits, and said so
+    for (Status s = check_render_target(size.x, size.y, "view: render size"); !s && size != glm::ivec2(1);
+         s = check_render_target(size.x, size.y, "view: render size")) {
+        state.message = s.message() + "; halved";
+        size = glm::max(size / 2, glm::ivec2(1));
+    }
     const float aspect = float(size.x) / float(size.y);
     state.stats = FrameStats();
     state.stats.render_size = size;

@@ -51,7 +51,8 @@ Status load_subjects(const std::vector<std::string>& inputs, const OptionValues&
     std::vector<Subject> packages;
     std::optional<Subject> original;
     for (const std::string& input : inputs) {
-        if (fs::is_directory(input)) {
+        std::error_code ec;
+        if (fs::is_directory(input, ec)) {
             Result<Subject> subject = load_package(input, options);
             if (!subject) return subject.status();
             packages.push_back(std::move(*subject));

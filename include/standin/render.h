@@ -67,7 +67,7 @@ public:
     virtual std::uint64_t read_counter(Counter) { return 0; }
 };
 
-// Dynamic shadows of the one directional light (issue #6, seed 003 §7): a depth map of the scene
+// Dynamic shadows of the one directional light (issue #6, Saraiva et al. §7): a depth map of the scene
 // seen from the light, drawn by the same renderers with their true depth (the mesh, the billboards'
 // ray hits, the view atlas' 'corrected' intersections; the atlas' 'seed' and 'octahedral-baseline'
 // styles cast and receive at their camera-facing quad's depth). Shading looks the map up at each
@@ -117,14 +117,20 @@ struct ShadowOptions {
 // include, textures sampled per pixel. Needs a current context.
 Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh);
 
+// Whether a width x height colour + depth target and its read-back fit GL_MAX_RENDERBUFFER_SIZE,
+// GL_MAX_TEXTURE_SIZE and the memory budget (limits.h): ok, or invalid_argument naming `what`, the
+// size and the limit. Needs a current context. RenderTarget::create checks it; the viewer too.
+Status check_render_target(int width, int height, const std::string& what);
+
 // An offscreen target: RGBA8 colour and 32-bit float depth, no multisampling (exact, repeatable
 // pixels). What render_offscreen and the benchmarks draw into; an application that composes several
 // renderers' pictures (the viewer) keeps a few. Needs a current context.
 class RenderTarget {
 public:
-    // Refuses sizes outside 1..GL_MAX_RENDERBUFFER_SIZE with invalid_argument naming them, and
-    // reports gpu_error when the driver cannot allocate the target.
-    static Result<RenderTarget> create(int width, int height);
+    // Refuses what check_render_target refuses, and reports gpu_error when the driver cannot
+    // allocate the target.
+    // `what` names the target in errors ("render", "viewer").
+    static Result<RenderTarget> create(int width, int height, const std::string& what = "render target");
     RenderTarget(RenderTarget&&) noexcept;
     RenderTarget& operator=(RenderTarget&&) noexcept;
     ~RenderTarget();

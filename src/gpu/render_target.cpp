@@ -18,13 +18,9 @@ RenderTarget::RenderTarget(RenderTarget&&) noexcept = default;
 RenderTarget& RenderTarget::operator=(RenderTarget&&) noexcept = default;
 RenderTarget::~RenderTarget() = default;
 
-Result<RenderTarget> RenderTarget::create(int width, int height)
+Result<RenderTarget> RenderTarget::create(int width, int height, const std::string& what)
 {
-    GLint max_size = 0;
-    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
-    if (width < 1 || height < 1 || width > max_size || height > max_size)
-        return error(StatusCode::invalid_argument, "render: size " + std::to_string(width) + "x" +
-                                                       std::to_string(height) + " out of range 1.." + std::to_string(max_size));
+    STANDIN_RETURN_IF_ERROR(check_render_target(width, height, what));
     RenderTarget target;
     State& s = *target.state_;
     s.width = width;

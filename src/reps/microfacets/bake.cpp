@@ -114,9 +114,9 @@ Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radiu
             std::memcpy(crop.color.at(x, y), capture.albedo.at(sx, sy), 3);
             crop.color.at(x, y)[3] = 255;
             std::uint16_t* nd = crop.normal_depth.at(x, y);
-            // the capture's 8-bit normal in the high byte (zero low bytes cost nothing in the PNG);
-            // never 0 (a zero normal means "empty")
-            for (int c = 0; c < 3; ++c) nd[c] = std::uint16_t(std::max<int>(capture.normal.at(sx, sy)[c], 1) << 8);
+            // the capture's 8-bit normal expanded to 16 bits (reps::SurfaceImage's encoding, n * 0.5 +
+            // 0.5); never 0: a zero normal means "empty"
+            for (int c = 0; c < 3; ++c) nd[c] = std::uint16_t(std::max<int>(capture.normal.at(sx, sy)[c], 1) * 257);
             float depth = (radius - capture.range.depth[p]) / (2.0f * radius); // 0 nearest the camera
             nd[3] = std::uint16_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * depth_levels) * depth_scale);
         }

@@ -54,10 +54,10 @@ public:
     std::vector<View> views; // captured orthographically: half extent = radius (view_atlas.h, View)
     // RGB: albedo, sRGB-encoded; A: coverage 0 / 255.
     std::vector<ImageRGBA8> color_pages;
-    // RGB: world normal * 0.5 + 0.5 in 8 bits, held in the high byte (n8 << 8); A: depth
-    // (r - dot(p - centre, direction)) / (2r) in [0, 1], 0 nearest the capture camera, in 16 bits
-    // (multiples of 257 when depth_bits is 8). All zero where the colour page's coverage is 0 (a
-    // covered texel never has a zero normal).
+    // RGB: world normal * 0.5 + 0.5 (captured in 8 bits, x 257); A: depth (r - dot(p - centre,
+    // direction)) / (2r) in [0, 1], 0 nearest the capture camera, in 16 bits (multiples of 257 when
+    // depth_bits is 8): reps::SurfaceImage's encodings. All zero where the colour page's coverage
+    // is 0 (a covered texel never has a zero normal).
     std::vector<ImageRGBA16> normal_depth_pages;
 };
 

@@ -3,6 +3,7 @@
 // pages as PNG (colour + coverage 8-bit, normal + depth 16-bit, or 8-bit for depth_bits 8).
 // Writing is deterministic (sorted keys, fixed PNG encoder); reading checks every field and file and
 // refuses what it does not understand with a status naming the file and the field.
+#include "reps/common/package_cast.h"
 #include "reps/common/package_codec.h"
 #include "reps/microfacets/microfacets.h"
 
@@ -98,70 +99,19 @@ Octree read_octree(const manifest_io::Reader& in, const std::string& directory, 
     return tree;
 }
 
-// Checks a page against the manifest's size and bit depth before decoding it.
-Result<int> page_depth(const std::string& path, int page_size)
+// 8-bit normal-depth pages hold the quantised values (normals 8-bit, depth 8-bit), 16-bit in memory
+ImageRGBA8 narrowed(const ImageRGBA16& page)
 {
-    int w = 0, h = 0;
-    Result<int> depth = png_bit_depth(path, &w, &h);
-    if (!depth) return depth.status();
-    if (w != page_size || h != page_size)
-        return error(StatusCode::bad_data, path + ": is " + std::to_string(w) + "x" + std::to_string(h) +
-                                               ", the manifest says " + std::to_string(page_size) + " square");
-    return depth;
-}
-
-ImageRGBA8 read_color_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
-                           const std::string& name, int page_size)
-{
-    manifest_io::check_file(in, directory, files, name);
-    std::string path = (fs::path(directory) / name).string();
-    Result<int> depth = page_depth(path, page_size);
-    if (!depth) throw manifest_io::BadField{depth.status().message()};
-    if (*depth != 8) throw manifest_io::BadField{path + ": has " + std::to_string(*depth) + "-bit samples, colour pages are 8-bit"};
-    Result<ImageRGBA8> image = read_png_rgba8(path);
-    if (!image) throw manifest_io::BadField{image.status().message()};
-    return std::move(*image);
-}
-
-// 16-bit, or 8-bit widened when the package's depth is 8-bit (normals to the high byte, depth x 257,
-// as the baker holds them in memory).
-ImageRGBA16 read_normal_depth_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
-                                   const std::string& name, int page_size, int bits)
-{
-    manifest_io::check_file(in, directory, files, name);
-    std::string path = (fs::path(directory) / name).string();
-    Result<int> depth = page_depth(path, page_size);
-    if (!depth) throw manifest_io::BadField{depth.status().message()};
-    if (*depth != bits)
-        throw manifest_io::BadField{path + ": has " + std::to_string(*depth) + "-bit samples, the manifest says depth_bits " +
-                                    std::to_string(bits)};
-    if (bits == 16) {
-        Result<ImageRGBA16> image = read_png_rgba16(path);
-        if (!image) throw manifest_io::BadField{image.status().message()};
-        return std::move(*image);
-    }
-    Result<ImageRGBA8> image = read_png_rgba8(path);
-    if (!image) throw manifest_io::BadField{image.status().message()};
-    ImageRGBA16 wide(image->width, image->height);
-    for (std::size_t i = 0; i < wide.pixels.size(); ++i)
-        wide.pixels[i] = std::uint16_t(i % 4 == 3 ? image->pixels[i] * 257 : image->pixels[i] << 8);
-    return wide;
-}
-
-Status write_normal_depth(const ImageRGBA16& page, int bits, const std::string& path)
-{
-    if (bits == 16) return write_png(page, path);
     ImageRGBA8 narrow(page.width, page.height);
-    for (std::size_t i = 0; i < narrow.pixels.size(); ++i)
-        narrow.pixels[i] = std::uint8_t(i % 4 == 3 ? page.pixels[i] / 257 : page.pixels[i] >> 8);
-    return write_png(narrow, path);
+    for (std::size_t i = 0; i < narrow.pixels.size(); ++i) narrow.pixels[i] = std::uint8_t(page.pixels[i] / 257);
+    return narrow;
 }
 
 } // namespace
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& package = dynamic_cast<const MicrofacetsPackage&>(base);
+    const auto& package = reps::package_cast<MicrofacetsPackage>(base);
     const BakeSettings& s = package.settings;
     nlohmann::json files = nlohmann::json::object();
 
@@ -180,38 +130,33 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json pages = nlohmann::json::array();
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
         std::string color = page_file(k, "color"), normal_depth = page_file(k, "normal_depth");
-        STANDIN_RETURN_IF_ERROR(write_png(package.color_pages[k], (fs::path(directory) / color).string()));
-        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, color, files));
-        STANDIN_RETURN_IF_ERROR(write_normal_depth(package.normal_depth_pages[k], s.depth_bits, (fs::path(directory) / normal_depth).string()));
-        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, normal_depth, files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, color, files));
+        if (s.depth_bits == 16)
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.normal_depth_pages[k], directory, normal_depth, files));
+        else
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(narrowed(package.normal_depth_pages[k]), directory, normal_depth, files));
         pages.push_back({{"color", color}, {"normal_depth", normal_depth}});
     }
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views) views.push_back(view_json(v));
-    nlohmann::json manifest = {
-        {"format", k_package_format},
-        {"version", k_package_format_version},
-        {"representation", package.representation()},
-        {"source", manifest_io::source_json(package.source)},
-        {"bake", manifest_io::settings_json(package.parameters)},
-        {"grid", {{"origin", manifest_io::vec3_json(package.octree.grid.origin)}, {"size", package.octree.grid.size}}},
-        {"levels", levels},
-        {"voxels", k_voxels_file},
-        {"sphere", {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}}},
-        {"half_extent", package.radius},
-        {"max_view_angle_degrees", glm::degrees(package.max_view_angle)},
-        {"pages", pages},
-        {"views", views},
-        {"files", files},
-    };
-    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(1) + "\n");
+    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
+    manifest["grid"] = {{"origin", manifest_io::vec3_json(package.octree.grid.origin)}, {"size", package.octree.grid.size}};
+    manifest["levels"] = levels;
+    manifest["voxels"] = k_voxels_file;
+    manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
+    manifest["half_extent"] = package.radius;
+    manifest["max_view_angle_degrees"] = glm::degrees(package.max_view_angle);
+    manifest["pages"] = pages;
+    manifest["views"] = views;
+    manifest["files"] = files;
+    return manifest_io::write_manifest(directory, manifest, 1);
 }
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), true);
-    auto package = std::make_unique<MicrofacetsPackage>();
-    try {
+    manifest_io::Reader in(directory);
+    return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
+        auto package = std::make_unique<MicrofacetsPackage>();
         package->source = manifest_io::read_source(in, manifest);
         package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
         package->settings = settings_from(package->parameters);
@@ -230,18 +175,17 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
         for (std::size_t k = 0; k < pages.size(); ++k) {
             std::string where = "pages[" + std::to_string(k) + "].";
-            package->color_pages.push_back(read_color_page(in, directory, files, in.string(pages[k], "color", where), s.page_size));
-            package->normal_depth_pages.push_back(read_normal_depth_page(
-                in, directory, files, in.string(pages[k], "normal_depth", where), s.page_size, s.depth_bits));
+            package->color_pages.push_back(
+                manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
+            package->normal_depth_pages.push_back(manifest_io::read_image16(
+                in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size, s.depth_bits));
         }
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty() || views.size() > 65535) in.fail("views", "is not an array of 1..65535 views");
         for (std::size_t k = 0; k < views.size(); ++k)
             package->views.push_back(read_view(in, views[k], "views[" + std::to_string(k) + "].", s, int(pages.size())));
-    } catch (const manifest_io::BadField& bad) {
-        return error(StatusCode::bad_data, bad.message);
-    }
-    return std::unique_ptr<Package>(std::move(package));
+        return package;
+    });
 }
 
 } // namespace standin::microfacets

@@ -19,8 +19,10 @@
 #include "reps/microfacets/lod.h"
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
+#include "reps/microfacets/visibility.h"
 
 #include "gpu/counters.h"
+#include "reps/common/package_cast.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "reps/microfacets/shaders/microfacets_layout.glsl"
@@ -179,7 +181,7 @@ private:
 
     gpu::Program select_, scan_, scatter_, quads_program_, points_program_;
     gpu::Texture color_pages_, normal_depth_pages_;
-    gpu::Buffer views_, lookup_, nodes_, lods_, selected_, groups_, quads_, points_, commands_;
+    gpu::Buffer views_, lookup_, nodes_, seen_, lods_, selected_, groups_, quads_, points_, commands_;
     std::uint64_t lods_capacity_ = 0, selected_capacity_ = 0, list_capacity_ = 0, groups_capacity_ = 0;
     gpu::Counters counters_;
     gpu::VertexArray empty_vertex_array_;
@@ -281,6 +283,16 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     }
     if (nodes.empty()) nodes.push_back(0u);
     r->nodes_ = gpu::make_buffer(nodes);
+    // which views saw surface in which node: with the ray clip, nodes none of their views saw are
+    // dropped before they are drawn (exact)
+    GLuint seen_words = 0;
+    if (r->codes_.clip == MF_CLIP_RAY && config.cull_unseen) {
+        SeenViews seen = seen_views(package);
+        seen_words = GLuint(seen.words_per_node);
+        r->seen_ = gpu::make_buffer(seen.words);
+    } else {
+        r->seen_ = gpu::make_buffer(std::vector<std::uint32_t>{0u});
+    }
     r->commands_ = gpu::make_buffer(nullptr, 8 * sizeof(std::uint32_t), GL_DYNAMIC_STORAGE_BIT);
     r->empty_vertex_array_ = gpu::make_vertex_array();
 
@@ -301,7 +313,6 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1i(id, program->uniform("debug_view"), int(config.debug_view));
         glProgramUniform1i(id, program->uniform("coverage_rule"), r->codes_.coverage);
         glProgramUniform1i(id, program->uniform("clip_rule"), r->codes_.clip);
-        glProgramUniform1f(id, program->uniform("wall_texels"), config.wall_texels);
         glProgramUniform1i(id, program->uniform("min_level"), package.settings.min_level);
         glProgramUniform1i(id, program->uniform("max_level"), package.settings.level);
     }
@@ -319,6 +330,7 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     glProgramUniform1f(select, r->select_.uniform("max_error_pixels"), r->config_.max_error_pixels);
     glProgramUniform1f(select, r->select_.uniform("tan_delta"), std::tan(package.max_view_angle));
     glProgramUniform1ui(select, r->select_.uniform("lookup_list"), r->lookup_list_);
+    glProgramUniform1ui(select, r->select_.uniform("seen_words"), seen_words);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(r));
@@ -446,6 +458,7 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_LOOKUP_SSBO, lookup_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_NODES_SSBO, nodes_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_SEEN_SSBO, seen_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_INSTANCES_SSBO, lods_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_SELECTED_SSBO, selected_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, MF_GROUPS_SSBO, groups_.get());
@@ -527,16 +540,12 @@ RenderConfig config_from(const RenderSettings& settings)
     c.point_pixels = o.number("point-pixels");
     c.debug_view = settings.debug_view;
     c.clip = o.choice("clip");
-    c.wall_texels = o.number("wall-texels");
     return c;
 }
 
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
-    const auto* microfacets = dynamic_cast<const MicrofacetsPackage*>(&package);
-    if (!microfacets)
-        return error(StatusCode::invalid_argument, "microfacets: package holds '" + package.representation() + "', not microfacets");
-    return MicrofacetRenderer::create(*microfacets, config_from(settings));
+    return MicrofacetRenderer::create(reps::package_cast<MicrofacetsPackage>(package), config_from(settings));
 }
 
 } // namespace standin::microfacets

@@ -21,9 +21,9 @@ struct RenderConfig {
     float max_error_pixels = 0.0f;
     float point_pixels = 1.0f;       // auto: facets narrower than this are drawn as points
     DebugView debug_view = DebugView::none; // parts (by view), depth, normal, fetches, proxies, level
+    bool cull_unseen = true;         // clip "ray": drop nodes none of their views saw (exact; visibility.h)
     std::string clip = "ray";        // "seed" (eq. 1), "voxel" (and the surface inside the facet's voxel),
                                      // "ray" (the pixel's ray in the voxel against the view's depth)
-    float wall_texels = 4.0f;        // clip "ray": a column entered up to this many texels under its top is a wall
 };
 
 // The declared run-time options, typed.

@@ -206,6 +206,7 @@ TEST(MicrofacetRenderer, GpuCutMatchesTheCpuCut)
     RenderConfig config;
     config.primitive = "quads";
     config.max_error_pixels = 1.0f;
+    config.cull_unseen = false; // the CPU's cut does not know which views saw what
     std::unique_ptr<Renderer> facets = renderer_for(*package, config);
     ASSERT_TRUE(facets);
     for (float distance : {1.3f, 2.5f, 6.0f}) {
@@ -259,6 +260,36 @@ TEST(MicrofacetRenderer, BakesAndRendersAreByteIdentical)
     EXPECT_EQ(i1.color.pixels, i2.color.pixels);
     EXPECT_EQ(i1.color.pixels, i3.color.pixels);
     EXPECT_EQ(i1.depth, i2.depth);
+}
+
+TEST(MicrofacetRenderer, DroppingUnseenNodesChangesNoPixel)
+{
+    Mesh mesh = generated(GeneratedShape::noisy_sphere, 3000);
+    std::unique_ptr<Package> package = bake_small(mesh);
+    ASSERT_TRUE(package);
+    RenderConfig all, culled;
+    all.cull_unseen = false;
+    std::unique_ptr<Renderer> a = renderer_for(*package, all), b = renderer_for(*package, culled);
+    ASSERT_TRUE(a && b);
+    for (float azimuth : {0.0f, 37.0f, 150.0f}) {
+        OrbitView view;
+        view.azimuth_degrees = azimuth;
+        view.elevation_degrees = 25.0f;
+        view.distance_rel = azimuth == 150.0f ? 0.6f : 1.0f;
+        Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
+        RenderedImage ia = render(*a, camera, 128), ib = render(*b, camera, 128);
+        EXPECT_EQ(ia.color.pixels, ib.color.pixels) << azimuth;
+        EXPECT_EQ(ia.depth, ib.depth) << azimuth;
+    }
+    // and at the finest level a third of the facets (most of the far side of the sphere) are not drawn
+    all.level = culled.level = 6;
+    a = renderer_for(*package, all);
+    b = renderer_for(*package, culled);
+    DrawParams params;
+    params.camera = orbit_camera(mesh.bounding_sphere(), OrbitView{}, 1.0f);
+    params.light = default_light(params.camera);
+    params.viewport = {128, 128};
+    EXPECT_LT(double(draw_offscreen(*b, params).primitives), 0.75 * double(draw_offscreen(*a, params).primitives));
 }
 
 TEST(MicrofacetRenderer, InstancesDrawAsTheSingleModel)

@@ -4,6 +4,7 @@
 // Defaults were chosen by measurement (docs/RESULTS.md, "Microfacets"); the paper's own settings
 // are one option away: --layout circle --frames 36 (its turntable), --depth-bits 8, --views 1
 // --clip seed --coverage any (its nearest view clipped by eq. 1), --level N (its fixed levels).
+#include "reps/common/package_cast.h"
 #include "reps/microfacets/microfacets.h"
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
@@ -60,14 +61,12 @@ std::vector<OptionSpec> render_options()
         number_option("pixel-error", "0", 0.0, 1000.0,
                       "LOD bound on the eq. 2 error in pixels (0: 1, or 4 with --clip ray, which corrects parallax itself)"),
         number_option("point-pixels", "1", 0.0, 64.0, "With --primitive auto: facets narrower than this many pixels are points"),
-        number_option("wall-texels", "4", 0.0, 64.0,
-                      "With --clip ray: a view's column entered this many texels under its top is a steep wall, deeper hidden"),
     };
 }
 
 PackageSummary summarise(const Package& base)
 {
-    const auto& package = dynamic_cast<const MicrofacetsPackage&>(base);
+    const auto& package = reps::package_cast<MicrofacetsPackage>(base);
     const BakeSettings& s = package.settings;
     nlohmann::json levels = nlohmann::json::object();
     for (int level = s.min_level; level <= s.level; ++level)
@@ -133,22 +132,21 @@ Status check_settings(const BakeSettings& s)
 
 Representation registration()
 {
-    Representation r;
-    r.name = "microfacets";
-    r.title = "Microfacets";
-    r.description = "textured facets at the occupied voxels of an octree, textured from the nearest captured views "
-                    "where their depth says the surface lies";
-    r.reference = "Yamazaki, Sagawa, Kawasaki, Ikeuchi & Sakauchi 2002";
-    r.bake_options = bake_options();
-    r.render_options = render_options();
-    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches, DebugView::proxies,
-                     DebugView::level};
-    r.bake = bake;
-    r.write = write;
-    r.read = read;
-    r.make_renderer = make_renderer;
-    r.summarise = summarise;
-    return r;
+    return {.name = "microfacets",
+            .title = "Microfacets",
+            .description = "facets at the occupied voxels of an octree, textured from the nearest captured views where "
+                           "their depth says the surface lies",
+            .reference = "Yamazaki, Sagawa, Kawasaki, Ikeuchi & Sakauchi 2002",
+            .bake_options = bake_options(),
+            .render_options = render_options(),
+            .debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches, DebugView::proxies,
+                            DebugView::level},
+            .bench_variants = {},
+            .bake = bake,
+            .write = write,
+            .read = read,
+            .make_renderer = make_renderer,
+            .summarise = summarise};
 }
 
 } // namespace standin::microfacets

@@ -20,6 +20,8 @@
 #define MF_QUADS_SSBO (BINDING_FIRST_RENDERER_SSBO + 6)     // Facet[]: drawn as quads, in work order
 #define MF_POINTS_SSBO (BINDING_FIRST_RENDERER_SSBO + 7)    // Facet[]: drawn as points, in work order
 #define MF_COMMANDS_SSBO (BINDING_FIRST_RENDERER_SSBO + 8)  // two DrawArraysIndirectCommand (quads, points)
+#define MF_SEEN_SSBO (BINDING_FIRST_RENDERER_SSBO + 9)      // uint[]: per node (nodes' order), a bit per view
+                                                            // that saw surface in it (visibility.cpp)
 
 // texture units (the shadow map is BINDING_SHADOW_TEXTURE)
 #define MF_COLOR_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 0)        // albedo premultiplied by coverage, mip-mapped

@@ -6,7 +6,8 @@
 //  3. the LOD cut: drawn when its eq. 2 error is within the bound and its parent's is not (lod.h);
 //  4. the views for its texture: the blend_count nearest to the direction towards the eye, from the
 //     lookup cell's candidates, or from the per-draw list (the seed's cone, or every view), with
-//     weights that change continuously (view_lookup.h select_views is the CPU reference);
+//     weights that change continuously (view_lookup.h select_views is the CPU reference); with the
+//     ray clip, a node none of them saw surface in is dropped (visibility.h);
 //  5. quad or point by its size on screen;
 //  6. its rank among its group's quads and points (a scan in shared memory), so that scatter.comp
 //     writes the kept facets in work order: draws do not depend on thread timing.
@@ -22,6 +23,10 @@ layout(std430, binding = MF_LOOKUP_SSBO) readonly buffer LookupBlock {
 layout(std430, binding = MF_NODES_SSBO) readonly buffer NodeBlock {
     uint codes[];
 } nodes;
+
+layout(std430, binding = MF_SEEN_SSBO) readonly buffer SeenBlock {
+    uint words[]; // seen_words per node, bit k of word k / 32: view k saw surface in the node
+} seen;
 
 layout(std430, binding = MF_SELECTED_SSBO) writeonly buffer SelectedBlock {
     Facet items[];
@@ -45,6 +50,7 @@ uniform int blend_count;        // 1..MF_MAX_BLEND
 uniform int primitive;          // MF_PRIMITIVE_*
 uniform float point_pixels;     // auto: facets narrower than this many pixels are points
 uniform uint lookup_list;       // index in `lookup` of the per-draw list (count, then views)
+uniform uint seen_words;        // words per node in `seen`; 0: no culling of unseen nodes
 
 shared uint s_ranks[MF_GROUP_SIZE];
 
@@ -152,6 +158,16 @@ uint select_facet(uint w, out Facet f)
     uvec4 ids;
     vec4 weights;
     select_views(to_eye_object(lod, c), ids, weights);
+    // step 4b (--clip ray): a node none of its views saw surface in draws nothing (every walk misses
+    // or is hidden), so it is not drawn at all: the far side of closed surfaces, the inside of a crown
+    if (seen_words > 0u) {
+        bool any_seen = false;
+        for (int k = 0; k < blend_count; ++k) {
+            uint view = ids[k];
+            any_seen = any_seen || (weights[k] > 0.0 && (seen.words[index * seen_words + view / 32u] & (1u << (view % 32u))) != 0u);
+        }
+        if (!any_seen) return MF_KIND_NONE;
+    }
     f.a = uvec4(i | (uint(level) << 24), code, ids.x | (ids.y << 16), ids.z | (ids.w << 16));
     f.b = uvec4(packUnorm2x16(weights.xy), packUnorm2x16(weights.zw), 0u, 0u);
     // step 5
