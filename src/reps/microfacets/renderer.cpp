@@ -331,6 +331,7 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     glProgramUniform1f(select, r->select_.uniform("tan_delta"), std::tan(package.max_view_angle));
     glProgramUniform1ui(select, r->select_.uniform("lookup_list"), r->lookup_list_);
     glProgramUniform1ui(select, r->select_.uniform("seen_words"), seen_words);
+    glProgramUniform1i(select, r->select_.uniform("clip_rule"), r->codes_.clip);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(r));
