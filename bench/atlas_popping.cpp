@@ -6,6 +6,9 @@
 // max) where its view selection switches. Not a test: prints a Markdown table.
 //   atlas_popping MODEL PACKAGE [--styles seed,corrected] [--elevation 20] [--start 0] [--span 30]
 //                 [--step 0.5] [--distance 1] [--fov 40] [--size 256]
+// Any package: --variant NAME=VALUE[,NAME=VALUE...] (repeatable) measures the package with those
+// run-time options instead of the view atlas's --styles (e.g. microfacets: --variant views=1
+// --variant views=3).
 #include <standin/camera.h>
 #include <standin/eval.h>
 #include <standin/mesh.h>
@@ -69,12 +72,13 @@ static Changes summarise(std::vector<double> changes, const std::vector<double>&
 int main(int argc, char** argv)
 {
     if (argc < 3) {
-        std::fprintf(stderr, "usage: atlas_popping MODEL PACKAGE [--styles a,b] [--elevation E] [--start A] [--span S] "
-                             "[--step D] [--distance R] [--fov F] [--size N]\n");
+        std::fprintf(stderr, "usage: atlas_popping MODEL PACKAGE [--styles a,b | --variant NAME=VALUE,...] [--elevation E] "
+                             "[--start A] [--span S] [--step D] [--distance R] [--fov F] [--size N]\n");
         return 2;
     }
     std::string model = argv[1], package_path = argv[2];
     std::vector<std::string> styles = {"seed", "corrected"};
+    std::vector<std::string> variants; // NAME=VALUE[,NAME=VALUE...] each
     Sweep s;
     for (int i = 3; i + 1 < argc; i += 2) {
         std::string flag = argv[i], value = argv[i + 1];
@@ -82,7 +86,8 @@ int main(int argc, char** argv)
             styles.clear();
             std::stringstream list(value);
             for (std::string item; std::getline(list, item, ',');) styles.push_back(item);
-        } else if (flag == "--elevation") s.elevation = std::stof(value);
+        } else if (flag == "--variant") variants.push_back(value);
+        else if (flag == "--elevation") s.elevation = std::stof(value);
         else if (flag == "--start") s.start = std::stof(value);
         else if (flag == "--span") s.span = std::stof(value);
         else if (flag == "--step") s.step = std::stof(value);
@@ -120,15 +125,23 @@ int main(int argc, char** argv)
     std::printf("| subject | mean change | p95 | max | mean excess over truth |\n|---|---|---|---|---|\n");
     Changes t = summarise(*truth_changes, *truth_changes);
     std::printf("| ground truth | %.2f | %.2f | %.2f | - |\n", t.mean, t.p95, t.max);
-    for (const std::string& style : styles) {
+    if (variants.empty())
+        for (const std::string& style : styles) variants.push_back("style=" + style);
+    for (const std::string& variant : variants) {
         RenderOptions options;
-        options.values.set("style", style);
+        std::stringstream list(variant);
+        for (std::string item; std::getline(list, item, ',');) {
+            std::size_t equals = item.find('=');
+            if (equals == std::string::npos) return std::fprintf(stderr, "atlas_popping: --variant %s: NAME=VALUE\n", item.c_str()), 2;
+            options.values.set(item.substr(0, equals), item.substr(equals + 1));
+        }
         Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(**package, options);
         if (!renderer) return std::fprintf(stderr, "%s\n", renderer.status().message().c_str()), 1;
         Result<std::vector<double>> changes = sweep_changes(**renderer, sphere, s);
         if (!changes) return std::fprintf(stderr, "%s\n", changes.status().message().c_str()), 1;
         Changes c = summarise(*changes, *truth_changes);
-        std::printf("| %s | %.2f | %.2f | %.2f | %.2f |\n", style.c_str(), c.mean, c.p95, c.max, c.excess);
+        std::string name = variant.rfind("style=", 0) == 0 ? variant.substr(6) : variant;
+        std::printf("| %s | %.2f | %.2f | %.2f | %.2f |\n", name.c_str(), c.mean, c.p95, c.max, c.excess);
     }
     return 0;
 }

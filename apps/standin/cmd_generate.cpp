@@ -1,4 +1,5 @@
-// standin generate: procedural test meshes (sphere, torus, noisy sphere) up to millions of faces.
+// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball) up to
+// millions of faces.
 #include "commands.h"
 #include "common.h"
 
@@ -22,7 +23,8 @@ struct GenerateArgs {
 static int run_generate(const GenerateArgs& args)
 {
     static const std::map<std::string, GeneratedShape> shapes = {
-        {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere}};
+        {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere},
+        {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball}};
     GenerateOptions options;
     options.shape = shapes.at(args.shape);
     options.target_triangles = args.triangles;
@@ -44,17 +46,18 @@ CommandRun add_generate_command(CLI::App& root)
 {
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
-        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, or a sphere with a noisy radius, of a chosen "
-                    "triangle count (for tests and scale benchmarks up to millions of faces)");
-    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere")
-        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere"}))
+        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a sphere with a noisy radius, a shrub "
+                    "(branches and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
+                    "benchmarks up to millions of faces)");
+    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball")
+        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball"}))
         ->required();
     command->add_option("-o,--output", args->output, "Output file (.ply)")->required();
     command->add_option("-t,--triangles", args->triangles, "Approximate triangle count")->capture_default_str();
     command->add_option("--radius", args->radius, "Radius")->capture_default_str();
     command->add_option("--noise", args->noise, "noisy-sphere: displacement amplitude relative to the radius")
         ->capture_default_str();
-    command->add_option("--seed", args->seed, "noisy-sphere: noise seed")->capture_default_str();
+    command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball: random seed")->capture_default_str();
     return [args] { return run_generate(*args); };
 }
 

@@ -128,9 +128,13 @@ Status write_ply(const Mesh& mesh, const std::string& path);
 // cube-sphere (equal-angle warp), every vertex at `radius`; torus: ring of `radius` with tube
 // `minor_radius` (< radius), around +y; noisy_sphere: the sphere displaced along its normal by
 // smooth value noise seeded by `seed`, at most noise_amplitude * radius. One material of `color`.
+// shrub: branches (six-sided tubes) ending in leaf cards (two triangles each, greens varied per
+// leaf), and fur_ball: a sphere with hair ribbons (3 segments, dark roots, light tips) — intricate
+// objects for the microfacets' claim (Yamazaki et al. 2002); both drawn from `seed`, fitted into a
+// sphere of `radius`, their own colours (`color` unused).
 // invalid_argument for target_triangles outside [8, 50'000'000], non-finite or non-positive sizes,
 // minor_radius >= radius (torus) or noise_amplitude outside [0, 1) (noisy_sphere).
-enum class GeneratedShape { sphere, torus, noisy_sphere };
+enum class GeneratedShape { sphere, torus, noisy_sphere, shrub, fur_ball };
 struct GenerateOptions {
     GeneratedShape shape = GeneratedShape::sphere;
     std::size_t target_triangles = 20000; // the result has about this many

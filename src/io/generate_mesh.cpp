@@ -1,5 +1,6 @@
-// Procedural meshes for tests and scale benchmarks: a sphere, a torus and a noisy sphere of about
-// a requested number of triangles, bit-for-bit deterministic so that tests can compare results.
+// Procedural meshes for tests and scale benchmarks: a sphere, a torus, a noisy sphere, a shrub and a
+// fur ball of about a requested number of triangles, bit-for-bit deterministic so that tests can
+// compare results.
 // The sphere is a cube-sphere with the equal-angle warp (tan of the angle along each cube face,
 // as in equi-angular cubemaps): triangles vary in area by less than 1.5x, where a UV sphere
 // piles slivers at the poles and an icosphere only comes in powers of four.
@@ -8,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <unordered_map>
 
@@ -232,6 +234,171 @@ static void make_torus(Mesh& mesh, const GenerateOptions& options)
         }
 }
 
+// ---------------------------------------------------------------------------------------------
+// Intricate shapes: what Yamazaki et al. 2002 (microfacet billboarding) target and what a scanner,
+// a mesh simplifier or a few billboards handle worst. Random choices come from one stream seeded by
+// `seed`, taken in a fixed order, so a shape is bit-for-bit repeatable.
+
+struct RandomStream {
+    std::uint64_t state;
+    std::uint64_t next() // splitmix64
+    {
+        std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    float uniform() { return float(next() >> 40) * (1.0f / 16777216.0f); } // [0, 1)
+    float range(float lo, float hi) { return lo + (hi - lo) * uniform(); }
+    glm::vec3 direction() // uniform over the sphere
+    {
+        float z = range(-1.0f, 1.0f), phi = range(0.0f, 2.0f * std::numbers::pi_v<float>), r = std::sqrt(1.0f - z * z);
+        return {r * std::cos(phi), z, r * std::sin(phi)};
+    }
+};
+
+static glm::vec3 perpendicular_to(glm::vec3 d)
+{
+    return glm::normalize(glm::cross(d, std::abs(d.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0)));
+}
+
+static void add_vertex(Mesh& mesh, glm::vec3 position, glm::vec3 normal, glm::vec4 color)
+{
+    mesh.positions.push_back(position);
+    mesh.normals.push_back(glm::normalize(normal));
+    mesh.colors.push_back(color);
+}
+
+// an open six-sided tube from a (radius ra) to b (radius rb): 12 triangles
+static void add_tube(Mesh& mesh, glm::vec3 a, glm::vec3 b, float ra, float rb, glm::vec4 color)
+{
+    constexpr int k_sides = 6;
+    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
+    auto first = std::uint32_t(mesh.positions.size());
+    for (int k = 0; k < k_sides; ++k) {
+        float angle = 2.0f * std::numbers::pi_v<float> * float(k) / k_sides;
+        glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+        add_vertex(mesh, a + ra * out, out, color);
+        add_vertex(mesh, b + rb * out, out, color);
+    }
+    for (std::uint32_t k = 0; k < k_sides; ++k) {
+        std::uint32_t a0 = first + 2 * k, b0 = a0 + 1, a1 = first + 2 * ((k + 1) % k_sides), b1 = a1 + 1;
+        mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
+    }
+}
+
+// Scales and moves a shape so that its bounding sphere (box centre, half diagonal) has `radius`
+// about the origin.
+static void fit_into_sphere(Mesh& mesh, float radius)
+{
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const glm::vec3& p : mesh.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    glm::vec3 center = 0.5f * (lo + hi);
+    float scale = radius / (0.5f * glm::length(hi - lo));
+    for (glm::vec3& p : mesh.positions) p = (p - center) * scale;
+}
+
+struct Twig {
+    glm::vec3 base, tip;
+};
+
+// a branch and, below max_depth, its children: 3 (4 from the trunk) spread around it and upwards
+static void grow_branch(Mesh& mesh, RandomStream& random, std::vector<Twig>& twigs, glm::vec3 base, glm::vec3 direction,
+                        float length, float radius, int depth, int max_depth)
+{
+    const glm::vec4 bark(0.36f, 0.25f, 0.15f, 1.0f);
+    glm::vec3 tip = base + direction * length;
+    add_tube(mesh, base, tip, radius, radius * 0.7f, bark);
+    if (depth == max_depth) {
+        twigs.push_back({base, tip});
+        return;
+    }
+    const int children = depth == 0 ? 4 : 3;
+    glm::vec3 u = perpendicular_to(direction), v = glm::cross(direction, u);
+    float turn = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
+    for (int c = 0; c < children; ++c) {
+        float around = turn + 2.0f * std::numbers::pi_v<float> * float(c) / float(children) + random.range(-0.3f, 0.3f);
+        float tilt = glm::radians(random.range(28.0f, 52.0f));
+        glm::vec3 side = std::cos(around) * u + std::sin(around) * v;
+        glm::vec3 child = glm::normalize(std::cos(tilt) * direction + std::sin(tilt) * side + glm::vec3(0.0f, 0.25f, 0.0f));
+        glm::vec3 at = base + direction * length * random.range(0.55f, 1.0f);
+        grow_branch(mesh, random, twigs, at, child, length * random.range(0.62f, 0.78f), radius * 0.6f, depth + 1, max_depth);
+    }
+}
+
+static void make_shrub(Mesh& mesh, const GenerateOptions& options)
+{
+    RandomStream random{options.seed};
+    // the branches: deeper for larger shrubs, so leaves have twigs to sit on (12 triangles each)
+    const std::size_t target = options.target_triangles;
+    const int max_depth = target >= 8000 ? 4 : (target >= 1500 ? 3 : (target >= 300 ? 2 : 0));
+    std::vector<Twig> twigs;
+    grow_branch(mesh, random, twigs, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, 0.05f, 0, max_depth);
+    // the leaves: diamond cards of two triangles around the twigs, turned every way, greens varied
+    std::size_t branch_triangles = mesh.indices.size() / 3;
+    std::size_t leaves = std::max<std::size_t>(1, (target > branch_triangles ? target - branch_triangles : 2) / 2);
+    const float leaf_length = 0.11f;
+    for (std::size_t k = 0; k < leaves; ++k) {
+        const Twig& twig = twigs[k % twigs.size()];
+        glm::vec3 base = glm::mix(twig.base, twig.tip, random.range(0.15f, 1.0f)) + random.direction() * random.range(0.0f, 0.08f);
+        glm::vec3 along = glm::normalize(twig.tip - twig.base);
+        glm::vec3 direction = glm::normalize(0.6f * along + random.direction());
+        glm::vec3 across = perpendicular_to(direction);
+        float roll = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
+        across = std::cos(roll) * across + std::sin(roll) * glm::cross(direction, across);
+        glm::vec3 normal = glm::cross(direction, across);
+        float length = leaf_length * random.range(0.7f, 1.3f), width = length * random.range(0.35f, 0.5f);
+        glm::vec4 green(random.range(0.12f, 0.3f), random.range(0.35f, 0.6f), random.range(0.08f, 0.2f), 1.0f);
+        auto first = std::uint32_t(mesh.positions.size());
+        add_vertex(mesh, base, normal, green);
+        add_vertex(mesh, base + 0.45f * length * direction + 0.5f * width * across, normal, green);
+        add_vertex(mesh, base + length * direction, normal, green);
+        add_vertex(mesh, base + 0.45f * length * direction - 0.5f * width * across, normal, green);
+        mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+    }
+    fit_into_sphere(mesh, options.radius);
+}
+
+static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
+{
+    RandomStream random{options.seed};
+    const glm::vec4 root(0.28f, 0.17f, 0.09f, 1.0f), tip(0.86f, 0.72f, 0.52f, 1.0f);
+    // the body: a cube-sphere of radius 0.7 with a fifth of the triangles, the colour of the roots
+    build_unit_cube_sphere(mesh, std::max<std::size_t>(48, options.target_triangles / 5));
+    mesh.normals = mesh.positions;
+    for (glm::vec3& p : mesh.positions) p *= 0.7f;
+    mesh.colors.assign(mesh.positions.size(), root);
+    // the hair: ribbons of 3 segments (6 triangles) from the body outwards, bending down, tapering
+    constexpr int k_segments = 3;
+    std::size_t body = mesh.indices.size() / 3;
+    std::size_t hairs = std::max<std::size_t>(1, (options.target_triangles > body ? options.target_triangles - body : 6) / (2 * k_segments));
+    for (std::size_t h = 0; h < hairs; ++h) {
+        glm::vec3 radial = random.direction();
+        glm::vec3 direction = glm::normalize(radial + 0.55f * random.direction());
+        if (glm::dot(direction, radial) < 0.3f) direction = glm::normalize(direction + radial);
+        float length = 0.3f * random.range(0.6f, 1.2f), shade = random.range(0.85f, 1.15f);
+        glm::vec3 across = glm::normalize(glm::cross(direction, radial) + 1e-3f * perpendicular_to(direction));
+        glm::vec3 p = radial * 0.69f;
+        auto first = std::uint32_t(mesh.positions.size());
+        for (int s = 0; s <= k_segments; ++s) {
+            float t = float(s) / k_segments, half_width = 0.5f * length * 0.05f * (1.0f - 0.7f * t);
+            glm::vec3 normal = glm::cross(across, direction);
+            if (glm::dot(normal, radial) < 0.0f) normal = -normal;
+            glm::vec4 color = glm::clamp(glm::mix(root, tip, t) * shade, 0.0f, 1.0f);
+            color.w = 1.0f;
+            add_vertex(mesh, p - half_width * across, normal, color);
+            add_vertex(mesh, p + half_width * across, normal, color);
+            p += direction * (length / k_segments);
+            direction = glm::normalize(direction + glm::vec3(0.0f, -0.3f, 0.0f) / float(k_segments));
+        }
+        for (std::uint32_t s = 0; s < k_segments; ++s) {
+            std::uint32_t a = first + 2 * s;
+            mesh.indices.insert(mesh.indices.end(), {a, a + 1, a + 3, a, a + 3, a + 2});
+        }
+    }
+    fit_into_sphere(mesh, options.radius);
+}
+
 Result<Mesh> generate_mesh(const GenerateOptions& options)
 {
     STANDIN_RETURN_IF_ERROR(check_options(options));
@@ -240,13 +407,15 @@ Result<Mesh> generate_mesh(const GenerateOptions& options)
     case GeneratedShape::sphere: make_sphere(mesh, options); break;
     case GeneratedShape::torus: make_torus(mesh, options); break;
     case GeneratedShape::noisy_sphere: make_noisy_sphere(mesh, options); break;
+    case GeneratedShape::shrub: make_shrub(mesh, options); break;
+    case GeneratedShape::fur_ball: make_fur_ball(mesh, options); break;
     }
     // one material whose colour is folded into every vertex colour (see Material in mesh.h)
     Material material;
     material.name = "generated";
     material.base_color = options.color;
     mesh.materials.push_back(material);
-    mesh.colors.assign(mesh.positions.size(), options.color);
+    if (mesh.colors.empty()) mesh.colors.assign(mesh.positions.size(), options.color); // shrub, fur ball: their own
     mesh.face_materials.assign(mesh.triangle_count(), 0u);
     return mesh;
 }

@@ -1,5 +1,6 @@
 // Tests of the procedural meshes: triangle counts near the target, exact geometry (radius, area),
-// closed and consistently oriented surfaces, determinism, and option validation.
+// closed and consistently oriented surfaces, determinism, the intricate shapes (shrub, fur ball),
+// and option validation.
 #include <standin/mesh.h>
 
 #include <gtest/gtest.h>
@@ -7,6 +8,8 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <set>
+#include <tuple>
 
 namespace standin {
 namespace {
@@ -139,6 +142,30 @@ TEST(GenerateMesh, ColourComesFromOptions)
     ASSERT_EQ(mesh.materials.size(), 1u);
     for (glm::vec4 c : mesh.colors) EXPECT_EQ(c, options.color);
     EXPECT_EQ(mesh.albedo_at(0, 0.3f, 0.3f), options.color);
+}
+
+TEST(GenerateMesh, ShrubAndFurBall)
+{
+    for (GeneratedShape s : {GeneratedShape::shrub, GeneratedShape::fur_ball}) {
+        for (std::size_t target : {std::size_t(200), std::size_t(5000), std::size_t(25000)}) {
+            GenerateOptions options = shape(s, target);
+            options.radius = 2.0f;
+            Mesh a = generate_ok(options), b = generate_ok(options);
+            double ratio = double(a.triangle_count()) / double(target);
+            EXPECT_NEAR(ratio, 1.0, 0.1) << "shape " << int(s) << " target " << target;
+            // repeatable, fitted into the sphere of the radius, coloured per part
+            EXPECT_EQ(a.positions, b.positions);
+            EXPECT_EQ(a.colors, b.colors);
+            EXPECT_NEAR(a.bounding_sphere().radius, 2.0f, 1e-3f);
+            EXPECT_NEAR(glm::length(a.bounding_sphere().center), 0.0f, 1e-3f);
+            std::set<std::tuple<float, float, float>> colours;
+            for (const glm::vec4& c : a.colors) colours.insert({c.x, c.y, c.z});
+            EXPECT_GT(colours.size(), 10u);
+        }
+        GenerateOptions seeded = shape(s, 3000);
+        seeded.seed = 2;
+        EXPECT_NE(generate_ok(shape(s, 3000)).positions, generate_ok(seeded).positions);
+    }
 }
 
 TEST(GenerateMesh, RejectsBadOptions)

@@ -1,6 +1,7 @@
 // Every representation standin knows. Adding one is a folder under src/reps/ (its registration()
 // describes it: options, debug views, bake, codec, renderer, summary) and a line here.
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/microfacets/microfacets.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/package.h>
@@ -15,6 +16,7 @@ const std::vector<Representation>& representations()
     static const std::vector<Representation> all = {
         billboards::registration(),
         view_atlas::registration(),
+        microfacets::registration(),
     };
     return all;
 }

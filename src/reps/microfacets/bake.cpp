@@ -1,0 +1,201 @@
+// Baking microfacets.
+// Yamazaki et al. 2002 §3.1 ModelingProcess: approximate the geometry by voxels (§3.2.2), build the
+// multiresolution octree (§3.2.3), and generate the texture images: colour and a range image per
+// camera (§3.2.4), with the range images' holes filled (§5.1).
+// Steps:
+//  1. read the settings; with `geometry-from` the voxels and range images come from a degraded copy
+//     of the model (sloppy-simplified, or displaced by noise), colour from the full model: the
+//     paper's premise (a scan worse than its photographs), which standin's exact meshes lack;
+//  2. voxelise the finest level, coarsen to min_level (voxels.cpp);
+//  3. per capture direction (the view atlas's sphere layouts, or the seed's turntable circle):
+//     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
+//     saw surface; quantise depth to 16 (or 8) bits; crop to the covered texels in whole cells;
+//  4. pack the crops into pages (view_atlas::pack_views) and copy them in.
+// Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage);
+// orthographic cameras (depth along the view is then affine over a facet, so eq. 1 is exact per
+// texel); 16-bit depth by default (the paper's 8 bits cap it at 256^3, §6.2).
+#include "reps/microfacets/capture.h"
+#include "reps/microfacets/lod.h"
+#include "reps/microfacets/microfacets.h"
+
+#include "gpu/gl.h"
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace standin::microfacets {
+
+namespace {
+
+// A hash of a vertex index in [-1, 1], the same on every run.
+float vertex_noise(std::uint32_t index)
+{
+    std::uint32_t h = index * 0x9E3779B1u;
+    h ^= h >> 15;
+    h *= 0x85EBCA77u;
+    h ^= h >> 13;
+    h *= 0xC2B2AE3Du;
+    h ^= h >> 16;
+    return float(h >> 8) * (2.0f / 16777215.0f) - 1.0f;
+}
+
+// Step 1: the incomplete scan of the experiment. "simplified" keeps geometry_amount of the
+// triangles with meshoptimizer's sloppy simplifier, which leaves gaps; "noisy" moves every vertex
+// along its normal by up to geometry_amount * radius.
+Mesh degraded_geometry(const Mesh& mesh, const BakeSettings& s)
+{
+    Mesh copy = mesh;
+    if (s.geometry_from == "simplified") {
+        std::size_t target = std::max<std::size_t>(3, std::size_t(double(mesh.indices.size()) * s.geometry_amount) / 3 * 3);
+        std::vector<std::uint32_t> kept(mesh.indices.size());
+        std::size_t count = meshopt_simplifySloppy(kept.data(), mesh.indices.data(), mesh.indices.size(),
+                                                   &mesh.positions[0].x, mesh.vertex_count(), sizeof(glm::vec3), target, 1.0f);
+        kept.resize(count);
+        copy.indices = std::move(kept);
+        copy.face_materials.assign(copy.indices.size() / 3, 0u);
+        copy.materials.resize(1);
+        copy.uvs.clear();
+        copy.textures.clear();
+        for (Material& m : copy.materials) m.base_color_texture = -1;
+    } else if (s.geometry_from == "noisy") {
+        float amplitude = s.geometry_amount * mesh.bounding_sphere().radius;
+        for (std::size_t v = 0; v < copy.positions.size(); ++v)
+            copy.positions[v] += copy.normals[v] * (amplitude * vertex_noise(std::uint32_t(v)));
+    }
+    return copy;
+}
+
+// A view's images after step 3, cropped.
+struct Crop {
+    ImageRGBA8 color;
+    ImageRGBA16 normal_depth;
+};
+
+// Step 3 for one capture: fill holes, quantise, crop. A texel is covered where the colour saw
+// surface and the range image has a depth (after filling); elsewhere every channel is 0.
+Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radius, bool degraded, View& view)
+{
+    const int n = capture.albedo.width;
+    if (degraded && s.fill_holes) {
+        std::vector<std::uint8_t> fillable(std::size_t(n) * n);
+        for (std::size_t p = 0; p < fillable.size(); ++p) fillable[p] = capture.albedo.pixels[4 * p + 3] != 0;
+        fill_range_holes(capture.range, fillable);
+    }
+    auto covered = [&](int x, int y) {
+        std::size_t p = std::size_t(y) * n + x;
+        return capture.albedo.pixels[4 * p + 3] != 0 && capture.range.valid[p];
+    };
+    int x0 = n, y0 = n, x1 = -1, y1 = -1;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            if (covered(x, y)) x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+    view.direction = capture.direction;
+    view.axis_u = capture.axis_u;
+    view.axis_v = capture.axis_v;
+    Crop crop;
+    if (x1 < 0) return crop; // nothing seen: width 0
+    const int cell = view_atlas::k_cell;
+    view.crop_x = x0 - 1;
+    view.crop_y = y0 - 1;
+    view.width = (x1 - x0 + 3 + cell - 1) / cell * cell;
+    view.height = (y1 - y0 + 3 + cell - 1) / cell * cell;
+    crop.color = ImageRGBA8(view.width, view.height);
+    crop.normal_depth = ImageRGBA16(view.width, view.height);
+    const float depth_levels = s.depth_bits == 8 ? 255.0f : 65535.0f;
+    const std::uint16_t depth_scale = s.depth_bits == 8 ? 257 : 1; // 8-bit codes stored as 16-bit
+    for (int y = 0; y < view.height; ++y)
+        for (int x = 0; x < view.width; ++x) {
+            int sx = view.crop_x + x, sy = view.crop_y + y;
+            if (sx < 0 || sy < 0 || sx >= n || sy >= n || !covered(sx, sy)) continue;
+            std::size_t p = std::size_t(sy) * n + sx;
+            std::memcpy(crop.color.at(x, y), capture.albedo.at(sx, sy), 3);
+            crop.color.at(x, y)[3] = 255;
+            std::uint16_t* nd = crop.normal_depth.at(x, y);
+            // the capture's 8-bit normal expanded to 16 bits (reps::SurfaceImage's encoding, n * 0.5 +
+            // 0.5); never 0: a zero normal means "empty"
+            for (int c = 0; c < 3; ++c) nd[c] = std::uint16_t(std::max<int>(capture.normal.at(sx, sy)[c], 1) * 257);
+            float depth = (radius - capture.range.depth[p]) / (2.0f * radius); // 0 nearest the camera
+            nd[3] = std::uint16_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * depth_levels) * depth_scale);
+        }
+    return crop;
+}
+
+template <typename Image>
+void copy_into_page(const Image& crop, Image& page, int x, int y)
+{
+    for (int row = 0; row < crop.height; ++row)
+        std::copy_n(crop.at(0, row), std::size_t(crop.width) * 4, page.at(x, y + row));
+}
+
+} // namespace
+
+std::vector<glm::vec3> capture_directions(const BakeSettings& settings)
+{
+    if (settings.layout != "circle") return view_atlas::layout_directions(settings.layout, settings.subdivisions, settings.frames);
+    std::vector<glm::vec3> directions;
+    for (int k = 0; k < settings.frames; ++k) directions.push_back(direction_from_angles(360.0f * float(k) / float(settings.frames), 0.0f));
+    return directions;
+}
+
+Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+{
+    const BakeSettings s = settings_from(context.parameters);
+    STANDIN_RETURN_IF_ERROR(check_settings(s));
+    STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "microfacets"));
+    const bool degraded = s.geometry_from != "full";
+    Mesh geometry = degraded ? degraded_geometry(context.mesh, s) : Mesh{};
+    const Mesh& voxel_source = degraded ? geometry : context.mesh;
+
+    auto package = std::make_unique<MicrofacetsPackage>();
+    package->source = context.source;
+    package->parameters = context.parameters;
+    package->settings = s;
+    BoundingSphere sphere = context.mesh.bounding_sphere();
+    package->center = sphere.center;
+    package->radius = sphere.radius;
+
+    // voxels: the finest level, then the coarser ones
+    context.progress.report("microfacets: voxelising", 0.0);
+    package->octree = build_octree(voxel_source, grid_around(context.mesh.bounds()), s.min_level, s.level);
+    context.progress.report("microfacets: voxelising", 1.0);
+
+    // the bake renders on the GPU: use the current context or make one for the bake
+    std::unique_ptr<GpuContext> own_context;
+    if (!gpu::has_current_context()) {
+        Result<std::unique_ptr<GpuContext>> made = create_headless_context();
+        if (!made) return made.status();
+        own_context = std::move(*made);
+    }
+    Result<std::unique_ptr<SurfaceCapturer>> capturer =
+        SurfaceCapturer::create(context.mesh, degraded ? &geometry : nullptr, sphere, s.resolution);
+    if (!capturer) return capturer.status();
+
+    // capture, fill, quantise and crop every view
+    std::vector<glm::vec3> directions = capture_directions(s);
+    package->max_view_angle = max_view_angle(directions, s.layout == "circle");
+    std::vector<Crop> crops(directions.size());
+    package->views.resize(directions.size());
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+        Result<SurfaceCapture> capture = (*capturer)->capture(directions[k]);
+        if (!capture) return capture.status();
+        crops[k] = encode_and_crop(*capture, s, sphere.radius, degraded, package->views[k]);
+        context.progress.report("microfacets: capturing views", double(k + 1) / double(directions.size()));
+    }
+
+    // pack the crops into pages
+    int pages = view_atlas::pack_views(package->views, s.page_size);
+    package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA16(s.page_size, s.page_size));
+    for (std::size_t k = 0; k < package->views.size(); ++k) {
+        const View& v = package->views[k];
+        if (v.width == 0) continue;
+        copy_into_page(crops[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        copy_into_page(crops[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+    }
+    return std::unique_ptr<Package>(std::move(package));
+}
+
+} // namespace standin::microfacets

@@ -1,0 +1,124 @@
+// Orthographic reference images of a mesh on the GPU (capture.h).
+// Yamazaki et al. 2002 §3.2.4: for each colour image, a range image of the model from the same
+// camera at the same resolution. Steps per direction:
+//  1. the orbit camera of that direction at distance 1, orthographic (the protocols' cameras, so
+//     image axes follow the same up-vector rule as the evaluation's);
+//  2. albedo: the ground-truth renderer under a light that is pure ambient (1, no diffuse), so the
+//     shaded colour is the albedo, coverage from alpha;
+//  3. normals: the same renderer drawing a copy of the mesh whose vertex colours are its normals
+//     encoded n * 0.5 + 0.5 (interpolated as the renderer interpolates normals), textures dropped;
+//  4. range: the depth buffer of the geometry mesh (the colour mesh unless a degraded one is given),
+//     turned into heights along the direction.
+#include "reps/microfacets/capture.h"
+
+#include "gpu/gl.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace standin::microfacets {
+
+namespace {
+
+// a copy of the mesh that shows its normals as albedo (step 3)
+Mesh normals_as_colors(const Mesh& mesh)
+{
+    Mesh copy;
+    copy.positions = mesh.positions;
+    copy.normals = mesh.normals;
+    copy.indices = mesh.indices;
+    copy.face_materials.assign(mesh.triangle_count(), 0u);
+    copy.materials.resize(1);
+    copy.colors.reserve(mesh.normals.size());
+    for (const glm::vec3& n : mesh.normals) copy.colors.push_back(glm::vec4(glm::normalize(n) * 0.5f + 0.5f, 1.0f));
+    return copy;
+}
+
+Camera capture_camera(const BoundingSphere& sphere, glm::vec3 direction)
+{
+    OrbitView view;
+    view.azimuth_degrees = glm::degrees(std::atan2(direction.x, direction.z));
+    view.elevation_degrees = glm::degrees(std::asin(std::clamp(direction.y, -1.0f, 1.0f)));
+    view.distance_rel = 1.0f;
+    view.orthographic = true;
+    return orbit_camera(sphere, view, 1.0f);
+}
+
+} // namespace
+
+Result<std::unique_ptr<SurfaceCapturer>> SurfaceCapturer::create(const Mesh& color_mesh, const Mesh* geometry,
+                                                                  const BoundingSphere& sphere, int resolution)
+{
+    auto capturer = std::make_unique<SurfaceCapturer>();
+    capturer->sphere_ = sphere;
+    capturer->resolution_ = resolution;
+    Result<std::unique_ptr<Renderer>> albedo = make_mesh_renderer(color_mesh);
+    if (!albedo) return albedo.status();
+    capturer->albedo_ = std::move(*albedo);
+    Result<std::unique_ptr<Renderer>> normals = make_mesh_renderer(normals_as_colors(color_mesh));
+    if (!normals) return normals.status();
+    capturer->normals_ = std::move(*normals);
+    if (geometry) {
+        Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*geometry);
+        if (!made) return made.status();
+        capturer->geometry_ = std::move(*made);
+    }
+    Result<RenderTarget> target = RenderTarget::create(resolution, resolution);
+    if (!target) return target.status();
+    capturer->target_ = std::make_unique<RenderTarget>(std::move(*target));
+    return capturer;
+}
+
+Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
+{
+    const int n = resolution_;
+    Camera camera = capture_camera(sphere_, direction);
+    SurfaceCapture out;
+    out.direction = -camera.forward_world;
+    const glm::mat4& m = camera.view_from_world; // rows 0 and 1: camera right and up
+    out.axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
+    out.axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
+    // pure ambient: the renderer's shading returns the albedo
+    const Light albedo_light{out.direction, 1.0f, 0.0f, 0.0f, 1.0f};
+
+    // one pass per image into the same target, reading back only what each pass gives
+    DrawParams params;
+    params.camera = camera;
+    params.light = albedo_light;
+    params.viewport = {n, n};
+    const float transparent[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    auto draw = [&](Renderer& renderer) {
+        target_->bind();
+        target_->clear(transparent);
+        renderer.draw(params);
+    };
+    draw(*albedo_);
+    out.albedo = target_->read_color();
+    std::vector<float> depth;
+    if (!geometry_) depth = target_->read_depth();
+    draw(*normals_);
+    out.normal = target_->read_color();
+    if (geometry_) {
+        draw(*geometry_);
+        depth = target_->read_depth();
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " capturing a view");
+
+    // heights: orthographic window depth is linear between the planes
+    const float eye_distance = glm::dot(camera.eye_world - sphere_.center, out.direction);
+    out.range.width = out.range.height = n;
+    out.range.depth.assign(std::size_t(n) * n, 0.0f);
+    out.range.valid.assign(std::size_t(n) * n, 0);
+    for (std::size_t p = 0; p < out.range.depth.size(); ++p) {
+        float window = depth[p];
+        if (window >= 1.0f) continue; // nothing drawn
+        float view_depth = camera.near_plane + window * (camera.far_plane - camera.near_plane);
+        out.range.depth[p] = eye_distance - view_depth;
+        out.range.valid[p] = 1;
+    }
+    return out;
+}
+
+} // namespace standin::microfacets

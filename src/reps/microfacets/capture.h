@@ -1,0 +1,50 @@
+// Reference images of a mesh: orthographic colour (albedo + coverage), world normal and depth from a
+// direction, rendered on the GPU by the ground-truth renderer. These are the seed's photographs and
+// range images (Yamazaki et al. 2002 §3.2.4), made from the mesh itself. The geometry the range
+// image comes from may be a different (degraded) mesh than the colour's, as a scan is worse than
+// photographs (§3.2.1).
+// Written for microfacets while src/reps/common/ does not yet hold a shared multi-view capture
+// (issue #11); the view atlas's bake has its own. One of them should go.
+#pragma once
+
+#include "reps/microfacets/range_holes.h"
+
+#include <standin/image.h>
+#include <standin/mesh.h>
+#include <standin/render.h>
+
+#include <glm/glm.hpp>
+
+#include <memory>
+
+namespace standin::microfacets {
+
+struct SurfaceCapture {
+    glm::vec3 direction{0, 0, 1}; // from the centre towards the camera
+    glm::vec3 axis_u{1, 0, 0};    // image columns (camera right)
+    glm::vec3 axis_v{0, -1, 0};   // image rows (camera down)
+    ImageRGBA8 albedo;            // sRGB albedo; A: coverage 0 / 255
+    ImageRGBA8 normal;            // world shading normal * 0.5 + 0.5 where covered
+    // Height of the geometry's surface above the centre plane along `direction` (object units),
+    // valid where the geometry mesh covers the pixel.
+    RangeImage range;
+};
+
+// Captures views of a sphere's content: the pixel (x, y) of a resolution^2 capture (continuous, y
+// down) lies on the plane through the centre at centre + (-r + x 2r / res) axis_u + (-r + y 2r /
+// res) axis_v. Needs a current GL context; holds the meshes' GPU copies.
+class SurfaceCapturer {
+public:
+    // `geometry` may be null (the range images come from `color_mesh` itself).
+    static Result<std::unique_ptr<SurfaceCapturer>> create(const Mesh& color_mesh, const Mesh* geometry,
+                                                           const BoundingSphere& sphere, int resolution);
+    Result<SurfaceCapture> capture(glm::vec3 direction) const;
+
+private:
+    std::unique_ptr<Renderer> albedo_, normals_, geometry_;
+    std::unique_ptr<RenderTarget> target_; // one target for every capture: no allocation per view
+    BoundingSphere sphere_;
+    int resolution_ = 0;
+};
+
+} // namespace standin::microfacets

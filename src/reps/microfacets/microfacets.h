@@ -1,0 +1,81 @@
+// Microfacets in memory (Yamazaki et al. 2002, "Microfacet Billboarding"): the occupied voxels of
+// the model as an octree of levels, and reference images of the model from many directions (colour,
+// normal and 16-bit depth). At run time every drawn voxel is a square of side sqrt(3) W through its
+// centre, facing the viewer, textured from the nearest captured views where their depth says the
+// surface lies within W/2 of the square (eq. 1). Shared by the baker, the package codec and the
+// renderer of this folder.
+#pragma once
+
+#include "reps/microfacets/voxels.h"
+#include "reps/view_atlas/view_atlas.h"
+
+#include <standin/image.h>
+#include <standin/package.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace standin::microfacets {
+
+// Crops of the captured views sit on the view atlas's grid of cells (view_atlas::k_cell), so the
+// first k_mip_levels levels of a colour page never mix two views.
+using view_atlas::View;
+constexpr int k_mip_levels = view_atlas::k_mip_levels;
+
+struct BakeSettings {
+    int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
+    int min_level = 2;               // coarsest level kept (2: 4^3), what distant instances draw
+    std::string layout = "icosahedral"; // the view atlas's sphere layouts, or "circle" (the seed's turntable)
+    int subdivisions = 1;            // icosahedral: 20 * 4^k views (80: docs/RESULTS.md "Microfacets")
+    int frames = 36;                 // circle: views on the circle; (hemi-)octahedral: frames^2 views
+    int resolution = 512;            // capture image side, pixels
+    int depth_bits = 16;             // 16, or 8 (the seed's range images: "quantized as integer in [0, 255]")
+    std::string geometry_from = "full"; // "full", or the incomplete-scan experiment: "simplified", "noisy"
+    float geometry_amount = 0.1f;    // simplified: fraction of the triangles kept; noisy: amplitude / radius
+    bool fill_holes = true;          // the seed's range-image median filter (only changes degraded geometry)
+    int page_size = 2048;            // atlas page side, texels (multiple of view_atlas::k_cell)
+};
+
+class MicrofacetsPackage final : public Package {
+public:
+    std::string representation() const override { return "microfacets"; }
+
+    Options parameters;    // as baked
+    BakeSettings settings; // settings_from(parameters)
+    Octree octree;          // levels settings.min_level .. settings.level
+    glm::vec3 center{0.0f}; // bounding sphere of the source (the capture frame)
+    float radius = 1.0f;
+    // The largest angle (radians) between any direction and its nearest captured view (in the
+    // circle's plane for the circle layout): the delta of eq. 2 the LOD rule assumes.
+    float max_view_angle = 0.1f;
+    std::vector<View> views; // captured orthographically: half extent = radius (view_atlas.h, View)
+    // RGB: albedo, sRGB-encoded; A: coverage 0 / 255.
+    std::vector<ImageRGBA8> color_pages;
+    // RGB: world normal * 0.5 + 0.5 (captured in 8 bits, x 257); A: depth (r - dot(p - centre,
+    // direction)) / (2r) in [0, 1], 0 nearest the capture camera, in 16 bits (multiples of 257 when
+    // depth_bits is 8): reps::SurfaceImage's encodings. All zero where the colour page's coverage
+    // is 0 (a covered texel never has a zero normal).
+    std::vector<ImageRGBA16> normal_depth_pages;
+};
+
+// The capture directions of a layout: the view atlas's sphere layouts (view_atlas::layout_directions)
+// or "circle": `frames` directions on the horizontal circle, azimuth 360 k / frames from +Z.
+std::vector<glm::vec3> capture_directions(const BakeSettings& settings);
+
+// The bake parameters typed (representation.cpp), and the checks between them.
+BakeSettings settings_from(const Options& parameters);
+Status check_settings(const BakeSettings& settings);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
+Result<std::unique_ptr<Package>> bake(const BakeContext& context);
+Status write(const Package& package, const std::string& directory);
+Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
+// Uploads a package (one texture array per map: a package that does not fit is refused naming its
+// sizes); run-time options as declared in representation.cpp (renderer.h RenderConfig).
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
+
+} // namespace standin::microfacets

@@ -1,0 +1,94 @@
+#version 450 core
+// Microfacets, per fragment of a quad (Yamazaki et al. 2002 §3.3.2-3.3.3): each of the facet's
+// views is projected onto the facet point (orthographic captures: the point's plane coordinates),
+// clipped by eq. 1, and the passing views are blended by their weights. The seed keeps a pixel
+// where its one view passes; with blending (A10 in docs/ARCHITECTURE.md) a pixel is covered where
+// any view passes ("any") or where the passing views hold half the weight ("vote"). Colour and
+// normal come from the same texels; the stored normal is lit by the shared lighting, and the depth
+// written is the stored surface point's (the view with the largest weight), so stand-ins composite,
+// cast and receive shadows like the mesh.
+#include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/lighting.glsl"
+#include "gpu/shaders/common/counters.glsl"
+#include "reps/microfacets/shaders/microfacets.glsl"
+#include "reps/microfacets/shaders/microfacets_sample.glsl"
+
+in vec3 v_position;
+flat in vec3 v_center;
+in vec2 v_corner; // position on the facet's square, [-1, 1]^2
+flat in uint v_instance;
+flat in int v_level;
+flat in uvec4 v_views;
+flat in int v_far;
+flat in vec4 v_weights;
+
+uniform int debug_view;    // DEBUG_VIEW_*
+uniform int counting;      // 1: add this fragment and its texture reads to the counters
+uniform int coverage_rule; // MF_COVERAGE_*
+uniform int min_level, max_level;
+
+layout(location = 0) out vec4 out_color;
+layout(depth_greater) out float gl_FragDepth;
+
+void main()
+{
+    vec3 p = v_position;
+    // colour is read at the texel hit, unfiltered even where a pixel spans several texels: the mesh
+    // it stands in for is point-sampled too, and averaging leaf-sized detail over the pixel's
+    // footprint measured worse (shrub, thesis protocol: Luv 11.6 filtered, 9.8 point-sampled)
+    const float color_level = 0.0;
+    float edge = max(abs(v_corner.x), abs(v_corner.y)), edge_width = fwidth(edge);
+    float w = voxel_size(v_level);
+
+    vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;
+    float weight = 0.0, best = -1.0, abstained = 0.0;
+    int best_view = int(v_views.x);
+    InstanceLod lod = lods.items[v_instance];
+    vec3 ray_origin = lod.forward_object.w > 0.5 ? p - lod.forward_object.xyz * (4.0 * mf_radius) : lod.eye_object.xyz;
+    vec3 ray = lod.forward_object.w > 0.5 ? lod.forward_object.xyz : normalize(p - lod.eye_object.xyz);
+    for (int k = 0; k < MF_MAX_BLEND; ++k) {
+        float wk = v_weights[k];
+        if (wk <= 0.0) continue;
+        ViewSample s;
+        if (clip_rule == MF_CLIP_RAY && v_far == 0) {
+            int outcome = walk_view(views.items[v_views[k]], ray_origin, ray, v_center, w, color_level, s);
+            if (outcome == RAY_HIDDEN) abstained += wk;
+        } else {
+            s = sample_view(views.items[v_views[k]], p, v_center, w, color_level);
+        }
+        if (!s.passed) continue;
+        color += wk * s.color;
+        normal += wk * s.normal;
+        weight += wk;
+        if (wk > best) {
+            best = wk;
+            surface = s.surface;
+            best_view = int(v_views[k]);
+        }
+    }
+    if (counting != 0) count_fragment(g_fetches);
+    // "vote": the views that hit hold at least half the weight of those that could tell
+    bool covered = coverage_rule == MF_COVERAGE_VOTE ? weight > 0.0 && weight >= 0.5 * (1.0 - abstained) : weight > 0.0;
+    // DEBUG_VIEW_PROXIES: every facet's outline (a line a pixel wide) over the picture
+    if (debug_view == DEBUG_VIEW_PROXIES && edge > 1.0 - edge_width) {
+        out_color = vec4(index_color(int(v_views.x)), 1.0);
+        gl_FragDepth = gl_FragCoord.z;
+        return;
+    }
+    if (!covered) discard;
+    color /= weight;
+
+    mat4 world_from_object = instances.world_from_object[v_instance];
+    vec3 surface_world = (world_from_object * vec4(surface, 1.0)).xyz;
+    vec3 normal_world = normalize(mat3(world_from_object) * normal);
+    float depth = max(window_depth(surface_world), gl_FragCoord.z);
+    gl_FragDepth = depth;
+    vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - surface_world);
+
+    if (debug_view == DEBUG_VIEW_PARTS) out_color = vec4(index_color(best_view), 1.0);
+    else if (debug_view == DEBUG_VIEW_DEPTH) out_color = vec4(vec3(1.0 - depth), 1.0);
+    else if (debug_view == DEBUG_VIEW_NORMAL) out_color = vec4(normal_world * 0.5 + 0.5, 1.0);
+    else if (debug_view == DEBUG_VIEW_FETCHES) out_color = vec4(fetches_color(g_fetches), 1.0);
+    else if (debug_view == DEBUG_VIEW_LEVEL) out_color = vec4(heat(float(v_level - min_level) / float(max(max_level - min_level, 1))), 1.0);
+    else out_color = vec4(shade_at(color, normal_world, to_eye, surface_world), 1.0);
+}

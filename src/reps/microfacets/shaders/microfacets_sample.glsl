@@ -1,0 +1,162 @@
+// Microfacets: reading a captured view at a point of a facet, with the clipping rule of Yamazaki et
+// al. 2002 eq. 1 (a texel is kept where the view's stored surface lies within W/2 of the facet,
+// measured along the view, §3.3.3). Shared by the quads' fragment stage and the points' vertex
+// stage. Include after microfacets.glsl.
+#include "reps/common/shaders/height_field.glsl"
+
+layout(binding = MF_COLOR_TEXTURE) uniform sampler2DArray color_pages;
+layout(binding = MF_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages;
+
+uniform float page_size;  // texels per page side
+uniform int max_color_lod; // mip levels of the colour pages that never mix two crops
+uniform int clip_rule;     // MF_CLIP_*
+
+uint g_fetches = 0u;
+
+// normals are n * 0.5 + 0.5 in unsigned normalised channels (microfacets.h)
+vec3 decode_normal(vec3 stored) { return stored * 2.0 - 1.0; }
+
+struct ViewSample {
+    bool passed;    // covered and within W/2 (eq. 1)
+    vec3 color;     // albedo, sRGB-encoded
+    vec3 normal;    // object space, unnormalised
+    vec3 surface;   // the stored surface point: the facet point moved along the view to its depth
+};
+
+// The view's sample at facet point p (object space) for the facet of the voxel at `center` of size
+// w; `lod` is the colour's mip level (<= 0: the exact texel; above: the covered texels around it,
+// averaged through the pages' coverage-premultiplied mips).
+ViewSample sample_view(ViewData view, vec3 p, vec3 center, float w, float lod)
+{
+    ViewSample s;
+    s.passed = false;
+    ivec2 texel = ivec2(floor(capture_pixel(view, p)));
+    if (any(lessThan(texel, view.crop.xy)) || any(greaterThanEqual(texel, view.crop.xy + view.crop.zw))) return s;
+    ivec2 at = view.atlas.yz + texel - view.crop.xy;
+    vec4 nd = texelFetch(normal_depth_pages, ivec3(at, view.atlas.x), 0);
+    g_fetches += 1u;
+    if (nd.r + nd.g + nd.b == 0.0) return s; // empty texel
+    float stored = stored_height(nd.a), here = dot(p - mf_center, view.direction.xyz);
+    if (abs(stored - here) >= 0.5 * w) return s; // eq. 1
+    s.surface = p + (stored - here) * view.direction.xyz;
+    // MF_CLIP_VOXEL: the surface point must lie in the facet's own voxel (grown by a texel), so a
+    // surface point is drawn by one facet, not by every facet whose square reaches over it
+    if (clip_rule == MF_CLIP_VOXEL && any(greaterThan(abs(s.surface - center), vec3(0.5 * w + 2.0 * mf_radius / capture_resolution))))
+        return s;
+    s.passed = true;
+    s.normal = decode_normal(nd.rgb);
+    vec2 texel_center = vec2(at) + 0.5;
+    if (lod > 0.0) {
+        // filtered: keep the footprint inside the crop (crops sit on cells of 2^max_color_lod texels)
+        lod = min(lod, float(max_color_lod));
+        float margin = 0.5 * exp2(ceil(lod));
+        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
+    }
+    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
+    g_fetches += 1u;
+    s.color = c.a > 0.0 ? c.rgb / c.a : c.rgb;
+    return s;
+}
+
+// The colour mip level at which one texel of the capture spans `span` object units.
+float color_lod(float span) { return log2(max(span * capture_resolution / (2.0 * mf_radius), 1e-6)); }
+
+// --- MF_CLIP_RAY: the pixel's ray inside the facet's voxel against the view's depth -------------
+// Beyond the paper: instead of showing a view's texel where its ray meets the facet's plane (eq. 1,
+// which misplaces the surface by up to W/2 tan(delta) on screen, eq. 2), walk the part of the
+// pixel's ray inside the facet's voxel across the view's texel columns with the image-based
+// stand-ins' one height-field rule (reps/common/shaders/height_field.glsl: texel tops, walls to
+// neighbours of the same surface, space under a surface unseen) and stop at the first crossing.
+// Every view then places the surface where it is, the blended views agree, and the depth written is
+// the surface's. Inside a voxel the ray moves up to sqrt(3) W sin(delta) across the view: a few
+// texels at the finest levels, more at coarse ones.
+#define RAY_MISS 0   // the ray crossed the voxel without meeting the view's surface
+#define RAY_HIT 1
+#define RAY_HIDDEN 2 // the ray passed under a surface the view saw: it cannot tell what is there
+
+// The ray o + t d (object space, d unit) inside the box of the voxel at `center` (size w, grown by
+// `grow`): [t0, t1], empty when t0 > t1.
+vec2 voxel_span(vec3 o, vec3 d, vec3 center, float w, float grow)
+{
+    vec3 inverse = 1.0 / d;
+    vec3 a = (center - (0.5 * w + grow) - o) * inverse, b = (center + (0.5 * w + grow) - o) * inverse;
+    vec3 near = min(a, b), far = max(a, b);
+    return vec2(max(max(near.x, near.y), max(near.z, 0.0)), min(min(far.x, far.y), far.z));
+}
+
+int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, out ViewSample s)
+{
+    s.passed = false;
+    const float texel = 2.0 * mf_radius / capture_resolution, quantum = 2.0 * mf_radius / HF_DEPTH_CODES;
+    vec2 span = voxel_span(o, d, center, w, 0.5 * texel);
+    if (span.x > span.y) return RAY_MISS;
+    vec3 dir = view.direction.xyz;
+    if (dot(d, dir) > -0.05) return RAY_HIDDEN; // seen from behind or edge-on: the view knows nothing here
+    // the segment in the voxel, s in [0, 1]; depth below the capture plane's top, growing along it
+    vec3 p0 = o + span.x * d, p1 = o + span.y * d;
+    float z0 = -dot(p0 - mf_center, dir), z1 = -dot(p1 - mf_center, dir);
+    vec2 a = capture_pixel(view, p0), b = capture_pixel(view, p1);
+    // texels under the segment, in order (Amanatides & Woo)
+    ivec2 cell = ivec2(floor(a)), last = ivec2(floor(b));
+    vec2 delta = b - a;
+    ivec2 stride = ivec2(sign(delta));
+    vec2 inverse = vec2(abs(delta.x) > 1e-9 ? 1.0 / abs(delta.x) : 1e30, abs(delta.y) > 1e-9 ? 1.0 / abs(delta.y) : 1e30);
+    vec2 next = vec2(delta.x >= 0.0 ? float(cell.x + 1) - a.x : a.x - float(cell.x),
+                     delta.y >= 0.0 ? float(cell.y + 1) - a.y : a.y - float(cell.y)) * inverse;
+    float s_in = 0.0;
+    bool previous_covered = false, crossed_u = true; // crossed_u: the last step crossed a column side along axis_u
+    float previous_top = 0.0;
+    vec3 previous_normal = vec3(0.0);
+    for (int step = 0; step < 64; ++step) { // at most |dx| + |dy| + 1 texels; 64 for a voxel much larger than them
+        float s_out = min(min(next.x, next.y), 1.0);
+        bool covered = false;
+        if (all(greaterThanEqual(cell, view.crop.xy)) && all(lessThan(cell, view.crop.xy + view.crop.zw))) {
+            ivec2 at = view.atlas.yz + cell - view.crop.xy;
+            vec4 nd = texelFetch(normal_depth_pages, ivec3(at, view.atlas.x), 0);
+            g_fetches += 1u;
+            covered = nd.r + nd.g + nd.b > 0.0;
+            if (covered) {
+                float top = mf_radius - stored_height(nd.a); // the column's top, as a depth
+                vec3 normal = decode_normal(nd.rgb);
+                // linked to the column before: one surface when their step is within the shared tolerance
+                bool linked = false;
+                if (step > 0 && previous_covered) {
+                    vec3 axis = crossed_u ? view.axis_u.xyz : view.axis_v.xyz;
+                    float slope_a = hf_slope(dot(normal, axis), dot(normal, dir)), slope_b = hf_slope(dot(previous_normal, axis), dot(previous_normal, dir));
+                    linked = abs(top - previous_top) <= hf_link_tolerance(slope_a, slope_b, texel, quantum);
+                }
+                vec2 crossing = hf_cross_column(s_in, s_in, s_out, z0 + mf_radius, z1 - z0, top, linked, previous_top);
+                if (crossing.y == HF_UNDER) return RAY_HIDDEN;
+                if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
+                    s.passed = true;
+                    s.surface = mix(p0, p1, crossing.x);
+                    s.normal = normal;
+                    vec2 texel_center = vec2(at) + 0.5;
+                    if (lod > 0.0) {
+                        lod = min(lod, float(max_color_lod));
+                        float margin = 0.5 * exp2(ceil(lod));
+                        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
+                    }
+                    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
+                    g_fetches += 1u;
+                    s.color = c.a > 0.0 ? c.rgb / c.a : c.rgb;
+                    return RAY_HIT;
+                }
+                previous_top = top;
+                previous_normal = normal;
+            }
+        }
+        previous_covered = covered;
+        if (cell == last || s_out >= 1.0) break;
+        crossed_u = next.x < next.y;
+        if (crossed_u) {
+            cell.x += stride.x;
+            next.x += inverse.x;
+        } else {
+            cell.y += stride.y;
+            next.y += inverse.y;
+        }
+        s_in = s_out;
+    }
+    return RAY_MISS;
+}
