@@ -1,5 +1,6 @@
 // Every representation standin knows: name -> {bake, write, read, make_renderer}. Adding one is a
 // folder under src/reps/ and a line here.
+#include "reps/displaced_mesh/displaced_mesh.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/view_atlas/view_atlas.h"
 
@@ -18,6 +19,10 @@ const std::vector<Representation>& representations()
          "one camera-facing quad showing the nearest (or three blended, depth-corrected) of many "
          "pre-rendered views (Saraiva et al.)",
          view_atlas::bake, view_atlas::write, view_atlas::read, view_atlas::make_renderer},
+        {"displaced-mesh",
+         "coarse control mesh + per-face displacement maps, bisected on the GPU every frame to a "
+         "screen-space tolerance (Bauman, Livny & El-Sana)",
+         displaced_mesh::bake, displaced_mesh::write, displaced_mesh::read, displaced_mesh::make_renderer},
     };
     return all;
 }

@@ -1,0 +1,76 @@
+#version 450 core
+// One bisection pass (Bauman, Livny & El-Sana §3.3; refine.cpp decide): each record of the current
+// list is tested; it bisects the longest of its edges whose own test passes (|e_p| * w_e > tau and
+// longer than one pattern grid unit), else it is final. Writes the decision and the group scan of
+// (splits, finals).
+#include "gpu/shaders/common/frame.glsl"
+#include "reps/displaced_mesh/shaders/displaced.glsl"
+#include "reps/displaced_mesh/shaders/passes.glsl"
+
+uniform uint last_pass; // 1: nothing splits any more (counted as capped)
+
+bool splittable(uvec2 a, uvec2 b)
+{
+    float d1 = float(int(a.x - b.x)) / float(BARY_ONE);
+    float d2 = float(int(a.y - b.y)) / float(BARY_ONE);
+    float d0 = -(d1 + d2);
+    float n = float(refine.counts.z);
+    precise float units2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) * n * n;
+    return units2 > 1.001 * 1.001;
+}
+
+float segment_weight(vec4 weights, uvec2 a, uvec2 b)
+{
+    if (a.y == 0u && b.y == 0u) return weights.x;
+    if (a.x + a.y == BARY_ONE && b.x + b.y == BARY_ONE) return weights.y;
+    if (a.x == 0u && b.x == 0u) return weights.z;
+    return weights.w;
+}
+
+uint decide(uint face, uint q[6], mat4 view_object)
+{
+    uvec2 corner[3] = uvec2[3](uvec2(q[0], q[1]), uvec2(q[2], q[3]), uvec2(q[4], q[5]));
+    uvec3 c = faces[face].corners.xyz;
+    vec4 weights = faces[face].weights;
+    vec3 p[3];
+    for (int k = 0; k < 3; ++k) p[k] = (view_object * vec4(face_point(c, corner[k].x, corner[k].y).position, 1.0)).xyz;
+    float len[3], w[3];
+    bool can_split[3];
+    for (int k = 0; k < 3; ++k) {
+        len[k] = projected_length(p[k], p[(k + 1) % 3]);
+        w[k] = refine.options.x == DM_CRITERION_LENGTH ? 1.0 : segment_weight(weights, corner[k], corner[(k + 1) % 3]);
+        can_split[k] = splittable(corner[k], corner[(k + 1) % 3]);
+    }
+    float tau = refine.view_terms.x;
+    int best = -1;
+    if (refine.options.x == DM_CRITERION_SEED) {
+        for (int k = 0; k < 3; ++k)
+            if (can_split[k] && (best < 0 || len[k] > len[best])) best = k;
+        if (best >= 0 && !(len[best] * w[best] > tau)) best = -1;
+    } else {
+        for (int k = 0; k < 3; ++k)
+            if (can_split[k] && len[k] * w[k] > tau && (best < 0 || len[k] > len[best])) best = k;
+    }
+    return best < 0 ? DECIDE_FINAL : uint(best);
+}
+
+void main()
+{
+    uint i = gl_GlobalInvocationID.x;
+    uint decision = DECIDE_FINAL;
+    uvec2 value = uvec2(0u);
+    if (i < current_count()) {
+        uint face, instance, depth, q[6];
+        load_record(i, face, instance, q, depth);
+        decision = decide(face, q, view_from_object(instance));
+        if (last_pass != 0u && decision != DECIDE_FINAL) {
+            atomicAdd(state[DM_STATE_CAPPED], 1u); // a sum: the same whatever the order
+            decision = DECIDE_FINAL;
+        }
+        value = decision == DECIDE_FINAL ? uvec2(0u, 1u) : uvec2(1u, 0u);
+    }
+    uvec2 total;
+    uvec2 prefix = group_exclusive_scan(value, total);
+    if (i < current_count()) scan[i] = uvec4(decision, prefix, 0u);
+    if (gl_LocalInvocationID.x == 0u) groups[gl_WorkGroupID.x] = total;
+}

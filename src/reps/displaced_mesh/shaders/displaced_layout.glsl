@@ -1,0 +1,60 @@
+// Binding points, record layout and constants shared by the displaced-mesh renderer's C++
+// (renderer.cpp includes this file) and its shaders. Plain #defines only: both languages parse it.
+#ifndef STANDIN_DISPLACED_LAYOUT_GLSL
+#define STANDIN_DISPLACED_LAYOUT_GLSL
+
+// uniform blocks (BINDING_FRAME_UBO = 0 is the frame's)
+#define DM_REFINE_UBO 1          // RefineBlock: tolerance, projection, pass, list capacities
+
+// shader storage blocks (BINDING_INSTANCES_SSBO = 0 is the frame's)
+#define DM_VERTICES_SSBO 1       // vec4 position, vec4 normal per control vertex (object space)
+#define DM_FACES_SSBO 2          // FaceData per control face
+#define DM_ELEVATIONS_SSBO 3     // float per sample, every level, face-major
+#define DM_SHADING_SSBO 4        // uvec2 per finest sample: octahedral normal, RGBA8 albedo
+#define DM_LIST_IN_SSBO 5        // Record[]: the triangles this pass tests
+#define DM_LIST_OUT_SSBO 6       // Record[]: their children
+#define DM_FINAL_SSBO 7          // Record[]: triangles to draw
+#define DM_SCAN_SSBO 8           // per element of the current list: decision and local prefix sums
+#define DM_GROUPS_SSBO 9         // per workgroup: sums, then their exclusive prefix
+#define DM_STATE_SSBO 10         // counters and indirect arguments (DM_STATE_*)
+#define DM_FIRST_COUNTER DM_STATE_FRAGMENTS // state below it is cleared every draw; counters when counting starts
+
+// DM_STATE_SSBO layout, in uints. Passes alternate between two slots (parity p % 2) for the
+// current list's count and dispatch arguments: a pass reads its own and writes the next one's.
+#define DM_STATE_COUNT 0         // 2 uints: records in the current list, by parity
+#define DM_STATE_DISPATCH 2      // 2 x 3 uints: glDispatchComputeIndirect arguments over it, by parity
+#define DM_STATE_FINAL 8         // records in the final list
+#define DM_STATE_FINAL_BASE 9    // the final list's size before this pass (where its finals go)
+#define DM_STATE_OVERFLOW 10     // 1: this pass's children would not fit, every record becomes final
+#define DM_STATE_PROCESSED 11    // records tested over all passes (the paper's "processed")
+#define DM_STATE_CAPPED 12       // records that wanted to split when passes or lists ran out
+#define DM_STATE_VISIBLE 13      // control faces (x instances) that passed culling
+#define DM_STATE_DROPPED 14      // final records that did not fit the final list (drawn: none)
+#define DM_STATE_OVERFLOWED 15   // records made final because their children did not fit the list
+#define DM_STATE_DRAW 16         // 4 uints: glDrawArraysIndirect arguments (3 x final, 1, 0, 0)
+#define DM_STATE_FRAGMENTS 20    // fragment-stage invocations while counting
+#define DM_STATE_FETCHES 21      // shading-sample reads while counting
+#define DM_STATE_ERROR_SUM 22    // sum over fragments of the screen-space error, 1/64 px (counting)
+#define DM_STATE_ERROR_MAX 23    // its maximum, 1/64 px
+#define DM_ERROR_UNITS 64.0      // counter units per pixel of error
+#define DM_STATE_UINTS 24
+
+#define DM_GROUP_SIZE 256        // invocations per workgroup of every compute pass
+#define DM_RECORD_UINTS 9        // face, instance, q1 q2 of three corners, depth
+
+#define DM_BARY_BITS 30          // face_point.h k_bary_bits
+
+// split criteria (refine.h Criterion)
+#define DM_CRITERION_WEIGHTED 0
+#define DM_CRITERION_LENGTH 1
+#define DM_CRITERION_SEED 2
+
+// debug views (RenderOptions::debug_view)
+#define DM_DEBUG_NONE 0
+#define DM_DEBUG_PARTS 1         // "parts": colour by control face
+#define DM_DEBUG_LEVEL 2         // "level": bisection depth of the triangle, heat over 0..3m+6
+#define DM_DEBUG_ERROR 3         // "error": distance to the finest surface at the pixel, px, heat over 0..tau (Fig. 11c)
+#define DM_DEBUG_DEPTH 4         // window depth, near white
+#define DM_DEBUG_NORMAL 5        // shading normal, world space
+
+#endif
