@@ -5,6 +5,7 @@ function(standin_embed_shaders target)
   file(GLOB_RECURSE shader_files CONFIGURE_DEPENDS
     ${PROJECT_SOURCE_DIR}/src/*.glsl ${PROJECT_SOURCE_DIR}/src/*.vert ${PROJECT_SOURCE_DIR}/src/*.frag
     ${PROJECT_SOURCE_DIR}/src/*.comp ${PROJECT_SOURCE_DIR}/src/*.geom
+    ${PROJECT_SOURCE_DIR}/src/*.tesc ${PROJECT_SOURCE_DIR}/src/*.tese
     ${PROJECT_SOURCE_DIR}/src/gpu/shaders/common/*.h)
   set(out ${CMAKE_CURRENT_BINARY_DIR}/embedded_shaders.cpp)
   string(REPLACE ";" "|" shader_list "${shader_files}")

@@ -93,7 +93,11 @@ private:
     PatternLayout layout_{17};
     std::uint32_t face_count_ = 0, vertex_count_ = 0;
     int passes_ = 0;
-    gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_;
+    void upload_block(const DrawParams& params, std::uint32_t instances);
+    DrawStats draw_patches(std::uint32_t instances);
+
+    gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
+    gpu::Query primitives_query_;
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
     gpu::Buffer lists_[2];
     std::uint64_t list_capacity_ = 0, final_capacity_ = 0, scan_capacity_ = 0;
@@ -128,6 +132,16 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     Result<gpu::Program> draw = gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"});
     if (!draw) return draw.status();
     draw_ = std::move(*draw);
+    if (settings.subdivision == "tess") {
+        Result<gpu::Program> patches = gpu::Program::create(
+            {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
+             "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"});
+        if (!patches) return patches.status();
+        patches_ = std::move(*patches);
+        primitives_query_ = gpu::make_query(GL_PRIMITIVES_GENERATED);
+    } else if (settings.subdivision != "leb") {
+        return error(StatusCode::invalid_argument, "--subdivision: must be leb or tess, not '" + settings.subdivision + "'");
+    }
 
     // the package on the GPU: control vertices (updatable), per-face data, elevations, shading
     std::vector<ControlVertex> vertices(vertex_count_);
@@ -188,15 +202,9 @@ void Impl::dispatch_indirect(const gpu::Program& program, std::uint32_t parity)
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
 }
 
-void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
+// The refinement block of this draw and the package's buffers, bound.
+void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
 {
-    // scan buffers hold one entry per element of the largest list a pass may see
-    std::uint64_t elements = std::max<std::uint64_t>(std::uint64_t(face_count_) * instances, list_capacity_);
-    if (elements > scan_capacity_) {
-        scan_capacity_ = elements;
-        scan_ = gpu::make_buffer(nullptr, scan_capacity_ * 16);
-        groups_ = gpu::make_buffer(nullptr, (scan_capacity_ / DM_GROUP_SIZE + 1) * 8);
-    }
     RefineView view = make_refine_view(params.camera, params.viewport.y, glm::mat4(1.0f));
     RefineBlock block;
     block.clip_from_view = params.camera.clip_from_view;
@@ -216,9 +224,22 @@ void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_VERTICES_SSBO, vertices_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FACES_SSBO, faces_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_ELEVATIONS_SSBO, elevations_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_STATE_SSBO, state_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
+}
+
+void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
+{
+    // scan buffers hold one entry per element of the largest list a pass may see
+    std::uint64_t elements = std::max<std::uint64_t>(std::uint64_t(face_count_) * instances, list_capacity_);
+    if (elements > scan_capacity_) {
+        scan_capacity_ = elements;
+        scan_ = gpu::make_buffer(nullptr, scan_capacity_ * 16);
+        groups_ = gpu::make_buffer(nullptr, (scan_capacity_ / DM_GROUP_SIZE + 1) * 8);
+    }
+    upload_block(params, instances);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SCAN_SSBO, scan_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_GROUPS_SSBO, groups_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_STATE_SSBO, state_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FINAL_SSBO, final_.get());
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, state_.get());
     glMemoryBarrier(GL_ALL_BARRIER_BITS);
@@ -258,6 +279,10 @@ DrawStats Impl::draw(const DrawParams& params)
 {
     frame_.bind(params);
     std::uint32_t instances = std::uint32_t(frame_.instance_count());
+    if (settings_.subdivision == "tess") {
+        upload_block(params, instances);
+        return draw_patches(instances);
+    }
 
     // refine; when a list overflowed, grow the lists and refine again
     std::vector<std::uint32_t> state;
@@ -272,7 +297,6 @@ DrawStats Impl::draw(const DrawParams& params)
                  state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
     glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counting_ ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
@@ -285,6 +309,29 @@ DrawStats Impl::draw(const DrawParams& params)
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     return {std::uint64_t(2 + 3 * passes_ + 1), counters_.rendered};
+}
+
+// The tessellation baseline: every control face of every instance as one patch; the triangles the
+// tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
+DrawStats Impl::draw_patches(std::uint32_t instances)
+{
+    glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counting_ ? 1 : 0);
+    glBindVertexArray(empty_vertex_array_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPatchParameteri(GL_PATCH_VERTICES, 3);
+    patches_.use();
+    glBeginQuery(GL_PRIMITIVES_GENERATED, primitives_query_.get());
+    glDrawArraysInstanced(GL_PATCHES, 0, GLsizei(3 * face_count_), GLsizei(instances));
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    glBindVertexArray(0);
+    GLuint64 generated = 0;
+    glGetQueryObjectui64v(primitives_query_.get(), GL_QUERY_RESULT, &generated);
+    counters_ = {};
+    counters_.rendered = generated;
+    counters_.processed = std::uint64_t(face_count_) * instances;
+    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return {1, generated};
 }
 
 void Impl::set_counting(bool on)

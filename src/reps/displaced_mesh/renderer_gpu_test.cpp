@@ -211,6 +211,27 @@ TEST(DisplacedMeshRenderer, DebugViewsAndMovingTheControlMesh)
     EXPECT_FALSE(renderer->update_control(std::vector<glm::vec3>(3), std::vector<glm::vec3>(3)).is_ok());
 }
 
+TEST(DisplacedMeshRenderer, TessellationBaselineIsCrackFreeAndAgreesWithBisection)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    RendererSettings tess;
+    tess.subdivision = "tess";
+    std::unique_ptr<DisplacedRenderer> patches = make(*s.package, tess), bisection = make(*s.package, RendererSettings{});
+    ASSERT_TRUE(patches && bisection);
+    for (float azimuth : {0.0f, 200.0f}) {
+        Camera camera = camera_for(s.mesh, azimuth, 1.0f, 320, 240);
+        RenderedImage a = render(*patches, camera, 320, 240), b = render(*bisection, camera, 320, 240);
+        EXPECT_EQ(enclosed_holes(a.color), 0u);
+        EXPECT_GT(patches->last_counters().rendered, 1000u);
+        ImageMetrics m = compare_images(b.color, a.color);
+        EXPECT_GT(m.iou, 0.995);
+        EXPECT_LT(m.luv_mean, 1.0);
+    }
+    tess.subdivision = "geometry";
+    EXPECT_FALSE(DisplacedRenderer::create(*s.package, tess).is_ok());
+}
+
 TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
 {
     const Subject& s = noisy_sphere();
