@@ -32,6 +32,13 @@ constexpr float k_weight_min = 0.25f, k_weight_max = 4.0f;
 constexpr float k_cone_margin = 0.0873f;      // 5 degrees: coarse triangles' normals stray from the finest ones'
 constexpr float k_sphere_margin = 0.01f;      // of the longest edge
 constexpr float k_segment_min_units = 1.001f; // segments up to one pattern grid unit are not split
+// A chord of length L on a curve of curvature kappa strays kappa L^2 / 8 from it; a triangle's
+// linear interpolant up to about kappa L^2 / 6 inside (equilateral, circumradius L / sqrt 3).
+constexpr float k_chord_error = 1.0f / 6.0f;
+// The chord strays along the surface normal: on screen that shows times the sine of the angle
+// between normal and view direction (full on the silhouette, none face-on). The floor keeps depth,
+// shadows and self-occlusion within a few tau of the surface where it faces the viewer.
+constexpr float k_min_visible = 0.2f;
 
 const std::uint32_t* corners_of(const RefineSurface& s, std::uint32_t face) { return &(*s.indices)[3 * std::size_t(face)]; }
 
@@ -63,12 +70,34 @@ bool splittable(const std::uint32_t* a, const std::uint32_t* b, int segments)
 
 // The weight of a segment: its control edge's when both ends lie on one, else the face's. Ends are
 // (q1, q2); a zero weight on corner c for both ends puts the segment on the edge opposite c.
+// The face edge a segment lies on (-1: inside the face).
+int segment_edge(const std::uint32_t* a, const std::uint32_t* b)
+{
+    if (a[1] == 0 && b[1] == 0) return 0;                                                 // c0 -> c1
+    if (a[0] + a[1] == k_bary_one && b[0] + b[1] == k_bary_one) return 1;                 // c1 -> c2
+    if (a[0] == 0 && b[0] == 0) return 2;                                                 // c2 -> c0
+    return -1;
+}
+
 float segment_weight(const FaceRefineData& face, const std::uint32_t* a, const std::uint32_t* b)
 {
-    if (a[1] == 0 && b[1] == 0) return face.edge_weight[0];                                   // c0 -> c1
-    if (a[0] + a[1] == k_bary_one && b[0] + b[1] == k_bary_one) return face.edge_weight[1];   // c1 -> c2
-    if (a[0] == 0 && b[0] == 0) return face.edge_weight[2];                                   // c2 -> c0
-    return face.interior_weight;
+    int edge = segment_edge(a, b);
+    return edge >= 0 ? face.edge_weight[edge] : face.interior_weight;
+}
+
+// The error criterion's weight: curvature x world length x k_chord_error (view-space length over
+// the instance's scale gives object units, the curvature's), times how much of a deviation along
+// the normal shows on screen. a, b: view-space ends; na, nb: their unit view-space normals.
+float error_weight(const FaceRefineData& face, const std::uint32_t* qa, const std::uint32_t* qb, glm::vec3 a, glm::vec3 b,
+                   glm::vec3 na, glm::vec3 nb, float scale, bool orthographic)
+{
+    int edge = segment_edge(qa, qb);
+    float curvature = edge >= 0 ? face.edge_curvature[edge] : face.interior_curvature;
+    glm::vec3 normal = unit_direction(na + nb);
+    glm::vec3 to_eye = orthographic ? glm::vec3(0.0f, 0.0f, 1.0f) : unit_direction(-(a + b));
+    float facing = glm::dot(normal, to_eye);
+    float visible = std::max(std::sqrt(std::max(1.0f - facing * facing, 0.0f)), k_min_visible);
+    return curvature * glm::length(a - b) / scale * k_chord_error * visible;
 }
 
 // The edge of the face holding a point with a zero weight (or -1 inside): zero on corner c puts it
@@ -150,15 +179,23 @@ Decision decide(const RefineSurface& s, const PatternLayout& layout, const Refin
                 const RefineOptions& options)
 {
     const FaceRefineData& face = (*s.faces)[t.face];
-    glm::vec3 p[3];
-    for (int k = 0; k < 3; ++k) p[k] = to_view(view, point_of(s, t.face, t.q[k][0], t.q[k][1]).position);
+    glm::vec3 p[3], normal[3];
+    for (int k = 0; k < 3; ++k) {
+        FacePoint point = point_of(s, t.face, t.q[k][0], t.q[k][1]);
+        p[k] = to_view(view, point.position);
+        normal[k] = unit_direction(glm::mat3(view.view_from_object) * point.normal);
+    }
     float length[3], weight[3];
     bool can_split[3];
+    const float scale = glm::length(glm::vec3(view.view_from_object[0]));
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t* a = t.q[k];
         const std::uint32_t* b = t.q[(k + 1) % 3];
         length[k] = projected_length(view, p[k], p[(k + 1) % 3]);
-        weight[k] = options.criterion == Criterion::length ? 1.0f : segment_weight(face, a, b);
+        if (options.criterion == Criterion::length) weight[k] = 1.0f;
+        else if (options.criterion == Criterion::error)
+            weight[k] = error_weight(face, a, b, p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale, view.orthographic);
+        else weight[k] = segment_weight(face, a, b);
         can_split[k] = splittable(a, b, layout.segments);
     }
     Decision d;
@@ -181,6 +218,7 @@ bool parse_criterion(const std::string& name, Criterion& out)
     if (name == "weighted") return out = Criterion::weighted, true;
     if (name == "length") return out = Criterion::length, true;
     if (name == "seed") return out = Criterion::seed, true;
+    if (name == "error") return out = Criterion::error, true;
     return false;
 }
 
@@ -212,6 +250,7 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
     const int n = layout.segments;
     std::vector<FaceRefineData> out(faces);
     std::vector<float> curvature(faces); // h_f + ∆_f: the largest |elevation| plus the sampling error
+    std::vector<float> curvatures(faces); // of the displaced surface (the error criterion)
     for (std::size_t f = 0; f < faces; ++f) {
         FaceRefineData& d = out[f];
         const float* values = &elevations[f * layout.samples_per_face];
@@ -227,6 +266,11 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
         glm::vec3 axis = glm::cross(p1 - p0, p2 - p0);
         axis = glm::length(axis) > 0.0f ? glm::normalize(axis) : glm::vec3(0.0f, 0.0f, 1.0f);
         std::vector<glm::vec3> displaced(layout.finest_samples);
+        auto point_at = [&](int i, int j) {
+            return face_point(positions.data(), normals.data(), c, std::uint32_t(j) * (k_bary_one / std::uint32_t(n)),
+                              std::uint32_t(i) * (k_bary_one / std::uint32_t(n)))
+                .position;
+        };
         float min_normal = 1.0f;
         for (int i = 0; i <= n; ++i)
             for (int j = 0; j <= n - i; ++j) {
@@ -237,6 +281,23 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
                 min_normal = std::min(min_normal, glm::length(point.normal));
             }
         d.normal_shrink = 1.0f - min_normal;
+        // curvature: second differences of the displaced grid along its three directions, over
+        // the squared spacing of the undisplaced grid
+        float curvature = 0.0f;
+        auto bend = [&](int ia, int ja, int ib, int jb, int ic, int jc) {
+            glm::vec3 second = displaced[triangle_index(n, ia, ja)] - 2.0f * displaced[triangle_index(n, ib, jb)] +
+                               displaced[triangle_index(n, ic, jc)];
+            float spacing = 0.5f * glm::length(point_at(ia, ja) - point_at(ic, jc));
+            if (spacing > 0.0f) curvature = std::max(curvature, glm::length(second) / (spacing * spacing));
+        };
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; j <= n - i; ++j) {
+                if (j >= 1 && j + 1 <= n - i) bend(i, j - 1, i, j, i, j + 1);
+                if (i >= 1 && i + 1 <= n - j) bend(i - 1, j, i, j, i + 1, j);
+                if (i >= 1 && j >= 1 && i + 1 + j - 1 <= n) bend(i - 1, j + 1, i, j, i + 1, j - 1);
+            }
+        curvatures[f] = curvature;
+        d.interior_curvature = curvature;
         float widest = 0.0f;
         auto widen = [&](std::size_t a, std::size_t b, std::size_t e) {
             glm::vec3 m = glm::cross(displaced[b] - displaced[a], displaced[e] - displaced[a]);
@@ -276,7 +337,11 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
     auto normalise = [&](float value) {
         return mean > 0.0 ? std::clamp(float(value / mean), k_weight_min, k_weight_max) : 1.0f;
     };
+    std::vector<float> edge_curvature(topology.edges.size(), 0.0f);
+    for (std::size_t e = 0; e < topology.edges.size(); ++e)
+        for (std::uint32_t f : topology.edges[e].faces) edge_curvature[e] = std::max(edge_curvature[e], curvatures[f]);
     for (std::size_t f = 0; f < faces; ++f) {
+        for (int k = 0; k < 3; ++k) out[f].edge_curvature[k] = edge_curvature[topology.face_edges[f][std::size_t(k)]];
         for (int k = 0; k < 3; ++k) out[f].edge_weight[k] = normalise(edge_value[topology.face_edges[f][std::size_t(k)]]);
         out[f].interior_weight = normalise(curvature[f]);
     }

@@ -24,7 +24,11 @@ namespace standin::displaced_mesh {
 // length:   the same with w = 1 (the paper's first rule: pure screen-space longest-edge bisection).
 // seed:     the paper's literal weighted rule: split when |L_p| * w_L > tau for the longest
 //           projected edge L. Not conforming (kept to count its T-junctions).
-enum class Criterion { weighted, length, seed };
+// error:    beyond the paper: the weight is the segment's estimated chord error over its length,
+//           kappa * L / 6 (kappa: the largest curvature of the displaced surface on the edge's
+//           faces, L: the segment's length), so |e_p| * w is the segment's geometric error in
+//           pixels and tau bounds the error itself, not the edge length. Conforming like weighted.
+enum class Criterion { weighted, length, seed, error };
 bool parse_criterion(const std::string& name, Criterion& out);
 
 // Per control face, computed once at load time (prepare_faces).
@@ -35,6 +39,8 @@ struct FaceRefineData {
     float cone_half_angle = 4.0f;     // radians; displaced normals lie within it around the face normal
     float normal_shrink = 0.0f;       // 1 - min |N(w)|: how far a displaced point may leave the prism
     float grid_length = 0.0f;         // mean edge length / (k - 1): the finest spacing inside the face
+    float edge_curvature[3] = {0, 0, 0}; // 1 / world units: the largest of the edge's faces' curvature
+    float interior_curvature = 0.0f;     // the largest second difference of the displaced finest grid
 };
 
 // The package data the refinement reads (non-owning).
@@ -59,7 +65,7 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
 
 struct RefineOptions {
     float tau = 1.0f;            // screen-space tolerance, pixels
-    Criterion criterion = Criterion::weighted;
+    Criterion criterion = Criterion::error;
     bool cull = true;            // frustum and back-face culling of control faces on their prism
     bool mip = true;             // elevations from the level whose spacing projects to about tau
     int max_depth = 0;           // bisection passes; 0: 3m + 6 (refinement_passes)

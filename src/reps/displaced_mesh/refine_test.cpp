@@ -81,7 +81,7 @@ TEST(DisplacedMeshRefine, NoTJunctionsOnAClosedModelAtSeveralTolerances)
     Baked baked = bake_noisy_sphere(9, 20000);
     ASSERT_TRUE(baked.package);
     RefineView view = view_at(1.5f);
-    for (Criterion criterion : {Criterion::weighted, Criterion::length})
+    for (Criterion criterion : {Criterion::error, Criterion::weighted, Criterion::length})
         for (float tau : {0.5f, 1.0f, 2.0f, 4.0f, 16.0f}) {
             SCOPED_TRACE(testing::Message() << "criterion " << int(criterion) << " tau " << tau);
             RefineOptions options;

@@ -28,6 +28,9 @@
 namespace standin::displaced_mesh {
 
 static_assert(DM_BARY_BITS == k_bary_bits, "shaders/displaced_layout.glsl and face_point.h disagree");
+static_assert(int(Criterion::weighted) == DM_CRITERION_WEIGHTED && int(Criterion::length) == DM_CRITERION_LENGTH &&
+                  int(Criterion::seed) == DM_CRITERION_SEED && int(Criterion::error) == DM_CRITERION_ERROR,
+              "shaders/displaced_layout.glsl and refine.h number the criteria differently");
 
 namespace {
 
@@ -50,6 +53,7 @@ struct FaceData {
     glm::vec4 weights;
     glm::vec4 range;
     glm::vec4 extra;
+    glm::vec4 curvature;
 };
 
 struct ControlVertex {
@@ -158,6 +162,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
         faces[f].weights = glm::vec4(d.edge_weight[0], d.edge_weight[1], d.edge_weight[2], d.interior_weight);
         faces[f].range = glm::vec4(d.h_min, d.h_max, d.cone_half_angle, d.normal_shrink);
         faces[f].extra = glm::vec4(d.grid_length, 0.0f, 0.0f, 0.0f);
+        faces[f].curvature = glm::vec4(d.edge_curvature[0], d.edge_curvature[1], d.edge_curvature[2], d.interior_curvature);
     }
     faces_ = gpu::make_buffer(faces);
     elevations_ = gpu::make_buffer(package.elevations);

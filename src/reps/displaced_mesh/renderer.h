@@ -16,7 +16,7 @@ namespace standin::displaced_mesh {
 
 struct RendererSettings {
     float tau = 1.0f;                 // screen-space tolerance, pixels (the paper's τ)
-    Criterion criterion = Criterion::weighted;
+    Criterion criterion = Criterion::error;
     bool cull = true;                 // frustum and back-face culling of control faces on their prisms
     bool mip = true;                  // elevations from the level whose spacing projects to about tau
     std::string subdivision = "leb";  // "leb": compute-shader bisection; "tess": tessellation-shader baseline

@@ -19,26 +19,47 @@ bool splittable(uvec2 a, uvec2 b)
     return units2 > 1.001 * 1.001;
 }
 
-float segment_weight(vec4 weights, uvec2 a, uvec2 b)
+// The face edge a segment lies on, 3 inside (refine.cpp segment_edge).
+int segment_edge(uvec2 a, uvec2 b)
 {
-    if (a.y == 0u && b.y == 0u) return weights.x;
-    if (a.x + a.y == BARY_ONE && b.x + b.y == BARY_ONE) return weights.y;
-    if (a.x == 0u && b.x == 0u) return weights.z;
-    return weights.w;
+    if (a.y == 0u && b.y == 0u) return 0;
+    if (a.x + a.y == BARY_ONE && b.x + b.y == BARY_ONE) return 1;
+    if (a.x == 0u && b.x == 0u) return 2;
+    return 3;
+}
+
+// refine.cpp error_weight: curvature x length x chord factor, times how much of a deviation along
+// the normal shows on screen (the sine of the normal's angle to the view direction, at least
+// DM_MIN_VISIBLE)
+float error_weight(float curvature, vec3 a, vec3 b, vec3 na, vec3 nb, float scale)
+{
+    vec3 normal = unit_direction(na + nb);
+    vec3 to_eye = refine.view_terms.w > 0.5 ? vec3(0.0, 0.0, 1.0) : unit_direction(-(a + b));
+    float facing = dot(normal, to_eye);
+    float visible = max(sqrt(max(1.0 - facing * facing, 0.0)), DM_MIN_VISIBLE);
+    return curvature * length(a - b) / scale * DM_CHORD_ERROR * visible;
 }
 
 uint decide(uint face, uint q[6], mat4 view_object)
 {
     uvec2 corner[3] = uvec2[3](uvec2(q[0], q[1]), uvec2(q[2], q[3]), uvec2(q[4], q[5]));
     uvec3 c = faces[face].corners.xyz;
-    vec4 weights = faces[face].weights;
-    vec3 p[3];
-    for (int k = 0; k < 3; ++k) p[k] = (view_object * vec4(face_point(c, corner[k].x, corner[k].y).position, 1.0)).xyz;
+    vec4 weights = faces[face].weights, curvature = faces[face].curvature;
+    float scale = length(view_object[0].xyz);
+    vec3 p[3], normal[3];
+    for (int k = 0; k < 3; ++k) {
+        FacePoint point = face_point(c, corner[k].x, corner[k].y);
+        p[k] = (view_object * vec4(point.position, 1.0)).xyz;
+        normal[k] = unit_direction(mat3(view_object) * point.normal);
+    }
     float len[3], w[3];
     bool can_split[3];
     for (int k = 0; k < 3; ++k) {
         len[k] = projected_length(p[k], p[(k + 1) % 3]);
-        w[k] = refine.options.x == DM_CRITERION_LENGTH ? 1.0 : segment_weight(weights, corner[k], corner[(k + 1) % 3]);
+        int edge = segment_edge(corner[k], corner[(k + 1) % 3]);
+        if (refine.options.x == DM_CRITERION_LENGTH) w[k] = 1.0;
+        else if (refine.options.x == DM_CRITERION_ERROR) w[k] = error_weight(curvature[edge], p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale);
+        else w[k] = weights[edge];
         can_split[k] = splittable(corner[k], corner[(k + 1) % 3]);
     }
     float tau = refine.view_terms.x;

@@ -25,6 +25,7 @@ struct FaceData {
     vec4 weights;   // edges 0, 1, 2 (corner k -> k + 1), inside
     vec4 range;     // h_min, h_max, cone half-angle (radians), normal shrink
     vec4 extra;     // x: finest grid length inside the face
+    vec4 curvature; // edges 0, 1, 2, inside: 1 / world units (the error criterion)
 };
 layout(std430, binding = DM_FACES_SSBO) readonly buffer FaceBlock { FaceData faces[]; };
 layout(std430, binding = DM_ELEVATIONS_SSBO) readonly buffer ElevationBlock { float elevations[]; };

@@ -48,6 +48,9 @@
 #define DM_CRITERION_WEIGHTED 0
 #define DM_CRITERION_LENGTH 1
 #define DM_CRITERION_SEED 2
+#define DM_CRITERION_ERROR 3
+#define DM_CHORD_ERROR (1.0 / 6.0) // refine.cpp k_chord_error
+#define DM_MIN_VISIBLE 0.2        // refine.cpp k_min_visible
 
 // debug views (RenderOptions::debug_view)
 #define DM_DEBUG_NONE 0

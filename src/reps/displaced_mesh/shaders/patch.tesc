@@ -19,8 +19,16 @@ float edge_level(uint face, int edge, mat4 view_object)
     uint a = corner[edge], b = corner[(edge + 1) % 3];
     vec3 lo = (view_object * vec4(control_position(min(a, b)), 1.0)).xyz;
     vec3 hi = (view_object * vec4(control_position(max(a, b)), 1.0)).xyz;
-    float weight = refine.options.x == DM_CRITERION_LENGTH ? 1.0 : faces[face].weights[edge];
-    float segments = projected_length(lo, hi) * weight / refine.view_terms.x;
+    float projected = projected_length(lo, hi), segments;
+    if (refine.options.x == DM_CRITERION_ERROR) {
+        // the chord error falls with the square of the segment count
+        float scale = length(view_object[0].xyz);
+        float error_px = faces[face].curvature[edge] * length(hi - lo) / scale * DM_CHORD_ERROR * projected;
+        segments = sqrt(error_px / refine.view_terms.x);
+    } else {
+        float weight = refine.options.x == DM_CRITERION_LENGTH ? 1.0 : faces[face].weights[edge];
+        segments = projected * weight / refine.view_terms.x;
+    }
     float level = exp2(ceil(log2(max(segments, 1.0))));
     return min(level, float(refine.counts.z));
 }
