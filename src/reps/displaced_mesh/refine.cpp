@@ -19,6 +19,7 @@
 #include "reps/displaced_mesh/refine.h"
 
 #include "reps/displaced_mesh/face_point.h"
+#include "reps/displaced_mesh/shaders/displaced_layout.glsl"
 
 #include <algorithm>
 #include <cmath>
@@ -32,13 +33,20 @@ constexpr float k_weight_min = 0.25f, k_weight_max = 4.0f;
 constexpr float k_cone_margin = 0.0873f;      // 5 degrees: coarse triangles' normals stray from the finest ones'
 constexpr float k_sphere_margin = 0.01f;      // of the longest edge
 constexpr float k_segment_min_units = 1.001f; // segments up to one pattern grid unit are not split
+// The constants the GPU shares live in shaders/displaced_layout.glsl.
 // A chord of length L on a curve of curvature kappa strays kappa L^2 / 8 from it; a triangle's
 // linear interpolant up to about kappa L^2 / 6 inside (equilateral, circumradius L / sqrt 3).
-constexpr float k_chord_error = 1.0f / 6.0f;
+constexpr float k_chord_error = float(DM_CHORD_ERROR);
 // The chord strays along the surface normal: on screen that shows times the sine of the angle
 // between normal and view direction (full on the silhouette, none face-on). The floor keeps depth,
 // shadows and self-occlusion within a few tau of the surface where it faces the viewer.
-constexpr float k_min_visible = 0.2f;
+constexpr float k_min_visible = float(DM_MIN_VISIBLE);
+// Near the silhouette (|cos| of the normal's angle to the view below k_silhouette_cos) a chord
+// shrinks the outline, and every pixel it leaves is a hole against the original: the error counts
+// k_silhouette_weight times there, i.e. the outline is refined to tau / 8. The band is a few
+// pixels wide, so this costs few triangles.
+constexpr float k_silhouette_cos = float(DM_SILHOUETTE_COS);
+constexpr float k_silhouette_weight = float(DM_SILHOUETTE_WEIGHT);
 
 const std::uint32_t* corners_of(const RefineSurface& s, std::uint32_t face) { return &(*s.indices)[3 * std::size_t(face)]; }
 
@@ -97,6 +105,7 @@ float error_weight(const FaceRefineData& face, const std::uint32_t* qa, const st
     glm::vec3 to_eye = orthographic ? glm::vec3(0.0f, 0.0f, 1.0f) : unit_direction(-(a + b));
     float facing = glm::dot(normal, to_eye);
     float visible = std::max(std::sqrt(std::max(1.0f - facing * facing, 0.0f)), k_min_visible);
+    if (std::abs(facing) < k_silhouette_cos) visible *= k_silhouette_weight;
     return curvature * glm::length(a - b) / scale * k_chord_error * visible;
 }
 

@@ -49,8 +49,11 @@
 #define DM_CRITERION_LENGTH 1
 #define DM_CRITERION_SEED 2
 #define DM_CRITERION_ERROR 3
-#define DM_CHORD_ERROR (1.0 / 6.0) // refine.cpp k_chord_error
-#define DM_MIN_VISIBLE 0.2        // refine.cpp k_min_visible
+// the error criterion (refine.cpp says why)
+#define DM_CHORD_ERROR (1.0 / 6.0) // a chord's error over curvature x length^2
+#define DM_MIN_VISIBLE 0.2        // least share of a normal deviation counted on screen
+#define DM_SILHOUETTE_COS 0.2     // |cos| of the view angle below which a segment is on the outline
+#define DM_SILHOUETTE_WEIGHT 8.0  // how much more error counts there
 
 // debug views (RenderOptions::debug_view)
 #define DM_DEBUG_NONE 0
