@@ -123,8 +123,8 @@ int main(int argc, char** argv)
     std::printf("| ground truth | %.2f | %.2f | %.2f | - |\n", t.mean, t.p95, t.max);
     for (const std::string& style : styles) {
         RenderOptions options;
-        options.style = style;
-        Result<std::unique_ptr<Renderer>> renderer = representation->make_renderer(**package, options);
+        options.values.set("style", style);
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(**package, options);
         if (!renderer) return std::fprintf(stderr, "%s\n", renderer.status().message().c_str()), 1;
         Result<std::vector<double>> changes = sweep_changes(**renderer, sphere, s);
         if (!changes) return std::fprintf(stderr, "%s\n", changes.status().message().c_str()), 1;

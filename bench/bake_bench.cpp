@@ -4,8 +4,6 @@
 //   bake_bench [--threads N] [--faces 10000,100000,1000000] [--write DIR]
 // Peak RSS is the process high-water mark (VmHWM) read after each bake, so rows are cumulative:
 // run one size per process for an exact per-size figure.
-#include "reps/enhanced_billboards/billboards.h"
-
 #include <standin/mesh.h>
 #include <standin/package.h>
 
@@ -72,11 +70,9 @@ int main(int argc, char** argv)
             return 2;
         }
         Result<SourceInfo> source = describe_source("", *mesh);
-        BakeParameters parameters;
-        Progress progress;
-        BakeContext context{*mesh, *source, parameters, progress, threads};
         auto start = std::chrono::steady_clock::now();
-        Result<std::unique_ptr<Package>> package = billboards::bake(context);
+        Result<std::unique_ptr<Package>> package =
+            bake_package(*find_representation("enhanced-billboards"), *mesh, *source, {}, {}, threads);
         double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!package) {
             std::fprintf(stderr, "bake_bench: %s\n", package.status().message().c_str());
@@ -95,7 +91,7 @@ int main(int argc, char** argv)
             }
             bytes = package_bytes(path).is_ok() ? *package_bytes(path) : 0;
         }
-        nlohmann::json summary = (*package)->summary();
+        nlohmann::json summary = summarise_package(**package).details;
         std::printf("%10zu %10.3f %10.3f %11zu %10.5f %12llu %12.1f\n", mesh->triangle_count(), bake_s, write_s,
                     summary["billboards"].get<std::size_t>(), summary["area_captured_fraction"].get<double>(),
                     static_cast<unsigned long long>(bytes), peak_rss_kib() / 1024.0);

@@ -148,7 +148,7 @@ std::vector<glm::vec2> directions(int count)
     return all;
 }
 
-RendererSettings settings_from(const Args& args, float tau)
+RendererSettings render_settings(const Args& args, float tau)
 {
     RendererSettings s;
     s.tau = tau;
@@ -165,12 +165,12 @@ int command_bake(const Args& args)
 {
     if (args.positional.size() != 1) fail("bake MODEL");
     const std::string model = args.positional[0];
-    BakeSettings settings;
-    settings.degree = std::stoi(args.get("degree", "17"));
-    settings.sampler = args.get("sampler", "intersection");
-    settings.elevation_bits = std::stoi(args.get("bits", "16"));
-    settings.control_faces = std::stoi(args.get("control-faces", "0"));
-    settings.interpolation_rays = std::stoi(args.get("interpolation-rays", "16"));
+    Options parameters = take(bake_parameters({{"degree", args.get("degree", "17")},
+                                               {"sampler", args.get("sampler", "intersection")},
+                                               {"elevation-bits", args.get("bits", "16")},
+                                               {"control-faces", args.get("control-faces", "0")},
+                                               {"interpolation-rays", args.get("interpolation-rays", "16")}}));
+    const BakeSettings settings = settings_from(parameters);
     int threads = std::stoi(args.get("threads", "0"));
     std::optional<tbb::global_control> limit;
     if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
@@ -180,7 +180,7 @@ int command_bake(const Args& args)
     double import_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     SourceInfo source = take(describe_source(model, mesh));
     start = std::chrono::steady_clock::now();
-    std::unique_ptr<DisplacedMeshPackage> package = take(bake_package(mesh, source, settings, Progress()));
+    std::unique_ptr<DisplacedMeshPackage> package = take(bake_displaced(mesh, source, parameters, Progress()));
     double bake_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::uint64_t bytes = 0;
     std::string out = args.get("write", "");
@@ -231,7 +231,7 @@ int command_runtime(const Args& args)
                 "frame ms | mesh/standin | Luv | IoU | holes |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (float tau : floats(args.get("tau", "1,2")))
         for (bool cull : {true, false}) {
-            RendererSettings settings = settings_from(args, tau);
+            RendererSettings settings = render_settings(args, tau);
             settings.cull = cull;
             std::unique_ptr<DisplacedRenderer> renderer = take(DisplacedRenderer::create(package, settings));
             double ms = 0.0, eps_mean = 0.0, eps_max = 0.0, luv = 0.0, iou = 0.0, holes = 0.0;
@@ -280,7 +280,7 @@ int command_mips(const Args& args)
                 "|---|---|---|---|---|---|---|---|\n");
     for (float distance : floats(args.get("distance", "1,2,4")))
         for (bool mip : {false, true}) {
-            RendererSettings settings = settings_from(args, std::stof(args.get("tau", "1")));
+            RendererSettings settings = render_settings(args, std::stof(args.get("tau", "1")));
             settings.mip = mip;
             std::unique_ptr<DisplacedRenderer> renderer = take(DisplacedRenderer::create(package, settings));
             ImageRGBA8 previous, previous_truth;
@@ -524,8 +524,8 @@ int command_picture(const Args& args)
     std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
     const DisplacedMeshPackage& package = as_displaced(*loaded);
     glm::ivec2 size = size_of(args.get("size", "800x600"));
-    RendererSettings settings = settings_from(args, std::stof(args.get("tau", "1")));
-    settings.debug_view = args.get("debug-view", "");
+    RendererSettings settings = render_settings(args, std::stof(args.get("tau", "1")));
+    settings.debug_view = take(parse_debug_view(args.get("debug-view", "")));
     settings.error_scale = std::stof(args.get("error-scale", "0"));
     std::unique_ptr<DisplacedRenderer> renderer = take(DisplacedRenderer::create(package, settings));
     Camera camera = view_camera(mesh, {std::stof(args.get("azimuth", "30")), std::stof(args.get("elevation", "20"))},
@@ -548,8 +548,8 @@ int command_frames(const Args& args)
     std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
     const DisplacedMeshPackage& package = as_displaced(*loaded);
     glm::ivec2 size = size_of(args.get("size", "800x600"));
-    RendererSettings settings = settings_from(args, std::stof(args.get("tau", "1")));
-    settings.debug_view = args.get("debug-view", "");
+    RendererSettings settings = render_settings(args, std::stof(args.get("tau", "1")));
+    settings.debug_view = take(parse_debug_view(args.get("debug-view", "")));
     std::unique_ptr<DisplacedRenderer> renderer = take(DisplacedRenderer::create(package, settings));
     Camera camera = view_camera(mesh, {30.0f, 20.0f}, std::stof(args.get("distance", "1")), size);
     gpu::FrameTimes times = take(gpu::time_frames(*renderer, params_for(camera, size), 2, std::stoi(args.get("frames", "10"))));

@@ -235,7 +235,7 @@ ShadowOverlap standin_shadow_overlap(const std::string& representation,
     std::unique_ptr<Package> package = test::bake(mesh, representation, bake_values);
     if (!package) return {};
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
-    Result<std::unique_ptr<Renderer>> standin = find_representation(representation)->make_renderer(*package, options);
+    Result<std::unique_ptr<Renderer>> standin = make_package_renderer(*package, options);
     EXPECT_TRUE(truth.is_ok() && standin.is_ok()) << standin.status().message();
     if (!truth.is_ok() || !standin.is_ok()) return {};
     Camera camera = scene_camera();
@@ -284,7 +284,7 @@ TEST(Shadows, ViewAtlasCorrectedCastsTheMeshShadow)
     // smeared the shadow towards the sphere: IoU 0.62; a view whose ray passes under a surface now
     // abstains. Measured on llvmpipe: IoU 0.956, recall 1.)
     RenderOptions options;
-    options.style = "corrected";
+    options.values.set("style", "corrected");
     ShadowOverlap overlap = standin_shadow_overlap(
         "view-atlas", {{"subdivisions", "2"}, {"resolution", "128"}, {"page-size", "2048"}}, options,
         light_from_angles(-35.0f, 45.0f));

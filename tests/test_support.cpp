@@ -75,14 +75,12 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
 {
     SourceInfo source;
     source.bounds = mesh.bounds();
-    BakeParameters parameters;
+    OptionValues parameters;
     for (const auto& [name, value] : values) parameters.set(name, value);
-    Progress progress;
-    BakeContext context{mesh, source, parameters, progress, 1};
     const Representation* r = find_representation(representation);
     EXPECT_TRUE(r) << representation;
     if (!r) return nullptr;
-    Result<std::unique_ptr<Package>> package = r->bake(context);
+    Result<std::unique_ptr<Package>> package = bake_package(*r, mesh, source, parameters, {}, 1);
     EXPECT_TRUE(package.is_ok()) << package.status().message();
     return package.is_ok() ? std::move(*package) : nullptr;
 }

@@ -113,12 +113,12 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
                                     "split off\n"
                                     "debug normal\n"
                                     "screenshot " + d + "normal.png\n"
-                                    "debug billboard\n"
-                                    "screenshot " + d + "billboard.png\n"
+                                    "debug parts\n"
+                                    "screenshot " + d + "parts.png\n"
                                     "debug fetches\n"
                                     "screenshot " + d + "fetches.png\n"
-                                    "debug boxes\n"
-                                    "screenshot " + d + "boxes.png\n"
+                                    "debug proxies\n"
+                                    "screenshot " + d + "proxies.png\n"
                                     "debug holes\n"
                                     "screenshot " + d + "holes.png\n"
                                     "debug off\n"
@@ -161,7 +161,7 @@ TEST_F(ViewerUnderXvfb, ScriptedScreenshotsShowModelStandInSplitAndDebugViews)
     EXPECT_NEAR(foreground_fraction(shadowed, 0, w), foreground_fraction(lit, 0, w), 0.01);
 
     // debug views differ from the normal picture, and from one another
-    const char* views[] = {"normal", "billboard", "fetches", "boxes", "holes"};
+    const char* views[] = {"normal", "parts", "fetches", "proxies", "holes"};
     std::vector<ImageRGBA8> debug;
     for (const char* view : views) {
         debug.push_back(load(d + view + ".png"));

@@ -2,10 +2,23 @@
 // when one is wrong.
 #include "viewer/script.h"
 
+#include <standin/package.h>
+
 #include <gtest/gtest.h>
 
 namespace standin::viewer {
 namespace {
+
+// `set` takes any representation's run-time options, as the viewer passes them
+Result<std::vector<ScriptCommand>> parse_script(const std::string& text, const std::string& name)
+{
+    static const std::vector<OptionSpec> options = [] {
+        std::vector<OptionSpec> all;
+        for (const Representation& r : representations()) all.insert(all.end(), r.render_options.begin(), r.render_options.end());
+        return all;
+    }();
+    return viewer::parse_script(text, name, options);
+}
 
 std::vector<ScriptCommand> parse_ok(const std::string& text)
 {
@@ -84,8 +97,8 @@ TEST(ViewerScript, ExtraCommands)
     EXPECT_FLOAT_EQ(c[3].numbers[0], 0.25f);
     EXPECT_EQ(c[4].word, "march");
     EXPECT_EQ(c[4].value, "seed");
-    EXPECT_EQ(c[5].count, 50);
-    EXPECT_FLOAT_EQ(c[6].numbers[0], 0.02f);
+    EXPECT_EQ(c[5].value, "50"); // `set` values stay text, checked against the declarations
+    EXPECT_EQ(c[6].value, "0.02");
     EXPECT_EQ(c[7].value, "off");
     EXPECT_EQ(c[8].word, "orthographic");
     EXPECT_FLOAT_EQ(c[9].numbers[1], -0.2f);
@@ -118,7 +131,7 @@ TEST(ViewerScript, BadArgumentsAreRefusedWithTheirLine)
         {"show package", "show package N"},
         {"show everything", "show original"},
         {"split maybe", "split on|off|side"},
-        {"debug sparkles", "debug off|billboard"},
+        {"debug sparkles", "debug off|parts"},
         {"resolution 400", "WxH"},
         {"resolution 0x300", "WxH"},
         {"resolution 400x300x2", "WxH"},
@@ -128,9 +141,9 @@ TEST(ViewerScript, BadArgumentsAreRefusedWithTheirLine)
         {"wait -1", "frames"},
         {"wait 1.5", "frames"},
         {"quit now", "'quit'"},
-        {"set shininess 3", "unknown knob"},
-        {"set steps 0", "steps"},
-        {"set hit-range 2", "hit range"},
+        {"set shininess 3", "unknown option"},
+        {"set steps 0", "--steps: 0 is out of range"},
+        {"set hit-range 2", "--hit-range: 2 is out of range"},
     };
     for (const auto& [line, expected] : cases) {
         std::string message = parse_error(std::string("wait 1\n") + line + "\n");

@@ -1,8 +1,9 @@
-// standin bench: bake time and peak memory, package size vs. the source file (seed 000 Fig. 4-3),
-// GPU frame times of package and original mesh at the seed's resolutions (Table A-1), vs. screen
+// standin bench: bake time and peak memory, package size vs. the source file (Vichitvejpaisal 2005
+// Fig. 4-3), GPU frame times of package and original mesh at its resolutions (Table A-1), vs. screen
 // coverage, and in a crowd of N instances (docs/EVAL.md).
 #include "commands.h"
 #include "common.h"
+#include "declared_options.h"
 
 #include <standin/eval.h>
 #include <standin/files.h>
@@ -25,14 +26,13 @@ struct BenchArgs {
     std::vector<std::string> packages;
     std::string json;
     std::string keep; // where to keep the package baked with the defaults
-    std::string representation = "enhanced-billboards";
+    std::string representation = representations().front().name; // the registry's first is the default
     std::vector<std::string> parameters; // NAME=VALUE for the bake
     int frames = 15;
     int warmup = 3;
     std::size_t crowd = 0;
     bool no_coverage = false;
-    RenderOptions render; // the renderers' options (--style, --march, ...), as for render and eval
-    bool no_coarse = false;
+    DeclaredOptions render; // the representations' run-time options, as for render and eval
 };
 
 struct Measured {
@@ -49,19 +49,17 @@ static Result<Measured> bake_default(const BenchArgs& args, const Mesh& mesh, co
 {
     const Representation* representation = find_representation(args.representation);
     if (!representation) return error(StatusCode::invalid_argument, "--representation: unknown '" + args.representation + "'");
-    BakeParameters parameters;
+    OptionValues parameters;
     for (const std::string& p : args.parameters) {
         std::size_t eq = p.find('=');
         if (eq == std::string::npos || eq == 0)
             return error(StatusCode::invalid_argument, "--param: expected NAME=VALUE, got '" + p + "'");
         parameters.set(p.substr(0, eq), p.substr(eq + 1));
     }
-    Progress progress = stderr_progress();
-    BakeContext context{mesh, source, parameters, progress};
     bool rss_reset = reset_peak_rss();
     double rss_before = peak_rss_mb();
     auto start = std::chrono::steady_clock::now();
-    Result<std::unique_ptr<Package>> package = representation->bake(context);
+    Result<std::unique_ptr<Package>> package = bake_package(*representation, mesh, source, parameters, stderr_progress());
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!package) return package.status();
     json["bake_seconds"] = seconds;
@@ -124,8 +122,6 @@ static int run_bench(BenchArgs& args)
     if (args.frames < 1 || args.frames > 10000) return fail("--frames: must be within 1..10000");
     if (args.warmup < 0 || args.warmup > 1000) return fail("--warmup: must be within 0..1000");
     if (args.crowd > 1000000) return fail("--crowd: at most 1000000 instances");
-    args.render.coarse_mesh = !args.no_coarse;
-    if (Status s = check_render_options(args.render); !s) return fail(s);
 
     // the model and the context
     Result<Mesh> mesh = import_mesh(args.model);
@@ -167,7 +163,14 @@ static int run_bench(BenchArgs& args)
         measured.push_back(std::move(m));
     }
 
-    // frame times: the mesh once, each package with and without its coarse mesh
+    // the run-time options must apply to some package; each package takes those it declares
+    RenderOptions render;
+    render.values = args.render.given();
+    std::vector<const Representation*> at_hand;
+    for (const Measured& m : measured) at_hand.push_back(find_representation(m.representation));
+    if (Status s = check_render_options_apply(render, at_hand); !s) return fail(s);
+
+    // frame times: the mesh once, each package with its options and its representation's variants
     Result<std::unique_ptr<Renderer>> mesh_renderer = make_mesh_renderer(*mesh);
     if (!mesh_renderer) return fail(mesh_renderer.status());
     BenchOptions options;
@@ -181,16 +184,26 @@ static int run_bench(BenchArgs& args)
     std::vector<FrameRecord> all;
     for (std::size_t i = 0; i < measured.size(); ++i) {
         const Measured& m = measured[i];
-        const Representation* representation = find_representation(m.representation);
-        RenderOptions render = args.render;
-        Result<std::unique_ptr<Renderer>> with_coarse = representation->make_renderer(*m.package, render);
-        if (!with_coarse) return fail(with_coarse.status());
-        render.coarse_mesh = false;
-        Result<std::unique_ptr<Renderer>> without_coarse = representation->make_renderer(*m.package, render);
-        if (!without_coarse) return fail(without_coarse.status());
+        const Representation& representation = representation_of(*m.package);
+        RenderOptions package_options;
+        package_options.values = render.values.only(representation.render_options);
+        Result<std::unique_ptr<Renderer>> drawn = make_package_renderer(*m.package, package_options);
+        if (!drawn) return fail(drawn.status());
         BenchSubjects subjects;
-        subjects.package = with_coarse->get();
-        subjects.package_no_coarse = m.representation == "enhanced-billboards" ? without_coarse->get() : nullptr;
+        subjects.package = drawn->get();
+        std::vector<std::unique_ptr<Renderer>> variants;
+        for (const OptionValues& variant : representation.bench_variants) {
+            RenderOptions varied = package_options;
+            std::string label = "package";
+            for (const auto& [name, value] : variant.items()) {
+                varied.values.set(name, value);
+                label += " " + name + "=" + value;
+            }
+            Result<std::unique_ptr<Renderer>> made = make_package_renderer(*m.package, varied);
+            if (!made) return fail(made.status());
+            variants.push_back(std::move(*made));
+            subjects.package_variants.push_back({label, variants.back().get()});
+        }
         subjects.mesh = i == 0 ? mesh_renderer->get() : nullptr;
         Result<std::vector<FrameRecord>> records = benchmark_frames(subjects, *mesh, options, stderr_progress());
         if (!records) return fail(records.status());
@@ -260,9 +273,10 @@ CommandRun add_bench_command(CLI::App& root)
     command->add_flag("--no-coverage", args->no_coverage, "Skip the frame time vs. distance (coverage) series");
     command->add_option("--representation", args->representation, "Representation to bake when no package is given")
         ->capture_default_str();
-    command->add_option("--param", args->parameters, "Bake parameter NAME=VALUE (repeatable)");
+    command->add_option("--param", args->parameters,
+                        "Bake parameter NAME=VALUE (repeatable), as 'standin bake --NAME VALUE' takes it");
     command->add_option("--keep", args->keep, "Keep the package baked with the defaults in this directory");
-    add_render_options(*command, args->render, args->no_coarse);
+    args->render.add_to(*command, OptionKind::render);
     return [args] { return run_bench(*args); };
 }
 

@@ -3,9 +3,11 @@
 // an HTML report (docs/EVAL.md).
 #include "commands.h"
 #include "common.h"
+#include "declared_options.h"
 
 #include <standin/eval.h>
 #include <standin/files.h>
+#include <standin/log.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
 #include <standin/render.h>
@@ -25,8 +27,7 @@ struct EvalArgs {
     std::string report;
     int frames = 3;
     std::size_t samples = 100000;
-    RenderOptions options;
-    bool no_coarse = false;
+    DeclaredOptions options;
     ShadowArgs shadows;
 };
 
@@ -42,17 +43,21 @@ static Result<Subject> load_subject(const EvalArgs& args)
 {
     Subject subject;
     std::error_code ec;
+    RenderOptions options;
+    options.values = args.options.given();
     if (std::filesystem::is_directory(args.standin, ec)) {
         Result<std::unique_ptr<Package>> package = read_package(args.standin);
         if (!package) return package.status();
         subject.package = std::move(*package);
         subject.representation = subject.package->representation();
-        const Representation* representation = find_representation(subject.representation);
-        Result<std::unique_ptr<Renderer>> renderer = representation->make_renderer(*subject.package, args.options);
+        const Representation* at_hand[] = {&representation_of(*subject.package)};
+        STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, at_hand));
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*subject.package, options);
         if (!renderer) return renderer.status();
         subject.renderer = std::move(*renderer);
         return subject;
     }
+    STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, {}));
     Result<Mesh> mesh = import_mesh(args.standin);
     if (!mesh) return mesh.status();
     subject.mesh = std::move(*mesh);
@@ -67,12 +72,7 @@ static std::string command_line(const EvalArgs& args)
 {
     std::string line = "standin eval " + args.model + " " + args.standin + " --protocol " + args.protocol;
     // every option that changes a figure, so the JSON says how to reproduce it
-    if (args.options.march != "exact")
-        line += " --march " + args.options.march + " --steps " + std::to_string(args.options.steps) + " --hit-range " +
-                std::to_string(args.options.hit_range);
-    if (args.options.style != RenderOptions{}.style) line += " --style " + args.options.style;
-    if (args.options.texture_format != RenderOptions{}.texture_format) line += " --texture-format " + args.options.texture_format;
-    if (args.no_coarse) line += " --no-coarse";
+    line += args.options.command_line();
     if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
     line += " --frames " + std::to_string(args.frames);
     if (!args.json.empty()) line += " --json " + args.json;
@@ -99,8 +99,6 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
 
 static int run_eval(EvalArgs& args)
 {
-    args.options.coarse_mesh = !args.no_coarse;
-    if (Status s = check_render_options(args.options); !s) return fail(s);
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.frames < 0 || args.frames > 1000) return fail("--frames: must be within 0..1000");
     if (args.samples < 1) return fail("--samples: must be positive");
@@ -120,8 +118,8 @@ static int run_eval(EvalArgs& args)
         Result<SourceInfo> source = describe_source(args.model, *mesh);
         if (source && !subject->package->source.content_hash.empty() &&
             source->content_hash != subject->package->source.content_hash)
-            std::fprintf(stderr, "standin: warning: %s was baked from %s, not from %s (content hash differs)\n",
-                         args.standin.c_str(), subject->package->source.file_name.c_str(), args.model.c_str());
+            log_message(LogLevel::warning, args.standin + " was baked from " + subject->package->source.file_name + ", not from " +
+                                       args.model + " (content hash differs)");
     }
 
     // render, compare, and write the report's images as we go
@@ -172,7 +170,8 @@ CommandRun add_eval_command(CLI::App& root)
     auto args = std::make_shared<EvalArgs>();
     CLI::App* command = root.add_subcommand(
         "eval", "Compare a stand-in with the original model: render both from a protocol's cameras with the same "
-                "light, and report the CIE Luv difference (seed 000 eq. 2.2), the per-pixel RGB error (seed 003), "
+                "light, and report the CIE Luv difference (Vichitvejpaisal 2005 eq. 2.2), the per-pixel RGB error "
+                "(Saraiva et al.), "
                 "CIEDE2000, holes, spill, IoU and PSNR (docs/EVAL.md)");
     command->add_option("model", args->model, "The original model file (ground truth)")->required();
     command->add_option("package", args->standin,
@@ -182,8 +181,8 @@ CommandRun add_eval_command(CLI::App& root)
     std::string names;
     for (const std::string& p : protocol_names()) names += (names.empty() ? "" : " | ") + p;
     command->add_option("--protocol", args->protocol,
-                        names + ": quick = 4 views at 320x240; thesis = seed 000 appendix A (14 views x 3 "
-                                "resolutions); saraiva = seed 003 §3 (14 views x 8 distances x 3 fovs)")
+                        names + ": quick = 4 views at 320x240; thesis = Vichitvejpaisal 2005 appendix A (14 views x "
+                                "3 resolutions); saraiva = Saraiva et al. §3 (14 views x 8 distances x 3 fovs)")
         ->capture_default_str();
     command->add_option("--json", args->json, "Write every figure as JSON to this file");
     command->add_option("--report", args->report,
@@ -191,8 +190,8 @@ CommandRun add_eval_command(CLI::App& root)
     command->add_option("--frames", args->frames, "Frames timed per view and subject (0: no timing)")->capture_default_str();
     command->add_option("--samples", args->samples, "Mesh stand-ins: surface samples for the distance")
         ->capture_default_str();
-    add_render_options(*command, args->options, args->no_coarse);
     add_shadow_options(*command, args->shadows);
+    args->options.add_to(*command, OptionKind::render);
     return [args] { return run_eval(*args); };
 }
 

@@ -44,7 +44,7 @@ CommandRun add_generate_command(CLI::App& root)
 {
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
-        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, or a noisy displaced sphere of a chosen "
+        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, or a sphere with a noisy radius, of a chosen "
                     "triangle count (for tests and scale benchmarks up to millions of faces)");
     command->add_option("shape", args->shape, "sphere | torus | noisy-sphere")
         ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere"}))

@@ -42,16 +42,14 @@ static int run_package_info(const InfoArgs& args)
 {
     Result<std::unique_ptr<Package>> package = read_package(args.path);
     if (!package) return fail(package.status());
-    nlohmann::json info = (*package)->summary();
-    Result<std::uint64_t> bytes = package_bytes(args.path);
-    if (!bytes) return fail(bytes.status());
-    info["package_bytes"] = *bytes;
+    PackageSummary summary = summarise_package(**package);
+    nlohmann::json info = summary.details;
     info["path"] = args.path;
     if (args.json) {
         std::printf("%s\n", info.dump(2).c_str());
         return k_exit_ok;
     }
-    std::printf("%s\n", args.path.c_str());
+    std::printf("%s\n  %s\n", args.path.c_str(), summary.headline.c_str());
     for (const auto& [key, value] : info.items())
         if (key != "path") std::printf("  %-24s %s\n", key.c_str(), value.dump().c_str());
     return k_exit_ok;
@@ -86,8 +84,8 @@ CommandRun add_info_command(CLI::App& root)
                                                     "textures, import warnings) or a NAME.standin package");
     command->add_option("path", args->path, "Model file (any format assimp reads) or NAME.standin package directory")->required();
     command->add_flag("--json", args->json, "Print JSON on stdout (keys: triangles, vertices, bounds{min,max}, "
-                                            "materials, textures, warnings, ...; for packages: representation, billboards, "
-                                            "faces_total, area_captured_fraction, area_left_fraction, package_bytes, ...)");
+                                            "materials, textures, warnings, ...; for packages: representation, package_bytes and "
+                                            "what the representation reports)");
     return [args] { return run_info(*args); };
 }
 

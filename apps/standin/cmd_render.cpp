@@ -2,6 +2,7 @@
 // representation's renderer), offscreen, to PNG.
 #include "commands.h"
 #include "common.h"
+#include "declared_options.h"
 
 #include <standin/image.h>
 #include <standin/mesh.h>
@@ -18,8 +19,8 @@ struct RenderArgs {
     std::string input;
     std::string output;
     ViewArgs view;
-    RenderOptions options;
-    bool no_coarse = false;
+    DeclaredOptions options;
+    std::string debug_view;
     ShadowArgs shadows;
 };
 
@@ -28,8 +29,11 @@ static int run_render(RenderArgs& args)
     int width = 0, height = 0;
     OrbitView view;
     if (Status s = parse_view(args.view, width, height, view); !s) return fail(s);
-    args.options.coarse_mesh = !args.no_coarse;
-    if (Status s = check_render_options(args.options); !s) return fail(s);
+    RenderOptions options;
+    options.values = args.options.given();
+    Result<DebugView> debug_view = parse_debug_view(args.debug_view == "off" ? "" : args.debug_view);
+    if (!debug_view) return fail(debug_view.status());
+    options.debug_view = *debug_view;
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
         return fail(args.output + ": output must be a .png file");
@@ -42,14 +46,15 @@ static int run_render(RenderArgs& args)
     if (std::filesystem::is_directory(args.input)) {
         Result<std::unique_ptr<Package>> package = read_package(args.input);
         if (!package) return fail(package.status());
-        const Representation* representation = find_representation((*package)->representation());
-        if (!representation) return fail(args.input + ": unknown representation " + (*package)->representation());
-        Result<std::unique_ptr<Renderer>> made = representation->make_renderer(**package, args.options);
+        const Representation* at_hand[] = {&representation_of(**package)};
+        if (Status s = check_render_options_apply(options, at_hand); !s) return fail(s);
+        Result<std::unique_ptr<Renderer>> made = make_package_renderer(**package, options);
         if (!made) return fail(made.status());
         renderer = std::move(*made);
         // frame the package as its source model
         sphere = bounding_sphere_of((*package)->source.bounds);
     } else {
+        if (Status s = check_render_options_apply(options, {}); !s) return fail(s);
         Result<Mesh> mesh = import_mesh(args.input);
         if (!mesh) return fail(mesh.status());
         Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*mesh);
@@ -67,8 +72,8 @@ static int run_render(RenderArgs& args)
         render_offscreen(*renderer, camera, light_for(args.view, camera), width, height, {}, shadows);
     if (!image) return fail(image.status());
     if (Status s = write_png(image->color, args.output); !s) return fail(s);
-    std::fprintf(stderr, "standin: wrote %s (%dx%d, %s)\n", args.output.c_str(), width, height,
-                 (*context)->device_name().c_str());
+    note("wrote " + args.output + " (" + std::to_string(width) + "x" + std::to_string(height) + ", " +
+         (*context)->device_name() + ")");
     return k_exit_ok;
 }
 
@@ -81,12 +86,9 @@ CommandRun add_render_command(CLI::App& root)
     command->add_option("input", args->input, "Model file, or a NAME.standin package directory")->required();
     command->add_option("-o,--output", args->output, "Output PNG")->required();
     add_view_options(*command, args->view);
-    add_render_options(*command, args->options, args->no_coarse);
     add_shadow_options(*command, args->shadows);
-    command->add_option("--debug-view", args->options.debug_view,
-                        "Package renderers: 'billboard' (colour by billboard; view atlas: by view), 'depth', 'normal', 'fetches' (heat map), "
-                        "'boxes' (billboard boxes as lines over the picture, red front planes)")
-        ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches", "boxes"}));
+    add_debug_view_option(*command, args->debug_view);
+    args->options.add_to(*command, OptionKind::render);
     return [args] { return run_render(*args); };
 }
 

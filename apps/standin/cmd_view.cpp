@@ -3,6 +3,7 @@
 // unattended.
 #include "commands.h"
 #include "common.h"
+#include "declared_options.h"
 
 #include "viewer/script.h"
 #include "viewer/viewer.h"
@@ -16,8 +17,8 @@ struct ViewCommandArgs {
     std::string script;
     std::string render_size;
     ViewArgs view;
-    RenderOptions options;
-    bool no_coarse = false;
+    DeclaredOptions options;
+    std::string debug_view;
 };
 
 static int run_view(ViewCommandArgs& args)
@@ -29,13 +30,12 @@ static int run_view(ViewCommandArgs& args)
         !viewer::parse_size(args.render_size, viewer_args.render_width, viewer_args.render_height))
         return fail("--render-size: expected WIDTHxHEIGHT within 1x1..16384x16384 or 'window', got '" +
                     args.render_size + "'");
-    args.options.coarse_mesh = !args.no_coarse;
-    if (Status s = check_render_options(args.options); !s) return fail(s);
+    viewer_args.options = args.options.given();
+    viewer_args.debug_view = args.debug_view == "off" ? "" : args.debug_view;
     viewer_args.inputs = args.inputs;
     viewer_args.script_path = args.script;
     viewer_args.light_azimuth = args.view.light_azimuth;
     viewer_args.light_elevation = args.view.light_elevation;
-    viewer_args.options = args.options;
     if (Status s = viewer::run_viewer(viewer_args); !s) return fail(s);
     return k_exit_ok;
 }
@@ -55,11 +55,8 @@ CommandRun add_view_command(CLI::App& root)
                         "Render resolution WIDTHxHEIGHT, independent of the window (default: the window's)");
     add_view_options(*command, args->view);
     command->get_option("--size")->description("Window size WIDTHxHEIGHT");
-    add_render_options(*command, args->options, args->no_coarse);
-    command->add_option("--debug-view", args->options.debug_view,
-                        "Start in a debug view: 'billboard', 'depth', 'normal', 'fetches', 'boxes', or 'holes' "
-                        "(against the model)")
-        ->check(CLI::IsMember({"", "billboard", "depth", "normal", "fetches", "boxes", "holes"}));
+    add_debug_view_option(*command, args->debug_view, true);
+    args->options.add_to(*command, OptionKind::render);
     return [args] { return run_view(*args); };
 }
 

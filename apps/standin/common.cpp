@@ -27,7 +27,7 @@ void add_view_options(CLI::App& command, ViewArgs& args)
     command.add_option("--elevation", args.elevation, "Camera elevation in degrees, -90..90")->capture_default_str();
     command.add_option("--distance", args.distance,
                        "Camera distance relative to the base distance radius/sin(fov/2), where the bounding "
-                       "sphere just fills the view (seed 003)")
+                       "sphere just fills the view (Saraiva et al.)")
         ->capture_default_str();
     auto* fov = command.add_option("--fov", args.fov, "Vertical field of view in degrees (perspective)")
                     ->capture_default_str();
@@ -71,31 +71,6 @@ Light light_for(const ViewArgs& args, const Camera& camera)
     return default_light(camera);
 }
 
-void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coarse)
-{
-    command.add_option("--march", options.march,
-                       "Billboard ray march: 'exact' (default: exact height-field crossing) or 'seed' (the "
-                       "paper's linear march with a hit range)")
-        ->check(CLI::IsMember({"exact", "seed"}))
-        ->capture_default_str();
-    command.add_option("--steps", options.steps, "Seed march: steps along the box diagonal (seed: 100)")
-        ->capture_default_str();
-    command.add_option("--hit-range", options.hit_range,
-                       "Seed march: hit range e as a fraction of the box depth (seed: 0.01; 0.02 fills holes)")
-        ->capture_default_str();
-    command.add_flag("--no-coarse", no_coarse, "Do not fill holes with the package's coarse mesh");
-    command.add_option("--style", options.style,
-                       "View atlas: 'corrected' (default: 3 views blended, depth intersected per pixel), "
-                       "'octahedral-baseline' (3 views, one parallax step) or 'seed' (nearest view, no correction)")
-        ->check(CLI::IsMember({"corrected", "octahedral-baseline", "seed"}))
-        ->capture_default_str();
-    command.add_option("--texture-format", options.texture_format,
-                       "View atlas colour pages on the GPU: 'rgba8' (default) or 'bc3' (DXT5 compressed at load, a "
-                       "quarter of the colour memory, 5/8 of the total)")
-        ->check(CLI::IsMember({"rgba8", "bc3"}))
-        ->capture_default_str();
-}
-
 void add_shadow_options(CLI::App& command, ShadowArgs& args)
 {
     command.add_flag("--shadows", args.enabled,
@@ -113,17 +88,16 @@ Status check_shadow_options(const ShadowArgs& args)
     return Status::ok();
 }
 
-Status check_render_options(const RenderOptions& options)
+static bool g_quiet = false;
+
+void note(const std::string& message)
 {
-    if (options.steps < 1 || options.steps > 10000)
-        return error(StatusCode::invalid_argument, "--steps: must be within 1..10000");
-    if (!(options.hit_range > 0.0f && options.hit_range <= 1.0f))
-        return error(StatusCode::invalid_argument, "--hit-range: must be within (0, 1]");
-    return Status::ok();
+    if (!g_quiet) std::fprintf(stderr, "standin: %s\n", message.c_str());
 }
 
 Progress stderr_progress()
 {
+    if (g_quiet) return Progress();
     const char* forced = std::getenv("STANDIN_PROGRESS");
     bool show = forced ? std::string(forced) == "1" : ::isatty(2) != 0;
     if (!show) return Progress();
@@ -145,11 +119,14 @@ Progress stderr_progress()
     });
 }
 
-void install_log_sink(bool verbose)
+void install_log_sink(const Verbosity& verbosity)
 {
-    set_log_sink([verbose](LogLevel level, const std::string& message) {
+    g_quiet = verbosity.quiet;
+    bool verbose = verbosity.verbose && !verbosity.quiet;
+    set_log_sink([verbose, quiet = verbosity.quiet](LogLevel level, const std::string& message) {
         if (level == LogLevel::debug && !verbose) return;
         if (level == LogLevel::info && !verbose) return;
+        if (level == LogLevel::warning && quiet) return;
         const char* prefix = level == LogLevel::warning ? "warning: " : level == LogLevel::error ? "error: " : "";
         std::fprintf(stderr, "standin: %s%s\n", prefix, message.c_str());
     });

@@ -42,14 +42,19 @@ struct ShadowArgs {
 void add_shadow_options(CLI::App& command, ShadowArgs& args);
 Status check_shadow_options(const ShadowArgs& args);
 
-// --march, --steps, --hit-range, --no-coarse (accepted by render, eval and bench alike)
-void add_render_options(CLI::App& command, RenderOptions& options, bool& no_coarse);
-Status check_render_options(const RenderOptions& options);
-
-// Progress bar on stderr, throttled, only when stderr is a terminal or STANDIN_PROGRESS=1.
+// Progress bar on stderr, throttled, only when stderr is a terminal or STANDIN_PROGRESS=1, and
+// never with --quiet.
 Progress stderr_progress();
 
-// Installs a log sink printing warnings (and info with verbose) on stderr.
-void install_log_sink(bool verbose);
+// -v/--verbose and -q/--quiet, accepted before or after the subcommand.
+struct Verbosity {
+    bool verbose = false;
+    bool quiet = false;
+};
+// Installs a log sink printing warnings (and info with verbose; nothing but errors with quiet) on
+// stderr, and remembers quiet for note() and stderr_progress().
+void install_log_sink(const Verbosity& verbosity);
+// "standin: MESSAGE" on stderr, unless --quiet: what a command did ("wrote ...").
+void note(const std::string& message);
 
 } // namespace standin::cli

@@ -3,6 +3,8 @@
 #include "commands.h"
 #include "common.h"
 
+#include <standin/package.h>
+
 #include <cstdio>
 #include <map>
 #include <string>
@@ -10,12 +12,17 @@
 int main(int argc, char** argv)
 {
     using namespace standin::cli;
-    CLI::App app{"standin: bakes polygon models into real-time stand-ins (enhanced billboards, view atlases, "
-                 "microfacets, displaced meshes), renders them, and measures their fidelity and speed.\n"
-                 "Run 'standin COMMAND --help' for the options of one command."};
+    std::string names;
+    for (const standin::Representation& r : standin::representations())
+        names += std::string(names.empty() ? "" : ", ") + r.name;
+    CLI::App app{"standin: bakes polygon models into real-time stand-ins (" + names + "), renders them, and "
+                 "measures their fidelity and speed.\nRun 'standin COMMAND --help' for the options of one command."};
     app.require_subcommand(1);
-    bool verbose = false;
-    app.add_flag("-v,--verbose", verbose, "Print informational messages on stderr");
+    // -v and -q may follow the subcommand too
+    app.fallthrough();
+    Verbosity verbosity;
+    app.add_flag("-v,--verbose", verbosity.verbose, "Print informational messages on stderr");
+    app.add_flag("-q,--quiet", verbosity.quiet, "Print errors only (no progress, no 'wrote ...')");
     app.set_version_flag("--version", "standin 0.1.0");
 
     std::map<std::string, CommandRun> runs;
@@ -40,7 +47,7 @@ int main(int argc, char** argv)
         std::string message = e.what();
         return fail(message + " (see 'standin --help')");
     }
-    install_log_sink(verbose);
+    install_log_sink(verbosity);
     for (CLI::App* sub : app.get_subcommands()) {
         auto it = runs.find(sub->get_name());
         if (it != runs.end()) return it->second();

@@ -105,7 +105,7 @@ SubjectStats FrameRenderer::render_subject(ViewerState& state, int index, Target
                       target.pixels.data());
     for (std::size_t i = 3; i < target.pixels.size(); i += 4) stats.covered_pixels += target.pixels[i] != 0;
     if (counting) {
-        std::uint64_t fetches = subject.renderer->read_fetch_count();
+        std::uint64_t fetches = subject.renderer->read_counter(Counter::fetches);
         stats.fetches_per_pixel = stats.covered_pixels ? double(fetches) / double(stats.covered_pixels) : 0.0;
         subject.renderer->set_counting(false);
     }

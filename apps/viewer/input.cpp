@@ -13,9 +13,6 @@ namespace standin::viewer {
 
 namespace {
 
-const char* const k_next_debug_view[][2] = {{"", "billboard"}, {"billboard", "depth"}, {"depth", "normal"},
-                                            {"normal", "fetches"}, {"fetches", "boxes"}, {"boxes", "holes"},
-                                            {"holes", ""}};
 
 bool pressed(int key) { return ImGui::IsKeyPressed(key, false); }
 bool pressed_repeat(int key) { return ImGui::IsKeyPressed(key, true); }
@@ -74,11 +71,12 @@ void keyboard(ViewerState& state)
         state.layout = state.layout == Layout::single ? Layout::split
                        : state.layout == Layout::split ? Layout::side_by_side : Layout::single;
     if (pressed(GLFW_KEY_D)) {
-        for (const auto& step : k_next_debug_view) {
-            if (state.debug_view != step[0]) continue;
-            if (Status s = set_debug_view(state, step[1]); !s) state.message = s.message();
-            break;
-        }
+        // the next debug view some package draws, then off
+        std::vector<std::string> views = available_debug_views(state);
+        views.insert(views.begin(), "");
+        auto at = std::find(views.begin(), views.end(), state.debug_view);
+        std::string next = at == views.end() || at + 1 == views.end() ? views.front() : *(at + 1);
+        if (Status s = set_debug_view(state, next); !s) state.message = s.message();
     }
 
     // the application

@@ -2,6 +2,9 @@
 // script fails before the window opens rather than half-way through.
 #include "script.h"
 
+#include <standin/debug_view.h>
+
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -34,7 +37,7 @@ bool parse_int(const std::string& text, int& value)
 }
 
 // what one line's words mean; returns an empty string or the problem
-std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c)
+std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c, std::span<const OptionSpec> options)
 {
     const std::string& verb = w[0];
     const std::size_t args = w.size() - 1;
@@ -111,26 +114,29 @@ std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c)
         c.op = ScriptOp::debug;
         if (std::string e = want(1, "debug NAME|off"); !e.empty()) return e;
         c.word = w[1] == "off" ? "" : w[1];
-        return one_of(w[1], {"off", "billboard", "depth", "normal", "fetches", "boxes", "holes"},
-                      "debug off|billboard|depth|normal|fetches|boxes|holes");
+        std::vector<std::string> names = script_debug_views();
+        std::string usage;
+        for (const std::string& n : names) usage += (usage.empty() ? "debug " : "|") + n;
+        if (std::find(names.begin(), names.end(), w[1]) == names.end())
+            return "expected '" + usage + "', got '" + w[1] + "'";
+        return {};
     }
     if (verb == "set") {
         c.op = ScriptOp::set;
         if (std::string e = want(2, "set KNOB VALUE"); !e.empty()) return e;
         c.word = w[1];
         c.value = w[2];
-        if (c.word == "march") return one_of(c.value, {"exact", "seed"}, "set march exact|seed");
-        if (c.word == "coarse") return one_of(c.value, {"on", "off"}, "set coarse on|off");
-        if (c.word == "steps") {
-            if (!parse_int(c.value, c.count) || c.count < 1 || c.count > 10000) return "steps must be within 1..10000";
-            return {};
+        std::string problem, known;
+        for (const OptionSpec& spec : options) {
+            if (known.find(" " + spec.name + ",") == std::string::npos) known += " " + spec.name + ",";
+            if (spec.name != c.word) continue;
+            Result<Options::Value> value = parse_option_value(spec, c.value);
+            if (value) return {};
+            problem = value.status().message();
         }
-        if (c.word == "hit-range") {
-            if (!parse_float(c.value, c.numbers[0]) || !(c.numbers[0] > 0.0f && c.numbers[0] <= 1.0f))
-                return "hit range must be within (0, 1]";
-            return {};
-        }
-        return "unknown knob '" + c.word + "' (march, steps, hit-range, coarse)";
+        if (!problem.empty()) return problem;
+        if (!known.empty()) known.pop_back();
+        return "unknown option '" + c.word + "' (the packages' run-time options:" + known + ")";
     }
     if (verb == "resolution" || verb == "window") {
         c.op = verb == "resolution" ? ScriptOp::resolution : ScriptOp::window;
@@ -172,6 +178,14 @@ std::string parse_words(const std::vector<std::string>& w, ScriptCommand& c)
 
 } // namespace
 
+std::vector<std::string> script_debug_views()
+{
+    std::vector<std::string> names = {"off"};
+    for (int v = 1; v < k_debug_view_count; ++v) names.push_back(debug_view_name(DebugView(v)));
+    names.push_back("holes");
+    return names;
+}
+
 bool parse_size(std::string_view text, int& width, int& height)
 {
     char x = 0, rest = 0;
@@ -180,7 +194,8 @@ bool parse_size(std::string_view text, int& width, int& height)
     return width >= 1 && height >= 1 && width <= 16384 && height <= 16384;
 }
 
-Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& name)
+Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& name,
+                                                std::span<const OptionSpec> options)
 {
     std::vector<ScriptCommand> commands;
     int line_number = 0;
@@ -199,7 +214,7 @@ Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std
 
         ScriptCommand command;
         command.line = line_number;
-        if (std::string problem = parse_words(words, command); !problem.empty())
+        if (std::string problem = parse_words(words, command, options); !problem.empty())
             return error(StatusCode::invalid_argument, name + " line " + std::to_string(line_number) + ": " + problem);
         commands.push_back(std::move(command));
     }

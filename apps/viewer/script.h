@@ -10,8 +10,10 @@
 //   show original | show package N      N counts packages from 1 in command-line order
 //   split on|off|side                   split screen (original left) or side by side
 //   split-position F                    where the split lies, 0..1 of the width
-//   debug NAME|off                      billboard, depth, normal, fetches, boxes, holes
-//   set march exact|seed | set steps N | set hit-range E | set coarse on|off
+//   debug NAME|off                      a shared debug view (parts, depth, normal, fetches, proxies,
+//                                       level, error) or holes (against the model)
+//   set OPTION VALUE                    a run-time option of the package shown, as declared by its
+//                                       representation (`standin render --help` lists them)
 //   resolution WxH | resolution window  render resolution, independent of the window
 //   window WxH                          window size
 //   panels on|off, overlay on|off       the control panels and the statistics overlay
@@ -21,7 +23,10 @@
 //   quit
 #pragma once
 
+#include <standin/options.h>
 #include <standin/status.h>
+
+#include <span>
 
 #include <string>
 #include <string_view>
@@ -39,7 +44,7 @@ enum class ScriptOp {
 //   the camera); split_position: numbers[0]; resolution, window: size (resolution: word "window"
 //   with size 0x0 to follow the window); wait: count; show: word "original" or "package" with
 //   count = N (1-based); projection, split, debug, panels, overlay, shadows: word (debug "off" is "");
-//   set: word = knob name, value = its value; screenshot: word = path.
+//   set: word = option name, value = its value; screenshot: word = path.
 struct ScriptCommand {
     ScriptOp op = ScriptOp::quit;
     int line = 0; // 1-based line in the script
@@ -49,9 +54,15 @@ struct ScriptCommand {
     int count = 0;
 };
 
-// Parses a whole script. Pure: no files, no GL. The first bad line stops parsing with
-// invalid_argument "NAME line N: MESSAGE", where NAME is `name` (the script's path).
-Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& name);
+// The words `debug` takes: the shared debug views (render.h names), "holes" and "off".
+std::vector<std::string> script_debug_views();
+
+// Parses a whole script. Pure: no files, no GL. `options` are the run-time options `set` may name
+// (every representation's declarations; a name may appear once per representation), and its value
+// must satisfy one of them. The first bad line stops parsing with invalid_argument
+// "NAME line N: MESSAGE", where NAME is `name` (the script's path).
+Result<std::vector<ScriptCommand>> parse_script(std::string_view text, const std::string& name,
+                                                std::span<const OptionSpec> options = {});
 
 // Parses "WxH" (1..16384 each); false when it does not parse or lies out of range.
 bool parse_size(std::string_view text, int& width, int& height);

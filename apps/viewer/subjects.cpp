@@ -5,6 +5,8 @@
 
 #include "gpu/gl.h"
 
+#include <algorithm>
+#include <cassert>
 #include <cstdio>
 #include <filesystem>
 
@@ -31,28 +33,19 @@ static Result<Subject> load_model(const std::string& path)
     return subject;
 }
 
-static Result<Subject> load_package(const std::string& path, const RenderOptions& options)
+static Result<Subject> load_package(const std::string& path, const OptionValues& options)
 {
     Result<std::unique_ptr<Package>> package = read_package(path);
     if (!package) return package.status();
-    if (!find_representation((*package)->representation()))
-        return error(StatusCode::unsupported, path + ": unknown representation " + (*package)->representation());
     Subject subject;
     subject.path = path;
     subject.package = std::move(*package);
-    subject.options = options;
-    // what the package holds, from its summary (`standin info`)
-    nlohmann::json summary = subject.package->summary();
-    if (summary.contains("billboards")) {
-        subject.contents = std::to_string(summary["billboards"].get<long long>()) + " billboards";
-        if (summary.value("coarse_mesh_triangles", 0LL) > 0)
-            subject.contents += " + " + std::to_string(summary["coarse_mesh_triangles"].get<long long>()) +
-                                "-triangle coarse mesh";
-    }
+    subject.options.values = options.only(representation_of(*subject.package).render_options);
+    subject.contents = summarise_package(*subject.package).headline; // what `standin info` says
     return subject;
 }
 
-Status load_subjects(const std::vector<std::string>& inputs, const RenderOptions& options, ViewerState& state)
+Status load_subjects(const std::vector<std::string>& inputs, const OptionValues& options, ViewerState& state)
 {
     if (inputs.empty()) return error(StatusCode::invalid_argument, "view: give a model and/or packages");
     // a directory is a package, a file is the model (at most one, shown first)
@@ -71,6 +64,12 @@ Status load_subjects(const std::vector<std::string>& inputs, const RenderOptions
             if (!subject) return subject.status();
             original = std::move(*subject);
         }
+    }
+
+    // every option given must apply to some package
+    for (const auto& [name, value] : options.items()) {
+        bool applies = std::any_of(packages.begin(), packages.end(), [&](const Subject& p) { return p.options.values.has(name); });
+        if (!applies) return error(StatusCode::invalid_argument, "--" + name + " does not apply to any package given");
     }
 
     // packages of another model are shown, with a warning
@@ -109,30 +108,73 @@ Status build_renderer(Subject& subject)
     if (subject.is_original()) {
         made = make_mesh_renderer(*subject.mesh);
     } else {
-        const Representation* representation = find_representation(subject.package->representation());
-        made = representation->make_renderer(*subject.package, subject.options);
+        made = make_package_renderer(*subject.package, subject.options);
     }
     if (!made) return error(made.status().code(), subject.path + ": " + made.status().message());
     subject.renderer = std::move(*made);
     return Status::ok();
 }
 
+static bool draws(const Subject& subject, DebugView view)
+{
+    if (subject.is_original()) return false;
+    const std::vector<DebugView>& views = representation_of(*subject.package).debug_views;
+    return std::find(views.begin(), views.end(), view) != views.end();
+}
+
+std::vector<std::string> available_debug_views(const ViewerState& state)
+{
+    std::vector<std::string> names;
+    for (int v = 1; v < k_debug_view_count; ++v)
+        if (std::any_of(state.subjects.begin(), state.subjects.end(), [&](const Subject& s) { return draws(s, DebugView(v)); }))
+            names.push_back(debug_view_name(DebugView(v)));
+    if (state.original >= 0 && state.stand_in >= 0) names.push_back("holes");
+    return names;
+}
+
 Status set_debug_view(ViewerState& state, const std::string& name)
 {
-    state.debug_view = name;
     // "holes" compares ordinary pictures; the renderers' own views are theirs
-    std::string renderer_view = name == "holes" ? "" : name;
+    DebugView view = DebugView::none;
+    if (name != "holes") {
+        Result<DebugView> parsed = parse_debug_view(name);
+        if (!parsed) return parsed.status();
+        view = *parsed;
+        bool drawn = std::any_of(state.subjects.begin(), state.subjects.end(), [&](const Subject& s) { return draws(s, view); });
+        if (view != DebugView::none && !drawn)
+            return error(StatusCode::invalid_argument, "debug " + name + ": no package shown draws it");
+    }
+    state.debug_view = name;
     Status result;
     for (Subject& subject : state.subjects) {
-        if (subject.is_original() || subject.options.debug_view == renderer_view) continue;
-        std::string previous = subject.options.debug_view;
-        subject.options.debug_view = renderer_view;
+        if (subject.is_original()) continue;
+        DebugView wanted = draws(subject, view) ? view : DebugView::none;
+        if (subject.options.debug_view == wanted) continue;
+        DebugView previous = subject.options.debug_view;
+        subject.options.debug_view = wanted;
+        if (!subject.renderer) continue; // not built yet: built later with this view
         if (Status s = build_renderer(subject); !s) {
             subject.options.debug_view = previous;
             result = s;
         }
     }
     return result;
+}
+
+Status set_package_option(Subject& subject, const std::string& name, const std::string& value)
+{
+    assert(!subject.is_original());
+    const Representation& representation = representation_of(*subject.package);
+    bool declared = std::any_of(representation.render_options.begin(), representation.render_options.end(),
+                                [&](const OptionSpec& s) { return s.name == name; });
+    if (!declared) return error(StatusCode::invalid_argument, name + ": not an option of " + representation.name + " packages");
+    RenderOptions previous = subject.options;
+    subject.options.values.set(name, value);
+    if (Status s = build_renderer(subject); !s) {
+        subject.options = previous;
+        return s;
+    }
+    return Status::ok();
 }
 
 Status reload_shaders(ViewerState& state, const std::string& shader_directory)

@@ -6,22 +6,21 @@
 
 namespace standin::viewer {
 
-static const char* describe(const std::string& view)
+static std::string describe(const std::string& view)
 {
     if (view.empty()) return "off";
-    if (view == "billboard") return "billboard (which billboard each pixel came from)";
-    if (view == "depth") return "depth";
-    if (view == "normal") return "normals";
-    if (view == "fetches") return "height-field fetches per pixel (heat map)";
-    if (view == "boxes") return "billboard boxes (lines; front planes red)";
-    return "holes against the original";
+    if (view == "holes") return "holes against the original";
+    Result<DebugView> parsed = parse_debug_view(view);
+    return parsed ? view + ": " + debug_view_description(*parsed) : view;
 }
 
 void ui_debug_panel(ViewerState& state)
 {
     if (!ImGui::CollapsingHeader("Debug", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    for (const char* view : k_debug_views) {
-        if (ImGui::RadioButton(describe(view), state.debug_view == view) && state.debug_view != view) {
+    std::vector<std::string> views = available_debug_views(state);
+    views.insert(views.begin(), "");
+    for (const std::string& view : views) {
+        if (ImGui::RadioButton(describe(view).c_str(), state.debug_view == view) && state.debug_view != view) {
             if (Status s = set_debug_view(state, view); !s) state.message = s.message();
         }
     }

@@ -1,55 +1,72 @@
 // The "Subjects" panel: which subject is shown, the layout against the original, and each
-// package's run-time knobs (the same RenderOptions as `standin render --march ...`).
+// package's run-time options, one widget per option its representation declares (the same options
+// as `standin render --NAME VALUE`).
 #include "viewer_state.h"
 
 #include <imgui.h>
 
+#include <algorithm>
+#include <cstdio>
+
 namespace standin::viewer {
 
-// rebuilds the renderer after a knob changed; the old options come back when that fails
-static void apply(ViewerState& state, Subject& subject, const RenderOptions& previous)
+// the value an option has in a subject: given, or its declared default
+static std::string current_value(const Subject& subject, const OptionSpec& spec)
 {
-    if (Status s = build_renderer(subject); !s) {
-        subject.options = previous;
-        state.message = s.message();
-    }
+    auto it = subject.options.values.items().find(spec.name);
+    return it != subject.options.values.items().end() ? it->second : spec.default_value;
 }
 
-static void enhanced_billboard_knobs(ViewerState& state, Subject& subject)
+static void set(ViewerState& state, Subject& subject, const OptionSpec& spec, const std::string& value)
 {
-    RenderOptions previous = subject.options;
-    RenderOptions& o = subject.options;
-    bool seed = o.march == "seed";
-    if (ImGui::RadioButton("exact march", !seed)) o.march = "exact";
-    ImGui::SameLine();
-    if (ImGui::RadioButton("seed march", seed)) o.march = "seed";
-    if (o.march != previous.march) return apply(state, subject, previous);
-    if (seed) {
-        ImGui::SliderInt("steps", &o.steps, 1, 400);
-        if (ImGui::IsItemDeactivatedAfterEdit()) return apply(state, subject, previous);
-        ImGui::SliderFloat("hit range", &o.hit_range, 0.001f, 0.1f, "%.3f", ImGuiSliderFlags_Logarithmic);
-        if (ImGui::IsItemDeactivatedAfterEdit()) return apply(state, subject, previous);
-    }
-    if (ImGui::Checkbox("coarse mesh fills holes", &o.coarse_mesh)) return apply(state, subject, previous);
+    if (Status s = set_package_option(subject, spec.name, value); !s) state.message = s.message();
 }
 
-static void view_atlas_knobs(ViewerState& state, Subject& subject)
+static void option_widget(ViewerState& state, Subject& subject, const OptionSpec& spec)
 {
-    RenderOptions previous = subject.options;
-    for (const char* style : {"seed", "octahedral-baseline", "corrected"}) {
-        if (ImGui::RadioButton(style, subject.options.style == style)) {
-            subject.options.style = style;
-            return apply(state, subject, previous);
+    std::string value = current_value(subject, spec);
+    switch (spec.type) {
+    case OptionType::choice: {
+        if (ImGui::BeginCombo(spec.name.c_str(), value.c_str())) {
+            for (const std::string& choice : spec.choices)
+                if (ImGui::Selectable(choice.c_str(), choice == value) && choice != value) set(state, subject, spec, choice);
+            ImGui::EndCombo();
         }
+        break;
     }
+    case OptionType::flag: {
+        bool on = value == "on" || value == "true" || value == "yes" || value == "1";
+        if (ImGui::Checkbox(spec.name.c_str(), &on)) set(state, subject, spec, on ? "on" : "off");
+        break;
+    }
+    case OptionType::integer: {
+        int number = std::atoi(value.c_str());
+        ImGui::InputInt(spec.name.c_str(), &number);
+        if (ImGui::IsItemDeactivatedAfterEdit()) {
+            number = std::clamp(number, int(spec.min), int(spec.max));
+            set(state, subject, spec, std::to_string(number));
+        }
+        break;
+    }
+    case OptionType::number: {
+        float number = std::strtof(value.c_str(), nullptr);
+        ImGui::InputFloat(spec.name.c_str(), &number, 0.0f, 0.0f, "%.4g");
+        if (ImGui::IsItemDeactivatedAfterEdit()) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.6g", std::clamp(double(number), spec.min, spec.max));
+            set(state, subject, spec, text);
+        }
+        break;
+    }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", spec.help.c_str());
 }
 
-static void knobs(ViewerState& state, Subject& subject)
+static void options_panel(ViewerState& state, Subject& subject)
 {
-    std::string representation = subject.representation();
-    if (representation == "enhanced-billboards") return enhanced_billboard_knobs(state, subject);
-    if (representation == "view-atlas") return view_atlas_knobs(state, subject);
-    ImGui::TextDisabled("no run-time knobs");
+    const std::vector<OptionSpec>& specs = representation_of(*subject.package).render_options;
+    if (specs.empty()) ImGui::TextDisabled("no run-time options");
+    for (const OptionSpec& spec : specs) option_widget(state, subject, spec);
 }
 
 void ui_subjects_panel(ViewerState& state)
@@ -61,7 +78,8 @@ void ui_subjects_panel(ViewerState& state)
         if (ImGui::RadioButton(subject.label.c_str(), state.shown == i)) show_subject(state, i);
         if (!subject.is_original()) {
             ImGui::Indent();
-            knobs(state, subject);
+            ImGui::TextDisabled("%s", subject.contents.c_str());
+            options_panel(state, subject);
             ImGui::Unindent();
         }
         ImGui::PopID();

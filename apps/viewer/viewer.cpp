@@ -9,6 +9,7 @@
 #include "viewer_state.h"
 
 #include <standin/image.h>
+#include <standin/package.h>
 
 // epoxy (gpu/gl.h) declares the GL functions; GLFW must not include a GL header of its own
 #define GLFW_INCLUDE_NONE
@@ -144,16 +145,7 @@ Status ScriptRunner::run(const ScriptCommand& c, ViewerState& state, GLFWwindow*
         // the knob of the package shown (or compared)
         int index = state.subjects[state.shown].is_original() ? state.stand_in : state.shown;
         if (index < 0) return fail(c, "set: no package to set it on");
-        Subject& subject = state.subjects[index];
-        RenderOptions previous = subject.options;
-        if (c.word == "march") subject.options.march = c.value;
-        if (c.word == "steps") subject.options.steps = c.count;
-        if (c.word == "hit-range") subject.options.hit_range = c.numbers[0];
-        if (c.word == "coarse") subject.options.coarse_mesh = c.value == "on";
-        if (Status s = build_renderer(subject); !s) {
-            subject.options = previous;
-            return fail(c, s.message());
-        }
+        if (Status s = set_package_option(state.subjects[index], c.word, c.value); !s) return fail(c, s.message());
         break;
     }
     case ScriptOp::resolution:
@@ -350,7 +342,11 @@ Result<std::unique_ptr<ScriptRunner>> load_script(const std::string& path)
     if (!file) return error(StatusCode::not_found, path + ": cannot read the script");
     std::ostringstream text;
     text << file.rdbuf();
-    Result<std::vector<ScriptCommand>> commands = parse_script(text.str(), path);
+    // `set` may name any representation's run-time option
+    std::vector<OptionSpec> options;
+    for (const Representation& r : representations())
+        options.insert(options.end(), r.render_options.begin(), r.render_options.end());
+    Result<std::vector<ScriptCommand>> commands = parse_script(text.str(), path, options);
     if (!commands) return commands.status();
     return std::make_unique<ScriptRunner>(std::move(*commands), path);
 }
@@ -367,9 +363,7 @@ Status run_viewer(const ViewerArgs& args)
         script = std::move(*loaded);
     }
     ViewerState state;
-    RenderOptions options = args.options;
-    options.debug_view.clear(); // set below, once the renderers exist
-    STANDIN_RETURN_IF_ERROR(load_subjects(args.inputs, options, state));
+    STANDIN_RETURN_IF_ERROR(load_subjects(args.inputs, args.options, state));
     state.home = state.orbit = args.view;
     state.home_light_follows = std::isnan(args.light_azimuth);
     if (!state.home_light_follows) {
@@ -382,12 +376,8 @@ Status run_viewer(const ViewerArgs& args)
 
     WindowSession session;
     STANDIN_RETURN_IF_ERROR(open_window(session, args));
-    if (!args.options.debug_view.empty()) {
-        // the renderers are built in run_window; record the view so that they are built with it
-        state.debug_view = args.options.debug_view;
-        for (Subject& subject : state.subjects)
-            if (!subject.is_original()) subject.options.debug_view = args.options.debug_view == "holes" ? "" : args.options.debug_view;
-    }
+    // the renderers are built in run_window, with the debug view recorded here
+    if (!args.debug_view.empty()) STANDIN_RETURN_IF_ERROR(set_debug_view(state, args.debug_view));
     return run_window(state, session.window, script.get());
 }
 

@@ -20,7 +20,8 @@ struct ViewerArgs {
     int render_width = 0, render_height = 0; // 0: follow the window
     OrbitView view;                  // the initial camera, and where `reset` returns to
     float light_azimuth = NAN, light_elevation = NAN; // NAN: the protocol light, following the camera
-    RenderOptions options;           // initial run-time knobs of every package (and the debug view)
+    OptionValues options;            // initial run-time options, given to every package that declares them
+    std::string debug_view;          // initial debug view: a shared one (debug_view.h), "holes" or empty
 };
 
 // Runs the viewer until the window closes, `quit`, or the end of the script. Everything is checked

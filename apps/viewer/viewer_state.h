@@ -22,10 +22,11 @@ namespace standin::viewer {
 struct Subject {
     std::string path;
     std::string label;                // "original: bunny.ply", "package 1: bunny.standin"
-    std::string contents;             // "69451 triangles", "24 billboards + 500-triangle coarse mesh"
+    std::string contents;             // "69451 triangles", or the package summary's headline
     std::optional<Mesh> mesh;         // the original only
     std::unique_ptr<Package> package; // packages only
-    RenderOptions options;            // packages only (the mesh renderer has none)
+    RenderOptions options;            // packages only (the mesh renderer has none): the run-time
+                                      // options its representation declares, and its debug view
     std::unique_ptr<Renderer> renderer;
 
     bool is_original() const { return mesh.has_value(); }
@@ -50,7 +51,6 @@ struct FrameStats {
     std::size_t hole_pixels = 0, excess_pixels = 0; // debug view "holes" only
 };
 
-constexpr const char* k_debug_views[] = {"", "billboard", "depth", "normal", "fetches", "boxes", "holes"};
 
 struct ViewerState {
     std::vector<Subject> subjects; // the original first, when there is one
@@ -59,7 +59,7 @@ struct ViewerState {
     int stand_in = -1;             // the package compared with the original (split, side by side, holes)
     Layout layout = Layout::single;
     float split_position = 0.5f;   // of the width
-    std::string debug_view;        // one of k_debug_views; "holes" is the viewer's own
+    std::string debug_view;        // "" (off), a shared debug view's name, or "holes" (the viewer's own)
 
     // camera and light
     BoundingSphere sphere;         // the model's (packages store their source's bounds)
@@ -88,12 +88,20 @@ struct ViewerState {
 };
 
 // loading (subjects.cpp)
-Status load_subjects(const std::vector<std::string>& inputs, const RenderOptions& options, ViewerState& state);
+// Every package gets the options its representation declares; an option that no package declares
+// is refused.
+Status load_subjects(const std::vector<std::string>& inputs, const OptionValues& options, ViewerState& state);
 // Builds (or rebuilds) a subject's renderer from its options in the current context; on failure
 // the previous renderer stays and the status says why.
 Status build_renderer(Subject& subject);
-// Sets the debug view of every package and rebuilds their renderers.
+// Sets the debug view of every package that draws it ("holes" and "" of all) and rebuilds their
+// renderers; refused when no package draws it.
 Status set_debug_view(ViewerState& state, const std::string& name);
+// The debug views some package shown draws, then "holes" when there is a model and a package.
+std::vector<std::string> available_debug_views(const ViewerState& state);
+// Sets one run-time option of a package (as its representation declares it) and rebuilds its
+// renderer; on failure the previous options stay.
+Status set_package_option(Subject& subject, const std::string& name, const std::string& value);
 // Rebuilds every renderer, shaders read from `shader_directory` (src/ of a source tree).
 Status reload_shaders(ViewerState& state, const std::string& shader_directory);
 int package_count(const ViewerState& state);

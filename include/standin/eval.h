@@ -233,7 +233,7 @@ struct BenchOptions {
 
 struct FrameRecord {
     int width = 0, height = 0;
-    std::string subject;       // "package", "package_no_coarse", "mesh"
+    std::string subject;       // "package", "package coarse=off" (a variant), "mesh"
     std::string scene;         // "orbit" (one model, protocol camera), "coverage", "crowd"
     std::size_t instances = 1;
     float distance_rel = 1.0f;
@@ -245,11 +245,12 @@ struct FrameRecord {
     std::uint64_t primitives = 0;
 };
 
-// The renderers bench measures; `package_no_coarse` may be null (then not measured).
+// The renderers bench measures; null ones are not measured. Variants are the same package drawn
+// with other run-time options (Representation::bench_variants), named "package NAME=VALUE".
 struct BenchSubjects {
     Renderer* mesh = nullptr;
     Renderer* package = nullptr;
-    Renderer* package_no_coarse = nullptr;
+    std::vector<std::pair<std::string, Renderer*>> package_variants;
 };
 
 // Times every subject at every resolution (orbit view: azimuth 30, elevation 20, distance 1,

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <standin/mesh.h>
+#include <standin/options.h>
 #include <standin/progress.h>
 #include <standin/render.h>
 #include <standin/status.h>
@@ -34,53 +35,74 @@ class Package {
 public:
     virtual ~Package() = default;
     virtual std::string representation() const = 0;
-    // The summary `standin info PACKAGE --json` prints; at least "representation".
-    virtual nlohmann::json summary() const = 0;
     SourceInfo source;
+    // Filled by read_package: where the package was read from and the bytes its files take.
+    std::string directory;
+    std::uint64_t package_bytes = 0;
 };
 
-// Representation-specific bake parameters by name (as given on the command line, e.g.
-// {"resolution", "512"}). Each baker reads the ones it knows and reports the rest as unknown.
-class BakeParameters {
-public:
-    void set(const std::string& name, const std::string& value) { values_[name] = value; }
-    bool has(const std::string& name) const { return values_.count(name) != 0; }
-    // Typed reads; a value that does not parse or lies outside [min, max] is an error naming it.
-    Result<int> get_int(const std::string& name, int fallback, int min, int max) const;
-    Result<float> get_float(const std::string& name, float fallback, float min, float max) const;
-    Result<std::string> get_choice(const std::string& name, const std::string& fallback,
-                                   const std::vector<std::string>& choices) const;
-    // Names that were set but never read: a baker calls this last and refuses them.
-    Status check_all_used(const std::string& representation) const;
-
-private:
-    std::map<std::string, std::string> values_;
-    mutable std::map<std::string, bool> used_;
-};
-
+// What a representation's baker receives: the model and its bake parameters, already checked
+// against the representation's declaration (Representation::bake_options).
 struct BakeContext {
     const Mesh& mesh;
     const SourceInfo& source;
-    const BakeParameters& parameters;
+    const Options& parameters;
     const Progress& progress;
     int threads = 0; // 0: all cores. Results never depend on it.
 };
 
-// One entry per representation (src/reps/registry.cpp): name -> bake, write, read, renderer.
+// What a representation's make_renderer receives: its run-time options, already checked against
+// Representation::render_options, and a debug view from Representation::debug_views.
+struct RenderSettings {
+    Options options;
+    DebugView debug_view = DebugView::none;
+};
+
+// What `standin info` and the viewer say about a package.
+struct PackageSummary {
+    std::string headline;   // one line: what the package holds and how much of the model it captured
+    nlohmann::json details; // `standin info --json`: at least "representation"
+};
+
+// One entry per representation (src/reps/registry.cpp). A representation describes itself: its
+// options and debug views drive the command line, --help, the viewer's knobs and its script.
 struct Representation {
-    std::string name;         // "enhanced-billboards", "view-atlas", ...
-    std::string description;  // one line for --help
+    std::string name;        // lowercase words joined by '-': -r NAME, and "representation" in manifests
+    std::string title;       // capitalised, for --help groups and the viewer
+    std::string description; // one line for --help
+    std::string reference;   // the papers it implements, by author and year (docs/REFERENCES.md)
+    std::vector<OptionSpec> bake_options;
+    std::vector<OptionSpec> render_options;
+    std::vector<DebugView> debug_views;      // those its renderer draws, besides none
+    std::vector<OptionValues> bench_variants; // run-time variants `standin bench` measures too
     Result<std::unique_ptr<Package>> (*bake)(const BakeContext& context);
     // Writes the package's files into an existing empty directory (manifest.json last).
     Status (*write)(const Package& package, const std::string& directory);
     // Reads and validates a package directory whose manifest names this representation.
     Result<std::unique_ptr<Package>> (*read)(const std::string& directory, const nlohmann::json& manifest);
     // Uploads a package to the current GL context.
-    Result<std::unique_ptr<Renderer>> (*make_renderer)(const Package& package, const RenderOptions& options);
+    Result<std::unique_ptr<Renderer>> (*make_renderer)(const Package& package, const RenderSettings& settings);
+    PackageSummary (*summarise)(const Package& package);
 };
 
 const std::vector<Representation>& representations();
 const Representation* find_representation(const std::string& name);
+// The representation of a package (every package's representation is registered).
+const Representation& representation_of(const Package& package);
+
+// Bakes `mesh` (read from the file `source` describes) into a package. `parameters` are checked
+// against the representation's bake_options: a name it does not declare, or a value of the wrong
+// type or out of range, is refused with invalid_argument naming the option.
+Result<std::unique_ptr<Package>> bake_package(const Representation& representation, const Mesh& mesh,
+                                              const SourceInfo& source, const OptionValues& parameters,
+                                              const Progress& progress = {}, int threads = 0);
+
+// Uploads a package to the current GL context for drawing. options.values are checked against the
+// representation's render_options (a name it does not declare is refused: "--style does not apply
+// to enhanced-billboards packages"), and options.debug_view against its debug_views.
+Result<std::unique_ptr<Renderer>> make_package_renderer(const Package& package, const RenderOptions& options);
+
+PackageSummary summarise_package(const Package& package);
 
 // Writes a package atomically: into a temporary directory beside `directory`, renamed when done.
 Status write_package(const Package& package, const std::string& directory);

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <standin/camera.h>
+#include <standin/debug_view.h>
 #include <standin/image.h>
 #include <standin/mesh.h>
+#include <standin/options.h>
 #include <standin/status.h>
 
 #include <glm/glm.hpp>
@@ -26,17 +28,11 @@ public:
 };
 Result<std::unique_ptr<GpuContext>> create_headless_context();
 
-// Run-time options of the representations' renderers; each renderer reads the ones it knows.
+// Run-time options of a package's renderer: its representation's declared options by name
+// (checked against the declaration when the renderer is made; options.h), and a debug view.
 struct RenderOptions {
-    std::string march = "exact";  // enhanced billboards: "exact" (default) or "seed" (linear march)
-    int steps = 100;              // seed march: steps along the box diagonal
-    float hit_range = 0.01f;      // seed march: hit range e, fraction of the box depth
-    bool coarse_mesh = true;      // enhanced billboards: fill holes with the package's coarse mesh
-    std::string style = "corrected"; // view atlas: "seed", "octahedral-baseline", "corrected"
-    // View atlas colour pages on the GPU: "rgba8", or "bc3" (DXT5, compressed at load time: a
-    // quarter of the colour memory; normal-depth stays RGBA8, the walk needs its exact depths).
-    std::string texture_format = "rgba8";
-    std::string debug_view;       // "", "billboard", "depth", "normal", "fetches", "boxes" (billboard boxes as lines)
+    OptionValues values;
+    DebugView debug_view = DebugView::none;
 };
 
 class ShadowMap;
@@ -56,7 +52,7 @@ struct DrawParams {
 
 struct DrawStats {
     std::uint64_t draw_calls = 0;
-    std::uint64_t primitives = 0; // triangles or billboard faces submitted
+    std::uint64_t primitives = 0; // triangles (or proxy faces) submitted
 };
 
 // A representation (or the original mesh) uploaded to the GPU. draw() renders into the currently
@@ -66,11 +62,9 @@ class Renderer {
 public:
     virtual ~Renderer() = default;
     virtual DrawStats draw(const DrawParams& params) = 0;
-    // Counters some renderers keep on the GPU (height-field fetches); zero when not supported.
+    // Counters some renderers keep on the GPU; zero when not supported.
     virtual void set_counting(bool) {}
-    virtual std::uint64_t read_fetch_count() { return 0; }
-    // Fragment-stage invocations while counting (overdraw = fragments / covered pixels).
-    virtual std::uint64_t read_fragment_count() { return 0; }
+    virtual std::uint64_t read_counter(Counter) { return 0; }
 };
 
 // Dynamic shadows of the one directional light (issue #6, seed 003 §7): a depth map of the scene

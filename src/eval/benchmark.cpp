@@ -68,7 +68,8 @@ Result<std::vector<FrameRecord>> benchmark_frames(const BenchSubjects& subjects,
 {
     std::vector<std::pair<std::string, Renderer*>> list;
     if (subjects.package) list.push_back({"package", subjects.package});
-    if (subjects.package_no_coarse) list.push_back({"package_no_coarse", subjects.package_no_coarse});
+    for (const auto& variant : subjects.package_variants)
+        if (variant.second) list.push_back(variant);
     if (subjects.mesh) list.push_back({"mesh", subjects.mesh});
     const BoundingSphere sphere = mesh.bounding_sphere();
     const std::size_t steps =

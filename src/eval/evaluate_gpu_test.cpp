@@ -194,7 +194,7 @@ TEST(Bench, CliWritesSchemaForPackages)
             EXPECT_TRUE(f.contains(key)) << key;
         subjects.insert(f["subject"].get<std::string>());
     }
-    EXPECT_EQ(subjects, (std::set<std::string>{"package", "package_no_coarse", "mesh"}));
+    EXPECT_EQ(subjects, (std::set<std::string>{"package", "package coarse=off", "mesh"}));
     ASSERT_EQ(json["crowd"].size(), 2u); // N = 1 and 4
 }
 

@@ -75,8 +75,8 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
     renderer.set_counting(true);
     clear_target(fbo.get());
     renderer.draw(params);
-    std::uint64_t fetches = renderer.read_fetch_count();
-    std::uint64_t fragments = renderer.read_fragment_count();
+    std::uint64_t fetches = renderer.read_counter(Counter::fetches);
+    std::uint64_t fragments = renderer.read_counter(Counter::fragments);
     renderer.set_counting(false);
     if (fetches > 0 && result.covered_pixels > 0) result.fetches_per_pixel = double(fetches) / double(result.covered_pixels);
     if (fragments > 0 && result.covered_pixels > 0)

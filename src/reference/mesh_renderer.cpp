@@ -125,7 +125,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
     for (const MaterialRange& range : ranges_) {
         bool textured = range.texture >= 0 && range.texture < int(textures_.size());
         glUniform1i(has_texture_location_, textured ? 1 : 0);
-        if (textured) glBindTextureUnit(BINDING_ALBEDO_TEXTURE, textures_[std::size_t(range.texture)].get());
+        if (textured) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
         glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(std::uintptr_t(range.first_index) * sizeof(std::uint32_t)),
                                 GLsizei(frame_.instance_count()));

@@ -120,6 +120,69 @@ SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
     return s;
 }
 
+static std::string manifest_key(const std::string& name)
+{
+    std::string key = name;
+    for (char& c : key)
+        if (c == '-') c = '_';
+    return key;
+}
+
+nlohmann::json settings_json(const Options& parameters)
+{
+    nlohmann::json bake = nlohmann::json::object();
+    for (const auto& [name, value] : parameters.values()) {
+        nlohmann::json& entry = bake[manifest_key(name)];
+        switch (value.type) {
+        case OptionType::integer: entry = value.integer; break;
+        case OptionType::number: entry = value.number; break;
+        case OptionType::choice: entry = value.choice; break;
+        case OptionType::flag: entry = value.flag; break;
+        }
+    }
+    return bake;
+}
+
+Options read_settings(const Reader& in, const nlohmann::json& manifest, std::span<const OptionSpec> specs)
+{
+    const nlohmann::json& bake = in.member(manifest, "bake", "");
+    OptionValues values;
+    for (const OptionSpec& spec : specs) {
+        std::string key = manifest_key(spec.name);
+        if (spec.default_value.empty() && !bake.contains(key)) continue;
+        const nlohmann::json& entry = in.member(bake, key, "bake.");
+        std::string text;
+        switch (spec.type) {
+        case OptionType::integer:
+            if (!entry.is_number_integer()) in.fail("bake." + key, "is not an integer");
+            text = std::to_string(entry.get<std::int64_t>());
+            break;
+        case OptionType::number: {
+            if (!entry.is_number()) in.fail("bake." + key, "is not a number");
+            char buffer[64];
+            std::snprintf(buffer, sizeof buffer, "%.9g", entry.get<double>());
+            text = buffer;
+            break;
+        }
+        case OptionType::choice: text = in.string(bake, key, "bake."); break;
+        case OptionType::flag:
+            if (!entry.is_boolean()) in.fail("bake." + key, "is not true or false");
+            text = entry.get<bool>() ? "on" : "off";
+            break;
+        }
+        values.set(spec.name, text);
+    }
+    Result<Options> options = Options::parse(specs, values, "this package");
+    if (!options) {
+        // "--NAME: ..." becomes "bake.NAME ...", in the manifest's terms
+        std::string message = options.status().message();
+        std::size_t colon = message.find(':');
+        std::string name = message.substr(2, colon == std::string::npos ? 0 : colon - 2);
+        in.fail("bake." + manifest_key(name), colon == std::string::npos ? message : message.substr(colon + 2));
+    }
+    return std::move(*options);
+}
+
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction)
 {
     for (auto [axis, name] : {std::pair{axis_u, "axis_u"}, {axis_v, "axis_v"}, {direction, "direction"}})

@@ -3,6 +3,7 @@
 // hash, and typed field readers whose refusals name the manifest and the field.
 #pragma once
 
+#include <standin/options.h>
 #include <standin/package.h>
 #include <standin/status.h>
 
@@ -11,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -57,6 +59,12 @@ private:
 };
 
 SourceInfo read_source(const Reader& in, const nlohmann::json& manifest);
+
+// The "bake" block: every declared bake parameter as used (names with '_' for '-': "texel_size"),
+// integers and numbers as JSON numbers, choices as strings, flags as booleans.
+nlohmann::json settings_json(const Options& parameters);
+// Reads the "bake" block back, checking every value against the same declaration the baker used.
+Options read_settings(const Reader& in, const nlohmann::json& manifest, std::span<const OptionSpec> specs);
 
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction);

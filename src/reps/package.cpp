@@ -4,7 +4,7 @@
 #include <standin/package.h>
 
 #include <algorithm>
-#include <charconv>
+#include <cassert>
 #include <cmath>
 #include <filesystem>
 
@@ -12,56 +12,43 @@ namespace standin {
 
 namespace fs = std::filesystem;
 
-Result<int> BakeParameters::get_int(const std::string& name, int fallback, int min, int max) const
+const Representation& representation_of(const Package& package)
 {
-    auto it = values_.find(name);
-    if (it == values_.end()) return fallback;
-    used_[name] = true;
-    int value = 0;
-    const std::string& text = it->second;
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size())
-        return error(StatusCode::invalid_argument, "--" + name + ": '" + text + "' is not an integer");
-    if (value < min || value > max)
-        return error(StatusCode::invalid_argument, "--" + name + ": " + text + " is out of range " +
-                                                       std::to_string(min) + ".." + std::to_string(max));
-    return value;
+    const Representation* representation = find_representation(package.representation());
+    assert(representation && "every package's representation is registered");
+    return *representation;
 }
 
-Result<float> BakeParameters::get_float(const std::string& name, float fallback, float min, float max) const
+Result<std::unique_ptr<Package>> bake_package(const Representation& representation, const Mesh& mesh,
+                                              const SourceInfo& source, const OptionValues& parameters,
+                                              const Progress& progress, int threads)
 {
-    auto it = values_.find(name);
-    if (it == values_.end()) return fallback;
-    used_[name] = true;
-    const std::string& text = it->second;
-    char* end = nullptr;
-    float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
-        return error(StatusCode::invalid_argument, "--" + name + ": '" + text + "' is not a finite number");
-    if (value < min || value > max)
-        return error(StatusCode::invalid_argument, "--" + name + ": " + text + " is out of range [" +
-                                                       std::to_string(min) + ", " + std::to_string(max) + "]");
-    return value;
+    Result<Options> options = Options::parse(representation.bake_options, parameters, representation.name);
+    if (!options) return options.status();
+    if (threads < 0) return error(StatusCode::invalid_argument, "--threads: must be 0 (all cores) or more");
+    BakeContext context{mesh, source, *options, progress, threads};
+    return representation.bake(context);
 }
 
-Result<std::string> BakeParameters::get_choice(const std::string& name, const std::string& fallback,
-                                               const std::vector<std::string>& choices) const
+Result<std::unique_ptr<Renderer>> make_package_renderer(const Package& package, const RenderOptions& options)
 {
-    auto it = values_.find(name);
-    if (it == values_.end()) return fallback;
-    used_[name] = true;
-    if (std::find(choices.begin(), choices.end(), it->second) != choices.end()) return it->second;
-    std::string list;
-    for (const std::string& c : choices) list += (list.empty() ? "" : ", ") + c;
-    return error(StatusCode::invalid_argument, "--" + name + ": '" + it->second + "' is not one of " + list);
+    const Representation& representation = representation_of(package);
+    std::string owner = representation.name + " packages";
+    Result<Options> parsed = Options::parse(representation.render_options, options.values, owner);
+    if (!parsed) return parsed.status();
+    const auto& views = representation.debug_views;
+    if (options.debug_view != DebugView::none && std::find(views.begin(), views.end(), options.debug_view) == views.end())
+        return error(StatusCode::invalid_argument,
+                     std::string("--debug-view ") + debug_view_name(options.debug_view) + ": not drawn for " + owner);
+    return representation.make_renderer(package, RenderSettings{std::move(*parsed), options.debug_view});
 }
 
-Status BakeParameters::check_all_used(const std::string& representation) const
+PackageSummary summarise_package(const Package& package)
 {
-    for (const auto& [name, value] : values_)
-        if (!used_.count(name))
-            return error(StatusCode::invalid_argument, "--" + name + " does not apply to representation " + representation);
-    return Status::ok();
+    PackageSummary summary = representation_of(package).summarise(package);
+    summary.details["representation"] = package.representation();
+    summary.details["package_bytes"] = package.package_bytes;
+    return summary;
 }
 
 Result<SourceInfo> describe_source(const std::string& model_path, const Mesh& mesh)
@@ -130,11 +117,18 @@ Result<std::unique_ptr<Package>> read_package(const std::string& directory)
     const Representation* representation = find_representation(name);
     if (!representation)
         return error(StatusCode::unsupported, manifest_path + ": unknown representation \"" + name + "\"");
+    Result<std::unique_ptr<Package>> package = error(StatusCode::bad_data, manifest_path + ": unreadable");
     try {
-        return representation->read(directory, manifest);
+        package = representation->read(directory, manifest);
     } catch (const nlohmann::json::exception& e) {
         return error(StatusCode::bad_data, manifest_path + ": " + e.what());
     }
+    if (!package) return package.status();
+    Result<std::uint64_t> bytes = package_bytes(directory);
+    if (!bytes) return bytes.status();
+    (*package)->directory = directory;
+    (*package)->package_bytes = *bytes;
+    return package;
 }
 
 Result<std::uint64_t> package_bytes(const std::string& directory)

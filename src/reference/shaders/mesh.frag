@@ -7,7 +7,7 @@ in vec3 v_normal_world;
 in vec4 v_color;
 in vec2 v_uv;
 
-layout(binding = BINDING_ALBEDO_TEXTURE) uniform sampler2D albedo_texture;
+layout(binding = BINDING_FIRST_RENDERER_TEXTURE) uniform sampler2D albedo_texture; // the ground truth's one texture unit
 // Albedo = vertex colour (material colour folded in at import) x texture where the material has
 // one: the same rule as Mesh::albedo_at, which bakers sample per texel.
 uniform int has_texture;

@@ -3,8 +3,9 @@
 // §3.4 (mip maps) and §5.1 (0.4% / 0.1% of the faces for degrees 17 / 33).
 //
 // Steps:
-//  1. read the settings; the target control-face count is the input's over (k - 1)^2, so the
-//     refined mesh has about as many triangles as the input (the paper's 0.4% and 0.1%);
+//  1. the settings (declared in representation.cpp); the target control-face count is the
+//     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
+//     paper's 0.4% and 0.1%);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
 //  4. quantise the elevations (16 bits over the package's range) and use the decoded values from
@@ -27,31 +28,6 @@
 namespace standin::displaced_mesh {
 
 namespace {
-
-Result<BakeSettings> read_settings(const BakeParameters& parameters)
-{
-    BakeSettings s;
-    auto take = [](auto result, auto& into) -> Status {
-        if (!result) return result.status();
-        into = *result;
-        return Status::ok();
-    };
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("degree", s.degree, 5, 33), s.degree));
-    if (!is_pattern_degree(s.degree)) return error(StatusCode::invalid_argument, "--degree: must be 5, 9, 17 or 33");
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("control-faces", s.control_faces, 0, 50'000'000), s.control_faces));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("cone-angle", s.cone_angle, 1.0f, 180.0f), s.cone_angle));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_choice("sampler", s.sampler, {"intersection", "interpolation"}), s.sampler));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("interpolation-rays", s.interpolation_rays, 1, 64), s.interpolation_rays));
-    int root = int(std::lround(std::sqrt(double(s.interpolation_rays))));
-    if (root * root != s.interpolation_rays)
-        return error(StatusCode::invalid_argument, "--interpolation-rays: must be a square number (1, 4, 9, ..., 64)");
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("ray-range", s.ray_range, 1e-6f, 10.0f), s.ray_range));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("elevation-bits", s.elevation_bits, 16, 32), s.elevation_bits));
-    if (s.elevation_bits != 16 && s.elevation_bits != 32)
-        return error(StatusCode::invalid_argument, "--elevation-bits: must be 16 or 32");
-    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("displaced-mesh"));
-    return s;
-}
 
 std::size_t target_faces(std::size_t input_faces, const BakeSettings& s)
 {
@@ -104,12 +80,16 @@ Mesh sampled_mesh(const DisplacedMeshPackage& package)
     return reconstruct(control, layout, finest);
 }
 
-Result<std::unique_ptr<DisplacedMeshPackage>> bake_package(const Mesh& mesh, const SourceInfo& source,
-                                                          const BakeSettings& settings, const Progress& progress)
+Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, const SourceInfo& source,
+                                                            const Options& parameters, const Progress& progress)
 {
+    // the settings: the paper's target is the input's faces over (k - 1)^2
+    const BakeSettings settings = settings_from(parameters);
+    STANDIN_RETURN_IF_ERROR(check_settings(settings));
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "displaced mesh bake"));
     auto package = std::make_unique<DisplacedMeshPackage>();
     package->source = source;
+    package->parameters = parameters;
     package->settings = settings;
     const PatternLayout layout(settings.degree);
 
@@ -174,11 +154,9 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_package(const Mesh& mesh, con
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    Result<BakeSettings> settings = read_settings(context.parameters);
-    if (!settings) return settings.status();
     std::optional<tbb::global_control> threads;
     if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
-    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_package(context.mesh, context.source, *settings, context.progress);
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(context.mesh, context.source, context.parameters, context.progress);
     if (!package) return package.status();
     return std::unique_ptr<Package>(std::move(*package));
 }

@@ -19,7 +19,8 @@
 
 namespace standin::displaced_mesh {
 
-// Bake parameters (docs/FORMAT.md, "Displaced control mesh"; defaults measured in docs/RESULTS.md).
+// Bake parameters typed (docs/FORMAT.md, "Displaced control mesh"; declared in representation.cpp,
+// defaults measured in docs/RESULTS.md).
 struct BakeSettings {
     int degree = 17;                   // pattern degree k: 5, 9, 17 or 33
     int control_faces = 0;             // target; 0: input faces / (k - 1)^2, at least k_min_control_faces
@@ -52,12 +53,12 @@ struct SamplingStats {
 class DisplacedMeshPackage final : public Package {
 public:
     std::string representation() const override { return "displaced-mesh"; }
-    nlohmann::json summary() const override;
 
     std::size_t face_count() const { return indices.size() / 3; }
     PatternLayout layout() const { return PatternLayout(settings.degree); }
 
-    BakeSettings settings;
+    Options parameters;    // as baked
+    BakeSettings settings; // settings_from(parameters)
     // the control mesh (object space); normals unit, one per vertex (the displacement directions)
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
@@ -75,7 +76,6 @@ public:
     std::vector<std::uint32_t> albedo;
     std::vector<float> face_error; // ∆_f per face, world units
     SamplingStats sampling;
-    std::uint64_t package_bytes = 0; // filled when read from disk
 };
 
 // Octahedral encoding of unit normals into two snorm16 (x in the low half).
@@ -86,14 +86,22 @@ std::uint32_t pack_rgba8(glm::vec4 c);
 // The sampled mesh Ms of a package at its finest level (sample.h: reconstruct), in object space.
 Mesh sampled_mesh(const DisplacedMeshPackage& package);
 
-// Entry points for the registry (src/reps/registry.cpp).
+// The bake parameters typed (representation.cpp), and the checks between them.
+BakeSettings settings_from(const Options& parameters);
+Status check_settings(const BakeSettings& settings);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options);
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
 
-// The bake itself, for tests and benchmarks that want the in-memory package and its settings.
-Result<std::unique_ptr<DisplacedMeshPackage>> bake_package(const Mesh& mesh, const SourceInfo& source,
-                                                          const BakeSettings& settings, const Progress& progress);
+// The bake itself, for tests and benchmarks that want the in-memory package: `parameters` are
+// the representation's declared bake options (defaults for those not given).
+Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, const SourceInfo& source,
+                                                            const Options& parameters, const Progress& progress);
+// The declared bake options with the given ones set (NAME, VALUE; invalid_argument as the CLI's).
+Result<Options> bake_parameters(const std::vector<std::pair<std::string, std::string>>& values);
 
 } // namespace standin::displaced_mesh

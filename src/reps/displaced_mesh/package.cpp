@@ -52,29 +52,6 @@ std::vector<T> read_array(const manifest_io::Reader& in, const std::string& dire
     return values;
 }
 
-nlohmann::json settings_json(const BakeSettings& s)
-{
-    return {{"degree", s.degree}, {"control_faces", s.control_faces}, {"cone_angle", s.cone_angle},
-            {"sampler", s.sampler}, {"interpolation_rays", s.interpolation_rays}, {"ray_range", s.ray_range},
-            {"elevation_bits", s.elevation_bits}};
-}
-
-BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& bake = in.member(manifest, "bake", "");
-    BakeSettings s;
-    s.degree = int(in.integer(bake, "degree", "bake.", 5, 33));
-    if (!is_pattern_degree(s.degree)) in.fail("bake.degree", "must be 5, 9, 17 or 33");
-    s.control_faces = int(in.integer(bake, "control_faces", "bake.", 0, 50'000'000));
-    s.cone_angle = float(in.number(bake, "cone_angle", "bake.", 1.0, 180.0));
-    s.sampler = in.choice(bake, "sampler", "bake.", {"intersection", "interpolation"});
-    s.interpolation_rays = int(in.integer(bake, "interpolation_rays", "bake.", 1, 64));
-    s.ray_range = float(in.number(bake, "ray_range", "bake.", 1e-6, 10.0));
-    s.elevation_bits = int(in.integer(bake, "elevation_bits", "bake.", 16, 32));
-    if (s.elevation_bits != 16 && s.elevation_bits != 32) in.fail("bake.elevation_bits", "must be 16 or 32");
-    return s;
-}
-
 Mesh control_as_mesh(const DisplacedMeshPackage& p)
 {
     Mesh m;
@@ -144,7 +121,7 @@ Status write(const Package& base, const std::string& directory)
         {"version", k_package_format_version},
         {"representation", p.representation()},
         {"source", manifest_io::source_json(p.source)},
-        {"bake", settings_json(p.settings)},
+        {"bake", manifest_io::settings_json(p.parameters)},
         {"control", {{"file", k_control_file}, {"faces", p.face_count()}, {"vertices", p.positions.size()},
                      {"input_faces", c.input_faces}, {"target_faces", c.target_faces}, {"reached_target", c.reached_target},
                      {"stopped_by", c.stopped_by}, {"collapses", c.collapses}, {"refused_cone", c.refused_cone},
@@ -170,7 +147,9 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     auto p = std::make_unique<DisplacedMeshPackage>();
     try {
         p->source = manifest_io::read_source(in, manifest);
-        p->settings = read_settings(in, manifest);
+        p->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        p->settings = settings_from(p->parameters);
+        if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
         const nlohmann::json& files = in.member(manifest, "files", "");
         if (!files.is_object()) in.fail("files", "is not an object");
         read_control(in, directory, files, in.member(manifest, "control", ""), *p);
@@ -218,30 +197,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
-    Result<std::uint64_t> bytes = package_bytes(directory);
-    if (!bytes) return bytes.status();
-    p->package_bytes = *bytes;
     return std::unique_ptr<Package>(std::move(p));
-}
-
-nlohmann::json DisplacedMeshPackage::summary() const
-{
-    const PatternLayout l = layout();
-    std::uint64_t refined = std::uint64_t(face_count()) * std::uint64_t(l.segments) * std::uint64_t(l.segments);
-    return {{"representation", representation()},
-            {"source", source.file_name},
-            {"control_faces", face_count()},
-            {"control_vertices", positions.size()},
-            {"control_target_faces", control.target_faces},
-            {"control_reached_target", control.reached_target},
-            {"degree", settings.degree},
-            {"refined_triangles", refined},
-            {"sampler", settings.sampler},
-            {"elevation_bits", settings.elevation_bits},
-            {"misses", sampling.misses},
-            {"d_mean", sampling.original_to_sampled_mean},
-            {"d_max", sampling.original_to_sampled_max},
-            {"package_bytes", package_bytes}};
 }
 
 } // namespace standin::displaced_mesh

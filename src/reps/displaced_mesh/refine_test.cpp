@@ -28,10 +28,10 @@ Baked bake_noisy_sphere(int degree, std::size_t triangles)
     noisy.noise_amplitude = 0.12f;
     Result<Mesh> mesh = generate_mesh(noisy);
     EXPECT_TRUE(mesh.is_ok());
-    BakeSettings settings;
-    settings.degree = degree;
+    Result<Options> parameters = bake_parameters({{"degree", std::to_string(degree)}});
+    EXPECT_TRUE(parameters.is_ok());
     SourceInfo source;
-    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_package(*mesh, source, settings, Progress());
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(*mesh, source, *parameters, Progress());
     EXPECT_TRUE(package.is_ok()) << package.status().message();
     Baked out;
     out.package = std::move(*package);

@@ -16,6 +16,7 @@
 // power-of-two levels from edge-only data (a baseline to compare with).
 #include "reps/displaced_mesh/renderer.h"
 
+#include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "reps/displaced_mesh/face_point.h"
@@ -61,39 +62,39 @@ struct ControlVertex {
     glm::vec4 normal;
 };
 
-Result<int> debug_view_code(const std::string& name)
+Result<int> debug_view_code(DebugView view)
 {
-    if (name.empty() || name == "none") return DM_DEBUG_NONE;
-    if (name == "parts") return DM_DEBUG_PARTS;
-    if (name == "level") return DM_DEBUG_LEVEL;
-    if (name == "error") return DM_DEBUG_ERROR;
-    if (name == "depth") return DM_DEBUG_DEPTH;
-    if (name == "normal") return DM_DEBUG_NORMAL;
-    return error(StatusCode::invalid_argument,
-                 "--debug-view: the displaced mesh has none, parts, level, error, depth and normal, not '" + name + "'");
+    switch (view) {
+    case DebugView::none: case DebugView::parts: case DebugView::level: case DebugView::error: case DebugView::depth:
+    case DebugView::normal:
+        return int(view);
+    default:
+        return error(StatusCode::invalid_argument,
+                     std::string("--debug-view: the displaced mesh draws parts, level, error, depth and normal, not ") +
+                         debug_view_name(view));
+    }
 }
 
 class Impl final : public DisplacedRenderer {
 public:
     Status init(const DisplacedMeshPackage& package, const RendererSettings& settings);
     DrawStats draw(const DrawParams& params) override;
-    void set_counting(bool on) override;
-    std::uint64_t read_fetch_count() override { return read_counters()[DM_STATE_FETCHES]; }
-    std::uint64_t read_fragment_count() override { return read_counters()[DM_STATE_FRAGMENTS]; }
+    void set_counting(bool on) override { counters_->set_counting(on); }
+    std::uint64_t read_counter(Counter counter) override { return counters_->read(int(counter)); }
     Status update_control(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) override;
-    RefineCounters last_counters() const override { return counters_; }
+    RefineCounters last_counters() const override { return refine_counters_; }
     ErrorCounters read_error_counters() override;
     const RendererSettings& settings() const override { return settings_; }
 
 private:
     void ensure_capacity(std::uint64_t list_records, std::uint64_t final_records);
     void run_passes(const DrawParams& params, std::uint32_t instances);
-    std::vector<std::uint32_t> read_counters();
+    std::vector<std::uint32_t> read_state();
     void dispatch(const gpu::Program& program, GLuint groups);
     void dispatch_indirect(const gpu::Program& program, std::uint32_t parity);
 
     RendererSettings settings_;
-    int debug_code_ = DM_DEBUG_NONE;
+    int debug_code_ = DEBUG_VIEW_NONE;
     PatternLayout layout_{17};
     std::uint32_t face_count_ = 0, vertex_count_ = 0;
     int passes_ = 0;
@@ -107,8 +108,8 @@ private:
     std::uint64_t list_capacity_ = 0, final_capacity_ = 0, scan_capacity_ = 0;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
-    RefineCounters counters_;
-    bool counting_ = false;
+    RefineCounters refine_counters_;
+    std::unique_ptr<gpu::Counters> counters_; // fragments, fetches, then DM_COUNTER_ERROR_SUM and _MAX
 };
 
 Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& settings)
@@ -171,7 +172,8 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     shading_ = gpu::make_buffer(shading);
     refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);
     std::vector<std::uint32_t> zero(DM_STATE_UINTS, 0u);
-    state_ = gpu::make_buffer(zero, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    state_ = gpu::make_buffer(zero, GL_DYNAMIC_STORAGE_BIT);
+    counters_ = std::make_unique<gpu::Counters>(DM_COUNTER_COUNT);
     empty_vertex_array_ = gpu::make_vertex_array();
     ensure_capacity(k_initial_records, k_initial_records);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
@@ -222,8 +224,9 @@ void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
     block.error_terms = glm::vec4(settings_.error_scale > 0.0f ? settings_.error_scale : settings_.tau, 0.0f, 0.0f, 0.0f);
     glNamedBufferSubData(refine_block_.get(), 0, sizeof block, &block);
     std::uint32_t zero = 0;
-    glClearNamedBufferSubData(state_.get(), GL_R32UI, 0, DM_FIRST_COUNTER * sizeof(std::uint32_t), GL_RED_INTEGER,
+    glClearNamedBufferSubData(state_.get(), GL_R32UI, 0, DM_STATE_UINTS * sizeof(std::uint32_t), GL_RED_INTEGER,
                               GL_UNSIGNED_INT, &zero);
+    counters_->bind();
 
     glBindBufferBase(GL_UNIFORM_BUFFER, DM_REFINE_UBO, refine_block_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_VERTICES_SSBO, vertices_.get());
@@ -272,7 +275,7 @@ void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
     }
 }
 
-std::vector<std::uint32_t> Impl::read_counters()
+std::vector<std::uint32_t> Impl::read_state()
 {
     std::vector<std::uint32_t> state(DM_STATE_UINTS);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -293,16 +296,16 @@ DrawStats Impl::draw(const DrawParams& params)
     std::vector<std::uint32_t> state;
     for (;;) {
         run_passes(params, instances);
-        state = read_counters();
+        state = read_state();
         bool short_of_room = state[DM_STATE_OVERFLOWED] > 0 || state[DM_STATE_DROPPED] > 0;
         if (!short_of_room || (list_capacity_ >= k_max_records && final_capacity_ >= k_max_records)) break;
         ensure_capacity(list_capacity_ * 2, final_capacity_ * 2);
     }
-    counters_ = {state[DM_STATE_VISIBLE], state[DM_STATE_PROCESSED], state[DM_STATE_FINAL], state[DM_STATE_CAPPED],
-                 state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
+    refine_counters_ = {state[DM_STATE_VISIBLE], state[DM_STATE_PROCESSED], state[DM_STATE_FINAL], state[DM_STATE_CAPPED],
+                        state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counting_ ? 1 : 0);
+    glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counters_->counting() ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
@@ -312,15 +315,15 @@ DrawStats Impl::draw(const DrawParams& params)
     glBindVertexArray(0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    return {std::uint64_t(2 + 3 * passes_ + 1), counters_.rendered};
+    if (counters_->counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return {std::uint64_t(2 + 3 * passes_ + 1), refine_counters_.rendered};
 }
 
 // The tessellation baseline: every control face of every instance as one patch; the triangles the
 // tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
-    glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counting_ ? 1 : 0);
+    glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counters_->counting() ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
@@ -332,28 +335,20 @@ DrawStats Impl::draw_patches(std::uint32_t instances)
     glBindVertexArray(0);
     GLuint64 generated = 0;
     glGetQueryObjectui64v(primitives_query_.get(), GL_QUERY_RESULT, &generated);
-    counters_ = {};
-    counters_.rendered = generated;
-    counters_.processed = std::uint64_t(face_count_) * instances;
-    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    refine_counters_ = {};
+    refine_counters_.rendered = generated;
+    refine_counters_.processed = std::uint64_t(face_count_) * instances;
+    if (counters_->counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     return {1, generated};
-}
-
-void Impl::set_counting(bool on)
-{
-    counting_ = on;
-    std::uint32_t zero = 0;
-    glClearNamedBufferSubData(state_.get(), GL_R32UI, DM_FIRST_COUNTER * sizeof(std::uint32_t),
-                              (DM_STATE_UINTS - DM_FIRST_COUNTER) * sizeof(std::uint32_t), GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
 }
 
 ErrorCounters Impl::read_error_counters()
 {
-    std::vector<std::uint32_t> state = read_counters();
     ErrorCounters out;
-    out.fragments = state[DM_STATE_FRAGMENTS];
-    out.error_mean_px = out.fragments ? double(state[DM_STATE_ERROR_SUM]) / DM_ERROR_UNITS / double(out.fragments) : 0.0;
-    out.error_max_px = double(state[DM_STATE_ERROR_MAX]) / DM_ERROR_UNITS;
+    out.fragments = counters_->read(COUNTER_FRAGMENTS);
+    double sum = double(counters_->read(DM_COUNTER_ERROR_SUM));
+    out.error_mean_px = out.fragments ? sum / DM_ERROR_UNITS / double(out.fragments) : 0.0;
+    out.error_max_px = double(counters_->read(DM_COUNTER_ERROR_MAX)) / DM_ERROR_UNITS;
     return out;
 }
 
@@ -378,21 +373,24 @@ Result<std::unique_ptr<DisplacedRenderer>> DisplacedRenderer::create(const Displ
     return std::unique_ptr<DisplacedRenderer>(std::move(renderer));
 }
 
-Result<RendererSettings> renderer_settings(const RenderOptions& options)
+RendererSettings renderer_settings(const RenderSettings& settings)
 {
-    RendererSettings settings;
-    settings.debug_view = options.debug_view;
-    return settings;
+    RendererSettings out;
+    out.tau = settings.options.number("tau");
+    parse_criterion(settings.options.choice("criterion"), out.criterion);
+    out.cull = settings.options.flag("cull");
+    out.mip = settings.options.flag("mip");
+    out.subdivision = settings.options.choice("subdivision");
+    out.debug_view = settings.debug_view;
+    return out;
 }
 
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
     const auto* displaced = dynamic_cast<const DisplacedMeshPackage*>(&package);
     if (!displaced)
         return error(StatusCode::invalid_argument, "displaced mesh: package holds '" + package.representation() + "', not a displaced mesh");
-    Result<RendererSettings> settings = renderer_settings(options);
-    if (!settings) return settings.status();
-    Result<std::unique_ptr<DisplacedRenderer>> renderer = DisplacedRenderer::create(*displaced, *settings);
+    Result<std::unique_ptr<DisplacedRenderer>> renderer = DisplacedRenderer::create(*displaced, renderer_settings(settings));
     if (!renderer) return renderer.status();
     return std::unique_ptr<Renderer>(std::move(*renderer));
 }

@@ -21,7 +21,7 @@ struct RendererSettings {
     bool mip = true;                  // elevations from the level whose spacing projects to about tau
     std::string subdivision = "leb";  // "leb": compute-shader bisection; "tess": tessellation-shader baseline
     int max_depth = 0;                // bisection passes; 0: refinement_passes()
-    std::string debug_view;           // "", "parts", "level", "error", "depth", "normal"
+    DebugView debug_view = DebugView::none; // none, parts, level, error, depth, normal
     float error_scale = 0.0f;         // full scale of the "error" view, pixels; 0: tau
 };
 
@@ -52,6 +52,7 @@ public:
     virtual const RendererSettings& settings() const = 0;
 };
 
-Result<RendererSettings> renderer_settings(const RenderOptions& options);
+// The declared run-time options (representation.cpp) typed.
+RendererSettings renderer_settings(const RenderSettings& settings);
 
 } // namespace standin::displaced_mesh

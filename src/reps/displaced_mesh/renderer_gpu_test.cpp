@@ -34,9 +34,9 @@ const Subject& noisy_sphere()
         options.target_triangles = 20000;
         options.noise_amplitude = 0.12f;
         s.mesh = std::move(*generate_mesh(options));
-        BakeSettings settings;
-        settings.degree = 9;
-        Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_package(s.mesh, SourceInfo{}, settings, Progress());
+        Result<Options> parameters = bake_parameters({{"degree", "9"}});
+        EXPECT_TRUE(parameters.is_ok());
+        Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(s.mesh, SourceInfo{}, *parameters, Progress());
         EXPECT_TRUE(package.is_ok());
         s.package = std::move(*package);
         return s;
@@ -181,15 +181,15 @@ TEST(DisplacedMeshRenderer, DebugViewsAndMovingTheControlMesh)
     const Subject& s = noisy_sphere();
     ASSERT_TRUE(s.package);
     Camera camera = camera_for(s.mesh, 0.0f, 1.0f, 160, 120);
-    for (const char* view : {"parts", "level", "error", "depth", "normal"}) {
+    for (DebugView view : {DebugView::parts, DebugView::level, DebugView::error, DebugView::depth, DebugView::normal}) {
         RendererSettings settings;
         settings.debug_view = view;
         std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, settings);
-        ASSERT_TRUE(renderer) << view;
+        ASSERT_TRUE(renderer) << debug_view_name(view);
         EXPECT_GT(compare_images(ImageRGBA8(160, 120), render(*renderer, camera, 160, 120).color).spill_pixels, 1000u);
     }
     RendererSettings bad;
-    bad.debug_view = "billboard";
+    bad.debug_view = DebugView::fetches;
     EXPECT_FALSE(DisplacedRenderer::create(*s.package, bad).is_ok());
 
     // §5.3: shift the control mesh to the right: the picture follows

@@ -53,9 +53,11 @@ SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 di
         elevation = -backward.t;
         return backward;
     }
-    missed = true;
+    // a ray starting on the surface (a control vertex is an input vertex) may report no hit at
+    // t = 0 either way: the closest point says so, and is not a miss
     SurfacePoint closest = scene.closest(origin, std::numeric_limits<float>::infinity());
     elevation = glm::dot(closest.position - origin, direction);
+    missed = closest.distance > 1e-5f * range;
     return closest;
 }
 

@@ -43,49 +43,25 @@ namespace standin::billboards {
 
 namespace {
 
-constexpr int k_default_direction_count = 256;
-constexpr float k_default_depth_limit = 1.0f;   // fraction of the diagonal: no limit within the model
-constexpr float k_default_grazing_angle = 10.0f; // degrees
-constexpr float k_default_min_coverage = 0.001f; // fraction of the surface area
-constexpr int k_default_max_billboards = 64;
 constexpr int k_exact_candidates = 4;
 constexpr float k_candidate_separation_degrees = 15.0f;
 constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution
-constexpr int k_max_grid_texels = 16384;         // texels along the diagonal
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
 constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels
 
-Result<BakeSettings> read_settings(const BakeParameters& parameters)
+// The checks between parameters that their declarations cannot express; resolves the direction
+// count of the fixed sets.
+Status resolve_parameters(Options& parameters)
 {
-    BakeSettings s;
-    auto take = [](auto result, auto& into) -> Status {
-        if (!result) return result.status();
-        into = *result;
-        return Status::ok();
-    };
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("resolution", 512, 16, k_max_grid_texels), s.resolution));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("texel-size", 0.0f, 0.0f, 3.0e38f), s.texel_size));
-    if (parameters.has("texel-size") && !(s.texel_size > 0.0f))
-        return error(StatusCode::invalid_argument, "--texel-size: must be greater than 0");
-    if (parameters.has("texel-size") && parameters.has("resolution"))
+    if (parameters.given("texel-size") && parameters.given("resolution"))
         return error(StatusCode::invalid_argument, "--texel-size and --resolution: give one or the other");
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_choice("directions", "seed", {"seed", "sphere", "axis"}), s.directions));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("direction-count", k_default_direction_count, 6, 100000), s.direction_count));
-    if (parameters.has("direction-count") && s.directions != "sphere")
+    const std::string& directions = parameters.choice("directions");
+    if (parameters.given("direction-count") && directions != "sphere")
         return error(StatusCode::invalid_argument, "--direction-count: applies to --directions sphere only");
-    if (s.directions != "sphere") s.direction_count = s.directions == "seed" ? 36 * 18 : 6;
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_choice("score", "area", {"area", "faces"}), s.score));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("depth-limit", k_default_depth_limit, 0.0f, 2.0f), s.depth_limit));
-    if (!(s.depth_limit > 0.0f)) return error(StatusCode::invalid_argument, "--depth-limit: must be greater than 0");
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("grazing-angle", k_default_grazing_angle, 0.0f, 89.0f), s.grazing_angle));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("max-billboards", k_default_max_billboards, 1, 4096), s.max_billboards));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("min-coverage", k_default_min_coverage, 0.0f, 1.0f), s.min_coverage));
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_int("depth-bits", 16, 8, 16), s.depth_bits));
-    if (s.depth_bits != 8 && s.depth_bits != 16)
-        return error(StatusCode::invalid_argument, "--depth-bits: must be 8 or 16");
-    STANDIN_RETURN_IF_ERROR(take(parameters.get_float("coarse-ratio", 0.1f, 0.0f, 1.0f), s.coarse_ratio));
-    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("enhanced-billboards"));
-    return s;
+    if (directions != "sphere") parameters.set_integer("direction-count", directions == "seed" ? 36 * 18 : 6);
+    int depth_bits = parameters.integer("depth-bits");
+    if (depth_bits != 8 && depth_bits != 16) return error(StatusCode::invalid_argument, "--depth-bits: must be 8 or 16");
+    return Status::ok();
 }
 
 // Unit projection directions w (from the plane into the model).
@@ -361,8 +337,9 @@ Mesh make_coarse_mesh(const Mesh& mesh, float ratio)
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
     const Mesh& mesh = context.mesh;
-    Result<BakeSettings> settings = read_settings(context.parameters);
-    if (!settings) return settings.status();
+    Options parameters = context.parameters;
+    STANDIN_RETURN_IF_ERROR(resolve_parameters(parameters));
+    const BakeSettings settings = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
     std::optional<tbb::global_control> threads;
     if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
@@ -371,7 +348,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     float diagonal = mesh.bounds().diagonal();
     if (!(diagonal > 0.0f) || !std::isfinite(diagonal))
         return error(StatusCode::bad_data, context.source.file_name + ": the model has no extent");
-    float texel = settings->texel_size > 0.0f ? settings->texel_size : diagonal / float(settings->resolution);
+    float texel = settings.texel_size > 0.0f ? settings.texel_size : diagonal / float(settings.resolution);
     if (diagonal / texel > float(k_max_grid_texels))
         return error(StatusCode::invalid_argument, "--texel-size: " + std::to_string(texel) + " puts " +
                                                        std::to_string(diagonal / texel) + " texels along the diagonal (at most " +
@@ -379,8 +356,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 
     auto package = std::make_unique<EnhancedBillboardsPackage>();
     package->source = context.source;
-    package->settings = *settings;
-    package->settings.texel_size = texel;
+    parameters.set_number("texel-size", texel);
+    package->parameters = parameters;
+    package->settings = settings_from(parameters);
     package->faces_total = mesh.triangle_count();
 
     // split faces longer than a few texels, so that partial occlusion costs only a piece
@@ -389,11 +367,11 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const Mesh& work = split_long_edges(mesh, k_split_texels * texel, split, source_face) ? split : mesh;
     FaceData faces = compute_face_data(work);
     for (double a : faces.area) package->area_total += a;
-    std::vector<glm::vec3> directions = make_directions(*settings);
+    std::vector<glm::vec3> directions = make_directions(settings);
     CaptureSettings capture_settings;
     capture_settings.texel_size = texel;
-    capture_settings.depth_limit = settings->depth_limit * diagonal;
-    capture_settings.min_facing = std::sin(glm::radians(settings->grazing_angle));
+    capture_settings.depth_limit = settings.depth_limit * diagonal;
+    capture_settings.min_facing = std::sin(glm::radians(settings.grazing_angle));
     std::vector<std::uint32_t> remaining(work.triangle_count());
     for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
 
@@ -402,22 +380,22 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     std::vector<std::uint32_t> too_small;
     while (!remaining.empty()) {
         context.progress.report("enhanced billboards: capturing", package->area_captured / std::max(package->area_total, 1e-300));
-        if (int(package->billboards.size()) >= settings->max_billboards) {
+        if (int(package->billboards.size()) >= settings.max_billboards) {
             hit_limit = true;
             break;
         }
         // choose the direction that captures the most, and capture it at full resolution
-        std::optional<glm::vec3> w = choose_direction(work, faces, remaining, directions, *settings, capture_settings);
+        std::optional<glm::vec3> w = choose_direction(work, faces, remaining, directions, settings, capture_settings);
         if (!w) break;
         CaptureSettings final_settings = capture_settings;
         final_settings.write_maps = true;
         Capture capture = capture_direction(work, faces, remaining, *w, final_settings);
         if (capture.faces.empty()) break;
-        if (capture.area < double(settings->min_coverage) * package->area_total) {
+        if (capture.area < double(settings.min_coverage) * package->area_total) {
             too_small = std::move(capture.faces);
             break;
         }
-        if (settings->depth_bits == 8) quantise_to_8_bits(capture.billboard);
+        if (settings.depth_bits == 8) quantise_to_8_bits(capture.billboard);
         capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
         package->area_captured += capture.area;
         package->billboards.push_back(std::move(capture.billboard));
@@ -428,7 +406,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // what was left and why; the coarse mesh covers it
     record_left(faces, remaining, too_small, directions, capture_settings.min_facing, hit_limit, source_face, package->left);
     context.progress.report("enhanced billboards: coarse mesh", 0.0);
-    package->coarse_mesh = make_coarse_mesh(mesh, settings->coarse_ratio);
+    package->coarse_mesh = make_coarse_mesh(mesh, settings.coarse_ratio);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);
     return std::unique_ptr<Package>(std::move(package));
 }

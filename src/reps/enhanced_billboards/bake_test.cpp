@@ -50,11 +50,9 @@ Baked bake_mesh(const Mesh& mesh, const std::map<std::string, std::string>& opti
     SourceInfo source;
     source.file_name = "test";
     source.triangles = mesh.triangle_count();
-    BakeParameters parameters;
+    OptionValues parameters;
     for (const auto& [k, v] : options) parameters.set(k, v);
-    Progress progress;
-    BakeContext context{mesh, source, parameters, progress, threads};
-    Result<std::unique_ptr<Package>> result = bake(context);
+    Result<std::unique_ptr<Package>> result = bake_package(registration(), mesh, source, parameters, {}, threads);
     Baked out;
     if (!result) {
         out.status = result.status();

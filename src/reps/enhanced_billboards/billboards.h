@@ -41,6 +41,11 @@ struct LeftOver {
     double area = 0.0;
 };
 
+constexpr int k_max_grid_texels = 16384;        // texels along the diagonal
+constexpr int k_default_direction_count = 256; // --directions sphere
+
+// The bake parameters as the baker uses them (typed), read from the declared options
+// (representation.cpp) by settings_from.
 struct BakeSettings {
     int resolution = 512;        // texels along the bounding-box diagonal
     float texel_size = 0.0f;     // world units; 0: diagonal / resolution
@@ -58,22 +63,24 @@ struct BakeSettings {
 class EnhancedBillboardsPackage final : public Package {
 public:
     std::string representation() const override { return "enhanced-billboards"; }
-    nlohmann::json summary() const override;
 
-    BakeSettings settings;
+    Options parameters;    // as baked, derived values resolved (texel-size, direction-count)
+    BakeSettings settings; // settings_from(parameters)
     std::vector<Billboard> billboards;
     Mesh coarse_mesh;                       // hole filling (seed §3.4); may be empty
     std::size_t faces_total = 0;
     double area_total = 0.0;
     double area_captured = 0.0;
     std::map<std::string, LeftOver> left;   // reason -> what was left
-    std::uint64_t package_bytes = 0;        // filled when read from disk
 };
 
-// Entry points for the registry (src/reps/registry.cpp).
+BakeSettings settings_from(const Options& parameters);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options);
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
 
 } // namespace standin::billboards

@@ -20,38 +20,11 @@ namespace {
 
 std::string billboard_file(std::size_t index, const char* map) { return manifest_io::numbered_png("billboard", index, map); }
 
-nlohmann::json settings_json(const BakeSettings& s)
-{
-    return {{"resolution", s.resolution},     {"texel_size", s.texel_size},       {"directions", s.directions},
-            {"direction_count", s.direction_count}, {"score", s.score},         {"depth_limit", s.depth_limit},
-            {"grazing_angle", s.grazing_angle}, {"max_billboards", s.max_billboards}, {"min_coverage", s.min_coverage},
-            {"depth_bits", s.depth_bits},     {"coarse_ratio", s.coarse_ratio}};
-}
-
 ImageRGBA8 to_8_bits(const ImageRGBA16& image)
 {
     ImageRGBA8 out(image.width, image.height);
     for (std::size_t k = 0; k < image.pixels.size(); ++k) out.pixels[k] = std::uint8_t((image.pixels[k] + 128) / 257);
     return out;
-}
-
-BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& bake = in.member(manifest, "bake", "");
-    BakeSettings s;
-    s.resolution = int(in.integer(bake, "resolution", "bake.", 1, 1 << 20));
-    s.texel_size = float(in.number(bake, "texel_size", "bake.", 1e-30, 1e30));
-    s.directions = in.string(bake, "directions", "bake.");
-    s.direction_count = int(in.integer(bake, "direction_count", "bake.", 0, 1 << 30));
-    s.score = in.string(bake, "score", "bake.");
-    s.depth_limit = float(in.number(bake, "depth_limit", "bake.", 0.0, 1e30));
-    s.grazing_angle = float(in.number(bake, "grazing_angle", "bake.", 0.0, 90.0));
-    s.max_billboards = int(in.integer(bake, "max_billboards", "bake.", 0, 1 << 30));
-    s.min_coverage = float(in.number(bake, "min_coverage", "bake.", 0.0, 1.0));
-    s.depth_bits = int(in.integer(bake, "depth_bits", "bake.", 8, 16));
-    if (s.depth_bits != 8 && s.depth_bits != 16) in.fail("bake.depth_bits", "must be 8 or 16");
-    s.coarse_ratio = float(in.number(bake, "coarse_ratio", "bake.", 0.0, 1.0));
-    return s;
 }
 
 // Reads one PNG of a billboard, checking size and bit depth against the manifest.
@@ -159,7 +132,7 @@ Status write(const Package& base, const std::string& directory)
         {"version", k_package_format_version},
         {"representation", package.representation()},
         {"source", manifest_io::source_json(package.source)},
-        {"bake", settings_json(package.settings)},
+        {"bake", manifest_io::settings_json(package.parameters)},
         {"faces_total", package.faces_total},
         {"area_total", package.area_total},
         {"area_captured", package.area_captured},
@@ -178,7 +151,10 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     auto package = std::make_unique<EnhancedBillboardsPackage>();
     try {
         package->source = manifest_io::read_source(in, manifest);
-        package->settings = read_settings(in, manifest);
+        package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        package->settings = settings_from(package->parameters);
+        int depth_bits = package->settings.depth_bits;
+        if (depth_bits != 8 && depth_bits != 16) in.fail("bake.depth_bits", "must be 8 or 16");
         package->faces_total = std::size_t(in.integer(manifest, "faces_total", "", 0, INT64_MAX));
         package->area_total = in.number(manifest, "area_total", "", 0.0, 1e300);
         package->area_captured = in.number(manifest, "area_captured", "", 0.0, 1e300);
@@ -207,41 +183,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
-    Result<std::uint64_t> bytes = package_bytes(directory);
-    if (!bytes) return bytes.status();
-    package->package_bytes = *bytes;
     return std::unique_ptr<Package>(std::move(package));
-}
-
-nlohmann::json EnhancedBillboardsPackage::summary() const
-{
-    double total = area_total > 0.0 ? area_total : 1.0;
-    nlohmann::json left_fraction = nlohmann::json::object(), left_faces = nlohmann::json::object();
-    for (const auto& [reason, what] : left) {
-        left_fraction[reason] = what.area / total;
-        left_faces[reason] = what.faces;
-    }
-    std::uint64_t texels = 0;
-    nlohmann::json sizes = nlohmann::json::array();
-    for (const Billboard& b : billboards) {
-        texels += std::uint64_t(b.width) * b.height;
-        sizes.push_back({b.width, b.height});
-    }
-    return {{"representation", representation()},
-            {"source", source.file_name},
-            {"billboards", billboards.size()},
-            {"billboard_sizes", sizes},
-            {"texels", texels},
-            {"texel_size", settings.texel_size},
-            {"depth_bits", settings.depth_bits},
-            {"directions", settings.directions},
-            {"faces_total", faces_total},
-            {"area_total", area_total},
-            {"area_captured_fraction", std::min(1.0, area_captured / total)},
-            {"area_left_fraction", left_fraction},
-            {"faces_left", left_faces},
-            {"coarse_mesh_triangles", coarse_mesh.triangle_count()},
-            {"package_bytes", package_bytes}};
 }
 
 } // namespace standin::billboards

@@ -26,10 +26,9 @@ std::unique_ptr<EnhancedBillboardsPackage> baked_sphere(const std::map<std::stri
     Result<Mesh> mesh = generate_mesh(generate);
     EXPECT_TRUE(mesh);
     Result<SourceInfo> source = describe_source("", *mesh);
-    BakeParameters parameters;
+    OptionValues parameters;
     for (const auto& [k, v] : options) parameters.set(k, v);
-    Progress progress;
-    Result<std::unique_ptr<Package>> result = bake(BakeContext{*mesh, *source, parameters, progress, 0});
+    Result<std::unique_ptr<Package>> result = bake_package(registration(), *mesh, *source, parameters);
     EXPECT_TRUE(result) << result.status().message();
     return std::unique_ptr<EnhancedBillboardsPackage>(static_cast<EnhancedBillboardsPackage*>(result->release()));
 }
@@ -83,7 +82,7 @@ TEST(BillboardPackage, RoundTripKeepsEverything)
     EXPECT_EQ(p.faces_total, baked->faces_total);
     EXPECT_EQ(p.coarse_mesh.triangle_count(), baked->coarse_mesh.triangle_count());
     EXPECT_GT(p.package_bytes, 0u);
-    nlohmann::json summary = p.summary();
+    nlohmann::json summary = summarise_package(p).details;
     for (const char* key : {"representation", "billboards", "faces_total", "area_captured_fraction", "area_left_fraction", "package_bytes"})
         EXPECT_TRUE(summary.contains(key)) << key;
     EXPECT_EQ(summary["representation"], "enhanced-billboards");
@@ -115,9 +114,7 @@ TEST(BillboardPackage, WritesAreByteIdenticalAcrossThreadCounts)
         generate.target_triangles = 4000;
         Result<Mesh> mesh = generate_mesh(generate);
         Result<SourceInfo> source = describe_source("", *mesh);
-        BakeParameters parameters;
-        Progress progress;
-        Result<std::unique_ptr<Package>> p = bake(BakeContext{*mesh, *source, parameters, progress, threads});
+        Result<std::unique_ptr<Package>> p = bake_package(registration(), *mesh, *source, {}, {}, threads);
         ASSERT_TRUE(p);
         std::string directory = base + "/t" + std::to_string(threads) + ".standin";
         ASSERT_TRUE(write_package(**p, directory));

@@ -19,10 +19,11 @@
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
 // with texelFetch (no filtering, so the empty background never bleeds into the colour).
-// Debug view "boxes" draws every billboard's box over the shaded picture as lines (boxes.vert).
+// Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 
+#include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "gpu/shaders/common/bindings.h"
@@ -112,14 +113,12 @@ struct ProgramLocations {
 class BillboardRenderer final : public Renderer {
 public:
     static Result<std::unique_ptr<Renderer>> create(const EnhancedBillboardsPackage& package,
-                                                    const RenderOptions& options);
+                                                    const RenderSettings& settings);
     DrawStats draw(const DrawParams& params) override;
-    void set_counting(bool on) override;
-    std::uint64_t read_fetch_count() override { return read_counter(COUNTER_FETCHES); }
-    std::uint64_t read_fragment_count() override { return read_counter(COUNTER_FRAGMENTS); }
+    void set_counting(bool on) override { counters_.set_counting(on); }
+    std::uint64_t read_counter(Counter counter) override { return counters_.read(int(counter)); }
 
 private:
-    std::uint64_t read_counter(int index);
     Status upload_billboards(const EnhancedBillboardsPackage& package);
     void upload_coarse_mesh(const Mesh& mesh);
     void upload_box_lines(const EnhancedBillboardsPackage& package);
@@ -129,14 +128,15 @@ private:
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
     void append_proxies(std::uint32_t instance, bool fine, glm::vec3 forward_object, std::vector<DrawEntry>& out);
 
-    RenderOptions options_;
-    int march_mode_ = MARCH_EXACT, debug_view_ = DEBUG_NONE;
+    int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
+    float seed_hit_range_ = 0.01f;
     gpu::Program front_, inside_, coarse_;
     ProgramLocations front_at_, inside_at_;
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_;
-    gpu::Buffer billboards_, counters_, tiles_, draw_list_;
+    gpu::Buffer billboards_, tiles_, draw_list_;
+    gpu::Counters counters_{COUNTER_COUNT};
     // proxies: tiles [0, fine_count_), then one whole-billboard box per billboard
     std::vector<ProxyInfo> proxies_;
     std::size_t fine_count_ = 0;
@@ -156,8 +156,7 @@ private:
     gpu::Texture pixel_flags_, pixel_depth_;
     glm::ivec2 pixel_images_size_{0};
     gpu::FrameResources frame_;
-    bool counting_ = false;
-    // debug view "boxes" only
+    // debug view "proxies" only
     bool box_lines_ = false;
     gpu::Program box_lines_program_;
     GLint box_lines_alpha_at_ = -1;
@@ -165,17 +164,6 @@ private:
     gpu::Buffer box_lines_vertices_;
     GLsizei box_lines_vertex_count_ = 0;
 };
-
-int debug_view_code(const std::string& name)
-{
-    if (name.empty()) return DEBUG_NONE;
-    if (name == "billboard") return DEBUG_BILLBOARD;
-    if (name == "depth") return DEBUG_DEPTH;
-    if (name == "normal") return DEBUG_NORMAL;
-    if (name == "fetches") return DEBUG_FETCHES;
-    if (name == "boxes") return DEBUG_NONE; // the shaded picture, with box lines drawn over it
-    return -1;
-}
 
 gpu::Texture make_texture_array(GLenum internal_format, int width, int height, int layers, int levels)
 {
@@ -230,21 +218,16 @@ Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
 }
 
 Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillboardsPackage& package,
-                                                            const RenderOptions& options)
+                                                            const RenderSettings& settings)
 {
     auto renderer = std::make_unique<BillboardRenderer>();
-    renderer->options_ = options;
-    if (options.march != "exact" && options.march != "seed")
-        return error(StatusCode::invalid_argument, "enhanced billboards: --march must be 'exact' or 'seed', not '" +
-                                                       options.march + "'");
-    renderer->march_mode_ = options.march == "seed" ? MARCH_SEED : MARCH_EXACT;
-    if (options.steps < 1 || options.steps > 10000)
-        return error(StatusCode::invalid_argument, "enhanced billboards: --steps must be within 1..10000");
-    if (!(options.hit_range > 0.0f && options.hit_range <= 1.0f))
-        return error(StatusCode::invalid_argument, "enhanced billboards: --hit-range must be within (0, 1]");
-    renderer->debug_view_ = debug_view_code(options.debug_view);
-    if (renderer->debug_view_ < 0)
-        return error(StatusCode::invalid_argument, "enhanced billboards: unknown debug view '" + options.debug_view + "'");
+    const Options& options = settings.options;
+    renderer->march_mode_ = options.choice("march") == "seed" ? MARCH_SEED : MARCH_EXACT;
+    renderer->seed_steps_ = options.integer("steps");
+    renderer->seed_hit_range_ = options.number("hit-range");
+    // "proxies" is the shaded picture with the box lines drawn over it
+    bool proxies = settings.debug_view == DebugView::proxies;
+    renderer->debug_view_ = proxies ? DEBUG_VIEW_NONE : int(settings.debug_view);
     for (std::size_t i = 0; i < package.billboards.size(); ++i)
         STANDIN_RETURN_IF_ERROR(check_billboard(package.billboards[i], i));
 
@@ -260,7 +243,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->coarse_ = std::move(*coarse);
     renderer->coarse_near_only_at_ = renderer->coarse_.uniform("fill_near_misses_only");
     renderer->coarse_debug_at_ = renderer->coarse_.uniform("debug_view");
-    if (options.debug_view == "boxes") {
+    if (proxies) {
         Result<gpu::Program> lines = gpu::Program::create(
             {"reps/enhanced_billboards/shaders/boxes.vert", "reps/enhanced_billboards/shaders/boxes.frag"});
         if (!lines) return lines.status();
@@ -271,11 +254,9 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
 
     // upload maps and accelerations, then the coarse mesh
     STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
-    if (options.coarse_mesh && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
+    if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
     if (renderer->box_lines_) renderer->upload_box_lines(package);
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
-    std::array<std::uint32_t, COUNTER_COUNT> zero{};
-    renderer->counters_ = gpu::make_buffer(zero.data(), sizeof zero, GL_DYNAMIC_STORAGE_BIT);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "enhanced billboards: OpenGL error " + std::to_string(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
@@ -444,7 +425,7 @@ void BillboardRenderer::upload_box_lines(const EnhancedBillboardsPackage& packag
     glEnableVertexArrayAttrib(vao, ATTRIB_BOX_EDGE);
 }
 
-// Debug view "boxes": the box lines of every instance over what was drawn, depth-tested against
+// Debug view "proxies": the box lines of every instance over what was drawn, depth-tested against
 // it without writing depth: first the hidden parts, dimmed (blended at a third), then the visible
 // parts at full colour. Leaves depth testing at GL_LESS, depth writes on and blending off.
 void BillboardRenderer::draw_box_lines(DrawStats& stats)
@@ -474,10 +455,10 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     GLuint id = program.id();
     glProgramUniform1i(id, at.first_entry, first_entry);
     glProgramUniform1i(id, at.march_mode, march_mode_);
-    glProgramUniform1i(id, at.seed_steps, options_.steps);
-    glProgramUniform1f(id, at.seed_hit_range, options_.hit_range);
+    glProgramUniform1i(id, at.seed_steps, seed_steps_);
+    glProgramUniform1f(id, at.seed_hit_range, seed_hit_range_);
     glProgramUniform1i(id, at.debug_view, debug_view_);
-    glProgramUniform1i(id, at.counting, counting_ ? 1 : 0);
+    glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
     glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
 }
 
@@ -601,11 +582,11 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_BILLBOARDS_SSBO, billboards_.get());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_TILES_SSBO, tiles_.get());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_DRAW_LIST_SSBO, draw_list_.get());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COUNTERS_SSBO, counters_.get());
-        glBindTextureUnit(BINDING_ALBEDO_TEXTURE, color_maps_.get());
-        glBindTextureUnit(BINDING_NORMAL_DEPTH_TEXTURE, normal_maps_.get());
-        glBindTextureUnit(BINDING_ACCELERATION_TEXTURE, surface_maps_.get());
-        glBindTextureUnit(BINDING_EXTRA_TEXTURE, minmax_maps_.get());
+        counters_.bind();
+        glBindTextureUnit(BINDING_COLOR_MAPS, color_maps_.get());
+        glBindTextureUnit(BINDING_NORMAL_MAPS, normal_maps_.get());
+        glBindTextureUnit(BINDING_SURFACE_MAPS, surface_maps_.get());
+        glBindTextureUnit(BINDING_MINMAX_MAPS, minmax_maps_.get());
         glBindVertexArray(empty_vertex_array_.get());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
@@ -649,36 +630,21 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
     }
 
-    // debug view "boxes": the boxes over the picture (lines are not counted as primitives)
+    // debug view "proxies": the boxes over the picture (lines are not counted as primitives)
     if (box_lines_) draw_box_lines(stats);
     glBindVertexArray(0);
     return stats;
 }
 
-void BillboardRenderer::set_counting(bool on)
-{
-    counting_ = on;
-    std::array<std::uint32_t, COUNTER_COUNT> zero{};
-    glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero.data());
-}
-
-std::uint64_t BillboardRenderer::read_counter(int index)
-{
-    std::array<std::uint32_t, COUNTER_COUNT> counts{};
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts.data());
-    return counts[std::size_t(index)];
-}
-
 } // namespace
 
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
     const auto* billboards = dynamic_cast<const EnhancedBillboardsPackage*>(&package);
     if (!billboards)
         return error(StatusCode::invalid_argument,
                      "enhanced billboards: package holds '" + package.representation() + "', not enhanced billboards");
-    return BillboardRenderer::create(*billboards, options);
+    return BillboardRenderer::create(*billboards, settings);
 }
 
 } // namespace standin::billboards

@@ -153,14 +153,14 @@ Rendered render_package(const EnhancedBillboardsPackage& package, const RenderOp
                         const Light& light, int width, int height)
 {
     Rendered out;
-    auto renderer = make_renderer(package, options);
+    auto renderer = make_package_renderer(package, options);
     EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
     if (!renderer.is_ok()) return out;
     (*renderer)->set_counting(true);
     auto image = render_offscreen(**renderer, camera, light, width, height);
     EXPECT_TRUE(image.is_ok()) << image.status().message();
     if (!image.is_ok()) return out;
-    out.fetches = (*renderer)->read_fetch_count();
+    out.fetches = (*renderer)->read_counter(Counter::fetches);
     out.image = std::move(*image);
     return out;
 }
@@ -180,7 +180,7 @@ TEST(BillboardRenderer, ExactMarchCoversTheSphereWithoutHolesFromManyViews)
     test::gpu_context();
     EnhancedBillboardsPackage package = sphere_package();
     RenderOptions options;
-    options.coarse_mesh = false;
+    options.values.set("coarse", "off");
     const float views[][2] = {{0, 0}, {30, 20}, {45, 35.26f}, {70, -50}, {-120, 10}, {10, 85}};
     for (const auto& view : views) {
         Camera camera = orbit(view[0], view[1], 4.0f, k_width, k_height);
@@ -202,14 +202,14 @@ TEST(BillboardRenderer, SeedMarchWithFewStepsShowsHoles)
     test::gpu_context();
     EnhancedBillboardsPackage package = sphere_package();
     RenderOptions options;
-    options.coarse_mesh = false;
-    options.march = "seed";
-    options.steps = 8;
+    options.values.set("coarse", "off");
+    options.values.set("march", "seed");
+    options.values.set("steps", "8");
     Camera camera = orbit(30, 20, 4.0f, k_width, k_height);
     Rendered few = render_package(package, options, camera, default_light(camera), k_width, k_height);
     Coverage c = compare_with_sphere(few.image.color, camera, k_margin);
     EXPECT_GT(double(c.holes), 0.02 * double(c.inside)) << "8 steps should miss the sheet often";
-    options.steps = 100;
+    options.values.set("steps", "100");
     Rendered seed = render_package(package, options, camera, default_light(camera), k_width, k_height);
     Coverage s = compare_with_sphere(seed.image.color, camera, k_margin);
     std::printf("[ seed ] 8 steps: %.2f%% holes; 100 steps: %.2f%% holes, %.1f fetches per covered pixel\n",
@@ -244,7 +244,7 @@ TEST(BillboardRenderer, DepthCompositesWithACrossingPlane)
     plane.materials.resize(1);
     auto plane_renderer = make_mesh_renderer(plane);
     ASSERT_TRUE(plane_renderer.is_ok()) << plane_renderer.status().message();
-    auto billboards = make_renderer(sphere_package(), RenderOptions{});
+    auto billboards = make_package_renderer(sphere_package(), RenderOptions{});
     ASSERT_TRUE(billboards.is_ok()) << billboards.status().message();
     Both both(**plane_renderer, **billboards);
 
@@ -281,7 +281,7 @@ TEST(BillboardRenderer, ViewFromInsideTheBoxes)
     test::gpu_context();
     EnhancedBillboardsPackage package = sphere_package();
     RenderOptions options;
-    options.coarse_mesh = false;
+    options.values.set("coarse", "off");
     // inside all six boxes ([-1, 1]^3), outside the sphere
     Camera camera = look_at_camera(glm::vec3(0.85f, 0.8f, 0.9f), glm::vec3(0.0f), glm::vec3(0, 1, 0), 100.0f,
                                    float(k_width) / float(k_height), 0.05f, 20.0f);
@@ -297,7 +297,7 @@ TEST(BillboardRenderer, GrazingViewsAlongABillboardPlane)
     test::gpu_context();
     EnhancedBillboardsPackage package = sphere_package();
     RenderOptions options;
-    options.coarse_mesh = false;
+    options.values.set("coarse", "off");
     // the eye in the plane z = 1 of the billboard looking down -z, and one degree above and below
     for (float height : {1.0f, 1.0f + 4.0f * std::tan(glm::radians(1.0f)), 0.0f}) {
         Camera camera = look_at_camera(glm::vec3(4.0f, 0.0f, height), glm::vec3(0.0f, 0.0f, height * 0.999f),
@@ -316,7 +316,7 @@ double linear_to_srgb(double c) { return c <= 0.0031308 ? c * 12.92 : 1.055 * st
 TEST(BillboardRenderer, MovingLightShadesAsLambertPredicts)
 {
     test::gpu_context();
-    auto renderer = make_renderer(sphere_package(), RenderOptions{});
+    auto renderer = make_package_renderer(sphere_package(), RenderOptions{});
     ASSERT_TRUE(renderer.is_ok());
     const int size = 121;
     Camera camera = look_at_camera(glm::vec3(0, 0, 4), glm::vec3(0.0f), glm::vec3(0, 1, 0), 40.0f, 1.0f, 0.1f, 20.0f);
@@ -342,7 +342,7 @@ TEST(BillboardRenderer, RepeatedRendersAreByteIdentical)
     test::gpu_context();
     EnhancedBillboardsPackage package = sphere_package();
     package.coarse_mesh = coarse_sphere(0.98f);
-    auto renderer = make_renderer(package, RenderOptions{});
+    auto renderer = make_package_renderer(package, RenderOptions{});
     ASSERT_TRUE(renderer.is_ok());
     Camera camera = orbit(37, 41, 4.0f, k_width, k_height);
     auto first = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
@@ -358,19 +358,19 @@ TEST(BillboardRenderer, CoarseMeshFillsHolesWithoutGrowingTheSilhouette)
     EnhancedBillboardsPackage package = sphere_package();
     package.coarse_mesh = coarse_sphere(1.04f); // larger than the sphere: would grow it if unchecked
     RenderOptions options;
-    options.march = "seed";
-    options.steps = 8;
+    options.values.set("march", "seed");
+    options.values.set("steps", "8");
     Camera camera = orbit(30, 20, 4.0f, k_width, k_height);
-    options.coarse_mesh = false;
+    options.values.set("coarse", "off");
     Coverage without = compare_with_sphere(
         render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
-    options.coarse_mesh = true;
+    options.values.set("coarse", "on");
     Coverage with = compare_with_sphere(
         render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
     EXPECT_GT(without.holes, 100u);
     EXPECT_LT(double(with.holes), 0.002 * double(with.inside)) << without.holes << " holes before";
     EXPECT_EQ(with.spill, 0u);
-    options.march = "exact";
+    options.values.set("march", "exact");
     Coverage exact = compare_with_sphere(
         render_package(package, options, camera, default_light(camera), k_width, k_height).image.color, camera, k_margin);
     EXPECT_EQ(exact.holes, 0u);
@@ -391,7 +391,7 @@ private:
 TEST(BillboardRenderer, InstancesDrawInFewCallsWhereTheirTransformsPutThem)
 {
     test::gpu_context();
-    auto renderer = make_renderer(sphere_package(64), RenderOptions{});
+    auto renderer = make_package_renderer(sphere_package(64), RenderOptions{});
     ASSERT_TRUE(renderer.is_ok());
     Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 20.0f);
     std::vector<glm::mat4> transforms = {glm::translate(glm::mat4(1.0f), glm::vec3(-2.5f, 0, 0)),
@@ -456,7 +456,7 @@ TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)
     // six-billboard sphere above holds every point three times over, and each copy is marched
     EnhancedBillboardsPackage package = sphere_package(128, false);
     RenderOptions options;
-    options.coarse_mesh = false;
+    options.values.set("coarse", "off");
     for (float azimuth : {0.0f, 25.0f, 50.0f}) {
         Camera camera = orbit(azimuth, 10.0f, 2.5f, k_width, k_height);
         Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
@@ -474,7 +474,7 @@ TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)
 TEST(BillboardRenderer, CrowdInstancesOutsideTheViewAreNotDrawn)
 {
     test::gpu_context();
-    auto renderer = make_renderer(sphere_package(64), RenderOptions{});
+    auto renderer = make_package_renderer(sphere_package(64), RenderOptions{});
     ASSERT_TRUE(renderer.is_ok());
     Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 20.0f);
     std::vector<glm::mat4> crowd;
@@ -495,7 +495,7 @@ TEST(BillboardRenderer, CoarseMeshIsDrawnOnlyOnInstancesLargeEnoughToShowHoles)
     package.coarse_mesh = coarse_sphere(1.0f);
     const std::uint64_t coarse_triangles = package.coarse_mesh.triangle_count();
     ASSERT_GT(coarse_triangles, 100u);
-    auto renderer = make_renderer(package, RenderOptions{});
+    auto renderer = make_package_renderer(package, RenderOptions{});
     ASSERT_TRUE(renderer.is_ok());
     Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 4000.0f);
     // a second copy 1000 units away covers a fraction of a pixel: billboards yes, coarse mesh no
@@ -555,10 +555,10 @@ TEST(BillboardRenderer, BoxesViewDrawsBoxEdgesAndFrontPlaneOverThePicture)
     camera = look_at_camera(camera.eye_world + offset, offset, glm::vec3(0, 1, 0), 40.0f,
                             float(k_width) / float(k_height), 0.1f, 20.0f);
     RenderOptions options;
-    options.coarse_mesh = false;
-    auto plain_renderer = make_renderer(package, options);
-    options.debug_view = "boxes";
-    auto boxes_renderer = make_renderer(package, options);
+    options.values.set("coarse", "off");
+    auto plain_renderer = make_package_renderer(package, options);
+    options.debug_view = DebugView::proxies;
+    auto boxes_renderer = make_package_renderer(package, options);
     ASSERT_TRUE(plain_renderer.is_ok() && boxes_renderer.is_ok()) << boxes_renderer.status().message();
     auto plain = render_offscreen(**plain_renderer, camera, default_light(camera), k_width, k_height, transforms);
     auto boxes = render_offscreen(**boxes_renderer, camera, default_light(camera), k_width, k_height, transforms);

@@ -25,41 +25,6 @@ namespace standin::view_atlas {
 
 namespace {
 
-Result<BakeSettings> read_settings(const BakeParameters& parameters)
-{
-    BakeSettings s;
-    auto layout = parameters.get_choice("layout", s.layout, {"icosahedral", "octahedral", "hemi-octahedral"});
-    if (!layout) return layout.status();
-    s.layout = *layout;
-    auto subdivisions = parameters.get_int("subdivisions", s.subdivisions, 0, 5);
-    if (!subdivisions) return subdivisions.status();
-    s.subdivisions = *subdivisions;
-    auto frames = parameters.get_int("frames", s.frames, 2, 64);
-    if (!frames) return frames.status();
-    s.frames = *frames;
-    auto projection = parameters.get_choice("projection", s.projection, {"ortho", "perspective"});
-    if (!projection) return projection.status();
-    s.projection = *projection;
-    auto fov = parameters.get_float("fov", s.fov, 1.0f, 170.0f);
-    if (!fov) return fov.status();
-    s.fov = *fov;
-    auto resolution = parameters.get_int("resolution", s.resolution, 16, 4096);
-    if (!resolution) return resolution.status();
-    s.resolution = *resolution;
-    auto maps = parameters.get_choice("maps", s.maps, {"surface", "lit"});
-    if (!maps) return maps.status();
-    s.maps = *maps;
-    auto page_size = parameters.get_int("page-size", s.page_size, 256, 16384);
-    if (!page_size) return page_size.status();
-    s.page_size = *page_size;
-    if (s.page_size % k_cell != 0)
-        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(k_cell));
-    if (s.resolution + 2 * k_cell > s.page_size)
-        return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
-    STANDIN_RETURN_IF_ERROR(parameters.check_all_used("view-atlas"));
-    return s;
-}
-
 // The surface normals of the mesh, world space, as the capture's second image.
 class NormalRenderer final : public Renderer {
 public:
@@ -180,9 +145,8 @@ void copy_into_page(const ImageRGBA8& crop, ImageRGBA8& page, int x, int y)
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    Result<BakeSettings> settings = read_settings(context.parameters);
-    if (!settings) return settings.status();
-    const BakeSettings& s = *settings;
+    const BakeSettings s = settings_from(context.parameters);
+    STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "view atlas"));
 
     // the bake renders on the GPU: use the current context or make one for the bake
@@ -203,6 +167,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 
     auto package = std::make_unique<ViewAtlasPackage>();
     package->source = context.source;
+    package->parameters = context.parameters;
     package->settings = s;
     BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;

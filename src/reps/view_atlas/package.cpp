@@ -18,34 +18,11 @@ namespace {
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
 
-nlohmann::json settings_json(const BakeSettings& s)
-{
-    return {{"layout", s.layout}, {"subdivisions", s.subdivisions}, {"frames", s.frames},
-            {"projection", s.projection}, {"fov", s.fov}, {"resolution", s.resolution},
-            {"maps", s.maps}, {"page_size", s.page_size}};
-}
-
 Status write_page(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)
 {
     std::string path = (fs::path(directory) / name).string();
     STANDIN_RETURN_IF_ERROR(write_png(image, path));
     return manifest_io::record_file(directory, name, files);
-}
-
-BakeSettings read_settings(const manifest_io::Reader& in, const nlohmann::json& manifest)
-{
-    const nlohmann::json& bake = in.member(manifest, "bake", "");
-    BakeSettings s;
-    s.layout = in.choice(bake, "layout", "bake.", {"icosahedral", "octahedral", "hemi-octahedral"});
-    s.subdivisions = int(in.integer(bake, "subdivisions", "bake.", 0, 5));
-    s.frames = int(in.integer(bake, "frames", "bake.", 2, 64));
-    s.projection = in.choice(bake, "projection", "bake.", {"ortho", "perspective"});
-    s.fov = float(in.number(bake, "fov", "bake.", 1.0, 170.0));
-    s.resolution = int(in.integer(bake, "resolution", "bake.", 16, 4096));
-    s.maps = in.choice(bake, "maps", "bake.", {"surface", "lit"});
-    s.page_size = int(in.integer(bake, "page_size", "bake.", 256, 16384));
-    if (s.page_size % k_cell != 0) in.fail("bake.page_size", "is not a multiple of " + std::to_string(k_cell));
-    return s;
 }
 
 View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, std::size_t index, const BakeSettings& s, int pages)
@@ -123,7 +100,7 @@ Status write(const Package& base, const std::string& directory)
         {"version", k_package_format_version},
         {"representation", package.representation()},
         {"source", manifest_io::source_json(package.source)},
-        {"bake", settings_json(package.settings)},
+        {"bake", manifest_io::settings_json(package.parameters)},
         {"sphere", {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}}},
         {"half_extent", package.half_extent()},
         {"pages", pages},
@@ -139,7 +116,9 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     auto package = std::make_unique<ViewAtlasPackage>();
     try {
         package->source = manifest_io::read_source(in, manifest);
-        package->settings = read_settings(in, manifest);
+        package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        package->settings = settings_from(package->parameters);
+        if (Status valid = check_settings(package->settings); !valid) in.fail("bake", valid.message());
         const BakeSettings& s = package->settings;
         const nlohmann::json& sphere = in.member(manifest, "sphere", "");
         package->center = in.vec3(sphere, "center", "sphere.");
@@ -162,36 +141,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     } catch (const manifest_io::BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
-    Result<std::uint64_t> bytes = package_bytes(directory);
-    if (!bytes) return bytes.status();
-    package->package_bytes = *bytes;
-    package->directory = directory;
     return std::unique_ptr<Package>(std::move(package));
-}
-
-nlohmann::json ViewAtlasPackage::summary() const
-{
-    std::uint64_t texels = 0;
-    for (const View& v : views) texels += std::uint64_t(v.width) * v.height;
-    std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * color_pages.size();
-    std::uint64_t gpu_bytes = page_texels * 4 * (has_surface() ? 2 : 1) * 4 / 3; // RGBA8 pages with mips
-    // --texture-format bc3: colour pages at one byte per texel (DXT5), normal-depth still RGBA8
-    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + (has_surface() ? 4 : 0)) * 4 / 3;
-    return {{"representation", representation()},
-            {"source", source.file_name},
-            {"layout", settings.layout},
-            {"views", views.size()},
-            {"projection", settings.projection},
-            {"fov", settings.fov},
-            {"resolution", settings.resolution},
-            {"maps", settings.maps},
-            {"pages", color_pages.size()},
-            {"page_size", settings.page_size},
-            {"crop_texels", texels},
-            {"uncropped_texels", std::uint64_t(settings.resolution) * settings.resolution * views.size()},
-            {"gpu_texture_bytes", gpu_bytes},
-            {"gpu_texture_bytes_bc3", gpu_bytes_bc3},
-            {"package_bytes", package_bytes}};
 }
 
 } // namespace standin::view_atlas

@@ -21,8 +21,11 @@ ViewAtlasPackage small_package()
     ViewAtlasPackage p;
     p.source.file_name = "tiny.ply";
     p.source.bounds = {glm::vec3(-1.0f), glm::vec3(1.0f)};
-    p.settings.resolution = 32;
-    p.settings.page_size = 256;
+    OptionValues values;
+    values.set("resolution", "32");
+    values.set("page-size", "256");
+    p.parameters = *Options::parse(registration().bake_options, values, "test");
+    p.settings = settings_from(p.parameters);
     p.center = glm::vec3(0.0f);
     p.radius = std::sqrt(3.0f);
     const glm::vec3 directions[2] = {{0, 0, 1}, {1, 0, 0}};
@@ -74,7 +77,7 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     EXPECT_EQ(q.normal_depth_pages[0].pixels, p.normal_depth_pages[0].pixels);
     EXPECT_FLOAT_EQ(q.radius, p.radius);
     EXPECT_FLOAT_EQ(q.half_extent(), p.radius); // orthographic
-    EXPECT_EQ(q.summary()["views"], 2);
+    EXPECT_EQ(summarise_package(q).details["views"], 2);
 }
 
 TEST(ViewAtlasPackage, RefusesDamage)

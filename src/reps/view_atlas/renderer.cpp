@@ -19,6 +19,7 @@
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
 
+#include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "reps/view_atlas/shaders/atlas_layout.glsl"
@@ -102,16 +103,6 @@ int style_code(const std::string& name)
     if (name == "seed") return STYLE_SEED;
     if (name == "octahedral-baseline") return STYLE_BASELINE;
     if (name == "corrected") return STYLE_CORRECTED;
-    return -1;
-}
-
-int debug_view_code(const std::string& name)
-{
-    if (name.empty()) return ATLAS_DEBUG_NONE;
-    if (name == "billboard") return ATLAS_DEBUG_VIEW; // the views are this representation's billboards
-    if (name == "depth") return ATLAS_DEBUG_DEPTH;
-    if (name == "normal") return ATLAS_DEBUG_NORMAL;
-    if (name == "fetches") return ATLAS_DEBUG_FETCHES;
     return -1;
 }
 
@@ -382,22 +373,20 @@ Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>
 
 class AtlasRenderer final : public Renderer {
 public:
-    static Result<std::unique_ptr<Renderer>> create(const ViewAtlasPackage& package, const RenderOptions& options);
+    static Result<std::unique_ptr<Renderer>> create(const ViewAtlasPackage& package, const RenderSettings& settings);
     DrawStats draw(const DrawParams& params) override;
-    void set_counting(bool on) override;
-    std::uint64_t read_fetch_count() override { return read_counter(ATLAS_COUNTER_FETCHES); }
-    std::uint64_t read_fragment_count() override { return read_counter(ATLAS_COUNTER_FRAGMENTS); }
+    void set_counting(bool on) override { counters_.set_counting(on); }
+    std::uint64_t read_counter(Counter counter) override { return counters_.read(int(counter)); }
 
 private:
-    std::uint64_t read_counter(int index);
 
     gpu::Program program_;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
-    gpu::Buffer views_, index_, counters_;
+    gpu::Buffer views_, index_;
+    gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
     GLint counting_at_ = -1;
-    bool counting_ = false;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
 };
@@ -424,25 +413,17 @@ Status check_package(const ViewAtlasPackage& package)
     return Status::ok();
 }
 
-Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& package, const RenderOptions& options)
+Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& package, const RenderSettings& settings)
 {
-    int style = style_code(options.style);
-    if (style < 0)
-        return error(StatusCode::invalid_argument, "view atlas: --style must be 'seed', 'octahedral-baseline' or "
-                                                   "'corrected', not '" + options.style + "'");
+    const std::string& style_name = settings.options.choice("style");
+    int style = style_code(style_name);
     if (style != STYLE_SEED && !package.has_surface())
-        return error(StatusCode::invalid_argument, "view atlas: --style " + options.style +
+        return error(StatusCode::invalid_argument, "view atlas: --style " + style_name +
                                                        " needs depth: bake with --maps surface (this package has lit colour only)");
     if (style == STYLE_CORRECTED && package.settings.projection != "ortho")
         return error(StatusCode::unsupported, "view atlas: --style corrected needs orthographic views (bake with "
                                               "--projection ortho); use --style seed or octahedral-baseline");
-    if (options.texture_format != "rgba8" && options.texture_format != "bc3")
-        return error(StatusCode::invalid_argument,
-                     "view atlas: --texture-format must be 'rgba8' or 'bc3', not '" + options.texture_format + "'");
-    int debug_view = debug_view_code(options.debug_view);
-    if (debug_view < 0)
-        return error(StatusCode::invalid_argument, "view atlas: no debug view '" + options.debug_view +
-                                                       "' (it has billboard = colour by view, depth, normal, fetches)");
+    int debug_view = int(settings.debug_view);
     STANDIN_RETURN_IF_ERROR(check_package(package));
 
     GLint max_layers = 0, max_size = 0;
@@ -463,7 +444,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
 
     int size = package.settings.page_size;
     const CellDepths depths = cell_depths(package); // one pass over the pages for the walk's tables
-    const bool compressed = options.texture_format == "bc3";
+    const bool compressed = settings.options.choice("texture-format") == "bc3";
     if (compressed && !epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc"))
         return error(StatusCode::unsupported, "view atlas: --texture-format bc3 needs GL_EXT_texture_compression_s3tc, "
                                               "which this OpenGL lacks; use rgba8");
@@ -485,7 +466,6 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->views_ = gpu::make_buffer(views);
     renderer->index_ = gpu::make_buffer(build_index(package.views));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
-    renderer->counters_ = gpu::make_buffer(std::vector<std::uint32_t>(ATLAS_COUNTER_COUNT, 0u), GL_DYNAMIC_STORAGE_BIT);
     renderer->style_ = style;
     renderer->counting_at_ = renderer->program_.uniform("counting");
 
@@ -513,8 +493,8 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_COUNTERS_SSBO, counters_.get());
-    glProgramUniform1i(program_.id(), counting_at_, counting_ ? 1 : 0);
+    counters_.bind();
+    glProgramUniform1i(program_.id(), counting_at_, counters_.counting() ? 1 : 0);
     for (std::size_t a = 0; a < color_arrays_.size(); ++a) {
         glBindTextureUnit(GLuint(ATLAS_COLOR_TEXTURE + a), color_arrays_[a].get());
         glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
@@ -531,34 +511,19 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
     }
     glBindVertexArray(0);
-    if (counting_) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    if (counters_.counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     return {1, std::uint64_t(instances) * (style_ == STYLE_CORRECTED ? 12u : 2u)};
-}
-
-void AtlasRenderer::set_counting(bool on)
-{
-    counting_ = on;
-    std::uint32_t zero[ATLAS_COUNTER_COUNT] = {};
-    glNamedBufferSubData(counters_.get(), 0, sizeof zero, zero);
-}
-
-std::uint64_t AtlasRenderer::read_counter(int index)
-{
-    std::uint32_t counts[ATLAS_COUNTER_COUNT] = {};
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(counters_.get(), 0, sizeof counts, counts);
-    return counts[index];
 }
 
 } // namespace
 
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options)
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
     const auto* atlas = dynamic_cast<const ViewAtlasPackage*>(&package);
     if (!atlas)
         return error(StatusCode::invalid_argument,
                      "view atlas: package holds '" + package.representation() + "', not a view atlas");
-    return AtlasRenderer::create(*atlas, options);
+    return AtlasRenderer::create(*atlas, settings);
 }
 
 } // namespace standin::view_atlas

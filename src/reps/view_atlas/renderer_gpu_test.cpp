@@ -58,8 +58,8 @@ TEST(ViewAtlasRenderer, SeedStyleReproducesACapturedView)
     ASSERT_TRUE(package);
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
     RenderOptions options;
-    options.style = "seed";
-    Result<std::unique_ptr<Renderer>> atlas = make_renderer(*package, options);
+    options.values.set("style", "seed");
+    Result<std::unique_ptr<Renderer>> atlas = make_package_renderer(*package, options);
     ASSERT_TRUE(truth.is_ok() && atlas.is_ok()) << atlas.status().message();
     // the top view is captured (+Y is a face centre): orthographic, the same framing as the capture
     OrbitView top;
@@ -70,10 +70,10 @@ TEST(ViewAtlasRenderer, SeedStyleReproducesACapturedView)
     EXPECT_LT(m.luv_mean, 3.0);
 
     // lit-only packages cannot be corrected
-    options.style = "corrected";
-    EXPECT_FALSE(make_renderer(*package, options).is_ok());
-    options.style = "sideways";
-    EXPECT_FALSE(make_renderer(*package, options).is_ok());
+    options.values.set("style", "corrected");
+    EXPECT_FALSE(make_package_renderer(*package, options).is_ok());
+    options.values.set("style", "sideways");
+    EXPECT_FALSE(make_package_renderer(*package, options).is_ok());
 }
 
 TEST(ViewAtlasRenderer, CorrectedBeatsSeedBetweenViews)
@@ -91,8 +91,8 @@ TEST(ViewAtlasRenderer, CorrectedBeatsSeedBetweenViews)
     const char* styles[3] = {"seed", "octahedral-baseline", "corrected"};
     for (int k = 0; k < 3; ++k) {
         RenderOptions options;
-        options.style = styles[k];
-        Result<std::unique_ptr<Renderer>> atlas = make_renderer(*package, options);
+        options.values.set("style", styles[k]);
+        Result<std::unique_ptr<Renderer>> atlas = make_package_renderer(*package, options);
         ASSERT_TRUE(atlas.is_ok()) << atlas.status().message();
         ImageMetrics m = compare(**truth, **atlas, mesh, view, 128);
         error[k] = m.rgb_avg;
@@ -108,8 +108,8 @@ TEST(ViewAtlasRenderer, CorrectedBeatsSeedBetweenViews)
 Result<std::unique_ptr<Renderer>> atlas_renderer(const Package& package, const char* style)
 {
     RenderOptions options;
-    options.style = style;
-    return make_renderer(package, options);
+    options.values.set("style", style);
+    return make_package_renderer(package, options);
 }
 
 // The seed's question at relative distance 1 (the camera where a perspective capture was taken):
@@ -262,7 +262,7 @@ TEST(ViewAtlasRenderer, CutOutHullLimitsOverdraw)
         (*renderer)->set_counting(true);
         Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 128, 128);
         ASSERT_TRUE(image.is_ok());
-        std::uint64_t fragments = (*renderer)->read_fragment_count();
+        std::uint64_t fragments = (*renderer)->read_counter(Counter::fragments);
         (*renderer)->set_counting(false);
         std::size_t covered = 0;
         for (std::size_t p = 3; p < image->color.pixels.size(); p += 4) covered += image->color.pixels[p] > 0;
@@ -307,33 +307,33 @@ TEST(ViewAtlasRenderer, DebugViewsShowPerPixelViewsAndNormals)
     view.azimuth_degrees = 17.0f;
     view.elevation_degrees = 11.0f;
     Camera camera = orbit_camera(sphere->bounding_sphere(), view, 1.0f);
-    auto render = [&](const char* debug) {
+    auto render = [&](DebugView debug) {
         RenderOptions options;
         options.debug_view = debug;
-        Result<std::unique_ptr<Renderer>> renderer = make_renderer(*package, options);
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*package, options);
         EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
         Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 64, 64);
         EXPECT_TRUE(image.is_ok());
         return image->color;
     };
-    ImageRGBA8 by_view = render("billboard");
+    ImageRGBA8 by_view = render(DebugView::parts);
     std::set<std::uint32_t> colors;
     for (std::size_t p = 0; p < by_view.pixels.size(); p += 4)
         if (by_view.pixels[p + 3] > 0)
             colors.insert(std::uint32_t(by_view.pixels[p]) << 16 | std::uint32_t(by_view.pixels[p + 1]) << 8 | by_view.pixels[p + 2]);
     EXPECT_GE(colors.size(), 4u) << "one view per instance would give one colour";
 
-    ImageRGBA8 normals = render("normal");
+    ImageRGBA8 normals = render(DebugView::normal);
     const std::uint8_t* centre = normals.at(32, 32);
     glm::vec3 n = glm::vec3(centre[0], centre[1], centre[2]) / 255.0f * 2.0f - 1.0f;
     glm::vec3 to_eye = -glm::normalize(camera.forward_world);
     EXPECT_GT(glm::dot(glm::normalize(n), to_eye), 0.95f);
 
     RenderOptions boxes;
-    boxes.debug_view = "boxes";
-    Result<std::unique_ptr<Renderer>> refused = make_renderer(*package, boxes);
+    boxes.debug_view = DebugView::proxies;
+    Result<std::unique_ptr<Renderer>> refused = make_package_renderer(*package, boxes);
     ASSERT_FALSE(refused.is_ok());
-    EXPECT_NE(refused.status().message().find("boxes"), std::string::npos);
+    EXPECT_NE(refused.status().message().find("proxies"), std::string::npos);
 }
 
 // Instances turned, scaled and mirrored draw where and as the mesh does: each pixel's ray is taken
@@ -377,10 +377,10 @@ TEST(ViewAtlasRenderer, CompressedColourPagesKeepCoverageAndColour)
     Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
     for (const char* style : {"seed", "corrected"}) {
         RenderOptions options;
-        options.style = style;
-        Result<std::unique_ptr<Renderer>> plain = make_renderer(*package, options);
-        options.texture_format = "bc3";
-        Result<std::unique_ptr<Renderer>> compact = make_renderer(*package, options);
+        options.values.set("style", style);
+        Result<std::unique_ptr<Renderer>> plain = make_package_renderer(*package, options);
+        options.values.set("texture-format", "bc3");
+        Result<std::unique_ptr<Renderer>> compact = make_package_renderer(*package, options);
         ASSERT_TRUE(plain.is_ok() && compact.is_ok()) << compact.status().message();
         Result<RenderedImage> a = render_offscreen(**plain, camera, default_light(camera), 128, 128);
         Result<RenderedImage> b = render_offscreen(**compact, camera, default_light(camera), 128, 128);
@@ -396,8 +396,8 @@ TEST(ViewAtlasRenderer, CompressedColourPagesKeepCoverageAndColour)
         EXPECT_GT(m.psnr, 35.0);
     }
     RenderOptions bad;
-    bad.texture_format = "bc7";
-    EXPECT_FALSE(make_renderer(*package, bad).is_ok());
+    bad.values.set("texture-format", "bc7");
+    EXPECT_FALSE(make_package_renderer(*package, bad).is_ok());
 }
 
 // Seen small (mip levels above 0), a parallax step that leaves a view's crop reads nothing: it used
@@ -467,12 +467,12 @@ TEST(ViewAtlasRenderer, PagesSplitOverSeveralArraysDrawAsOne)
 
     for (const char* style : {"seed", "corrected"}) {
         RenderOptions options;
-        options.style = style;
-        Result<std::unique_ptr<Renderer>> one = make_renderer(package, options);
+        options.values.set("style", style);
+        Result<std::unique_ptr<Renderer>> one = make_package_renderer(package, options);
         ASSERT_TRUE(one.is_ok()) << one.status().message();
         // one page per array: every page in its own array at layer 0
         TextureBudget budget(page_bytes + page_bytes / 2);
-        Result<std::unique_ptr<Renderer>> split = make_renderer(package, options);
+        Result<std::unique_ptr<Renderer>> split = make_package_renderer(package, options);
         ASSERT_TRUE(split.is_ok()) << split.status().message();
         for (float azimuth : {31.0f, 121.0f, 211.0f, 301.0f}) { // views on every page
             OrbitView view;
@@ -491,14 +491,14 @@ TEST(ViewAtlasRenderer, PagesSplitOverSeveralArraysDrawAsOne)
     // a budget below one page, or one needing more arrays than the shader binds: refused by name
     {
         TextureBudget budget(page_bytes - 1);
-        Result<std::unique_ptr<Renderer>> refused = make_renderer(package, RenderOptions{});
+        Result<std::unique_ptr<Renderer>> refused = make_package_renderer(package, RenderOptions{});
         ASSERT_FALSE(refused.is_ok());
         EXPECT_NE(refused.status().message().find("does not fit"), std::string::npos) << refused.status().message();
         EXPECT_NE(refused.status().message().find(std::to_string(pages) + " pages"), std::string::npos);
     }
     {
         TextureBudget budget(page_bytes); // one page per array
-        EXPECT_EQ(make_renderer(package, RenderOptions{}).is_ok(), pages <= ATLAS_MAX_ARRAYS);
+        EXPECT_EQ(make_package_renderer(package, RenderOptions{}).is_ok(), pages <= ATLAS_MAX_ARRAYS);
     }
 }
 

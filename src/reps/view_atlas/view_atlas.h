@@ -53,7 +53,6 @@ struct View {
 class ViewAtlasPackage final : public Package {
 public:
     std::string representation() const override { return "view-atlas"; }
-    nlohmann::json summary() const override;
 
     // Half the side of the captured square on the plane through the centre: r for orthographic
     // captures, r / cos(fov/2) for perspective ones at the base distance r / sin(fov/2).
@@ -62,7 +61,8 @@ public:
     float capture_distance() const;
     bool has_surface() const { return settings.maps == "surface"; }
 
-    BakeSettings settings;
+    Options parameters;    // as baked
+    BakeSettings settings; // settings_from(parameters)
     glm::vec3 center{0.0f}; // bounding sphere of the source (centre of the box, half its diagonal)
     float radius = 1.0f;
     std::vector<View> views;
@@ -71,8 +71,6 @@ public:
     // "surface" only. RGB: world normal * 0.5 + 0.5; A: depth (r - dot(p - centre, direction)) /
     // (2r) in [0, 1], 0 nearest to the capture camera.
     std::vector<ImageRGBA8> normal_depth_pages;
-    std::uint64_t package_bytes = 0; // filled when read from disk
-    std::string directory;           // filled when read from disk (named in the renderer's errors)
 };
 
 // The capture directions of a layout (deterministic order).
@@ -87,7 +85,12 @@ std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivis
 // ties by index.
 int pack_views(std::vector<View>& views, int page_size);
 
-// Entry points for the registry (src/reps/registry.cpp).
+// The bake parameters typed (representation.cpp), and the checks between them.
+BakeSettings settings_from(const Options& parameters);
+Status check_settings(const BakeSettings& settings);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
@@ -96,6 +99,6 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
 // STANDIN_ATLAS_TEXTURE_BYTES overrides the budget, e.g. to force several arrays on small packages
 // in tests), at most ATLAS_MAX_ARRAYS arrays per map (shaders/atlas_layout.glsl). A package that
 // needs more is refused with a status naming it and its sizes; so is one the GL cannot allocate.
-Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderOptions& options);
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
 
 } // namespace standin::view_atlas

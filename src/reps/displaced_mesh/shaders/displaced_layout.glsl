@@ -3,21 +3,29 @@
 #ifndef STANDIN_DISPLACED_LAYOUT_GLSL
 #define STANDIN_DISPLACED_LAYOUT_GLSL
 
-// uniform blocks (BINDING_FRAME_UBO = 0 is the frame's)
-#define DM_REFINE_UBO 1          // RefineBlock: tolerance, projection, pass, list capacities
+#include "gpu/shaders/common/bindings.h"
+#include "gpu/shaders/common/debug_views.h"
 
-// shader storage blocks (BINDING_INSTANCES_SSBO = 0 is the frame's)
-#define DM_VERTICES_SSBO 1       // vec4 position, vec4 normal per control vertex (object space)
-#define DM_FACES_SSBO 2          // FaceData per control face
-#define DM_ELEVATIONS_SSBO 3     // float per sample, every level, face-major
-#define DM_SHADING_SSBO 4        // uvec2 per finest sample: octahedral normal, RGBA8 albedo
-#define DM_LIST_IN_SSBO 5        // Record[]: the triangles this pass tests
-#define DM_LIST_OUT_SSBO 6       // Record[]: their children
-#define DM_FINAL_SSBO 7          // Record[]: triangles to draw
-#define DM_SCAN_SSBO 8           // per element of the current list: decision and local prefix sums
-#define DM_GROUPS_SSBO 9         // per workgroup: sums, then their exclusive prefix
-#define DM_STATE_SSBO 10         // counters and indirect arguments (DM_STATE_*)
-#define DM_FIRST_COUNTER DM_STATE_FRAGMENTS // state below it is cleared every draw; counters when counting starts
+// uniform blocks (BINDING_FRAME_UBO = 0 is the frame's)
+#define DM_REFINE_UBO (BINDING_FRAME_UBO + 1) // RefineBlock: tolerance, projection, capacities
+
+// shader storage blocks, from the first slot the GPU layer leaves to renderers
+#define DM_VERTICES_SSBO (BINDING_FIRST_RENDERER_SSBO + 0)   // vec4 position, vec4 normal per control vertex
+#define DM_FACES_SSBO (BINDING_FIRST_RENDERER_SSBO + 1)      // FaceData per control face
+#define DM_ELEVATIONS_SSBO (BINDING_FIRST_RENDERER_SSBO + 2) // float per sample, every level, face-major
+#define DM_SHADING_SSBO (BINDING_FIRST_RENDERER_SSBO + 3)    // uvec2 per finest sample: octahedral normal, RGBA8 albedo
+#define DM_LIST_IN_SSBO (BINDING_FIRST_RENDERER_SSBO + 4)    // Record[]: the triangles this pass tests
+#define DM_LIST_OUT_SSBO (BINDING_FIRST_RENDERER_SSBO + 5)   // Record[]: their children
+#define DM_FINAL_SSBO (BINDING_FIRST_RENDERER_SSBO + 6)      // Record[]: triangles to draw
+#define DM_SCAN_SSBO (BINDING_FIRST_RENDERER_SSBO + 7)       // per element of the current list: decision, local prefix sums
+#define DM_GROUPS_SSBO (BINDING_FIRST_RENDERER_SSBO + 8)     // per workgroup: sums, then their exclusive prefix
+#define DM_STATE_SSBO (BINDING_FIRST_RENDERER_SSBO + 9)      // refinement state and indirect arguments (DM_STATE_*)
+
+// the renderer's own counters (gpu/counters.h), after the shared ones
+#define DM_COUNTER_ERROR_SUM (COUNTER_SHARED_COUNT + 0) // over fragments, the distance to the finest surface, 1/DM_ERROR_UNITS px
+#define DM_COUNTER_ERROR_MAX (COUNTER_SHARED_COUNT + 1) // its maximum, 1/DM_ERROR_UNITS px
+#define DM_COUNTER_COUNT (COUNTER_SHARED_COUNT + 2)
+#define DM_ERROR_UNITS 64.0 // counter units per pixel of error
 
 // DM_STATE_SSBO layout, in uints. Passes alternate between two slots (parity p % 2) for the
 // current list's count and dispatch arguments: a pass reads its own and writes the next one's.
@@ -32,12 +40,7 @@
 #define DM_STATE_DROPPED 14      // final records that did not fit the final list (drawn: none)
 #define DM_STATE_OVERFLOWED 15   // records made final because their children did not fit the list
 #define DM_STATE_DRAW 16         // 4 uints: glDrawArraysIndirect arguments (3 x final, 1, 0, 0)
-#define DM_STATE_FRAGMENTS 20    // fragment-stage invocations while counting
-#define DM_STATE_FETCHES 21      // shading-sample reads while counting
-#define DM_STATE_ERROR_SUM 22    // sum over fragments of the screen-space error, 1/64 px (counting)
-#define DM_STATE_ERROR_MAX 23    // its maximum, 1/64 px
-#define DM_ERROR_UNITS 64.0      // counter units per pixel of error
-#define DM_STATE_UINTS 24
+#define DM_STATE_UINTS 20
 
 #define DM_GROUP_SIZE 256        // invocations per workgroup of every compute pass
 #define DM_RECORD_UINTS 9        // face, instance, q1 q2 of three corners, depth
@@ -55,12 +58,8 @@
 #define DM_SILHOUETTE_COS 0.2     // |cos| of the view angle below which a segment is on the outline
 #define DM_SILHOUETTE_WEIGHT 8.0  // how much more error counts there
 
-// debug views (RenderOptions::debug_view)
-#define DM_DEBUG_NONE 0
-#define DM_DEBUG_PARTS 1         // "parts": colour by control face
-#define DM_DEBUG_LEVEL 2         // "level": bisection depth of the triangle, heat over 0..3m+6
-#define DM_DEBUG_ERROR 3         // "error": distance to the finest surface at the pixel, px, heat over 0..tau (Fig. 11c)
-#define DM_DEBUG_DEPTH 4         // window depth, near white
-#define DM_DEBUG_NORMAL 5        // shading normal, world space
+// debug views (debug_views.h): parts = control face, level = bisection depth (heat over 0..3m+6),
+// error = distance to the finest surface at the pixel in pixels (heat over 0..tau; the paper's
+// Fig. 11c), depth, normal
 
 #endif

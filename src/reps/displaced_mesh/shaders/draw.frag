@@ -6,11 +6,10 @@
 // bisection depth, and the distance to the finest surface in pixels (the paper's Fig. 11c).
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
-#include "gpu/shaders/common/debug_colors.glsl"
+#include "gpu/shaders/common/counters.glsl"
 #include "reps/displaced_mesh/shaders/displaced.glsl"
 
 layout(std430, binding = DM_SHADING_SSBO) readonly buffer ShadingBlock { uvec2 shading[]; };
-layout(std430, binding = DM_STATE_SSBO) buffer StateBlock { uint state[]; };
 
 layout(early_fragment_tests) in; // counters count the fragments that pass the depth test
 
@@ -84,19 +83,18 @@ void main()
     vec3 color = shade_at(albedo.rgb, normal_world, to_eye, v_position_world);
 
     uint debug_view = refine.options.w;
-    bool want_error = debug_view == DM_DEBUG_ERROR || counting != 0;
+    bool want_error = debug_view == DEBUG_VIEW_ERROR || counting != 0;
     float error_px = want_error ? error_pixels(world_from_object) : 0.0;
     if (counting != 0) {
-        atomicAdd(state[DM_STATE_FRAGMENTS], 1u);
-        atomicAdd(state[DM_STATE_FETCHES], 3u);
+        count_fragment(3u);
         uint e = uint(min(error_px * DM_ERROR_UNITS, 1.0e9));
-        atomicAdd(state[DM_STATE_ERROR_SUM], e);
-        atomicMax(state[DM_STATE_ERROR_MAX], e);
+        atomicAdd(counters[DM_COUNTER_ERROR_SUM], e);
+        atomicMax(counters[DM_COUNTER_ERROR_MAX], e);
     }
-    if (debug_view == DM_DEBUG_PARTS) color = index_color(int(v_face));
-    else if (debug_view == DM_DEBUG_LEVEL) color = heat(float(v_depth) / float(3u * refine.counts.w + 6u));
-    else if (debug_view == DM_DEBUG_ERROR) color = heat(error_px / refine.error_terms.x);
-    else if (debug_view == DM_DEBUG_DEPTH) color = vec3(1.0 - gl_FragCoord.z);
-    else if (debug_view == DM_DEBUG_NORMAL) color = normalize(normal_world) * 0.5 + 0.5;
+    if (debug_view == DEBUG_VIEW_PARTS) color = index_color(int(v_face));
+    else if (debug_view == DEBUG_VIEW_LEVEL) color = heat(float(v_depth) / float(3u * refine.counts.w + 6u));
+    else if (debug_view == DEBUG_VIEW_ERROR) color = heat(error_px / refine.error_terms.x);
+    else if (debug_view == DEBUG_VIEW_DEPTH) color = vec3(1.0 - gl_FragCoord.z);
+    else if (debug_view == DEBUG_VIEW_NORMAL) color = normalize(normal_world) * 0.5 + 0.5;
     out_color = vec4(color, 1.0);
 }

@@ -3,42 +3,42 @@
 #ifndef STANDIN_BILLBOARD_LAYOUT_GLSL
 #define STANDIN_BILLBOARD_LAYOUT_GLSL
 
-// shader storage blocks of this renderer (beside gpu/shaders/common/bindings.h's 0..2)
-#define BINDING_TILES_SSBO 3     // TileData: the proxy boxes drawn, one per occupied tile
-#define BINDING_DRAW_LIST_SSBO 4 // uvec2 (instance, tile) per drawn box, sorted front to back
-#define BINDING_COARSE_LIST_SSBO 5 // uint instance index per coarse-mesh instance drawn
+#include "gpu/shaders/common/bindings.h"
+#include "gpu/shaders/common/debug_views.h"
+
+// shader storage blocks and texture units of this renderer (gpu/shaders/common/bindings.h)
+#define BINDING_BILLBOARDS_SSBO (BINDING_FIRST_RENDERER_SSBO + 0) // BillboardData, one per billboard
+#define BINDING_TILES_SSBO (BINDING_FIRST_RENDERER_SSBO + 1)      // TileData: the proxy boxes, one per occupied tile
+#define BINDING_DRAW_LIST_SSBO (BINDING_FIRST_RENDERER_SSBO + 2)  // uvec2 (instance, tile) per drawn box, front to back
+#define BINDING_COARSE_LIST_SSBO (BINDING_FIRST_RENDERER_SSBO + 3) // uint instance index per coarse-mesh instance
+#define BINDING_COLOR_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 0)   // albedo + coverage, one layer per billboard
+#define BINDING_NORMAL_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 1)  // normal + depth
+#define BINDING_SURFACE_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 2) // depth, min, max, link flags (acceleration.h)
+#define BINDING_MINMAX_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 3)  // the min/max pyramid above level 0
 
 // image unit of the per-pixel flags the coarse mesh reads (r32ui)
-#define IMAGE_PIXEL_FLAGS 0
+#define IMAGE_PIXEL_FLAGS (BINDING_FIRST_RENDERER_IMAGE + 0)
 // image unit of the nearest hit so far per pixel (r32ui: floatBitsToUint of its window depth with
 // the lowest bit replaced by PIXEL_DEPTH_BACK for the back of a sheet; cleared to 1.0), so that rays
 // behind it stop early (a depth test the shader does itself; see march.frag), and so that the
 // coarse mesh knows whether the nearest billboard surface is a front hit it must not cover
-#define IMAGE_PIXEL_DEPTH 1
+#define IMAGE_PIXEL_DEPTH (BINDING_FIRST_RENDERER_IMAGE + 1)
 #define PIXEL_DEPTH_BACK 1u
 #define PIXEL_HIT 1u       // some billboard ray hit here
 #define PIXEL_NEAR_MISS 2u // a ray came within a texel of a billboard surface and missed
 
-// counters[] of the BINDING_COUNTERS_SSBO block
-#define COUNTER_FETCHES 0     // height-field fetches (surface, pyramid and wall-neighbour texels)
-#define COUNTER_HITS 1        // fragments that hit
-#define COUNTER_FRAGMENTS 2   // fragments marched
-#define COUNTER_NEAR_MISSES 3
-#define COUNTER_COUNT 4
+// counters of this renderer, after the shared ones (debug_views.h)
+#define COUNTER_HITS (COUNTER_SHARED_COUNT + 0)        // fragments that hit
+#define COUNTER_NEAR_MISSES (COUNTER_SHARED_COUNT + 1) // fragments that came near a surface and missed
+#define COUNTER_COUNT (COUNTER_SHARED_COUNT + 2)
 
 // march modes
 #define MARCH_EXACT 0
 #define MARCH_SEED 1
 
-// debug views
-#define DEBUG_NONE 0
-#define DEBUG_BILLBOARD 1
-#define DEBUG_DEPTH 2
-#define DEBUG_NORMAL 3
-#define DEBUG_FETCHES 4
-// debug view "boxes" is the shaded picture (DEBUG_NONE in the march) with box lines drawn over it
+// debug view "proxies" is the shaded picture with every billboard's box drawn over it as lines
 // (boxes.vert): the vertex attribute of a line vertex's ivec2 (billboard, 1 on the front plane)
-#define ATTRIB_BOX_EDGE 1
+#define ATTRIB_BOX_EDGE ATTRIB_FIRST_RENDERER
 
 // surface texel flags (acceleration.h)
 #define TEXEL_COVERED 1u

@@ -28,6 +28,6 @@ void main()
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
     vec3 color = shade_at(v_color.rgb, v_normal_world, to_eye, v_position_world);
-    if (debug_view != DEBUG_NONE) color = vec3(1.0, 0.0, 1.0); // coarse pixels stand out in debug views
+    if (debug_view != DEBUG_VIEW_NONE) color = vec3(1.0, 0.0, 1.0); // coarse pixels stand out in debug views
     out_color = vec4(color, 1.0);
 }

@@ -18,6 +18,7 @@ layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than th
 #endif
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
+#include "gpu/shaders/common/counters.glsl"
 #include "reps/enhanced_billboards/shaders/billboard.glsl"
 
 flat in int v_tile;
@@ -25,16 +26,12 @@ flat in int v_instance;
 flat in mat4 v_box_from_world;
 flat in mat4 v_world_from_box;
 
-layout(binding = BINDING_ALBEDO_TEXTURE) uniform sampler2DArray color_maps;
-layout(binding = BINDING_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_maps;
-layout(binding = BINDING_ACCELERATION_TEXTURE) uniform usampler2DArray surface_maps; // depth, min, max, flags
-layout(binding = BINDING_EXTRA_TEXTURE) uniform usampler2DArray minmax_maps;        // level k: cells of 2^(k+1)
+layout(binding = BINDING_COLOR_MAPS) uniform sampler2DArray color_maps;
+layout(binding = BINDING_NORMAL_MAPS) uniform sampler2DArray normal_maps;
+layout(binding = BINDING_SURFACE_MAPS) uniform usampler2DArray surface_maps; // depth, min, max, flags
+layout(binding = BINDING_MINMAX_MAPS) uniform usampler2DArray minmax_maps;   // level k: cells of 2^(k+1)
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
-
-layout(std430, binding = BINDING_COUNTERS_SSBO) buffer CounterBlock {
-    uint counters[];
-};
 
 uniform int march_mode;
 uniform int seed_steps;
@@ -173,8 +170,7 @@ bool march_seed(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, float
 void finish(bool hit, bool near)
 {
     if (counting != 0) {
-        atomicAdd(counters[COUNTER_FETCHES], uint(g_fetches));
-        atomicAdd(counters[COUNTER_FRAGMENTS], 1u);
+        count_fragment(uint(g_fetches));
         if (hit) atomicAdd(counters[COUNTER_HITS], 1u);
         if (!hit && near) atomicAdd(counters[COUNTER_NEAR_MISSES], 1u); // back hits count here
     }
@@ -261,9 +257,9 @@ void main()
     imageAtomicMin(pixel_depth, ivec2(gl_FragCoord.xy),
                    (floatBitsToUint(depth) & ~PIXEL_DEPTH_BACK) | (back ? PIXEL_DEPTH_BACK : 0u));
     vec3 color = shade_at(albedo.rgb, normal_world, to_eye, p_world);
-    if (debug_view == DEBUG_BILLBOARD) color = billboard_color(billboard);
-    if (debug_view == DEBUG_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
-    if (debug_view == DEBUG_NORMAL) color = normal_world * 0.5 + 0.5;
-    if (debug_view == DEBUG_FETCHES) color = heat(float(g_fetches) / 32.0);
+    if (debug_view == DEBUG_VIEW_PARTS) color = billboard_color(billboard);
+    if (debug_view == DEBUG_VIEW_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
+    if (debug_view == DEBUG_VIEW_NORMAL) color = normal_world * 0.5 + 0.5;
+    if (debug_view == DEBUG_VIEW_FETCHES) color = fetches_color(uint(g_fetches));
     out_color = vec4(color, 1.0);
 }

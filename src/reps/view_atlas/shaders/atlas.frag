@@ -12,7 +12,7 @@
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
-#include "gpu/shaders/common/debug_colors.glsl"
+#include "gpu/shaders/common/counters.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 flat in ivec3 v_views;
@@ -28,12 +28,8 @@ layout(binding = ATLAS_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth
 #define MAP_COLOR 0
 #define MAP_NORMAL_DEPTH 1
 
-layout(std430, binding = ATLAS_COUNTERS_SSBO) buffer CounterBlock {
-    uint counters[ATLAS_COUNTER_COUNT];
-};
-
 uniform int style;
-uniform int debug_view; // ATLAS_DEBUG_*
+uniform int debug_view; // DEBUG_VIEW_*
 uniform int counting; // 1: add this fragment and its texture reads to the counters
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 
@@ -108,11 +104,9 @@ vec2 atlas_texel(ViewData view, vec2 plane)
 
 uint g_fetches = 0u;
 
-void count_fragment()
+void count_this_fragment()
 {
-    if (counting == 0) return;
-    atomicAdd(counters[ATLAS_COUNTER_FRAGMENTS], 1u);
-    atomicAdd(counters[ATLAS_COUNTER_FETCHES], g_fetches);
+    if (counting != 0) count_fragment(g_fetches);
 }
 
 vec4 fetch_array(int map, int array, ivec3 texel)
@@ -345,10 +339,10 @@ vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world, vec3 p
 // The picture of a debug view in place of the shaded colour.
 vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
 {
-    if (debug_view == ATLAS_DEBUG_VIEW) return index_color(view);
-    if (debug_view == ATLAS_DEBUG_DEPTH) return vec3(1.0 - window_z);
-    if (debug_view == ATLAS_DEBUG_NORMAL) return normalize(normal_world) * 0.5 + 0.5;
-    if (debug_view == ATLAS_DEBUG_FETCHES) return heat(float(g_fetches) / 160.0);
+    if (debug_view == DEBUG_VIEW_PARTS) return index_color(view);
+    if (debug_view == DEBUG_VIEW_DEPTH) return vec3(1.0 - window_z);
+    if (debug_view == DEBUG_VIEW_NORMAL) return normalize(normal_world) * 0.5 + 0.5;
+    if (debug_view == DEBUG_VIEW_FETCHES) return fetches_color(g_fetches);
     return shaded;
 }
 
@@ -367,7 +361,7 @@ void main()
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : 2u;
-        count_fragment();
+        count_this_fragment();
         if (c.a < 0.5) discard;
         vec3 color = c.rgb / c.a, n = -d; // lit-only packages have no normals
         if (lit_maps == 0) {
@@ -410,7 +404,7 @@ void main()
             normal_sum += v_weights[k] * sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
             g_fetches += 6u;
         }
-        count_fragment();
+        count_this_fragment();
         if (color_sum.a < 0.5) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
@@ -442,7 +436,7 @@ void main()
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) {
-        count_fragment();
+        count_this_fragment();
         discard;
     }
     // hits within two texels of the nearest are the same surface; weight fades out to four texels so
@@ -468,7 +462,7 @@ void main()
             main_view = ids[k];
         }
     }
-    count_fragment();
+    count_this_fragment();
     if (t_weight <= 0.0) discard;
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;

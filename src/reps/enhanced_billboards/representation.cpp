@@ -1,0 +1,134 @@
+// The enhanced billboards as the registry sees them: their bake parameters and run-time options
+// (declared once: the command line, --help, the viewer, the manifest's "bake" block and its
+// validation all come from these tables), debug views, and the summary `standin info` prints.
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace standin::billboards {
+
+namespace {
+
+std::vector<OptionSpec> bake_options()
+{
+    return {
+        integer_option("resolution", 512, 16, k_max_grid_texels,
+                       "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512)"),
+        number_option("texel-size", "", 0.0, 3.0e38, "World units per texel, instead of --resolution", true),
+        choice_option("directions", "seed", {"seed", "sphere", "axis"},
+                      "Candidate directions: seed (36 x 18 around the model), sphere (even Fibonacci set), axis "
+                      "(+-X, +-Y, +-Z)"),
+        integer_option("direction-count", k_default_direction_count, 6, 100000,
+                       "Number of directions of --directions sphere"),
+        choice_option("score", "area", {"area", "faces"},
+                      "Direction score: area (the area a capture really takes) or faces (the paper: facing faces)"),
+        number_option("depth-limit", "1", 0.0, 2.0,
+                      "Depth of a billboard as a fraction of the bounding-box diagonal (1: the whole model)", true),
+        number_option("grazing-angle", "10", 0.0, 89.0,
+                      "Faces within this angle (degrees) of the projection direction are left for another billboard"),
+        integer_option("max-billboards", 64, 1, 4096, "Stop after this many billboards"),
+        number_option("min-coverage", "0.001", 0.0, 1.0,
+                      "Stop when the next billboard would capture less than this fraction of the surface"),
+        integer_option("depth-bits", 16, 8, 16,
+                       "Depth precision: 16, or 8 (the paper: the alpha channel of an 8-bit image)"),
+        number_option("coarse-ratio", "0.1", 0.0, 1.0,
+                      "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
+    };
+}
+
+std::vector<OptionSpec> render_options()
+{
+    return {
+        choice_option("march", "exact", {"exact", "seed"},
+                      "Ray march: exact (height-field crossing, independent of step size) or seed (the paper's "
+                      "linear march with a hit range, Vichitvejpaisal 2005 §3.3)"),
+        integer_option("steps", 100, 1, 10000, "Seed march: steps along the box diagonal"),
+        number_option("hit-range", "0.01", 0.0, 1.0,
+                      "Seed march: hit range e as a fraction of the box depth (0.02 fills holes)", true),
+        flag_option("coarse", true, "Fill holes with the package's coarse mesh"),
+    };
+}
+
+PackageSummary summarise(const Package& base)
+{
+    const auto& package = dynamic_cast<const EnhancedBillboardsPackage&>(base);
+    double total = package.area_total > 0.0 ? package.area_total : 1.0;
+    nlohmann::json left_fraction = nlohmann::json::object(), left_faces = nlohmann::json::object();
+    for (const auto& [reason, what] : package.left) {
+        left_fraction[reason] = what.area / total;
+        left_faces[reason] = what.faces;
+    }
+    std::uint64_t texels = 0;
+    nlohmann::json sizes = nlohmann::json::array();
+    for (const Billboard& b : package.billboards) {
+        texels += std::uint64_t(b.width) * b.height;
+        sizes.push_back({b.width, b.height});
+    }
+    double captured = std::min(1.0, package.area_captured / total);
+    PackageSummary summary;
+    summary.details = {{"source", package.source.file_name},
+                       {"billboards", package.billboards.size()},
+                       {"billboard_sizes", sizes},
+                       {"texels", texels},
+                       {"texel_size", package.settings.texel_size},
+                       {"depth_bits", package.settings.depth_bits},
+                       {"directions", package.settings.directions},
+                       {"faces_total", package.faces_total},
+                       {"area_total", package.area_total},
+                       {"area_captured_fraction", captured},
+                       {"area_left_fraction", left_fraction},
+                       {"faces_left", left_faces},
+                       {"coarse_mesh_triangles", package.coarse_mesh.triangle_count()}};
+    char line[160];
+    std::snprintf(line, sizeof line, "%zu billboards", package.billboards.size());
+    summary.headline = line;
+    if (package.coarse_mesh.triangle_count() > 0)
+        summary.headline += " + " + std::to_string(package.coarse_mesh.triangle_count()) + "-triangle coarse mesh";
+    std::snprintf(line, sizeof line, ", %.2f%% of the area captured", 100.0 * captured);
+    summary.headline += line;
+    return summary;
+}
+
+} // namespace
+
+BakeSettings settings_from(const Options& parameters)
+{
+    BakeSettings s;
+    s.resolution = parameters.integer("resolution");
+    s.texel_size = parameters.number("texel-size");
+    s.directions = parameters.choice("directions");
+    s.direction_count = parameters.integer("direction-count");
+    s.score = parameters.choice("score");
+    s.depth_limit = parameters.number("depth-limit");
+    s.grazing_angle = parameters.number("grazing-angle");
+    s.max_billboards = parameters.integer("max-billboards");
+    s.min_coverage = parameters.number("min-coverage");
+    s.depth_bits = parameters.integer("depth-bits");
+    s.coarse_ratio = parameters.number("coarse-ratio");
+    return s;
+}
+
+Representation registration()
+{
+    Representation r;
+    r.name = "enhanced-billboards";
+    r.title = "Enhanced billboards";
+    r.description = "greedy orthographic billboards with colour, coverage, normal and depth, ray-cast per pixel "
+                    "over their boxes, holes filled by a coarse mesh";
+    r.reference = "Vichitvejpaisal 2005; Vichitvejpaisal & Kanongchaiyos 2006";
+    r.bake_options = bake_options();
+    r.render_options = render_options();
+    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches, DebugView::proxies};
+    OptionValues no_coarse;
+    no_coarse.set("coarse", "off");
+    r.bench_variants = {no_coarse};
+    r.bake = bake;
+    r.write = write;
+    r.read = read;
+    r.make_renderer = make_renderer;
+    r.summarise = summarise;
+    return r;
+}
+
+} // namespace standin::billboards

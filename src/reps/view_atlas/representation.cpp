@@ -1,0 +1,120 @@
+// The view atlas as the registry sees it: its bake parameters and run-time options (declared once:
+// the command line, --help, the viewer, the manifest's "bake" block and its validation all come
+// from these tables), debug views, and the summary `standin info` prints.
+#include "reps/view_atlas/view_atlas.h"
+
+#include <cstdio>
+
+namespace standin::view_atlas {
+
+namespace {
+
+std::vector<OptionSpec> bake_options()
+{
+    return {
+        choice_option("layout", "icosahedral", {"icosahedral", "octahedral", "hemi-octahedral"},
+                      "View directions: icosahedral (Saraiva et al.: face centres of a subdivided icosahedron), "
+                      "octahedral or hemi-octahedral grids (impostor bakers)"),
+        integer_option("subdivisions", 2, 0, 5,
+                       "Icosahedron subdivisions: 20 x 4^k views (2 = 320, chosen by measurement; Saraiva et al.: 4)"),
+        integer_option("frames", 16, 2, 64, "Frames per side of the (hemi-)octahedral grid"),
+        choice_option("projection", "ortho", {"ortho", "perspective"},
+                      "Capture projection: ortho, or perspective from the base distance"),
+        number_option("fov", "40", 1.0, 170.0, "Field of view of perspective captures, degrees"),
+        integer_option("resolution", 256, 16, 4096, "Capture size in pixels (square)"),
+        choice_option("maps", "surface", {"surface", "lit"},
+                      "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
+        integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),
+    };
+}
+
+std::vector<OptionSpec> render_options()
+{
+    return {
+        choice_option("style", "corrected", {"corrected", "octahedral-baseline", "seed"},
+                      "corrected: 3 views blended, each intersected per pixel with its depth; octahedral-baseline: "
+                      "3 views, one parallax step (impostor bakers); seed: the nearest view, no correction"),
+        choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
+                      "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
+                      "memory, 5/8 of the total)"),
+    };
+}
+
+PackageSummary summarise(const Package& base)
+{
+    const auto& package = dynamic_cast<const ViewAtlasPackage&>(base);
+    const BakeSettings& settings = package.settings;
+    std::uint64_t texels = 0;
+    for (const View& v : package.views) texels += std::uint64_t(v.width) * v.height;
+    std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * package.color_pages.size();
+    std::uint64_t gpu_bytes = page_texels * 4 * (package.has_surface() ? 2 : 1) * 4 / 3; // RGBA8 pages with mips
+    // --texture-format bc3: colour pages at one byte per texel (DXT5), normal-depth still RGBA8
+    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + (package.has_surface() ? 4 : 0)) * 4 / 3;
+    PackageSummary summary;
+    summary.details = {{"source", package.source.file_name},
+                       {"layout", settings.layout},
+                       {"views", package.views.size()},
+                       {"projection", settings.projection},
+                       {"fov", settings.fov},
+                       {"resolution", settings.resolution},
+                       {"maps", settings.maps},
+                       {"pages", package.color_pages.size()},
+                       {"page_size", settings.page_size},
+                       {"crop_texels", texels},
+                       {"uncropped_texels", std::uint64_t(settings.resolution) * settings.resolution * package.views.size()},
+                       {"gpu_texture_bytes", gpu_bytes},
+                       {"gpu_texture_bytes_bc3", gpu_bytes_bc3}};
+    char line[200];
+    std::snprintf(line, sizeof line, "%zu %s views of %d px (%s maps) in %zu page%s of %d, %.0f MiB on the GPU",
+                  package.views.size(), settings.layout.c_str(), settings.resolution, settings.maps.c_str(),
+                  package.color_pages.size(), package.color_pages.size() == 1 ? "" : "s", settings.page_size,
+                  double(gpu_bytes) / (1 << 20));
+    summary.headline = line;
+    return summary;
+}
+
+} // namespace
+
+BakeSettings settings_from(const Options& parameters)
+{
+    BakeSettings s;
+    s.layout = parameters.choice("layout");
+    s.subdivisions = parameters.integer("subdivisions");
+    s.frames = parameters.integer("frames");
+    s.projection = parameters.choice("projection");
+    s.fov = parameters.number("fov");
+    s.resolution = parameters.integer("resolution");
+    s.maps = parameters.choice("maps");
+    s.page_size = parameters.integer("page-size");
+    return s;
+}
+
+Status check_settings(const BakeSettings& s)
+{
+    if (s.page_size % k_cell != 0)
+        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(k_cell));
+    if (s.resolution + 2 * k_cell > s.page_size)
+        return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
+    return Status::ok();
+}
+
+Representation registration()
+{
+    Representation r;
+    r.name = "view-atlas";
+    r.title = "View atlas";
+    r.description = "a camera-facing proxy textured from many pre-rendered views: the nearest, or three blended "
+                    "and intersected per pixel with their depth";
+    r.reference = "Saraiva, Oliveira, Pereira & Araújo";
+    r.bake_options = bake_options();
+    r.render_options = render_options();
+    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches};
+    r.bake = bake;
+    r.write = write;
+    r.read = read;
+    r.make_renderer = make_renderer;
+    r.summarise = summarise;
+    return r;
+}
+
+} // namespace standin::view_atlas
