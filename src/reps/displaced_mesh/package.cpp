@@ -5,6 +5,7 @@
 // that the control mesh is the one the manifest describes, and refuses with a status naming file
 // and field.
 #include "reps/displaced_mesh/displaced_mesh.h"
+#include "io/read_ply.h"
 #include "reps/manifest.h"
 
 #include <standin/files.h>
@@ -64,8 +65,9 @@ Mesh control_as_mesh(const DisplacedMeshPackage& p)
     return m;
 }
 
-// The control mesh back from its PLY, checked against the manifest (import keeps the order of
-// vertices and faces; anything else is a damaged package).
+// The control mesh back from its PLY, checked against the manifest. Read with the PLY reader itself
+// rather than import_mesh: the normals are displacement directions and must come back bit for bit
+// (import renormalises them).
 void read_control(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
                   const nlohmann::json& control, DisplacedMeshPackage& p)
 {
@@ -73,18 +75,21 @@ void read_control(const manifest_io::Reader& in, const std::string& directory, c
     manifest_io::check_file(in, directory, files, name);
     std::size_t faces = std::size_t(in.integer(control, "faces", "control.", 1, 100'000'000));
     std::size_t vertices = std::size_t(in.integer(control, "vertices", "control.", 3, 100'000'000));
-    Result<Mesh> mesh = import_mesh((fs::path(directory) / name).string());
-    if (!mesh) throw manifest_io::BadField{mesh.status().message()};
-    if (mesh->triangle_count() != faces || mesh->vertex_count() != vertices)
-        in.fail("control.faces", "the control mesh holds " + std::to_string(mesh->triangle_count()) + " faces and " +
-                                     std::to_string(mesh->vertex_count()) + " vertices");
-    p.positions = std::move(mesh->positions);
-    p.normals = std::move(mesh->normals);
+    Result<PlyData> ply = read_ply((fs::path(directory) / name).string());
+    if (!ply) throw manifest_io::BadField{ply.status().message()};
+    if (ply->triangles.size() != 3 * faces || ply->positions.size() != vertices || ply->normals.size() != vertices)
+        in.fail("control.faces", "the control mesh holds " + std::to_string(ply->triangles.size() / 3) + " faces and " +
+                                     std::to_string(ply->positions.size()) + " vertices with " +
+                                     std::to_string(ply->normals.size()) + " normals");
+    for (glm::vec3 v : ply->positions)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) in.fail("control.file", "has a position that is not finite");
+    p.positions = std::move(ply->positions);
+    p.normals = std::move(ply->normals);
     for (glm::vec3& n : p.normals) {
         float length = glm::length(n);
         if (!(std::abs(length - 1.0f) < 1e-3f)) in.fail("control.file", "has a normal that is not unit");
     }
-    p.indices = std::move(mesh->indices);
+    p.indices = std::move(ply->triangles);
     p.control.input_faces = std::size_t(in.integer(control, "input_faces", "control.", 0, 1'000'000'000));
     p.control.target_faces = std::size_t(in.integer(control, "target_faces", "control.", 0, 1'000'000'000));
     const nlohmann::json& reached = in.member(control, "reached_target", "control.");
