@@ -16,6 +16,7 @@
 #include "reps/displaced_mesh/face_point.h"
 #include "reps/displaced_mesh/refine.h"
 #include "reps/displaced_mesh/renderer.h"
+#include "reps/displaced_mesh/ray_scene.h"
 #include "reps/displaced_mesh/sample.h"
 
 #include <standin/eval.h>
@@ -25,6 +26,7 @@
 
 #include <meshoptimizer.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -33,6 +35,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -155,6 +158,7 @@ RendererSettings render_settings(const Args& args, float tau)
     if (!parse_criterion(args.get("criterion", "error"), s.criterion)) fail("--criterion: error, weighted, length or seed");
     s.subdivision = args.get("subdivision", "leb");
     s.mip = args.get("mip", "on") == "on";
+    s.outline = std::stof(args.get("outline", "4"));
     return s;
 }
 
@@ -257,7 +261,7 @@ int command_runtime(const Args& args)
                 holes += m.hole_fraction / double(views.size());
             }
             std::printf("| %.2g | %s | %s | %.3f | %.2f | %.0f | %.0f | %.0f | %.2f | %.1f | %.2f | %.3f | %.4f | %.4f |\n", tau,
-                        args.get("criterion", "error").c_str(), cull ? "on" : "off", eps_mean, eps_max, visible, processed, rendered,
+                        (args.get("criterion", "error") + (args.get("criterion", "error") == "error" ? ", outline " + args.get("outline", "4") : "")).c_str(), cull ? "on" : "off", eps_mean, eps_max, visible, processed, rendered,
                         processed / std::max(rendered, 1.0), ms, truth_ms / ms, luv, iou, holes);
         }
     return 0;
@@ -425,15 +429,73 @@ Mesh refined_mesh(const DisplacedMeshPackage& package, const std::vector<FaceRef
     return out;
 }
 
-// Triangles of a mesh facing the eye.
-std::size_t front_facing(const Mesh& mesh, glm::vec3 eye)
+// The triangles of a mesh facing the eye, as a mesh (what a view shows of a static LOD).
+Mesh facing_part(const Mesh& mesh, glm::vec3 eye)
 {
-    std::size_t count = 0;
+    Mesh out = mesh;
+    out.indices.clear();
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        glm::vec3 a = mesh.positions[mesh.indices[3 * t]], b = mesh.positions[mesh.indices[3 * t + 1]], c = mesh.positions[mesh.indices[3 * t + 2]];
-        count += glm::dot(glm::cross(b - a, c - a), eye - a) > 0.0f;
+        const std::uint32_t* v = &mesh.indices[3 * t];
+        glm::vec3 a = mesh.positions[v[0]], b = mesh.positions[v[1]], c = mesh.positions[v[2]];
+        if (glm::dot(glm::cross(b - a, c - a), eye - a) > 0.0f) out.indices.insert(out.indices.end(), {v[0], v[1], v[2]});
     }
-    return count;
+    out.face_materials.assign(out.triangle_count(), 0);
+    return out;
+}
+
+// Screen-space error of a mesh against the original seen by `camera`: points placed on the mesh by
+// area (stratified, deterministic), each moved to its closest point on the original; the part of
+// that offset across the view direction, in pixels at the point's depth (what shows on screen: an
+// offset along the line of sight does not). Mean, 99th percentile and max.
+struct ScreenError {
+    double mean = 0.0, p99 = 0.0, max = 0.0;
+};
+
+ScreenError screen_error(const Mesh& mesh, const RayScene& original, const Camera& camera, int height, std::size_t samples)
+{
+    std::vector<double> cumulative(mesh.triangle_count());
+    double total = 0.0;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) cumulative[t] = total += mesh.triangle_area(t);
+    const float pixels_per_unit = float(height) / (2.0f * std::tan(glm::radians(camera.fov_y_degrees) * 0.5f));
+    std::vector<double> errors(samples);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            // a fixed low-discrepancy pattern: the i-th stratum of the area, then (u, v) from i
+            double target = (double(i) + 0.5) / double(samples) * total;
+            std::size_t t = std::min<std::size_t>(std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin()),
+                                                  cumulative.size() - 1);
+            float u = float(std::fmod(double(i) * 0.7548776662466927, 1.0)), v = float(std::fmod(double(i) * 0.5698402909980532, 1.0));
+            if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
+            const std::uint32_t* tri = &mesh.indices[3 * t];
+            glm::vec3 p = (1.0f - u - v) * mesh.positions[tri[0]] + u * mesh.positions[tri[1]] + v * mesh.positions[tri[2]];
+            glm::vec3 q = original.closest(p, std::numeric_limits<float>::infinity()).position;
+            glm::vec3 sight = glm::normalize(p - camera.eye_world);
+            glm::vec3 offset = q - p;
+            offset -= glm::dot(offset, sight) * sight;
+            float depth = glm::dot(p - camera.eye_world, camera.forward_world);
+            errors[i] = double(glm::length(offset)) * pixels_per_unit / std::max(depth, camera.near_plane);
+        }
+    });
+    ScreenError out;
+    for (double e : errors) out.mean += e / double(samples), out.max = std::max(out.max, e);
+    std::sort(errors.begin(), errors.end());
+    out.p99 = errors[std::size_t(0.99 * double(samples - 1))];
+    return out;
+}
+
+// The triangle count at which a sweep of (count, error) pairs reaches `error`, interpolated in
+// log-log; -1 when the error lies outside the sweep.
+double count_at_error(const std::vector<std::pair<double, double>>& sweep, double error)
+{
+    for (std::size_t i = 0; i + 1 < sweep.size(); ++i) {
+        auto [n0, e0] = sweep[i];
+        auto [n1, e1] = sweep[i + 1];
+        if (error <= e0 && error >= e1 && e0 > e1) {
+            double t = (std::log(e0) - std::log(error)) / (std::log(e0) - std::log(e1));
+            return std::exp(std::log(n0) + t * (std::log(n1) - std::log(n0)));
+        }
+    }
+    return -1.0;
 }
 
 int command_lod(const Args& args)
@@ -448,67 +510,71 @@ int command_lod(const Args& args)
     std::size_t samples = std::size_t(std::stoul(args.get("samples", "200000")));
     std::vector<FaceRefineData> faces = prepare_faces(package.positions, package.normals, package.indices, package.topology,
                                                       package.layout(), package.elevations, package.face_error);
+    const BoundingSphere sphere = mesh.bounding_sphere();
+    std::vector<Camera> cameras;
+    for (glm::vec2 d : views) cameras.push_back(view_camera(mesh, d, distance, size));
+    // pixels per world unit at the model's centre (all views stand at the same distance)
+    const float pixels_per_unit = float(size.y) / (2.0f * std::tan(glm::radians(cameras[0].fov_y_degrees) * 0.5f)) /
+                                  glm::length(cameras[0].eye_world - sphere.center);
 
-    // the static LODs: meshoptimizer's simplifier at a sweep of targets, error measured the same way
-    std::vector<unsigned> remap(mesh.vertex_count());
+    // the static LODs: meshoptimizer's simplifier at a sweep of targets; per view, the screen-space
+    // error of the part facing the eye (what the view shows), mean and 99th percentile, averaged
+    std::unique_ptr<RayScene> scene = take(RayScene::create(mesh.positions, mesh.indices));
     std::vector<std::uint32_t> welded(mesh.indices.size());
     meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), mesh.indices.size(), mesh.positions.data(),
                                       mesh.vertex_count(), sizeof(glm::vec3), sizeof(glm::vec3));
-    struct Lod {
-        std::size_t triangles, front;
-        double error_px;
-    };
-    const BoundingSphere sphere = mesh.bounding_sphere();
-    Camera probe = view_camera(mesh, views[0], distance, size);
-    const float pixels_per_unit = float(size.y) / (2.0f * std::tan(glm::radians(probe.fov_y_degrees) * 0.5f)) /
-                                  glm::length(probe.eye_world - sphere.center);
-    std::vector<Lod> lods;
-    for (double fraction : {0.005, 0.01, 0.02, 0.04, 0.08, 0.16, 0.32}) {
+    std::vector<std::pair<double, double>> by_mean, by_max, facing_by_mean, facing_by_max;
+    std::printf("%s: %zu faces, %dx%d, distance %.2f (%.0f px per unit at the centre), %zu views\n\nmeshoptimizer LODs "
+                "(screen-space error of the part facing the eye, px, averaged over the views):\n\n| triangles | facing the eye | mean error px "
+                "| 99th percentile px |\n|---|---|---|---|\n",
+                package.source.file_name.c_str(), mesh.triangle_count(), size.x, size.y, distance, pixels_per_unit, views.size());
+    for (double fraction : {0.0025, 0.005, 0.01, 0.02, 0.04, 0.08, 0.16, 0.32}) {
         std::vector<std::uint32_t> simplified(welded.size());
-        float lod_error = 0.0f;
         std::size_t count = meshopt_simplify(simplified.data(), welded.data(), welded.size(), &mesh.positions[0].x, mesh.vertex_count(),
-                                             sizeof(glm::vec3), std::size_t(double(welded.size()) * fraction) / 3 * 3, 1.0f, 0, &lod_error);
+                                             sizeof(glm::vec3), std::size_t(double(welded.size()) * fraction) / 3 * 3, 1.0f, 0, nullptr);
         simplified.resize(count);
         Mesh lod = mesh;
         lod.indices = simplified;
         lod.face_materials.assign(lod.triangle_count(), 0);
-        SurfaceDistance d = take(surface_distance(lod, mesh, samples));
-        lods.push_back({lod.triangle_count(), front_facing(lod, probe.eye_world), d.mean * pixels_per_unit});
+        double mean = 0.0, max = 0.0, facing = 0.0;
+        for (const Camera& camera : cameras) {
+            Mesh part = facing_part(lod, camera.eye_world);
+            ScreenError e = screen_error(part, *scene, camera, size.y, samples);
+            mean += e.mean / double(cameras.size());
+            max += e.p99 / double(cameras.size());
+            facing += double(part.triangle_count()) / double(cameras.size());
+        }
+        by_mean.push_back({double(lod.triangle_count()), mean});
+        by_max.push_back({double(lod.triangle_count()), max});
+        facing_by_mean.push_back({facing, mean});
+        facing_by_max.push_back({facing, max});
+        std::printf("| %zu | %.0f | %.3f | %.2f |\n", lod.triangle_count(), facing, mean, max);
     }
-    std::printf("%s: %zu faces, %dx%d, distance %.2f (%.0f px per unit at the centre)\n\nmeshoptimizer LODs:\n\n| triangles | "
-                "facing the eye | mean error px |\n|---|---|---|\n",
-                package.source.file_name.c_str(), mesh.triangle_count(), size.x, size.y, distance, pixels_per_unit);
-    for (const Lod& l : lods) std::printf("| %zu | %zu | %.3f |\n", l.triangles, l.front, l.error_px);
 
-    std::printf("\n| tau | views | rendered (mean) | mean error px | LOD triangles at that error | rendered / LOD | "
-                "original | rendered / original |\n|---|---|---|---|---|---|---|---|\n");
+    std::printf("\nThe displaced mesh (CPU reference of the GPU refinement), and the LOD of equal error:\n\n| tau | rendered | "
+                "mean error px | 99th percentile px | LOD at that mean (facing) | LOD at that 99th percentile (facing) | "
+                "rendered / LOD by 99th percentile | "
+                "rendered / original |\n|---|---|---|---|---|---|---|---|\n");
+    auto shown = [](double n) { return n < 0.0 ? std::string("outside the sweep") : std::to_string(std::llround(n)); };
     for (float tau : floats(args.get("tau", "1,2"))) {
         RefineOptions options;
         options.tau = tau;
+        options.outline = std::stof(args.get("outline", "4"));
         if (!parse_criterion(args.get("criterion", "error"), options.criterion)) fail("--criterion");
-        double rendered = 0.0, error_px = 0.0;
-        for (glm::vec2 d : views) {
-            Camera camera = view_camera(mesh, d, distance, size);
+        double rendered = 0.0, mean = 0.0, max = 0.0;
+        for (const Camera& camera : cameras) {
             RefineStats stats;
             Mesh ours = refined_mesh(package, faces, make_refine_view(camera, size.y, glm::mat4(1.0f)), options, stats);
-            SurfaceDistance e = take(surface_distance(ours, mesh, samples));
-            rendered += double(stats.rendered) / double(views.size());
-            error_px += e.mean * pixels_per_unit / double(views.size());
+            ScreenError e = screen_error(ours, *scene, camera, size.y, samples);
+            rendered += double(stats.rendered) / double(cameras.size());
+            mean += e.mean / double(cameras.size());
+            max += e.p99 / double(cameras.size());
         }
-        // the LOD with that mean error: log-log interpolation along the sweep
-        double needed = double(lods.back().triangles);
-        for (std::size_t i = 0; i + 1 < lods.size(); ++i) {
-            const Lod &coarse = lods[i], &fine = lods[i + 1];
-            if (error_px <= coarse.error_px && error_px >= fine.error_px && coarse.error_px > fine.error_px) {
-                double t = (std::log(coarse.error_px) - std::log(error_px)) / (std::log(coarse.error_px) - std::log(fine.error_px));
-                needed = std::exp(std::log(double(coarse.triangles)) + t * (std::log(double(fine.triangles)) - std::log(double(coarse.triangles))));
-            }
-        }
-        if (error_px < lods.back().error_px) needed = -1.0; // finer than the finest LOD of the sweep
-        std::printf("| %.2g | %zu | %.0f | %.3f | %s | %s | %zu | %.3f |\n", tau, views.size(), rendered, error_px,
-                    needed < 0 ? "> sweep" : std::to_string(std::llround(needed)).c_str(),
-                    needed < 0 ? "-" : std::to_string(rendered / needed).substr(0, 5).c_str(), mesh.triangle_count(),
-                    rendered / double(mesh.triangle_count()));
+        double lod_mean = count_at_error(by_mean, mean), lod_max = count_at_error(by_max, max);
+        double facing_mean = count_at_error(facing_by_mean, mean), facing_max = count_at_error(facing_by_max, max);
+        std::printf("| %.2g | %.0f | %.3f | %.2f | %s (%s) | %s (%s) | %s | %.4f |\n", tau, rendered, mean, max, shown(lod_mean).c_str(),
+                    shown(facing_mean).c_str(), shown(lod_max).c_str(), shown(facing_max).c_str(),
+                    lod_max < 0.0 ? "-" : std::to_string(rendered / lod_max).substr(0, 5).c_str(), rendered / double(mesh.triangle_count()));
     }
     return 0;
 }

@@ -34,7 +34,7 @@ std::size_t target_faces(std::size_t input_faces, const BakeSettings& s)
     if (s.control_faces > 0) return std::size_t(s.control_faces);
     std::size_t per_face = std::size_t(s.degree - 1) * std::size_t(s.degree - 1);
     std::size_t target = (input_faces + per_face / 2) / per_face;
-    return std::max({target, std::min(k_min_control_faces, input_faces / 4), std::size_t(4)});
+    return std::max(target, std::min(k_min_control_faces, input_faces));
 }
 
 } // namespace

@@ -23,7 +23,7 @@ namespace standin::displaced_mesh {
 // defaults measured in docs/RESULTS.md).
 struct BakeSettings {
     int degree = 17;                   // pattern degree k: 5, 9, 17 or 33
-    int control_faces = 0;             // target; 0: input faces / (k - 1)^2, at least k_min_control_faces
+    int control_faces = 0;             // target; 0: input faces / (k - 1)^2, at least k_min_control_faces (or all)
     float cone_angle = 90.0f;          // degrees: no vertex's normal cone may reach it (90: a half-sphere)
     std::string sampler = "intersection"; // "intersection" or "interpolation" (§3.1)
     int interpolation_rays = 16;       // sub-rays per pattern triangle of the interpolation sampler
@@ -31,8 +31,8 @@ struct BakeSettings {
     int elevation_bits = 16;           // 16: unorm over the package's range; 32: float
 };
 
-// Control faces wanted at least, when the input allows (a quarter of its faces at most): small
-// models would otherwise get a handful of faces whose patches cannot follow the surface.
+// Control faces wanted at least (all the input's when it has fewer): small models would otherwise
+// get a handful of faces whose patches cannot follow the surface.
 constexpr std::size_t k_min_control_faces = 256;
 
 struct ControlStats {

@@ -43,10 +43,8 @@ constexpr float k_chord_error = float(DM_CHORD_ERROR);
 constexpr float k_min_visible = float(DM_MIN_VISIBLE);
 // Near the silhouette (|cos| of the normal's angle to the view below k_silhouette_cos) a chord
 // shrinks the outline, and every pixel it leaves is a hole against the original: the error counts
-// k_silhouette_weight times there, i.e. the outline is refined to tau / 8. The band is a few
-// pixels wide, so this costs few triangles.
+// RefineOptions::outline times there (docs/RESULTS.md weighs holes against triangles).
 constexpr float k_silhouette_cos = float(DM_SILHOUETTE_COS);
-constexpr float k_silhouette_weight = float(DM_SILHOUETTE_WEIGHT);
 
 const std::uint32_t* corners_of(const RefineSurface& s, std::uint32_t face) { return &(*s.indices)[3 * std::size_t(face)]; }
 
@@ -97,7 +95,7 @@ float segment_weight(const FaceRefineData& face, const std::uint32_t* a, const s
 // the instance's scale gives object units, the curvature's), times how much of a deviation along
 // the normal shows on screen. a, b: view-space ends; na, nb: their unit view-space normals.
 float error_weight(const FaceRefineData& face, const std::uint32_t* qa, const std::uint32_t* qb, glm::vec3 a, glm::vec3 b,
-                   glm::vec3 na, glm::vec3 nb, float scale, bool orthographic)
+                   glm::vec3 na, glm::vec3 nb, float scale, bool orthographic, float outline)
 {
     int edge = segment_edge(qa, qb);
     float curvature = edge >= 0 ? face.edge_curvature[edge] : face.interior_curvature;
@@ -105,7 +103,7 @@ float error_weight(const FaceRefineData& face, const std::uint32_t* qa, const st
     glm::vec3 to_eye = orthographic ? glm::vec3(0.0f, 0.0f, 1.0f) : unit_direction(-(a + b));
     float facing = glm::dot(normal, to_eye);
     float visible = std::max(std::sqrt(std::max(1.0f - facing * facing, 0.0f)), k_min_visible);
-    if (std::abs(facing) < k_silhouette_cos) visible *= k_silhouette_weight;
+    if (std::abs(facing) < k_silhouette_cos) visible *= outline;
     return curvature * glm::length(a - b) / scale * k_chord_error * visible;
 }
 
@@ -203,7 +201,8 @@ Decision decide(const RefineSurface& s, const PatternLayout& layout, const Refin
         length[k] = projected_length(view, p[k], p[(k + 1) % 3]);
         if (options.criterion == Criterion::length) weight[k] = 1.0f;
         else if (options.criterion == Criterion::error)
-            weight[k] = error_weight(face, a, b, p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale, view.orthographic);
+            weight[k] = error_weight(face, a, b, p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale, view.orthographic,
+                                     options.outline);
         else weight[k] = segment_weight(face, a, b);
         can_split[k] = splittable(a, b, layout.segments);
     }
@@ -258,14 +257,14 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
     const std::size_t faces = indices.size() / 3;
     const int n = layout.segments;
     std::vector<FaceRefineData> out(faces);
-    std::vector<float> curvature(faces); // h_f + ∆_f: the largest |elevation| plus the sampling error
+    std::vector<float> magnitude(faces); // h_f + ∆_f: the largest |elevation| plus the sampling error (the paper's ∆e terms)
     std::vector<float> curvatures(faces); // of the displaced surface (the error criterion)
     for (std::size_t f = 0; f < faces; ++f) {
         FaceRefineData& d = out[f];
         const float* values = &elevations[f * layout.samples_per_face];
         auto [lo, hi] = std::minmax_element(values, values + layout.samples_per_face);
         d.h_min = *lo, d.h_max = *hi;
-        curvature[f] = std::max(std::abs(d.h_min), std::abs(d.h_max)) + face_error[f];
+        magnitude[f] = std::max(std::abs(d.h_min), std::abs(d.h_max)) + face_error[f];
         const std::uint32_t* c = &indices[3 * f];
         glm::vec3 p0 = positions[c[0]], p1 = positions[c[1]], p2 = positions[c[2]];
         d.grid_length = (glm::length(p1 - p0) + glm::length(p2 - p1) + glm::length(p0 - p2)) / (3.0f * float(n));
@@ -329,7 +328,7 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
         const ControlEdge& edge = topology.edges[e];
         float h = 0.0f, delta = 0.0f;
         for (std::uint32_t f : edge.faces) {
-            h = std::max(h, curvature[f] - face_error[f]);
+            h = std::max(h, magnitude[f] - face_error[f]);
             delta = std::max(delta, face_error[f]);
         }
         edge_value[e] = h + delta;
@@ -352,7 +351,7 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
     for (std::size_t f = 0; f < faces; ++f) {
         for (int k = 0; k < 3; ++k) out[f].edge_curvature[k] = edge_curvature[topology.face_edges[f][std::size_t(k)]];
         for (int k = 0; k < 3; ++k) out[f].edge_weight[k] = normalise(edge_value[topology.face_edges[f][std::size_t(k)]]);
-        out[f].interior_weight = normalise(curvature[f]);
+        out[f].interior_weight = normalise(magnitude[f]);
     }
     return out;
 }

@@ -60,6 +60,9 @@ struct FaceData {
 struct ControlVertex {
     glm::vec4 position;
     glm::vec4 normal;
+    glm::vec4 rest_normal;
+    glm::vec4 rest_tangent;
+    glm::uvec4 reference;
 };
 
 Result<int> debug_view_code(DebugView view)
@@ -110,6 +113,8 @@ private:
     gpu::FrameResources frame_;
     RefineCounters refine_counters_;
     std::unique_ptr<gpu::Counters> counters_; // fragments, fetches, then DM_COUNTER_ERROR_SUM and _MAX
+    std::vector<ControlVertex> rest_; // the package's control vertices with their rest frames
+    bool moved_ = false; // update_control was called: shading normals follow the control mesh
 };
 
 Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& settings)
@@ -149,10 +154,24 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     }
 
     // the package on the GPU: control vertices (updatable), per-face data, elevations, shading
-    std::vector<ControlVertex> vertices(vertex_count_);
-    for (std::size_t v = 0; v < vertices.size(); ++v)
-        vertices[v] = {glm::vec4(package.positions[v], 1.0f), glm::vec4(package.normals[v], 0.0f)};
-    vertices_ = gpu::make_buffer(vertices, GL_DYNAMIC_STORAGE_BIT);
+    // each vertex's rest frame: its normal and the direction to a neighbour (the next corner of
+    // its first face), so that a moved control mesh turns the maps' normals with it
+    rest_ = std::vector<ControlVertex>(vertex_count_);
+    for (std::size_t v = 0; v < rest_.size(); ++v) {
+        std::uint32_t neighbour = std::uint32_t(v);
+        if (!package.topology.vertex_faces[v].empty()) {
+            std::uint32_t f = package.topology.vertex_faces[v].front();
+            int k = 0;
+            while (package.indices[3 * f + std::size_t(k)] != v) ++k;
+            neighbour = package.indices[3 * f + std::size_t((k + 1) % 3)];
+        }
+        glm::vec3 n = package.normals[v], t = package.positions[neighbour] - package.positions[v];
+        t -= glm::dot(t, n) * n;
+        t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1.0f, 0.0f, 0.0f);
+        rest_[v] = {glm::vec4(package.positions[v], 1.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f), glm::vec4(t, 0.0f),
+                    glm::uvec4(neighbour, 0u, 0u, 0u)};
+    }
+    vertices_ = gpu::make_buffer(rest_, GL_DYNAMIC_STORAGE_BIT);
     std::vector<FaceRefineData> prepared = prepare_faces(package.positions, package.normals, package.indices, package.topology,
                                                          layout_, package.elevations, package.face_error);
     std::vector<FaceData> faces(face_count_);
@@ -221,7 +240,7 @@ void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
                                std::uint32_t(debug_code_));
     block.capacities = glm::uvec4(std::uint32_t(list_capacity_), std::uint32_t(final_capacity_),
                                   std::uint32_t(layout_.samples_per_face), std::uint32_t(layout_.finest_samples));
-    block.error_terms = glm::vec4(settings_.error_scale > 0.0f ? settings_.error_scale : settings_.tau, 0.0f, 0.0f, 0.0f);
+    block.error_terms = glm::vec4(settings_.error_scale > 0.0f ? settings_.error_scale : settings_.tau, moved_ ? 1.0f : 0.0f, settings_.outline, 0.0f);
     glNamedBufferSubData(refine_block_.get(), 0, sizeof block, &block);
     std::uint32_t zero = 0;
     glClearNamedBufferSubData(state_.get(), GL_R32UI, 0, DM_STATE_UINTS * sizeof(std::uint32_t), GL_RED_INTEGER,
@@ -357,8 +376,10 @@ Status Impl::update_control(std::span<const glm::vec3> positions, std::span<cons
     if (positions.size() != vertex_count_ || normals.size() != vertex_count_)
         return error(StatusCode::invalid_argument, "displaced mesh: update_control needs " + std::to_string(vertex_count_) +
                                                        " positions and normals");
-    std::vector<ControlVertex> vertices(vertex_count_);
-    for (std::size_t v = 0; v < vertices.size(); ++v) vertices[v] = {glm::vec4(positions[v], 1.0f), glm::vec4(normals[v], 0.0f)};
+    std::vector<ControlVertex> vertices = rest_;
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+        vertices[v].position = glm::vec4(positions[v], 1.0f), vertices[v].normal = glm::vec4(normals[v], 0.0f);
+    moved_ = true;
     glNamedBufferSubData(vertices_.get(), 0, GLsizeiptr(vertices.size() * sizeof(ControlVertex)), vertices.data());
     return Status::ok();
 }
@@ -381,6 +402,7 @@ RendererSettings renderer_settings(const RenderSettings& settings)
     out.cull = settings.options.flag("cull");
     out.mip = settings.options.flag("mip");
     out.subdivision = settings.options.choice("subdivision");
+    out.outline = settings.options.number("outline");
     out.debug_view = settings.debug_view;
     return out;
 }

@@ -211,6 +211,30 @@ TEST(DisplacedMeshRenderer, DebugViewsAndMovingTheControlMesh)
     EXPECT_FALSE(renderer->update_control(std::vector<glm::vec3>(3), std::vector<glm::vec3>(3)).is_ok());
 }
 
+TEST(DisplacedMeshRenderer, TurningTheControlMeshTurnsItsShadingToo)
+{
+    // §5.3 with a rigid motion: the control mesh turned by 90 degrees on the CPU must look like the
+    // package drawn with that turn as its instance transform (geometry and shading normals alike)
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    std::vector<glm::vec3> positions = s.package->positions, normals = s.package->normals;
+    for (glm::vec3& p : positions) p = glm::vec3(turn * glm::vec4(p, 1.0f));
+    for (glm::vec3& n : normals) n = glm::normalize(glm::mat3(turn) * n);
+    std::unique_ptr<DisplacedRenderer> moved = make(*s.package, RendererSettings{}), instanced = make(*s.package, RendererSettings{});
+    ASSERT_TRUE(moved && instanced);
+    ASSERT_TRUE(moved->update_control(positions, normals).is_ok());
+    Camera camera = camera_for(s.mesh, 20.0f, 1.0f, 320, 240);
+    Light light = default_light(camera);
+    std::vector<glm::mat4> instance = {turn};
+    Result<RenderedImage> a = render_offscreen(*moved, camera, light, 320, 240);
+    Result<RenderedImage> b = render_offscreen(*instanced, camera, light, 320, 240, instance);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    ImageMetrics m = compare_images(b->color, a->color);
+    EXPECT_GT(m.iou, 0.995);
+    EXPECT_LT(m.luv_mean, 0.3); // turning normals by the vertex normals alone (no twist) gave 1.28
+}
+
 TEST(DisplacedMeshRenderer, TessellationBaselineIsCrackFreeAndAgreesWithBisection)
 {
     const Subject& s = noisy_sphere();

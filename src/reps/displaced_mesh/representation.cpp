@@ -17,7 +17,7 @@ std::vector<OptionSpec> bake_options()
                        "Sampling-pattern degree k: 5, 9, 17 or 33 vertices per edge, (k-1)^2 triangles per control "
                        "face (Bauman et al.: 17 and 33; 17 measured better)"),
         integer_option("control-faces", 0, 0, 50'000'000,
-                       "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 when the model allows)"),
+                       "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them)"),
         number_option("cone-angle", "90", 0.0, 180.0,
                       "No vertex's normal cone may reach this half-angle, degrees (90: a half-sphere, the paper)", true),
         choice_option("sampler", "intersection", {"intersection", "interpolation"},
@@ -37,6 +37,8 @@ std::vector<OptionSpec> render_options()
         choice_option("criterion", "error", {"error", "weighted", "length", "seed"},
                       "Split test: error (a segment's chord error in pixels), weighted (length x edge curvature, "
                       "conforming), length (projected length), seed (the paper's literal rule, leaves T-junctions)"),
+        number_option("outline", "4", 1.0, 64.0,
+                      "Error criterion: how much more error counts near the silhouette (chords there leave hole pixels)"),
         flag_option("cull", true, "Cull control faces on their displaced prisms (outside the frustum or facing away)"),
         flag_option("mip", true, "Read elevations from the mip level whose spacing projects to about tau pixels"),
         choice_option("subdivision", "leb", {"leb", "tess"},

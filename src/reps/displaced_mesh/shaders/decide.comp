@@ -30,14 +30,14 @@ int segment_edge(uvec2 a, uvec2 b)
 
 // refine.cpp error_weight: curvature x length x chord factor, times how much of a deviation along
 // the normal shows on screen (the sine of the normal's angle to the view direction, at least
-// DM_MIN_VISIBLE; DM_SILHOUETTE_WEIGHT times near the outline)
+// DM_MIN_VISIBLE; the outline weight times near the outline)
 float error_weight(float curvature, vec3 a, vec3 b, vec3 na, vec3 nb, float scale)
 {
     vec3 normal = unit_direction(na + nb);
     vec3 to_eye = refine.view_terms.w > 0.5 ? vec3(0.0, 0.0, 1.0) : unit_direction(-(a + b));
     float facing = dot(normal, to_eye);
     float visible = max(sqrt(max(1.0 - facing * facing, 0.0)), DM_MIN_VISIBLE);
-    if (abs(facing) < DM_SILHOUETTE_COS) visible *= DM_SILHOUETTE_WEIGHT;
+    if (abs(facing) < DM_SILHOUETTE_COS) visible *= refine.error_terms.z;
     return curvature * length(a - b) / scale * DM_CHORD_ERROR * visible;
 }
 

@@ -11,12 +11,18 @@ layout(std140, binding = DM_REFINE_UBO) uniform RefineBlock {
     uvec4 counts;      // x: control faces, y: instances, z: pattern segments n, w: exponent m
     uvec4 options;     // x: criterion, y: mip (1/0), z: cull (1/0), w: debug view
     uvec4 capacities;  // x: list capacity (records), y: final capacity, z: samples per face, w: finest samples
-    vec4 error_terms;  // x: full scale of the error view (px)
+    vec4 error_terms;  // x: full scale of the error view (px); y: 1 when the control mesh moved (§5.3);
+                       // z: the error criterion's weight near the outline
 } refine;
 
 struct ControlVertex {
     vec4 position;
     vec4 normal;
+    // the frame the maps were sampled in (moved control meshes, §5.3): normal, and the direction
+    // to a neighbour (`reference`) made orthogonal to it
+    vec4 rest_normal;
+    vec4 rest_tangent;
+    uvec4 reference;
 };
 layout(std430, binding = DM_VERTICES_SSBO) readonly buffer VertexBlock { ControlVertex control_vertices[]; };
 

@@ -55,8 +55,7 @@
 // the error criterion (refine.cpp says why)
 #define DM_CHORD_ERROR (1.0 / 6.0) // a chord's error over curvature x length^2
 #define DM_MIN_VISIBLE 0.2        // least share of a normal deviation counted on screen
-#define DM_SILHOUETTE_COS 0.2     // |cos| of the view angle below which a segment is on the outline
-#define DM_SILHOUETTE_WEIGHT 8.0  // how much more error counts there
+#define DM_SILHOUETTE_COS 0.15    // |cos| of the view angle below which a segment is on the outline
 
 // debug views (debug_views.h): parts = control face, level = bisection depth (heat over 0..3m+6),
 // error = distance to the finest surface at the pixel in pixels (heat over 0..tau; the paper's

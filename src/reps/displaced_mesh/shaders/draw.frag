@@ -51,6 +51,31 @@ void finest_triangle(out uint index[3], out float weight[3])
     }
 }
 
+// A vertex's frame: its normal and the direction to its reference neighbour, made orthogonal.
+mat3 vertex_frame(vec3 normal, vec3 position, vec3 neighbour)
+{
+    vec3 n = normalize(normal);
+    vec3 t = neighbour - position;
+    t = normalize(t - dot(t, n) * n);
+    return mat3(t, cross(n, t), n);
+}
+
+// A moved control mesh (§5.3): the maps' normals were sampled in the rest pose, so turn them as the
+// corners' frames turned, blended across the face like the corners (continuous across edges).
+vec3 follow_control_mesh(vec3 normal)
+{
+    uvec3 corner = faces[v_face].corners.xyz;
+    float w[3] = float[3](1.0 - v_face_bary.x - v_face_bary.y, v_face_bary.x, v_face_bary.y);
+    vec3 turned = vec3(0.0);
+    for (int k = 0; k < 3; ++k) {
+        ControlVertex c = control_vertices[corner[k]];
+        mat3 rest = mat3(c.rest_tangent.xyz, cross(c.rest_normal.xyz, c.rest_tangent.xyz), c.rest_normal.xyz);
+        mat3 now = vertex_frame(c.normal.xyz, c.position.xyz, control_position(c.reference.x));
+        turned += w[k] * (now * (transpose(rest) * normal));
+    }
+    return turned;
+}
+
 // Distance in pixels from this fragment to the finest displaced surface at the same place of the
 // face: the geometric error of the refinement (what the tolerance tau bounds).
 float error_pixels(mat4 world_from_object)
@@ -77,6 +102,7 @@ void main()
         normal += weight[k] * decode_normal(s.x);
         albedo += weight[k] * unpackUnorm4x8(s.y);
     }
+    if (refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);

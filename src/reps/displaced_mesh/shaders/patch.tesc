@@ -3,6 +3,9 @@
 // patch; an edge's level is a power of two from the edge alone (its projected length times its
 // weight over tau, at most the pattern's segments), so both faces of an edge agree and the
 // tessellator leaves no crack; the inside takes the largest. Faces culled on their prism get 0.
+// With the error criterion the level is the square root of the edge's chord error over tau (the
+// error falls with the square of the segment count), without the bisection path's view-angle and
+// outline factors: a patch's levels cannot vary along an edge.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/displaced_mesh/shaders/displaced.glsl"
 
