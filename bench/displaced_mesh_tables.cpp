@@ -158,7 +158,7 @@ RendererSettings render_settings(const Args& args, float tau)
     if (!parse_criterion(args.get("criterion", "error"), s.criterion)) fail("--criterion: error, weighted, length or seed");
     s.subdivision = args.get("subdivision", "leb");
     s.mip = args.get("mip", "on") == "on";
-    s.outline = std::stof(args.get("outline", "4"));
+    s.outline = std::stof(args.get("outline", "2"));
     return s;
 }
 
@@ -261,7 +261,7 @@ int command_runtime(const Args& args)
                 holes += m.hole_fraction / double(views.size());
             }
             std::printf("| %.2g | %s | %s | %.3f | %.2f | %.0f | %.0f | %.0f | %.2f | %.1f | %.2f | %.3f | %.4f | %.4f |\n", tau,
-                        (args.get("criterion", "error") + (args.get("criterion", "error") == "error" ? ", outline " + args.get("outline", "4") : "")).c_str(), cull ? "on" : "off", eps_mean, eps_max, visible, processed, rendered,
+                        (args.get("criterion", "error") + (args.get("criterion", "error") == "error" ? ", outline " + args.get("outline", "2") : "")).c_str(), cull ? "on" : "off", eps_mean, eps_max, visible, processed, rendered,
                         processed / std::max(rendered, 1.0), ms, truth_ms / ms, luv, iou, holes);
         }
     return 0;
@@ -559,7 +559,7 @@ int command_lod(const Args& args)
     for (float tau : floats(args.get("tau", "1,2"))) {
         RefineOptions options;
         options.tau = tau;
-        options.outline = std::stof(args.get("outline", "4"));
+        options.outline = std::stof(args.get("outline", "2"));
         if (!parse_criterion(args.get("criterion", "error"), options.criterion)) fail("--criterion");
         double rendered = 0.0, mean = 0.0, max = 0.0;
         for (const Camera& camera : cameras) {

@@ -1,22 +1,40 @@
-# GLSL sources live as files under src/; at build time they are checked with glslangValidator
-# (after expanding our #include lines) and embedded into the library as string literals, so that
-# headless runs need no files beside the binary. Names are paths relative to src/.
+# GLSL sources live as files under src/, beside the code that uses them; at build time they are
+# checked with glslangValidator (after expanding our #include lines) and embedded into the target
+# that owns them, so headless runs need no files beside the binary. Names are paths relative to
+# src/. Each target embeds only its own folder's shaders (the GPU layer knows no representation):
+#   standin_embed_shaders(TARGET DIRECTORY dir [dir...] [HEADERS file...])
+# writes embedded_shaders.inc into a directory on TARGET's private include path; one .cpp of the
+# target that is always linked includes it, and its static registration hands the sources to
+# gpu::register_embedded_shaders.
 function(standin_embed_shaders target)
-  file(GLOB_RECURSE shader_files CONFIGURE_DEPENDS
-    ${PROJECT_SOURCE_DIR}/src/*.glsl ${PROJECT_SOURCE_DIR}/src/*.vert ${PROJECT_SOURCE_DIR}/src/*.frag
-    ${PROJECT_SOURCE_DIR}/src/*.comp ${PROJECT_SOURCE_DIR}/src/*.geom
-    ${PROJECT_SOURCE_DIR}/src/*.tesc ${PROJECT_SOURCE_DIR}/src/*.tese
-    ${PROJECT_SOURCE_DIR}/src/gpu/shaders/common/*.h)
-  set(out ${CMAKE_CURRENT_BINARY_DIR}/embedded_shaders.cpp)
+  cmake_parse_arguments(ARG "" "" "DIRECTORY;HEADERS" ${ARGN})
+  set(shader_files "")
+  foreach(dir ${ARG_DIRECTORY})
+    file(GLOB_RECURSE found CONFIGURE_DEPENDS
+      ${PROJECT_SOURCE_DIR}/src/${dir}/*.glsl ${PROJECT_SOURCE_DIR}/src/${dir}/*.vert
+      ${PROJECT_SOURCE_DIR}/src/${dir}/*.frag ${PROJECT_SOURCE_DIR}/src/${dir}/*.comp
+      ${PROJECT_SOURCE_DIR}/src/${dir}/*.geom ${PROJECT_SOURCE_DIR}/src/${dir}/*.tesc
+      ${PROJECT_SOURCE_DIR}/src/${dir}/*.tese)
+    list(APPEND shader_files ${found})
+  endforeach()
+  foreach(header ${ARG_HEADERS})
+    list(APPEND shader_files ${PROJECT_SOURCE_DIR}/src/${header})
+  endforeach()
+  list(SORT shader_files)
+  # every shader this target's stages may include, for the dependency list
+  file(GLOB_RECURSE includable CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/*.glsl ${PROJECT_SOURCE_DIR}/src/gpu/shaders/common/*.h)
+  set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/${target}_shaders)
+  set(out ${out_dir}/embedded_shaders.inc)
   string(REPLACE ";" "|" shader_list "${shader_files}")
   add_custom_command(
     OUTPUT ${out}
     COMMAND ${CMAKE_COMMAND} -DSRC_ROOT=${PROJECT_SOURCE_DIR}/src -DOUT=${out}
             -DFILES=${shader_list} -DVALIDATOR=${GLSLANG_VALIDATOR}
-            -DWORK=${CMAKE_CURRENT_BINARY_DIR}/shader_check
+            -DWORK=${out_dir}/check
             -P ${PROJECT_SOURCE_DIR}/cmake/embed_shaders.cmake
-    DEPENDS ${shader_files} ${PROJECT_SOURCE_DIR}/cmake/embed_shaders.cmake
-    COMMENT "Checking and embedding GLSL shaders"
+    DEPENDS ${shader_files} ${includable} ${PROJECT_SOURCE_DIR}/cmake/embed_shaders.cmake
+    COMMENT "Checking and embedding the GLSL shaders of ${target}"
     VERBATIM)
   target_sources(${target} PRIVATE ${out})
+  target_include_directories(${target} PRIVATE ${out_dir})
 endfunction()

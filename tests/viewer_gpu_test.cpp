@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -31,10 +33,14 @@ int line_count(const std::string& text)
     return lines;
 }
 
-// `standin view ARGS` in a fresh virtual X server (llvmpipe: keep windows small)
+// `standin view ARGS` in a fresh virtual X server (llvmpipe: keep windows small). xvfb-run -a
+// starts its search for a free display at 99 in every process, so two test processes started
+// together (ctest -j) can race for the same one: each process starts from its own number.
 test::CommandResult run_view_under_xvfb(const std::string& arguments)
 {
-    return test::run_command("xvfb-run -a -s '-screen 0 1024x768x24' " + test::cli_path() + " view " + arguments);
+    std::string first_display = std::to_string(100 + ::getpid() % 800);
+    return test::run_command("xvfb-run -a -n " + first_display + " -s '-screen 0 1024x768x24' " + test::cli_path() +
+                             " view " + arguments);
 }
 
 ImageRGBA8 load(const std::string& path)

@@ -5,6 +5,7 @@
 #include "common.h"
 #include "declared_options.h"
 
+#include <standin/files.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
 
@@ -32,6 +33,8 @@ static int run_bake(const BakeArgs& args)
     if (output.size() < 9 || output.substr(output.size() - 8) != ".standin")
         return fail(args.output + ": name the package NAME.standin");
 
+    if (Status s = check_output_is_not_input(output, {args.input}); !s) return fail(s);
+
     auto start = std::chrono::steady_clock::now();
     Result<Mesh> mesh = import_mesh(args.input);
     if (!mesh) return fail(mesh.status());
@@ -39,7 +42,7 @@ static int run_bake(const BakeArgs& args)
     if (!source) return fail(source.status());
     Result<std::unique_ptr<Package>> package =
         bake_package(*representation, *mesh, *source, args.parameters.given(), stderr_progress(), args.threads);
-    if (!package) return fail(package.status());
+    if (!package) return fail(naming_file(package.status(), args.input));
     if (Status s = write_package(**package, output); !s) return fail(s);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

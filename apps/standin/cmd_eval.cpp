@@ -53,7 +53,7 @@ static Result<Subject> load_subject(const EvalArgs& args)
         const Representation* at_hand[] = {&representation_of(*subject.package)};
         STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, at_hand));
         Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*subject.package, options);
-        if (!renderer) return renderer.status();
+        if (!renderer) return naming_file(renderer.status(), args.standin);
         subject.renderer = std::move(*renderer);
         return subject;
     }
@@ -101,7 +101,11 @@ static int run_eval(EvalArgs& args)
 {
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.frames < 0 || args.frames > 1000) return fail("--frames: must be within 0..1000");
-    if (args.samples < 1) return fail("--samples: must be positive");
+    if (args.samples < 1 || args.samples > k_max_surface_samples)
+        return fail("--samples: must be within 1.." + std::to_string(k_max_surface_samples));
+    for (const std::string& output : {args.json, args.report})
+        if (!output.empty())
+            if (Status s = check_output_is_not_input(output, {args.model, args.standin}); !s) return fail(s);
     Result<Protocol> protocol = make_protocol(args.protocol);
     if (!protocol) return fail(protocol.status());
 

@@ -4,6 +4,7 @@
 #include "common.h"
 #include "declared_options.h"
 
+#include <standin/files.h>
 #include <standin/image.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
@@ -37,19 +38,22 @@ static int run_render(RenderArgs& args)
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".png")
         return fail(args.output + ": output must be a .png file");
+    if (Status s = check_output_path(args.output); !s) return fail(s);
+    if (Status s = check_output_is_not_input(args.output, {args.input}); !s) return fail(s);
 
     // a directory is a package, drawn by its representation's renderer; a file is a model
     Result<std::unique_ptr<GpuContext>> context = create_headless_context();
     if (!context) return fail(context.status());
     std::unique_ptr<Renderer> renderer;
     BoundingSphere sphere;
-    if (std::filesystem::is_directory(args.input)) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(args.input, ec)) {
         Result<std::unique_ptr<Package>> package = read_package(args.input);
         if (!package) return fail(package.status());
         const Representation* at_hand[] = {&representation_of(**package)};
         if (Status s = check_render_options_apply(options, at_hand); !s) return fail(s);
         Result<std::unique_ptr<Renderer>> made = make_package_renderer(**package, options);
-        if (!made) return fail(made.status());
+        if (!made) return fail(naming_file(made.status(), args.input));
         renderer = std::move(*made);
         // frame the package as its source model
         sphere = bounding_sphere_of((*package)->source.bounds);

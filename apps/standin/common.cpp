@@ -1,5 +1,6 @@
 #include "common.h"
 
+#include <standin/files.h>
 #include <standin/log.h>
 
 #include <chrono>
@@ -15,7 +16,8 @@ int fail(const Status& status) { return fail(status.message()); }
 
 int fail(const std::string& message)
 {
-    std::fprintf(stderr, "standin: %s\n", message.c_str());
+    // one line whatever the message holds (a file name with a newline, a library's text)
+    std::fprintf(stderr, "standin: %s\n", one_line(message).c_str());
     return k_exit_failure;
 }
 

@@ -6,7 +6,9 @@
 #include <standin/package.h>
 
 #include <cstdio>
+#include <exception>
 #include <map>
+#include <new>
 #include <string>
 
 int main(int argc, char** argv)
@@ -48,9 +50,16 @@ int main(int argc, char** argv)
         return fail(message + " (see 'standin --help')");
     }
     install_log_sink(verbosity);
-    for (CLI::App* sub : app.get_subcommands()) {
-        auto it = runs.find(sub->get_name());
-        if (it != runs.end()) return it->second();
+    // the boundary: whatever a command did not turn into a Status is still one line and exit 2
+    try {
+        for (CLI::App* sub : app.get_subcommands()) {
+            auto it = runs.find(sub->get_name());
+            if (it != runs.end()) return it->second();
+        }
+    } catch (const std::bad_alloc&) {
+        return fail("out of memory (STANDIN_MEMORY_LIMIT sets the budget that refuses such inputs up front)");
+    } catch (const std::exception& e) {
+        return fail(std::string("unexpected error: ") + e.what());
     }
     return fail("no command given (see 'standin --help')");
 }

@@ -5,6 +5,8 @@
 
 #include <standin/log.h>
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstring>
@@ -34,6 +36,7 @@ glm::vec4 to_window(glm::ivec4 r, glm::ivec2 framebuffer_size)
 
 void blit(GLuint fbo, glm::ivec4 source, glm::ivec4 destination)
 {
+    if (fbo == 0) return; // no target (its creation failed and was logged)
     glBlitNamedFramebuffer(fbo, 0, source.x, source.y, source.z, source.w, destination.x, destination.y,
                            destination.z, destination.w, GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
@@ -44,12 +47,13 @@ FrameRenderer::FrameRenderer() = default;
 
 void FrameRenderer::ensure(Target& target, glm::ivec2 size)
 {
-    if (target.fbo && target.size == size) return;
-    target.color = gpu::make_texture_2d(GL_RGBA8, size.x, size.y);
-    target.depth = gpu::make_texture_2d(GL_DEPTH_COMPONENT32F, size.x, size.y);
-    target.fbo = gpu::make_framebuffer();
-    glNamedFramebufferTexture(target.fbo.get(), GL_COLOR_ATTACHMENT0, target.color.get(), 0);
-    glNamedFramebufferTexture(target.fbo.get(), GL_DEPTH_ATTACHMENT, target.depth.get(), 0);
+    if (target.target && target.size == size) return;
+    Result<RenderTarget> made = RenderTarget::create(size.x, size.y, "viewer"); // the viewer keeps sizes within range
+    if (!made) {
+        log_message(LogLevel::error, made.status().message());
+        return;
+    }
+    target.target.emplace(std::move(*made));
     target.size = size;
 }
 
@@ -58,18 +62,9 @@ SubjectStats FrameRenderer::render_subject(ViewerState& state, int index, Target
     Subject& subject = state.subjects[index];
     SubjectStats stats;
     stats.subject = index;
-    GLuint fbo = target.fbo.get();
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, target.size.x, target.size.y);
-    const float far_depth = 1.0f;
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, k_target_background);
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far_depth);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glDisable(GL_SCISSOR_TEST);
-    glDisable(GL_CULL_FACE);
+    if (!target.target) return stats;
+    target.target->bind();
+    target.target->clear(k_target_background);
     if (!subject.renderer) return stats;
 
     // draw, timed by a GPU timer query and by the CPU up to glFinish (shadow map included)
@@ -101,7 +96,7 @@ SubjectStats FrameRenderer::render_subject(ViewerState& state, int index, Target
 
     // pixels covered: alpha > 0
     target.pixels.resize(std::size_t(target.size.x) * target.size.y * 4);
-    glGetTextureImage(target.color.get(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(target.pixels.size()),
+    glGetTextureImage(target.target->color_texture(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(target.pixels.size()),
                       target.pixels.data());
     for (std::size_t i = 3; i < target.pixels.size(); i += 4) stats.covered_pixels += target.pixels[i] != 0;
     if (counting) {
@@ -140,7 +135,8 @@ void FrameRenderer::compose_holes(ViewerState& state)
         }
     }
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(out.color.get(), 0, 0, 0, out.size.x, out.size.y, GL_RGBA, GL_UNSIGNED_BYTE, out.pixels.data());
+    if (!out.target) return;
+    glTextureSubImage2D(out.target->color_texture(), 0, 0, 0, out.size.x, out.size.y, GL_RGBA, GL_UNSIGNED_BYTE, out.pixels.data());
 }
 
 FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
@@ -156,6 +152,12 @@ FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
     glm::ivec2 size = state.render_size;
     if (state.render_follows_window) size = mode == Layout::side_by_side ? framebuffer_size / 2 : framebuffer_size;
     size = glm::max(size, glm::ivec2(1));
+    // a size beyond the GL limits or the memory budget is halved until it fits, and said so
+    for (Status s = check_render_target(size.x, size.y, "view: render size"); !s && size != glm::ivec2(1);
+         s = check_render_target(size.x, size.y, "view: render size")) {
+        state.message = s.message() + "; halved";
+        size = glm::max(size / 2, glm::ivec2(1));
+    }
     const float aspect = float(size.x) / float(size.y);
     state.stats = FrameStats();
     state.stats.render_size = size;
@@ -179,7 +181,7 @@ FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
     const glm::ivec4 source{0, 0, size.x, size.y};
     if (mode == Layout::single) {
         glm::ivec4 r = fit(aspect, whole);
-        blit(targets_[holes ? 2 : 0].fbo.get(), source, r);
+        blit(targets_[holes ? 2 : 0].framebuffer(), source, r);
         layout.left = to_window(r, framebuffer_size);
         layout.left_label = holes ? "holes: red = original only, blue = stand-in only"
                                   : state.subjects[state.shown].label;
@@ -187,8 +189,8 @@ FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
         glm::ivec4 r = fit(aspect, whole);
         int source_x = int(state.split_position * float(size.x) + 0.5f);
         int window_x = r.x + int(float(source_x) / float(size.x) * float(r.z - r.x) + 0.5f);
-        if (source_x > 0) blit(targets_[0].fbo.get(), {0, 0, source_x, size.y}, {r.x, r.y, window_x, r.w});
-        if (source_x < size.x) blit(targets_[1].fbo.get(), {source_x, 0, size.x, size.y}, {window_x, r.y, r.z, r.w});
+        if (source_x > 0) blit(targets_[0].framebuffer(), {0, 0, source_x, size.y}, {r.x, r.y, window_x, r.w});
+        if (source_x < size.x) blit(targets_[1].framebuffer(), {source_x, 0, size.x, size.y}, {window_x, r.y, r.z, r.w});
         layout.left = to_window(r, framebuffer_size);
         layout.split_x = float(window_x);
         layout.left_label = state.subjects[state.original].label;
@@ -197,8 +199,8 @@ FrameLayout FrameRenderer::draw(ViewerState& state, glm::ivec2 framebuffer_size)
         int half = framebuffer_size.x / 2;
         glm::ivec4 left = fit(aspect, {0, 0, half, framebuffer_size.y});
         glm::ivec4 right = fit(aspect, {half, 0, framebuffer_size.x, framebuffer_size.y});
-        blit(targets_[0].fbo.get(), source, left);
-        blit(targets_[1].fbo.get(), source, right);
+        blit(targets_[0].framebuffer(), source, left);
+        blit(targets_[1].framebuffer(), source, right);
         layout.left = to_window(left, framebuffer_size);
         layout.right = to_window(right, framebuffer_size);
         layout.left_label = state.subjects[state.original].label;

@@ -5,9 +5,8 @@
 
 #include "viewer_state.h"
 
-#include "gpu/gl.h"
-
 #include <standin/image.h>
+#include <standin/render.h>
 
 #include <optional>
 
@@ -29,10 +28,10 @@ public:
 
 private:
     struct Target {
-        gpu::Texture color, depth;
-        gpu::Framebuffer fbo;
+        std::optional<RenderTarget> target;
         glm::ivec2 size{0};
         std::vector<std::uint8_t> pixels; // read back, bottom row first
+        unsigned framebuffer() const { return target ? target->framebuffer() : 0u; }
     };
     void ensure(Target& target, glm::ivec2 size);
     SubjectStats render_subject(ViewerState& state, int subject, Target& target, float aspect);
@@ -40,7 +39,7 @@ private:
 
     Target targets_[3]; // left (or single), right, holes composite
     std::unique_ptr<ShadowMap> shadow_map_; // made on the first frame with shadows
-    gpu::GpuTimer timer_;
+    GpuTimer timer_;
 };
 
 // The window's back buffer as an image (top row first, opaque). Call before swapping buffers.

@@ -3,7 +3,6 @@
 // find_representation(...)->make_renderer), and the camera that frames them all alike.
 #include "viewer_state.h"
 
-#include "gpu/gl.h"
 
 #include <algorithm>
 #include <cassert>
@@ -52,7 +51,8 @@ Status load_subjects(const std::vector<std::string>& inputs, const OptionValues&
     std::vector<Subject> packages;
     std::optional<Subject> original;
     for (const std::string& input : inputs) {
-        if (fs::is_directory(input)) {
+        std::error_code ec;
+        if (fs::is_directory(input, ec)) {
             Result<Subject> subject = load_package(input, options);
             if (!subject) return subject.status();
             packages.push_back(std::move(*subject));
@@ -182,7 +182,7 @@ Status reload_shaders(ViewerState& state, const std::string& shader_directory)
     if (!fs::is_directory(shader_directory))
         return error(StatusCode::not_found, "reload: no shader sources at " + shader_directory +
                                                 " (set STANDIN_SHADER_DIR to the src/ folder of a source tree)");
-    gpu::set_shader_source_directory(shader_directory);
+    set_shader_source_directory(shader_directory);
     Status result;
     for (Subject& subject : state.subjects)
         if (Status s = build_renderer(subject); !s && result) result = s;

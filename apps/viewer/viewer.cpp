@@ -8,10 +8,12 @@
 #include "script.h"
 #include "viewer_state.h"
 
+#include <standin/files.h>
 #include <standin/image.h>
 #include <standin/package.h>
 
-// epoxy (gpu/gl.h) declares the GL functions; GLFW must not include a GL header of its own
+// epoxy declares the GL functions; GLFW must not include a GL header of its own
+#include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -31,6 +33,8 @@
 namespace standin::viewer {
 
 namespace {
+
+constexpr std::uint64_t k_max_script_bytes = 16u << 20;
 
 const char* const k_no_display_hint = "; use 'standin render' for offscreen pictures";
 
@@ -338,15 +342,13 @@ Status run_window(ViewerState& state, GLFWwindow* window, ScriptRunner* script)
 
 Result<std::unique_ptr<ScriptRunner>> load_script(const std::string& path)
 {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return error(StatusCode::not_found, path + ": cannot read the script");
-    std::ostringstream text;
-    text << file.rdbuf();
+    Result<std::string> text = read_file(path, k_max_script_bytes); // a regular file of sane size
+    if (!text) return text.status();
     // `set` may name any representation's run-time option
     std::vector<OptionSpec> options;
     for (const Representation& r : representations())
         options.insert(options.end(), r.render_options.begin(), r.render_options.end());
-    Result<std::vector<ScriptCommand>> commands = parse_script(text.str(), path, options);
+    Result<std::vector<ScriptCommand>> commands = parse_script(*text, path, options);
     if (!commands) return commands.status();
     return std::make_unique<ScriptRunner>(std::move(*commands), path);
 }
@@ -362,6 +364,9 @@ Status run_viewer(const ViewerArgs& args)
         if (!loaded) return loaded.status();
         script = std::move(*loaded);
     }
+    // the window outlives the subjects: renderers are destroyed while their context exists, also
+    // when a return below leaves early
+    WindowSession session;
     ViewerState state;
     STANDIN_RETURN_IF_ERROR(load_subjects(args.inputs, args.options, state));
     state.home = state.orbit = args.view;
@@ -374,7 +379,6 @@ Status run_viewer(const ViewerArgs& args)
     state.render_follows_window = args.render_width <= 0;
     if (!state.render_follows_window) state.render_size = {args.render_width, args.render_height};
 
-    WindowSession session;
     STANDIN_RETURN_IF_ERROR(open_window(session, args));
     // the renderers are built in run_window, with the debug view recorded here
     if (!args.debug_view.empty()) STANDIN_RETURN_IF_ERROR(set_debug_view(state, args.debug_view));

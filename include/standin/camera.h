@@ -1,4 +1,4 @@
-// Cameras, the orbit parametrisation the seeds' protocols use, and the one directional light.
+// Cameras, the orbit parametrisation the papers' protocols use, and the one directional light.
 #pragma once
 
 #include <standin/mesh.h>
@@ -26,7 +26,7 @@ struct OrbitView {
     float azimuth_degrees = 0.0f;
     float elevation_degrees = 0.0f;
     // In units of the base distance radius / sin(fov/2), at which the bounding sphere just fits the
-    // vertical field of view (seed 003 §3). For orthographic cameras, 1 frames the sphere the same way.
+    // vertical field of view (Saraiva et al. §3). For orthographic cameras, 1 frames the sphere the same way.
     float distance_rel = 1.0f;
     float fov_y_degrees = 40.0f;
     bool orthographic = false;

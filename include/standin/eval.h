@@ -1,6 +1,6 @@
 // Evaluation: how faithful (image and geometric error against the ground truth) and how fast
-// (GPU frame time) a stand-in is. The protocols are the seeds' own: seed 000 ch. 4 and appendix A
-// ("thesis"), seed 003 §3 ("saraiva"), and a small "quick" one. docs/EVAL.md documents every
+// (GPU frame time) a stand-in is. The protocols are the papers' own: Vichitvejpaisal 2005 ch. 4 and appendix A
+// ("thesis"), Saraiva et al. §3 ("saraiva"), and a small "quick" one. docs/EVAL.md documents every
 // figure, the JSON and the CSV schema.
 #pragma once
 
@@ -40,7 +40,7 @@ struct Protocol {
     std::vector<EvalView> views;
 };
 
-// The 14 view directions of seed 003 §3 as (azimuth, elevation) in degrees: 6 meridians
+// The 14 view directions of Saraiva et al. §3 as (azimuth, elevation) in degrees: 6 meridians
 // (azimuth 0, 60, ..., 300) crossed with the 2 zonal lines that cut the sphere into three equal
 // bands of latitude (elevation +30 and -30), then the poles (elevation +90, -90).
 std::vector<glm::vec2> fourteen_directions();
@@ -66,7 +66,7 @@ struct MetricOptions {
 
 // Every figure of one truth / stand-in image pair. Pixel sets: T = covered in the truth,
 // S = covered in the stand-in, union U = T | S; the object rectangle is the tightest axis-aligned
-// rectangle holding U (seed 003 §3).
+// rectangle holding U (Saraiva et al. §3).
 struct ImageMetrics {
     std::size_t truth_pixels = 0, standin_pixels = 0, union_pixels = 0, intersection_pixels = 0;
     int rect_x0 = 0, rect_y0 = 0, rect_x1 = 0, rect_y1 = 0; // [x0, x1) x [y0, y1); empty when U is empty
@@ -124,6 +124,7 @@ struct SurfaceDistance {
 // probability proportional to area (deterministic for a given seed), each measured to the
 // closest point of `to` (embree 3 point queries). Both meshes must pass validate_mesh;
 // invalid_argument when samples is 0.
+constexpr std::size_t k_max_surface_samples = 100'000'000; // 1.6 GB of points and distances
 Result<SurfaceDistance> surface_distance(const Mesh& from, const Mesh& to, std::size_t samples = 100000,
                                          std::uint32_t seed = 1);
 

@@ -35,8 +35,18 @@ struct ImageRGBA16 {
 // PNG writers are deterministic (fixed zlib level, no timestamps) and atomic.
 Status write_png(const ImageRGBA8& image, const std::string& path);
 Status write_png(const ImageRGBA16& image, const std::string& path);
+// Readers: regular files only; the decoded size is checked against the memory budget (limits.h)
+// before decoding. Any colour type is converted to RGBA.
 Result<ImageRGBA8> read_png_rgba8(const std::string& path);
 Result<ImageRGBA16> read_png_rgba16(const std::string& path);
+// What a PNG file's header (IHDR) declares, read without decoding it, for validating packages.
+struct PngInfo {
+    int width = 0, height = 0;
+    int bit_depth = 0;  // 1, 2, 4, 8 or 16
+    int color_type = 0; // PNG colour type: 0 grey, 2 RGB, 3 palette, 4 grey + alpha, 6 RGBA
+};
+constexpr int k_png_color_rgba = 6;
+Result<PngInfo> read_png_info(const std::string& path);
 // Bit depth of a PNG file (8 or 16) without decoding it, for validating packages.
 Result<int> png_bit_depth(const std::string& path, int* width = nullptr, int* height = nullptr);
 

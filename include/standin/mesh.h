@@ -65,7 +65,7 @@ struct Mesh {
 
     Bounds bounds() const;
     // The sphere around the bounding box (centre of the box, half its diagonal): cheap, stable,
-    // and the sphere the orbit cameras of seed 003 fit the view to.
+    // and the sphere the orbit cameras of Saraiva et al. fit the view to.
     BoundingSphere bounding_sphere() const;
     double surface_area() const;
     double triangle_area(std::size_t triangle) const;

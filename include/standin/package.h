@@ -104,10 +104,16 @@ Result<std::unique_ptr<Renderer>> make_package_renderer(const Package& package, 
 
 PackageSummary summarise_package(const Package& package);
 
-// Writes a package atomically: into a temporary directory beside `directory`, renamed when done.
+// Writes a package atomically: into a temporary directory beside `directory`, exchanged with an
+// older package in one step when done (files.h commit_path). The parent folder must exist;
+// temporaries left by killed bakes of the same output are removed first.
 Status write_package(const Package& package, const std::string& directory);
-// Reads manifest.json, checks format name and version, dispatches to the representation's reader.
+// Reads manifest.json (a regular file of at most k_max_manifest_bytes), checks format name and
+// version and every entry of "files" (plain names of regular files inside the package, of the
+// recorded size; PNGs are RGBA), then dispatches to the representation's reader. Errors name the
+// package or the file, on one line; nothing here throws.
 Result<std::unique_ptr<Package>> read_package(const std::string& directory);
+constexpr std::uint64_t k_max_manifest_bytes = 64ull << 20;
 // Total size of the files in a package directory.
 Result<std::uint64_t> package_bytes(const std::string& directory);
 

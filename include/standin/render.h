@@ -67,7 +67,7 @@ public:
     virtual std::uint64_t read_counter(Counter) { return 0; }
 };
 
-// Dynamic shadows of the one directional light (issue #6, seed 003 §7): a depth map of the scene
+// Dynamic shadows of the one directional light (issue #6, Saraiva et al. §7): a depth map of the scene
 // seen from the light, drawn by the same renderers with their true depth (the mesh, the billboards'
 // ray hits, the view atlas' 'corrected' intersections; the atlas' 'seed' and 'octahedral-baseline'
 // styles cast and receive at their camera-facing quad's depth). Shading looks the map up at each
@@ -116,6 +116,63 @@ struct ShadowOptions {
 // The ground-truth renderer for the original mesh: per-pixel shading with the shared lighting
 // include, textures sampled per pixel. Needs a current context.
 Result<std::unique_ptr<Renderer>> make_mesh_renderer(const Mesh& mesh);
+
+// Whether a width x height colour + depth target and its read-back fit GL_MAX_RENDERBUFFER_SIZE,
+// GL_MAX_TEXTURE_SIZE and the memory budget (limits.h): ok, or invalid_argument naming `what`, the
+// size and the limit. Needs a current context. RenderTarget::create checks it; the viewer too.
+Status check_render_target(int width, int height, const std::string& what);
+
+// An offscreen target: RGBA8 colour and 32-bit float depth, no multisampling (exact, repeatable
+// pixels). What render_offscreen and the benchmarks draw into; an application that composes several
+// renderers' pictures (the viewer) keeps a few. Needs a current context.
+class RenderTarget {
+public:
+    // Refuses what check_render_target refuses, and reports gpu_error when the driver cannot
+    // allocate the target.
+    // `what` names the target in errors ("render", "viewer").
+    static Result<RenderTarget> create(int width, int height, const std::string& what = "render target");
+    RenderTarget(RenderTarget&&) noexcept;
+    RenderTarget& operator=(RenderTarget&&) noexcept;
+    ~RenderTarget();
+
+    // Binds it as the framebuffer, sets the viewport to its size, depth testing (GL_LESS, writes
+    // on), no blending, no culling.
+    void bind() const;
+    // Clears colour to `rgba` and depth to 1.
+    void clear(const float rgba[4]) const;
+    int width() const;
+    int height() const;
+    unsigned framebuffer() const;   // the GL framebuffer name
+    unsigned color_texture() const; // the GL texture name of the colour attachment
+    // Read back, top row first.
+    ImageRGBA8 read_color() const;
+    std::vector<float> read_depth() const;
+
+private:
+    RenderTarget();
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// GPU time of the commands between begin() and end() (a GL_TIME_ELAPSED query). On llvmpipe the
+// query misses deferred rasterisation: compare wall time to glFinish there. Needs a current context.
+class GpuTimer {
+public:
+    GpuTimer();
+    ~GpuTimer();
+    GpuTimer(const GpuTimer&) = delete;
+    GpuTimer& operator=(const GpuTimer&) = delete;
+    void begin();
+    void end();
+    double milliseconds(); // waits for the result
+
+private:
+    unsigned query_ = 0;
+};
+
+// Where shaders are read from instead of the copies embedded at build time: the src/ folder of a
+// source tree (an interactive viewer reloads them after edits). Empty: embedded only.
+void set_shader_source_directory(const std::string& src_root);
 
 // The result of an offscreen render: colour (transparent background) and window-space depth
 // (1 where nothing was drawn), both top row first.

@@ -1,4 +1,4 @@
-// Orbit cameras of the seeds' protocols (seed 003 §3: base distance = radius / sin(fov/2)) and the
+// Orbit cameras of the papers' protocols (Saraiva et al. §3: base distance = radius / sin(fov/2)) and the
 // default light shared by every renderer.
 #include <standin/camera.h>
 

@@ -2,10 +2,12 @@
 // possible: fixed compression settings, no time chunk).
 #include <standin/files.h>
 #include <standin/image.h>
+#include <standin/limits.h>
 
 #include <png.h>
 #include <stb_image.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -88,14 +90,26 @@ Status write_png(const ImageRGBA16& image, const std::string& path)
     return write_file_atomic(path, *bytes);
 }
 
+// The decoded image must fit the memory budget: a few bytes of PNG can declare 65535 x 65535.
+static Status check_decoded_size(const std::string& path, const std::string& bytes, int bytes_per_texel)
+{
+    int w = 0, h = 0, channels = 0;
+    if (!stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &w, &h, &channels))
+        return error(StatusCode::bad_data, quoted(path) + ": not a readable image (" + stbi_failure_reason() + ")");
+    return check_memory(std::uint64_t(w) * std::uint64_t(h) * std::uint64_t(bytes_per_texel) * 2,
+                        quoted(path) + " (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+}
+
 Result<ImageRGBA8> read_png_rgba8(const std::string& path)
 {
     Result<std::string> bytes = read_file(path);
     if (!bytes) return bytes.status();
+    if (bytes->size() > std::size_t(INT32_MAX)) return error(StatusCode::bad_data, quoted(path) + ": image file too large");
+    STANDIN_RETURN_IF_ERROR(check_decoded_size(path, *bytes, 4));
     int w = 0, h = 0, channels = 0;
     stbi_uc* data = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), int(bytes->size()),
                                           &w, &h, &channels, 4);
-    if (!data) return error(StatusCode::bad_data, path + ": not a readable image (" + stbi_failure_reason() + ")");
+    if (!data) return error(StatusCode::bad_data, quoted(path) + ": not a readable image (" + stbi_failure_reason() + ")");
     ImageRGBA8 image(w, h);
     std::memcpy(image.pixels.data(), data, image.pixels.size());
     stbi_image_free(data);
@@ -106,30 +120,49 @@ Result<ImageRGBA16> read_png_rgba16(const std::string& path)
 {
     Result<std::string> bytes = read_file(path);
     if (!bytes) return bytes.status();
+    if (bytes->size() > std::size_t(INT32_MAX)) return error(StatusCode::bad_data, quoted(path) + ": image file too large");
+    STANDIN_RETURN_IF_ERROR(check_decoded_size(path, *bytes, 8));
     int w = 0, h = 0, channels = 0;
     stbi_us* data = stbi_load_16_from_memory(reinterpret_cast<const stbi_uc*>(bytes->data()), int(bytes->size()),
                                              &w, &h, &channels, 4);
-    if (!data) return error(StatusCode::bad_data, path + ": not a readable image (" + stbi_failure_reason() + ")");
+    if (!data) return error(StatusCode::bad_data, quoted(path) + ": not a readable image (" + stbi_failure_reason() + ")");
     ImageRGBA16 image(w, h);
     std::memcpy(image.pixels.data(), data, image.pixels.size() * sizeof(std::uint16_t));
     stbi_image_free(data);
     return image;
 }
 
+Result<PngInfo> read_png_info(const std::string& path)
+{
+    // signature (8), IHDR length and type (8), width, height, bit depth, colour type
+    Result<std::string> head = read_file_head(path, 33);
+    if (!head) return head.status();
+    const auto* header = reinterpret_cast<const unsigned char*>(head->data());
+    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (head->size() < 33 || std::memcmp(header, signature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0)
+        return error(StatusCode::bad_data, quoted(path) + ": not a PNG file");
+    auto be32 = [&](int at) {
+        return std::uint32_t(header[at]) << 24 | std::uint32_t(header[at + 1]) << 16 | std::uint32_t(header[at + 2]) << 8 |
+               std::uint32_t(header[at + 3]);
+    };
+    PngInfo info;
+    std::uint32_t w = be32(16), h = be32(20);
+    if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu)
+        return error(StatusCode::bad_data, quoted(path) + ": PNG size " + std::to_string(w) + "x" + std::to_string(h) + " is invalid");
+    info.width = int(w);
+    info.height = int(h);
+    info.bit_depth = header[24];
+    info.color_type = header[25];
+    return info;
+}
+
 Result<int> png_bit_depth(const std::string& path, int* width, int* height)
 {
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) return error(StatusCode::not_found, path + ": no such file");
-    unsigned char header[33] = {};
-    std::size_t got = std::fread(header, 1, sizeof header, file);
-    std::fclose(file);
-    static const unsigned char signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-    if (got < sizeof header || std::memcmp(header, signature, 8) != 0 || std::memcmp(header + 12, "IHDR", 4) != 0)
-        return error(StatusCode::bad_data, path + ": not a PNG file");
-    auto be32 = [&](int at) { return int(header[at]) << 24 | int(header[at + 1]) << 16 | int(header[at + 2]) << 8 | int(header[at + 3]); };
-    if (width) *width = be32(16);
-    if (height) *height = be32(20);
-    return int(header[24]);
+    Result<PngInfo> info = read_png_info(path);
+    if (!info) return info.status();
+    if (width) *width = info->width;
+    if (height) *height = info->height;
+    return info->bit_depth;
 }
 
 } // namespace standin

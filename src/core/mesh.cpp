@@ -294,6 +294,7 @@ static void write_ply_body(const Mesh& mesh, std::ostream& out)
 Status write_ply(const Mesh& mesh, const std::string& path)
 {
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, path));
+    STANDIN_RETURN_IF_ERROR(check_output_path(path));
     std::string temporary = temporary_path_for(path);
     {
         std::ofstream out(temporary, std::ios::binary | std::ios::trunc);

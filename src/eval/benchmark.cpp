@@ -1,8 +1,8 @@
 // Frame-time benchmarks of a stand-in against its original mesh: the seed's three resolutions
-// (seeds/000_54bac8cf9a729e92.txt appendix A, Table A-1, with and without the coarse mesh), frame
+// (Vichitvejpaisal 2005 appendix A, Table A-1, with and without the coarse mesh), frame
 // time vs. screen coverage, and a crowd of instances on a ground grid (the case stand-ins exist
-// for; seed 003 §6 Table 4 compares billboard and triangle frame rates the same way).
-// Differences from the seeds: GPU timer queries, median of many frames, instead of FRAPS.
+// for; Saraiva et al. §6 Table 4 compares billboard and triangle frame rates the same way).
+// Differences from the papers: GPU timer queries, median of many frames, instead of FRAPS.
 #include <standin/eval.h>
 
 #include "gpu/frame_timing.h"

@@ -1,5 +1,5 @@
 // Evaluation of one stand-in against the ground truth over a protocol's views: both rendered from
-// the same camera with the same light (seed 003 §3: "rendered in the same lighting conditions"),
+// the same camera with the same light (Saraiva et al. §3: "rendered in the same lighting conditions"),
 // compared per pixel, summarised over views, and laid out as the seeds' tables (000 appendix A
 // Table A-2, 003 Tables 1-3).
 #include <standin/eval.h>
@@ -255,7 +255,7 @@ std::vector<std::pair<std::string, std::string>> eval_tables_csv(const EvalResul
     }
     files.push_back({"views.csv", views.str()});
 
-    // table_a2.csv (seed 000 Table A-2: Luv difference per resolution) and frame_times.csv
+    // table_a2.csv (Vichitvejpaisal 2005 Table A-2: Luv difference per resolution) and frame_times.csv
     std::ostringstream a2, a1;
     a2 << "width,height,views,luv_mean,de2000_mean,rgb_avg\n";
     a1 << "width,height,views,truth_ms,standin_ms,truth_fps,standin_fps,truth_wall_ms,standin_wall_ms\n";
@@ -273,7 +273,7 @@ std::vector<std::pair<std::string, std::string>> eval_tables_csv(const EvalResul
     files.push_back({"table_a2.csv", a2.str()});
     files.push_back({"frame_times.csv", a1.str()});
 
-    // table_saraiva.csv (seed 003 Tables 1-3: error per relative distance, one block per fov)
+    // table_saraiva.csv (Saraiva et al. Tables 1-3: error per relative distance, one block per fov)
     std::ostringstream s;
     s << "fov,distance,views,rgb_total,rgb_avg,luv_mean\n";
     for (const auto& [key, group] : group_views(result, fov_distance_key))

@@ -1,5 +1,5 @@
 // One-sided surface distance from one mesh to another, the geometric error of mesh stand-ins
-// (seeds/002_a689820beeeeb7b7.txt §5.1 reports it against the original; Metro, Cignoni et al.
+// (Bauman, Livny & El-Sana §5.1 reports it against the original; Metro, Cignoni et al.
 // 1998, and MeshLab's Hausdorff filter measure it the same way): sample points on the surface of
 // `from` by area, find the closest point of `to` with embree 3 point queries.
 #include <standin/eval.h>
@@ -116,7 +116,8 @@ std::vector<glm::vec3> sample_surface(const Mesh& mesh, std::size_t samples, std
 
 Result<SurfaceDistance> surface_distance(const Mesh& from, const Mesh& to, std::size_t samples, std::uint32_t seed)
 {
-    if (samples == 0) return error(StatusCode::invalid_argument, "surface distance: samples must be positive");
+    if (samples == 0 || samples > k_max_surface_samples)
+        return error(StatusCode::invalid_argument, "surface distance: samples must be within 1.." + std::to_string(k_max_surface_samples));
     STANDIN_RETURN_IF_ERROR(validate_mesh(from, "surface distance: source mesh"));
     STANDIN_RETURN_IF_ERROR(validate_mesh(to, "surface distance: target mesh"));
 

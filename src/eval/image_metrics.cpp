@@ -1,8 +1,8 @@
 // Image differences between a ground-truth render and a stand-in render of the same camera.
-// CIE L*u*v* average intensity difference: Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt
+// CIE L*u*v* average intensity difference: Vichitvejpaisal 2005 (Vichitvejpaisal 2005
 // §2.1.5, eq. 2.2). Per-pixel RGB error, total and average over the object rectangle: Saraiva et al.
-// (seeds/003_069a77515c8fea15.txt §3). CIEDE2000 from Little CMS (cmsCIE2000DeltaE).
-// Differences from the seeds: the seed's "red vs. blue = 580" is not what the CIE formulas give
+// (Saraiva et al. §3). CIEDE2000 from Little CMS (cmsCIE2000DeltaE).
+// Differences from the papers: the seed's "red vs. blue = 580" is not what the CIE formulas give
 // (about 250 with D65 and L in 0..100); we keep the standard formulas (docs/EVAL.md).
 #include <standin/eval.h>
 

@@ -1,6 +1,6 @@
-// The evaluation protocols: the cameras of seed 000 ch. 4 / appendix A ("thesis"), seed 003 §3
+// The evaluation protocols: the cameras of Vichitvejpaisal 2005 ch. 4 / appendix A ("thesis"), Saraiva et al. §3
 // ("saraiva"), and a small one for tests and the demo ("quick").
-// Differences from the seeds: seed 000 does not say where its cameras were, so "thesis" uses seed
+// Differences from the papers: Vichitvejpaisal 2005 does not say where its cameras were, so "thesis" uses seed
 // 003's 14 directions at distance 1 (the sphere just fills the view).
 #include <standin/eval.h>
 
@@ -11,7 +11,7 @@ namespace standin {
 std::vector<glm::vec2> fourteen_directions()
 {
     // 6 meridians x 2 zonal lines: the zonal lines cut the sphere into three bands of 60 degrees
-    // of latitude each, so they lie at +30 and -30 (seed 003 §3); then the two poles.
+    // of latitude each, so they lie at +30 and -30 (Saraiva et al. §3); then the two poles.
     std::vector<glm::vec2> directions;
     for (float elevation : {30.0f, -30.0f})
         for (int meridian = 0; meridian < 6; ++meridian) directions.push_back({60.0f * meridian, elevation});
@@ -43,13 +43,13 @@ Result<Protocol> make_protocol(const std::string& name)
         const glm::vec2 directions[] = {{0, 30}, {90, 0}, {180, -30}, {270, 90}};
         for (glm::vec2 d : directions) protocol.views.push_back(make_view(d, 1.0f, 40.0f, 320, 240));
     } else if (name == "thesis") {
-        protocol.description = "seed 000 ch. 4 / appendix A: 14 directions, distance 1, fov 40, at 800x600, "
+        protocol.description = "Vichitvejpaisal 2005 ch. 4 / appendix A: 14 directions, distance 1, fov 40, at 800x600, "
                                "400x300 and 200x150";
         const glm::ivec2 sizes[] = {{800, 600}, {400, 300}, {200, 150}};
         for (glm::ivec2 size : sizes)
             for (glm::vec2 d : fourteen_directions()) protocol.views.push_back(make_view(d, 1.0f, 40.0f, size.x, size.y));
     } else if (name == "saraiva") {
-        protocol.description = "seed 003 §3: 14 directions, relative distances 2^-1..2^6, fov 40/60/90, 512x512";
+        protocol.description = "Saraiva et al. §3: 14 directions, relative distances 2^-1..2^6, fov 40/60/90, 512x512";
         for (float fov : {40.0f, 60.0f, 90.0f})
             for (int n = -1; n <= 6; ++n)
                 for (glm::vec2 d : fourteen_directions())

@@ -1,4 +1,4 @@
-// The protocols' cameras: counts, the 14 directions of seed 003 §3, distances and sizes.
+// The protocols' cameras: counts, the 14 directions of Saraiva et al. §3, distances and sizes.
 #include <standin/eval.h>
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The evaluation report: one self-contained directory a person opens in a browser. index.html
 // holds the seed-style tables (000 Tables, 003 Tables 1-3), hand-written SVG charts
-// (error vs. relative distance on log axes like seed 003 Figs. 1-6; frame rate vs. resolution),
+// (error vs. relative distance on log axes like Saraiva et al. Figs. 1-6; frame rate vs. resolution),
 // and a truth / stand-in / difference triplet per view.
 #include <standin/eval.h>
 #include <standin/files.h>
@@ -148,7 +148,7 @@ std::string svg_chart(const Chart& chart)
     return svg.str();
 }
 
-// Views grouped by fov, each series over relative distance (seed 003 Figs. 1-6).
+// Views grouped by fov, each series over relative distance (Saraiva et al. Figs. 1-6).
 std::vector<Series> series_by_fov(const EvalResult& result, double (*figure)(const ViewResult&))
 {
     std::map<float, std::map<float, std::pair<double, int>>> sums; // fov -> distance -> (sum, n)
@@ -167,7 +167,7 @@ std::vector<Series> series_by_fov(const EvalResult& result, double (*figure)(con
     return series;
 }
 
-// The frame rate of truth and stand-in per resolution (seed 000 Table A-1 / Fig. 4-6).
+// The frame rate of truth and stand-in per resolution (Vichitvejpaisal 2005 Table A-1 / Fig. 4-6).
 std::vector<Series> fps_by_pixels(const EvalResult& result)
 {
     std::map<int, std::pair<double, double>> ms; // pixels -> (truth, standin) sums
@@ -221,7 +221,7 @@ Result<ReportWriter> ReportWriter::begin(const std::string& directory)
     if (fs::is_directory(final_path, ec) && !fs::is_empty(final_path, ec) && !fs::exists(final_path / "index.html", ec))
         return error(StatusCode::invalid_argument,
                      final_path.string() + ": exists and is not a report (no index.html); refusing to replace it");
-    if (!final_path.parent_path().empty()) fs::create_directories(final_path.parent_path(), ec);
+    STANDIN_RETURN_IF_ERROR(check_output_path(final_path.string())); // folders are never created
     ReportWriter writer;
     writer.state_ = std::make_unique<State>();
     writer.state_->directory = final_path.string();
@@ -268,11 +268,11 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
         several_distances |= v.view.orbit.distance_rel != result.views.front().view.orbit.distance_rel;
     if (several_distances) {
         charts.push_back({"chart_total_error.svg",
-                          {"Total error vs. relative distance (seed 003 Figs. 1, 3, 5)", "relative distance (log2)",
+                          {"Total error vs. relative distance (Saraiva et al. Figs. 1, 3, 5)", "relative distance (log2)",
                            "total |dR|+|dG|+|dB| (log10)", true, true,
                            series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_total; })}});
         charts.push_back({"chart_average_error.svg",
-                          {"Average error vs. relative distance (seed 003 Figs. 2, 4, 6)", "relative distance (log2)",
+                          {"Average error vs. relative distance (Saraiva et al. Figs. 2, 4, 6)", "relative distance (log2)",
                            "average error per rectangle pixel", true, false,
                            series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_avg; })}});
         charts.push_back({"chart_luv.svg",
@@ -282,7 +282,7 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
     std::vector<Series> fps = fps_by_pixels(result);
     if (!fps.front().points.empty())
         charts.push_back({"chart_fps.svg",
-                          {"Frame rate vs. resolution (seed 000 Table A-1)", "kilopixels", "frames per second (log10)",
+                          {"Frame rate vs. resolution (Vichitvejpaisal 2005 Table A-1)", "kilopixels", "frames per second (log10)",
                            false, true, fps}});
     for (const auto& [name, chart] : charts)
         STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / name).string(), svg_chart(chart)));
@@ -316,8 +316,8 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
              << " samples): mean " << fmt("%.4g", result.surface->mean_rel) << ", max "
              << fmt("%.4g", result.surface->max_rel) << " of the bounding-box diagonal.</p>\n";
 
-    // seed 000 tables
-    html << "<h2>Luv difference by resolution (seed 000 Table A-2)</h2>\n";
+    // Vichitvejpaisal 2005 tables
+    html << "<h2>Luv difference by resolution (Vichitvejpaisal 2005 Table A-2)</h2>\n";
     rows.clear();
     std::vector<std::vector<std::string>> fps_rows;
     for (const auto& row : json["tables"]["by_resolution"]) {
@@ -331,15 +331,15 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
     }
     html << html_table({"resolution", "views", "Luv (eq. 2.2)", "CIEDE2000", "RGB avg"}, rows);
     if (!fps_rows.empty()) {
-        html << "<h2>Frame time by resolution (seed 000 Table A-1; device: " << escape_html(result.device)
+        html << "<h2>Frame time by resolution (Vichitvejpaisal 2005 Table A-1; device: " << escape_html(result.device)
              << ")</h2>\n<p>GPU timer queries, median of a few frames per view, mean over views. On llvmpipe compare "
                 "ratios only.</p>\n";
         html << html_table({"resolution", "mesh ms", "stand-in ms", "mesh fps", "stand-in fps", "speed-up"}, fps_rows);
     }
 
-    // seed 003 Tables 1-3
+    // Saraiva et al. Tables 1-3
     if (several_distances) {
-        html << "<h2>Error by relative distance (seed 003 Tables 1-3)</h2>\n";
+        html << "<h2>Error by relative distance (Saraiva et al. Tables 1-3)</h2>\n";
         rows.clear();
         for (const auto& row : json["tables"]["by_fov_distance"])
             rows.push_back({fmt("%g", row["fov"].get<double>()), fmt("%g", row["distance"].get<double>()),

@@ -1,4 +1,4 @@
-// The report on a synthetic result with the shape of the saraiva protocol: seed 003-style table,
+// The report on a synthetic result with the shape of the saraiva protocol: Saraiva et al.-style table,
 // log-axis charts, CSVs, image triplets, and an atomic directory.
 #include "../../tests/test_support.h"
 

@@ -10,13 +10,7 @@
 
 namespace standin::gpu {
 
-static void clear_target(GLuint fbo)
-{
-    const float transparent[4] = {0, 0, 0, 0};
-    const float far_depth = 1.0f;
-    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, transparent);
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &far_depth);
-}
+static const float k_transparent[4] = {0, 0, 0, 0};
 
 Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int warmup, int frames)
 {
@@ -26,30 +20,21 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
         return error(StatusCode::invalid_argument, "frame timing: empty viewport or no frames");
 
     // the offscreen target
-    Texture color = make_texture_2d(GL_RGBA8, width, height);
-    Texture depth = make_texture_2d(GL_DEPTH_COMPONENT32F, width, height);
-    Framebuffer fbo = make_framebuffer();
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_ATTACHMENT, depth.get(), 0);
-    if (glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        return error(StatusCode::gpu_error, "frame timing: offscreen framebuffer incomplete");
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, width, height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_BLEND);
+    Result<RenderTarget> target = RenderTarget::create(width, height);
+    if (!target) return target.status();
+    target->bind();
 
     // warm up (shader compilation, uploads, caches), then time each frame
     FrameTimes result;
     for (int i = 0; i < warmup; ++i) {
-        clear_target(fbo.get());
+        target->clear(k_transparent);
         renderer.draw(params);
     }
     glFinish();
     GpuTimer timer;
     std::vector<double> ms, wall;
     for (int i = 0; i < frames; ++i) {
-        clear_target(fbo.get());
+        target->clear(k_transparent);
         glFinish();
         auto start = std::chrono::steady_clock::now();
         timer.begin();
@@ -68,12 +53,10 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
     result.max_ms = ms.back();
 
     // coverage of the last frame, then one counted frame where the renderer counts fetches
-    std::vector<std::uint8_t> pixels(std::size_t(width) * height * 4);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
-    for (std::size_t i = 3; i < pixels.size(); i += 4) result.covered_pixels += pixels[i] > 0;
+    ImageRGBA8 pixels = target->read_color();
+    for (std::size_t i = 3; i < pixels.pixels.size(); i += 4) result.covered_pixels += pixels.pixels[i] > 0;
     renderer.set_counting(true);
-    clear_target(fbo.get());
+    target->clear(k_transparent);
     renderer.draw(params);
     std::uint64_t fetches = renderer.read_counter(Counter::fetches);
     std::uint64_t fragments = renderer.read_counter(Counter::fragments);

@@ -3,6 +3,8 @@
 // reload the same files from disk.
 #include "gpu/gl.h"
 
+#include "gpu/embedded_shaders.h"
+
 #include <standin/files.h>
 
 #include <filesystem>
@@ -10,11 +12,50 @@
 #include <regex>
 #include <sstream>
 #include <string_view>
+#include <vector>
+
+// the shaders of this layer (gpu/shaders/common), registered at static initialisation
+#include "embedded_shaders.inc"
 
 namespace standin::gpu {
 
-extern const std::pair<std::string_view, std::string_view> k_embedded_shaders[];
-extern const int k_embedded_shader_count;
+namespace {
+
+struct ShaderTable {
+    std::mutex mutex;
+    std::vector<EmbeddedShader> shaders;
+};
+
+ShaderTable& shader_table()
+{
+    static ShaderTable table; // constructed on first use: registrations run at static initialisation
+    return table;
+}
+
+std::string_view find_embedded_shader_locked(const ShaderTable& table, std::string_view name)
+{
+    for (const EmbeddedShader& shader : table.shaders)
+        if (shader.name == name) return shader.source;
+    return {};
+}
+
+} // namespace
+
+std::string_view find_embedded_shader(std::string_view name)
+{
+    ShaderTable& table = shader_table();
+    std::lock_guard lock(table.mutex);
+    return find_embedded_shader_locked(table, name);
+}
+
+bool register_embedded_shaders(const EmbeddedShader* shaders, int count)
+{
+    ShaderTable& table = shader_table();
+    std::lock_guard lock(table.mutex);
+    for (int i = 0; i < count; ++i)
+        if (find_embedded_shader_locked(table, shaders[i].name).empty()) table.shaders.push_back(shaders[i]);
+    return true;
+}
 
 static std::mutex g_source_mutex;
 static std::string g_source_directory;
@@ -71,8 +112,8 @@ static Result<std::string> raw_shader_source(const std::string& name)
             if (std::filesystem::exists(path)) return read_file(path);
         }
     }
-    for (int i = 0; i < k_embedded_shader_count; ++i)
-        if (k_embedded_shaders[i].first == name) return std::string(k_embedded_shaders[i].second);
+    std::string_view embedded = find_embedded_shader(name);
+    if (!embedded.empty()) return std::string(embedded);
     return error(StatusCode::not_found, "shader " + name + ": not embedded in this build");
 }
 
@@ -173,16 +214,6 @@ Result<Program> Program::create(const std::vector<std::string>& stage_sources,
     Program result;
     result.handle_ = std::move(program);
     return result;
-}
-
-GpuTimer::GpuTimer() : query_(make_query(GL_TIME_ELAPSED)) {}
-void GpuTimer::begin() { glBeginQuery(GL_TIME_ELAPSED, query_.get()); }
-void GpuTimer::end() { glEndQuery(GL_TIME_ELAPSED); }
-double GpuTimer::milliseconds()
-{
-    GLuint64 ns = 0;
-    glGetQueryObjectui64v(query_.get(), GL_QUERY_RESULT, &ns);
-    return double(ns) * 1e-6;
 }
 
 } // namespace standin::gpu

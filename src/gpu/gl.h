@@ -91,18 +91,6 @@ Result<std::string> load_shader_source(const std::string& name);
 // Where the viewer may reload shaders from (empty: embedded only).
 void set_shader_source_directory(const std::string& src_root);
 
-// Measures GPU time of the commands between begin() and end() (GL_TIME_ELAPSED).
-class GpuTimer {
-public:
-    GpuTimer();
-    void begin();
-    void end();
-    double milliseconds(); // waits for the result
-
-private:
-    Query query_;
-};
-
 bool has_current_context();
 
 } // namespace standin::gpu

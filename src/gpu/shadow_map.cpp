@@ -1,4 +1,4 @@
-// Shadow maps of the one directional light (issue #6; seed 003 §7: "cast shadows from the
+// Shadow maps of the one directional light (issue #6; Saraiva et al. §7: "cast shadows from the
 // depth-correct surface"). Williams, "Casting curved shadows on curved surfaces", SIGGRAPH 1978,
 // filtered by percentage-closer taps (Reeves, Salesin & Cook, SIGGRAPH 1987) in lighting.glsl.
 // Steps: fit an orthographic camera along the light to the scene's sphere; draw the casters with

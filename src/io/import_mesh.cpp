@@ -7,11 +7,14 @@
 // next to the model), vertex colours and the material colour; see Material in mesh.h.
 // PLY is read by our own reader (read_ply.h says why) and handed to the same conversion.
 // assimp never prints: no DefaultLogger is created, so it logs to its NullLogger.
+#include "io/check_gltf.h"
 #include "io/read_ply.h"
 
 #include <standin/files.h>
+#include <standin/limits.h>
 #include <standin/mesh.h>
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -26,7 +29,9 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <new>
 #include <numeric>
+#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -41,26 +46,74 @@ static std::string lower_extension(const std::string& path)
 }
 
 // assimp's messages may span lines and quote whole file names; a Status message is one line.
-static std::string one_line(std::string text, std::size_t max_length = 200)
+static std::string assimp_message(std::string text)
 {
     std::replace_if(text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r' || c == '\t'; }, ' ');
     text.erase(std::unique(text.begin(), text.end(), [](char a, char b) { return a == ' ' && b == ' '; }), text.end());
     while (!text.empty() && text.back() == ' ') text.pop_back();
-    if (text.size() > max_length) text = text.substr(0, max_length - 3) + "...";
-    return text.empty() ? "unknown error" : text;
+    return text.empty() ? "unknown error" : one_line(text, 200);
 }
 
 static Status check_source_file(const std::string& path, const std::string& extension)
 {
-    std::error_code ec;
-    fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status)) return error(StatusCode::not_found, path + ": no such file");
-    if (fs::is_directory(status)) return error(StatusCode::bad_data, path + ": is a directory, not a model file");
-    if (extension.empty()) return error(StatusCode::unsupported, path + ": no file extension to tell the format by");
+    STANDIN_RETURN_IF_ERROR(check_regular_file(path));
+    if (extension.empty()) return error(StatusCode::unsupported, quoted(path) + ": no file extension to tell the format by");
     Assimp::Importer importer;
     if (!importer.IsExtensionSupported("." + extension))
-        return error(StatusCode::unsupported, path + ": unsupported model format '." + extension + "'");
+        return error(StatusCode::unsupported, quoted(path) + ": unsupported model format " + quoted("." + extension));
     return Status::ok();
+}
+
+// assimp opens the model and what it refers to (MTL, glTF buffers, textures) itself: through this,
+// only regular files are opened, so a FIFO or a device among them fails the import instead of
+// blocking it or reading forever.
+class RegularFileIOSystem : public Assimp::DefaultIOSystem {
+public:
+    bool Exists(const char* file) const override { return file && check_regular_file(file).is_ok(); }
+    Assimp::IOStream* Open(const char* file, const char* mode = "rb") override
+    {
+        if (!file || !mode) return nullptr;
+        if (mode[0] == 'r' && !check_regular_file(file).is_ok()) return nullptr;
+        return Assimp::DefaultIOSystem::Open(file, mode);
+    }
+};
+
+// OFF headers declare their counts up front and assimp allocates them before reading: a count the
+// file cannot hold (assimp's own invalid/OutOfMemory.off declares 353 billion vertices) is refused here.
+static Status check_off_counts(const std::string& path)
+{
+    Result<std::string> head = read_file_head(path, 4096);
+    if (!head) return head.status();
+    std::istringstream in(*head);
+    std::string word;
+    in >> word;
+    if (word.find("OFF") == std::string::npos) return Status::ok();
+    double vertices = 0, faces = 0;
+    if (!(in >> vertices >> faces)) return Status::ok(); // assimp names what is wrong
+    std::error_code ec;
+    double bytes = double(std::filesystem::file_size(path, ec));
+    // the shortest ASCII vertex is "0 0 0\n", the shortest face "3 0 1 2\n"
+    if (!ec && (vertices * 6.0 > bytes || faces * 8.0 > bytes || vertices < 0 || faces < 0))
+        return error(StatusCode::bad_data, quoted(path) + ": declares " + std::to_string((long long)vertices) + " vertices and " +
+                                               std::to_string((long long)faces) + " faces, more than its " +
+                                               std::to_string((long long)bytes) + " bytes can hold");
+    return Status::ok();
+}
+
+// Triangles the scene will have after triangulation, against the triangle budget and the memory
+// the conversion needs (about 120 bytes per triangle at its peak, assimp's copy included).
+static Status check_scene_size(const aiScene& scene, const std::string& path)
+{
+    std::uint64_t triangles = 0, vertices = 0;
+    for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+        const aiMesh* mesh = scene.mMeshes[m];
+        if (!mesh || !mesh->mFaces) continue;
+        vertices += mesh->mNumVertices;
+        for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+            if (mesh->mFaces[f].mNumIndices >= 3) triangles += mesh->mFaces[f].mNumIndices - 2;
+    }
+    STANDIN_RETURN_IF_ERROR(check_triangles(triangles, quoted(path)));
+    return check_memory(triangles * 120 + vertices * 100, "importing " + quoted(path) + " (" + std::to_string(triangles) + " triangles)");
 }
 
 // Before post-processing: JoinIdenticalVertices merges NaN vertices into their neighbours, hiding them.
@@ -72,7 +125,7 @@ static Status check_finite_coordinates(const aiScene& scene, const std::string& 
         for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
             const aiVector3D& p = mesh->mVertices[v];
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-                return error(StatusCode::bad_data, path + ": mesh '" + mesh->mName.C_Str() + "' vertex " + std::to_string(v) +
+                return error(StatusCode::bad_data, quoted(path) + ": mesh " + quoted(mesh->mName.C_Str()) + " vertex " + std::to_string(v) +
                                                        " has a non-finite coordinate");
         }
     }
@@ -84,19 +137,26 @@ static Result<const aiScene*> read_scene(Assimp::Importer& importer, const std::
     // read first, post-process second: a scene with no meshes at all is "no triangles", not the
     // validation failure assimp would report for it
     const aiScene* scene = nullptr;
+    importer.SetIOHandler(new RegularFileIOSystem); // the importer owns it
+    STANDIN_RETURN_IF_ERROR(check_off_counts(path));
+    STANDIN_RETURN_IF_ERROR(check_gltf_accessors(path, lower_extension(path)));
     try {
         scene = importer.ReadFile(path, 0);
-        if (scene && scene->mNumMeshes == 0) return error(StatusCode::bad_data, path + ": contains no triangles");
+        if (scene && scene->mNumMeshes == 0) return error(StatusCode::bad_data, quoted(path) + ": contains no triangles");
         if (scene) STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*scene, path));
+        if (scene) STANDIN_RETURN_IF_ERROR(check_scene_size(*scene, path));
         // validation comes first in assimp's pipeline: truncated files carry out-of-range indices
         // that would crash the later steps
         if (scene)
             scene = importer.ApplyPostProcessing(aiProcess_ValidateDataStructure | aiProcess_Triangulate |
                                                  aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
+    } catch (const std::bad_alloc&) {
+        return error(StatusCode::bad_data, quoted(path) + ": declares more data than memory holds (assimp's allocation failed; "
+                                               "memory budget " + bytes_text(budget().memory_bytes) + ", STANDIN_MEMORY_LIMIT)");
     } catch (const std::exception& e) {
-        return error(StatusCode::bad_data, path + ": cannot read: " + one_line(e.what()));
+        return error(StatusCode::bad_data, quoted(path) + ": cannot read: " + assimp_message(e.what()));
     }
-    if (!scene) return error(StatusCode::bad_data, path + ": cannot read: " + one_line(importer.GetErrorString()));
+    if (!scene) return error(StatusCode::bad_data, quoted(path) + ": cannot read: " + assimp_message(importer.GetErrorString()));
     return scene;
 }
 
@@ -273,6 +333,74 @@ static std::vector<std::uint32_t> position_groups(const Mesh& mesh, std::size_t 
     return group;
 }
 
+// Smoothing compares the faces around one position pairwise: exact for up to k_exact_group corners
+// (nearly every vertex of a real mesh); above, the faces are binned by direction first, so that a
+// fan of 200k triangles around one apex costs 200k + 256^2, not 200k^2 (import stays linear).
+constexpr std::size_t k_exact_group = 64;
+constexpr int k_direction_cells = 16; // per side of the octahedral map of directions
+
+static glm::vec3 safe_normalize(glm::vec3 v)
+{
+    float length = glm::length(v); // only underflow gives 0: the sums include the face itself
+    return length > 0.0f && std::isfinite(length) ? v / length : glm::vec3(0.0f, 0.0f, 1.0f);
+}
+
+static void smooth_group_exactly(const std::uint32_t* corners, std::size_t count, const std::vector<glm::vec3>& weighted,
+                                 const std::vector<glm::vec3>& unit, float cos_crease, std::vector<glm::vec3>& normals)
+{
+    for (std::size_t i = 0; i < count; ++i) {
+        std::size_t t = corners[i] / 3;
+        glm::vec3 sum(0.0f);
+        for (std::size_t j = 0; j < count; ++j) {
+            std::size_t other = corners[j] / 3;
+            if (glm::dot(unit[other], unit[t]) >= cos_crease) sum += weighted[other];
+        }
+        normals[corners[i]] = safe_normalize(sum);
+    }
+}
+
+// The cell of a unit direction in an octahedral map of k_direction_cells^2 cells.
+static int direction_cell(glm::vec3 n)
+{
+    float l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    if (!(l1 > 0.0f)) return 0;
+    glm::vec2 p = glm::vec2(n.x, n.y) / l1;
+    if (n.z < 0.0f)
+        p = glm::vec2((1.0f - std::abs(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f), (1.0f - std::abs(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f));
+    auto index = [](float x) { return std::clamp(int((x * 0.5f + 0.5f) * k_direction_cells), 0, k_direction_cells - 1); };
+    return index(p.y) * k_direction_cells + index(p.x);
+}
+
+// Faces binned by direction: each cell's faces are smoothed with the cells whose mean direction is
+// within the crease angle of their own cell's.
+static void smooth_group_by_direction_cells(const std::uint32_t* corners, std::size_t count,
+                                            const std::vector<glm::vec3>& weighted, const std::vector<glm::vec3>& unit,
+                                            float cos_crease, std::vector<glm::vec3>& normals)
+{
+    constexpr int k_cells = k_direction_cells * k_direction_cells;
+    std::vector<glm::vec3> cell_weighted(k_cells, glm::vec3(0.0f)), cell_direction(k_cells, glm::vec3(0.0f));
+    std::vector<int> occupied;
+    std::vector<char> is_occupied(k_cells, 0);
+    for (std::size_t i = 0; i < count; ++i) {
+        std::size_t t = corners[i] / 3;
+        int cell = direction_cell(unit[t]);
+        if (!is_occupied[cell]) occupied.push_back(cell);
+        is_occupied[cell] = 1;
+        cell_weighted[cell] += weighted[t];
+        cell_direction[cell] += unit[t];
+    }
+    std::sort(occupied.begin(), occupied.end()); // a fixed order of the sums below
+    for (int a : occupied) cell_direction[a] = safe_normalize(cell_direction[a]);
+    std::vector<glm::vec3> cell_normal(k_cells, glm::vec3(0.0f, 0.0f, 1.0f));
+    for (int a : occupied) {
+        glm::vec3 sum(0.0f);
+        for (int b : occupied)
+            if (a == b || glm::dot(cell_direction[a], cell_direction[b]) >= cos_crease) sum += cell_weighted[b];
+        cell_normal[a] = safe_normalize(sum);
+    }
+    for (std::size_t i = 0; i < count; ++i) normals[corners[i]] = cell_normal[direction_cell(unit[corners[i] / 3])];
+}
+
 // One normal per corner of triangles [first_triangle, end): the area-weighted average of the faces
 // around the corner's position whose normals are within the crease angle of the corner's face.
 static std::vector<glm::vec3> corner_normals(const Mesh& mesh, std::size_t first_vertex, std::size_t first_triangle,
@@ -299,16 +427,11 @@ static std::vector<glm::vec3> corner_normals(const Mesh& mesh, std::size_t first
 
     float cos_crease = std::cos(glm::radians(std::clamp(crease_degrees, 0.0f, 180.0f))) - 1e-6f;
     std::vector<glm::vec3> normals(triangle_count * 3);
-    for (std::size_t c = 0; c < normals.size(); ++c) {
-        std::size_t t = c / 3;
-        glm::vec3 sum(0.0f);
-        std::uint32_t g = group_of_corner[c];
-        for (std::uint32_t i = corners_at_group.offsets[g]; i < corners_at_group.offsets[g + 1]; ++i) {
-            std::size_t other = corners_at_group.items[i] / 3;
-            if (glm::dot(unit[other], unit[t]) >= cos_crease) sum += weighted[other];
-        }
-        float length = glm::length(sum); // the sum includes the face itself, so only underflow gives 0
-        normals[c] = length > 0.0f ? sum / length : glm::vec3(0.0f, 0.0f, 1.0f);
+    for (std::size_t g = 0; g < group_count; ++g) {
+        const std::uint32_t* first = corners_at_group.items.data() + corners_at_group.offsets[g];
+        std::size_t count = corners_at_group.offsets[g + 1] - corners_at_group.offsets[g];
+        if (count <= k_exact_group) smooth_group_exactly(first, count, weighted, unit, cos_crease, normals);
+        else smooth_group_by_direction_cells(first, count, weighted, unit, cos_crease, normals);
     }
     return normals;
 }
@@ -385,7 +508,7 @@ struct MaterialUse {
 class SceneConverter {
 public:
     SceneConverter(const aiScene& scene, const std::string& path, const ImportOptions& options, ImportReport& report)
-        : scene_(scene), path_(path), model_directory_(fs::path(path).parent_path()), options_(options), report_(report)
+        : scene_(scene), path_(quoted(path)), model_directory_(fs::path(path).parent_path()), options_(options), report_(report)
     {
     }
 
@@ -399,9 +522,10 @@ private:
     MaterialUse use_material(const aiMesh& source);
     int use_texture(const aiMaterial& material, unsigned* uv_channel);
     void remove_unused_vertices();
+    Status check_extent() const;
 
     const aiScene& scene_;
-    std::string path_;
+    std::string path_; // quoted, as messages show it
     fs::path model_directory_;
     ImportOptions options_;
     ImportReport& report_;
@@ -565,7 +689,8 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
             glm::vec3 transformed = normal_from_object * glm::vec3(n.x, n.y, n.z);
             float length = glm::length(transformed);
             // a singular transform leaves no usable direction: recompute the whole mesh below
-            if (length > 0.0f && std::isfinite(length)) normal = transformed / length;
+            // (unit normals are kept bit for bit: a package's coarse mesh must read back as written)
+            if (length > 0.0f && std::isfinite(length)) normal = std::abs(length - 1.0f) <= 1e-6f ? transformed : transformed / length;
             else keep_normals = false;
         }
         mesh_.normals.push_back(normal);
@@ -618,10 +743,27 @@ Status SceneConverter::convert()
         return error(StatusCode::bad_data, path_ + ": contains no triangles" + detail);
     }
     remove_unused_vertices();
+    STANDIN_RETURN_IF_ERROR(check_extent());
     bool any_texture = std::any_of(mesh_.materials.begin(), mesh_.materials.end(),
                                    [](const Material& m) { return m.base_color_texture >= 0; });
     if (!any_texture) mesh_.uvs.clear();
     return validate_mesh(mesh_, path_);
+}
+
+// Renderers, cameras and bakers work in float: squares of coordinates must stay finite, and a model
+// needs an extent to be framed.
+Status SceneConverter::check_extent() const
+{
+    constexpr float k_max_coordinate = 1e15f;
+    Bounds bounds = mesh_.bounds();
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(bounds.min[k]) > k_max_coordinate || std::abs(bounds.max[k]) > k_max_coordinate)
+            return error(StatusCode::bad_data, path_ + ": coordinates reach " +
+                                                   std::to_string(std::max(std::abs(bounds.min[k]), std::abs(bounds.max[k]))) +
+                                                   ", beyond +-1e15 where float arithmetic overflows");
+    if (!(bounds.diagonal() > 0.0f) || !std::isfinite(bounds.diagonal()))
+        return error(StatusCode::bad_data, path_ + ": the model has no extent (all its vertices coincide)");
+    return Status::ok();
 }
 
 // Dropped triangles, points and lines leave vertices no triangle uses; bounds must not see them.
@@ -650,28 +792,30 @@ void SceneConverter::remove_unused_vertices()
 // ---------------------------------------------------------------------------------------------
 
 // PLY through read_ply, everything else through assimp; either way an aiScene owned by `storage`.
+// A PLY whose header our reader does not understand goes to assimp: a file assimp reads is never
+// refused (bodies are not retried: assimp hangs or misreads where ours refuses, read_ply.h).
 static Result<const aiScene*> read_any(const std::string& path, const std::string& format, ImportReport& report,
                                        Assimp::Importer& importer, std::unique_ptr<aiScene>& storage)
 {
     if (format != "ply") return read_scene(importer, path);
     Result<PlyData> ply = read_ply(path);
+    if (!ply && ply.status().code() == StatusCode::unsupported) {
+        Result<const aiScene*> scene = read_scene(importer, path);
+        if (scene) report.warnings.push_back(ply.status().message() + "; read by assimp instead");
+        return scene ? scene : Result<const aiScene*>(error(StatusCode::bad_data, ply.status().message()));
+    }
     if (!ply) return ply.status();
+    report.warnings.insert(report.warnings.end(), ply->warnings.begin(), ply->warnings.end());
     if (ply->skipped_faces > 0)
-        report.warnings.push_back(path + ": skipped " + std::to_string(ply->skipped_faces) + " faces with fewer than 3 corners");
-    if (ply->triangles.empty()) return error(StatusCode::bad_data, path + ": contains no triangles");
+        report.warnings.push_back(quoted(path) + ": skipped " + std::to_string(ply->skipped_faces) + " faces with fewer than 3 corners");
+    if (ply->triangles.empty()) return error(StatusCode::bad_data, quoted(path) + ": contains no triangles");
     storage = scene_from_ply(*ply);
     STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*storage, path));
     return static_cast<const aiScene*>(storage.get());
 }
 
-Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const ImportOptions& options)
+static Result<Mesh> import_checked(const std::string& path, ImportReport& r, const ImportOptions& options)
 {
-    ImportReport local_report;
-    ImportReport& r = report ? *report : local_report;
-    r = ImportReport{};
-    r.source_path = path;
-    r.format = lower_extension(path);
-
     // check the file before reading so that the error says which of missing / unknown / corrupt
     STANDIN_RETURN_IF_ERROR(check_source_file(path, r.format));
     Assimp::Importer importer;
@@ -683,6 +827,24 @@ Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const Im
     SceneConverter converter(**scene, path, options, r);
     STANDIN_RETURN_IF_ERROR(converter.convert());
     return converter.take_mesh();
+}
+
+Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const ImportOptions& options)
+{
+    ImportReport local_report;
+    ImportReport& r = report ? *report : local_report;
+    r = ImportReport{};
+    r.source_path = path;
+    r.format = lower_extension(path);
+    try {
+        return import_checked(path, r, options);
+    } catch (const std::bad_alloc&) {
+        // the checks above estimate; this is the boundary for what they miss
+        return error(StatusCode::bad_data, quoted(path) + ": needs more memory than there is (memory budget " +
+                                               bytes_text(budget().memory_bytes) + ", STANDIN_MEMORY_LIMIT)");
+    } catch (const std::length_error&) {
+        return error(StatusCode::bad_data, quoted(path) + ": declares more data than can be held");
+    }
 }
 
 } // namespace standin

@@ -5,6 +5,7 @@
 #include "io/read_ply.h"
 
 #include <standin/files.h>
+#include <standin/limits.h>
 
 #include <algorithm>
 #include <charconv>
@@ -35,6 +36,7 @@ struct PlyHeader {
     PlyFormat format = PlyFormat::ascii;
     std::vector<PlyElement> elements;
     std::size_t body_offset = 0;
+    std::vector<std::string> warnings;
 };
 
 static std::size_t type_size(PlyType type)
@@ -80,6 +82,16 @@ static std::vector<std::string_view> split_words(std::string_view line)
 // ---------------------------------------------------------------------------------------------
 // Header
 
+static std::string joined(const std::vector<std::string_view>& words)
+{
+    std::string line;
+    for (std::string_view w : words) {
+        if (!line.empty()) line += ' ';
+        line.append(w);
+    }
+    return one_line(line, 80);
+}
+
 static Status parse_header_line(const std::vector<std::string_view>& words, PlyHeader& header, bool* has_format)
 {
     std::string_view keyword = words[0];
@@ -88,7 +100,7 @@ static Status parse_header_line(const std::vector<std::string_view>& words, PlyH
         if (words[1] == "ascii") header.format = PlyFormat::ascii;
         else if (words[1] == "binary_little_endian") header.format = PlyFormat::binary_little_endian;
         else if (words[1] == "binary_big_endian") header.format = PlyFormat::binary_big_endian;
-        else return error(StatusCode::bad_data, "unknown format '" + std::string(words[1]) + "'");
+        else return error(StatusCode::unsupported, "unknown format '" + one_line(words[1], 40) + "'");
         *has_format = true;
         return Status::ok();
     }
@@ -97,7 +109,7 @@ static Status parse_header_line(const std::vector<std::string_view>& words, PlyH
         element.name = words[1];
         auto [end, ec] = std::from_chars(words[2].data(), words[2].data() + words[2].size(), element.count);
         if (ec != std::errc() || end != words[2].data() + words[2].size())
-            return error(StatusCode::bad_data, "element '" + element.name + "' has a bad count '" + std::string(words[2]) + "'");
+            return error(StatusCode::bad_data, "element '" + one_line(element.name, 40) + "' has a bad count '" + one_line(words[2], 40) + "'");
         header.elements.push_back(std::move(element));
         return Status::ok();
     }
@@ -117,12 +129,11 @@ static Status parse_header_line(const std::vector<std::string_view>& words, PlyH
             return Status::ok();
         }
     }
-    std::string line;
-    for (std::string_view w : words) {
-        if (!line.empty()) line += ' ';
-        line.append(w);
-    }
-    return error(StatusCode::bad_data, "header line '" + line.substr(0, 80) + "' is not understood");
+    if (keyword == "format" || keyword == "element" || keyword == "property")
+        return error(StatusCode::unsupported, "header line '" + joined(words) + "' is not understood");
+    // an unknown keyword: a comment without "comment" (Blender 2.4's "Created by Blender3D ...")
+    header.warnings.push_back("header line '" + joined(words) + "' taken as a comment");
+    return Status::ok();
 }
 
 static Result<PlyHeader> parse_header(std::string_view bytes)
@@ -310,8 +321,13 @@ static Status read_faces(PlyBody& body, const PlyElement& element, PlyData& ply)
     if (corners < 0) return error(StatusCode::bad_data, "face element has no vertex_indices list");
     ply.triangles.reserve(ply.triangles.size() + element.count * 3);
     std::vector<double> values(element.properties.size()), list;
+    const std::uint64_t max_triangles = budget().max_triangles;
     for (std::size_t f = 0; f < element.count; ++f) {
         STANDIN_RETURN_IF_ERROR(read_instance(body, element, corners, values, list));
+        // polygons of 65,535 corners fan into billions of triangles: the budget counts as they come
+        if (list.size() >= 3 && ply.triangles.size() / 3 + (list.size() - 2) > max_triangles)
+            return error(StatusCode::bad_data, "has more than " + std::to_string(max_triangles) + " triangles once face " +
+                                                   std::to_string(f) + "'s polygons are fanned (STANDIN_MAX_TRIANGLES raises the limit)");
         for (double index : list)
             if (!(index >= 0 && index <= double(std::numeric_limits<std::uint32_t>::max())) || index != std::floor(index))
                 return error(StatusCode::bad_data, "face " + std::to_string(f) + " has a bad vertex index");
@@ -331,7 +347,10 @@ static Status read_body(const PlyHeader& header, std::string_view bytes, PlyData
     PlyBody body(bytes.substr(header.body_offset), header.format);
     bool has_vertices = false;
     for (const PlyElement& element : header.elements) {
-        if (element.properties.empty()) continue; // nothing stored per instance
+        if (element.properties.empty() && element.count > 0)
+            return error(StatusCode::bad_data, "element '" + one_line(element.name, 40) + "' declares " + std::to_string(element.count) +
+                                                   " instances but no properties");
+        if (element.properties.empty()) continue;
         // + 1: the last ASCII number needs no separator after it
         if (element.count > (body.remaining() + 1) / std::max<std::size_t>(1, min_instance_bytes(element, header.format)))
             return error(StatusCode::bad_data, "declares " + std::to_string(element.count) + " " + element.name +
@@ -354,15 +373,50 @@ static Status read_body(const PlyHeader& header, std::string_view bytes, PlyData
     return Status::ok();
 }
 
+// Whether the vertex colours are stored as floating point (0..1 by convention, 0..255 by some tools).
+static bool float_colors(const PlyHeader& header)
+{
+    for (const PlyElement& element : header.elements)
+        if (element.name == "vertex") {
+            int red = find_property(element, {"red", "diffuse_red", "r"});
+            if (red < 0) return false;
+            PlyType type = element.properties[std::size_t(red)].type;
+            return type == PlyType::float32 || type == PlyType::float64;
+        }
+    return false;
+}
+
+// Colours into [0, 1]: float colours above 1 were written as 0..255; values outside are clamped and
+// non-finite ones made white, each with a warning rather than a refusal.
+static void normalise_colors(PlyData& ply, bool float_channels, const std::string& name)
+{
+    if (ply.colors.empty()) return;
+    bool finite = true;
+    float largest = 0.0f;
+    for (const glm::vec4& c : ply.colors)
+        for (int k = 0; k < 4; ++k) {
+            if (!std::isfinite(c[k])) finite = false;
+            else largest = std::max(largest, c[k]);
+        }
+    float scale = float_channels && largest > 1.0f && largest <= 255.0f ? 1.0f / 255.0f : 1.0f;
+    if (scale != 1.0f) ply.warnings.push_back(name + ": float colours above 1 taken as 0..255");
+    if (!finite) ply.warnings.push_back(name + ": non-finite colours made white");
+    if (largest * scale > 1.0f) ply.warnings.push_back(name + ": colours above 1 clamped");
+    for (glm::vec4& c : ply.colors)
+        for (int k = 0; k < 4; ++k) c[k] = std::isfinite(c[k]) ? std::clamp(c[k] * scale, 0.0f, 1.0f) : 1.0f;
+}
+
 Result<PlyData> read_ply(const std::string& path)
 {
     Result<std::string> bytes = read_file(path);
     if (!bytes) return bytes.status();
     Result<PlyHeader> header = parse_header(*bytes);
-    if (!header) return error(header.status().code(), path + ": " + header.status().message());
+    if (!header) return error(header.status().code(), quoted(path) + ": " + header.status().message());
     PlyData ply;
+    for (const std::string& warning : header->warnings) ply.warnings.push_back(quoted(path) + ": " + warning);
     Status body = read_body(*header, *bytes, ply);
-    if (!body.is_ok()) return error(body.code(), path + ": " + body.message());
+    if (!body.is_ok()) return error(body.code(), quoted(path) + ": " + body.message());
+    normalise_colors(ply, float_colors(*header), quoted(path));
     return ply;
 }
 

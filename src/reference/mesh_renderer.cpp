@@ -4,6 +4,7 @@
 // texture (or none).
 #include "gpu/frame.h"
 #include "gpu/gl.h"
+#include "gpu/mesh_buffers.h"
 #include "gpu/shaders/common/bindings.h"
 
 #include <standin/render.h>
@@ -11,6 +12,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
 
 namespace standin {
 
@@ -28,8 +32,7 @@ public:
 
 private:
     gpu::Program program_;
-    gpu::VertexArray vertex_array_;
-    gpu::Buffer positions_, normals_, colors_, uvs_, indices_;
+    gpu::MeshBuffers buffers_;
     std::vector<gpu::Texture> textures_;
     std::vector<MaterialRange> ranges_;
     gpu::FrameResources frame_;
@@ -77,14 +80,6 @@ gpu::Texture upload_texture(const Texture& texture)
     return handle;
 }
 
-void attach_attribute(GLuint vao, GLuint attribute, GLuint buffer, int components, std::size_t stride)
-{
-    glVertexArrayVertexBuffer(vao, attribute, buffer, 0, GLsizei(stride));
-    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(vao, attribute, attribute);
-    glEnableVertexArrayAttrib(vao, attribute);
-}
-
 Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
 {
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "mesh renderer"));
@@ -95,22 +90,8 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
     renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
 
     std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
-    renderer->positions_ = gpu::make_buffer(mesh.positions);
-    renderer->normals_ = gpu::make_buffer(mesh.normals);
-    renderer->colors_ = gpu::make_buffer(mesh.colors);
-    std::vector<glm::vec2> uvs = mesh.uvs;
-    if (uvs.empty()) uvs.assign(mesh.vertex_count(), glm::vec2(0.0f));
-    renderer->uvs_ = gpu::make_buffer(uvs);
-    renderer->indices_ = gpu::make_buffer(indices);
+    renderer->buffers_ = gpu::MeshBuffers::upload(mesh, indices);
     for (const Texture& texture : mesh.textures) renderer->textures_.push_back(upload_texture(texture));
-
-    renderer->vertex_array_ = gpu::make_vertex_array();
-    GLuint vao = renderer->vertex_array_.get();
-    attach_attribute(vao, ATTRIB_POSITION, renderer->positions_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_NORMAL, renderer->normals_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_COLOR, renderer->colors_.get(), 4, sizeof(glm::vec4));
-    attach_attribute(vao, ATTRIB_UV, renderer->uvs_.get(), 2, sizeof(glm::vec2));
-    glVertexArrayElementBuffer(vao, renderer->indices_.get());
     return std::unique_ptr<Renderer>(std::move(renderer));
 }
 
@@ -118,7 +99,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
 {
     frame_.bind(params);
     program_.use();
-    glBindVertexArray(vertex_array_.get());
+    buffers_.bind();
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     DrawStats stats;

@@ -6,6 +6,9 @@
 
 #include <standin/package.h>
 
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
+
 namespace standin {
 
 const std::vector<Representation>& representations()

@@ -6,7 +6,8 @@
 // and field.
 #include "reps/displaced_mesh/displaced_mesh.h"
 #include "io/read_ply.h"
-#include "reps/manifest.h"
+#include "reps/common/package_cast.h"
+#include "reps/common/package_codec.h"
 
 #include <standin/files.h>
 
@@ -106,7 +107,7 @@ void read_control(const manifest_io::Reader& in, const std::string& directory, c
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(base);
+    const auto& p = reps::package_cast<DisplacedMeshPackage>(base);
     const PatternLayout layout = p.layout();
     nlohmann::json files = nlohmann::json::object();
     STANDIN_RETURN_IF_ERROR(write_ply(control_as_mesh(p), (fs::path(directory) / k_control_file).string()));
@@ -121,12 +122,8 @@ Status write(const Package& base, const std::string& directory)
 
     const ControlStats& c = p.control;
     const SamplingStats& s = p.sampling;
-    nlohmann::json manifest = {
-        {"format", k_package_format},
-        {"version", k_package_format_version},
-        {"representation", p.representation()},
-        {"source", manifest_io::source_json(p.source)},
-        {"bake", manifest_io::settings_json(p.parameters)},
+    nlohmann::json manifest = manifest_io::manifest_header(p, p.parameters);
+    manifest.update({
         {"control", {{"file", k_control_file}, {"faces", p.face_count()}, {"vertices", p.positions.size()},
                      {"input_faces", c.input_faces}, {"target_faces", c.target_faces}, {"reached_target", c.reached_target},
                      {"stopped_by", c.stopped_by}, {"collapses", c.collapses}, {"refused_cone", c.refused_cone},
@@ -142,15 +139,15 @@ Status write(const Package& base, const std::string& directory)
                       {"original_to_sampled_mean", s.original_to_sampled_mean}, {"original_to_sampled_max", s.original_to_sampled_max},
                       {"sampled_to_original_mean", s.sampled_to_original_mean}, {"sampled_to_original_max", s.sampled_to_original_max}}},
         {"files", files},
-    };
-    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(1) + "\n");
+    });
+    return manifest_io::write_manifest(directory, manifest, 1);
 }
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), true);
-    auto p = std::make_unique<DisplacedMeshPackage>();
-    try {
+    manifest_io::Reader in(directory);
+    return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
+        auto p = std::make_unique<DisplacedMeshPackage>();
         p->source = manifest_io::read_source(in, manifest);
         p->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
         p->settings = settings_from(p->parameters);
@@ -199,10 +196,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         s.original_to_sampled_max = in.number(sampling, "original_to_sampled_max", "sampling.", 0.0, 1e30);
         s.sampled_to_original_mean = in.number(sampling, "sampled_to_original_mean", "sampling.", 0.0, 1e30);
         s.sampled_to_original_max = in.number(sampling, "sampled_to_original_max", "sampling.", 0.0, 1e30);
-    } catch (const manifest_io::BadField& bad) {
-        return error(StatusCode::bad_data, bad.message);
-    }
-    return std::unique_ptr<Package>(std::move(p));
+        return p;
+    });
 }
 
 } // namespace standin::displaced_mesh

@@ -68,7 +68,7 @@ struct RefineOptions {
     Criterion criterion = Criterion::error;
     bool cull = true;            // frustum and back-face culling of control faces on their prism
     bool mip = true;             // elevations from the level whose spacing projects to about tau
-    float outline = 4.0f;        // error criterion: how much more error counts near the silhouette
+    float outline = 2.0f;        // error criterion: how much more error counts near the silhouette
     int max_depth = 0;           // bisection passes; 0: 3m + 6 (refinement_passes)
 };
 int refinement_passes(int degree, int max_depth);

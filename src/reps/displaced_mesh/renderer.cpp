@@ -19,6 +19,7 @@
 #include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
+#include "reps/common/package_cast.h"
 #include "reps/displaced_mesh/face_point.h"
 #include "reps/displaced_mesh/shaders/displaced_layout.glsl"
 
@@ -409,10 +410,8 @@ RendererSettings renderer_settings(const RenderSettings& settings)
 
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
-    const auto* displaced = dynamic_cast<const DisplacedMeshPackage*>(&package);
-    if (!displaced)
-        return error(StatusCode::invalid_argument, "displaced mesh: package holds '" + package.representation() + "', not a displaced mesh");
-    Result<std::unique_ptr<DisplacedRenderer>> renderer = DisplacedRenderer::create(*displaced, renderer_settings(settings));
+    Result<std::unique_ptr<DisplacedRenderer>> renderer =
+        DisplacedRenderer::create(reps::package_cast<DisplacedMeshPackage>(package), renderer_settings(settings));
     if (!renderer) return renderer.status();
     return std::unique_ptr<Renderer>(std::move(*renderer));
 }

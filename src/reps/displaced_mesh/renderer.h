@@ -19,7 +19,7 @@ struct RendererSettings {
     Criterion criterion = Criterion::error;
     bool cull = true;                 // frustum and back-face culling of control faces on their prisms
     bool mip = true;                  // elevations from the level whose spacing projects to about tau
-    float outline = 4.0f;             // error criterion: how much more error counts near the silhouette
+    float outline = 2.0f;             // error criterion: how much more error counts near the silhouette
     std::string subdivision = "leb";  // "leb": compute-shader bisection; "tess": tessellation-shader baseline
     int max_depth = 0;                // bisection passes; 0: refinement_passes()
     DebugView debug_view = DebugView::none; // none, parts, level, error, depth, normal

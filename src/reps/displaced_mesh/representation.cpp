@@ -3,8 +3,13 @@
 // validation all come from these tables), debug views, and the summary `standin info` prints.
 #include "reps/displaced_mesh/displaced_mesh.h"
 
+#include "reps/common/package_cast.h"
+
 #include <cmath>
 #include <cstdio>
+
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
 
 namespace standin::displaced_mesh {
 
@@ -37,7 +42,7 @@ std::vector<OptionSpec> render_options()
         choice_option("criterion", "error", {"error", "weighted", "length", "seed"},
                       "Split test: error (a segment's chord error in pixels), weighted (length x edge curvature, "
                       "conforming), length (projected length), seed (the paper's literal rule, leaves T-junctions)"),
-        number_option("outline", "4", 1.0, 64.0,
+        number_option("outline", "2", 1.0, 64.0,
                       "Error criterion: how much more error counts near the silhouette (chords there leave hole pixels)"),
         flag_option("cull", true, "Cull control faces on their displaced prisms (outside the frustum or facing away)"),
         flag_option("mip", true, "Read elevations from the mip level whose spacing projects to about tau pixels"),
@@ -48,7 +53,7 @@ std::vector<OptionSpec> render_options()
 
 PackageSummary summarise(const Package& base)
 {
-    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(base);
+    const auto& p = reps::package_cast<DisplacedMeshPackage>(base);
     const PatternLayout l = p.layout();
     std::uint64_t refined = std::uint64_t(p.face_count()) * std::uint64_t(l.segments) * std::uint64_t(l.segments);
     PackageSummary summary;

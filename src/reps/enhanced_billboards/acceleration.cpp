@@ -7,6 +7,8 @@
 // object).
 #include "reps/enhanced_billboards/acceleration.h"
 
+#include "reps/common/shaders/height_field.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -16,14 +18,14 @@ namespace standin::billboards {
 // the stored shading normal of a texel, decoded
 static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
 {
-    const std::uint16_t* nd = billboard.normal_depth.at(i, j);
-    glm::vec3 n(nd[0], nd[1], nd[2]);
-    return n / 65535.0f * 2.0f - 1.0f;
+    return reps::decode_normal(billboard.normal_depth.at(i, j));
 }
 
-// depth change per texel along `axis` that the normal implies, in texels of depth, capped
-static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction, float max_slope)
+// depth change per texel along `axis` that the normal implies, in texels of depth, capped (the
+// C++ twin of hf_slope in height_field.glsl)
+static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction)
 {
+    const float max_slope = float(HF_MAX_SLOPE);
     float along = std::abs(glm::dot(normal, axis));
     float across = std::abs(glm::dot(normal, direction));
     if (along >= across * max_slope) return max_slope;
@@ -33,8 +35,8 @@ static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction,
 // links of every covered texel to its covered neighbours on the same surface
 static void link_neighbours(const Billboard& b, const LinkSettings& settings, HeightFieldAcceleration& acc)
 {
-    float codes_per_world = 65535.0f / std::max(b.depth_range, 1e-30f);
-    float quantum_codes = settings.depth_bits >= 16 ? 1.0f : 65535.0f / float((1 << settings.depth_bits) - 1);
+    float codes_per_world = reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
+    float quantum_codes = settings.depth_bits >= 16 ? 1.0f : reps::k_depth_codes / float((1 << settings.depth_bits) - 1);
     auto at = [&](int i, int j) -> SurfaceTexel& { return acc.surface[std::size_t(j) * acc.width + i]; };
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {
@@ -50,12 +52,11 @@ static void link_neighbours(const Billboard& b, const LinkSettings& settings, He
                 if (ni >= b.width || nj >= b.height) continue;
                 SurfaceTexel& other = at(ni, nj);
                 if (!(other.flags & k_texel_covered)) continue;
-                float slope = std::max(normal_slope(n, axis[k], b.direction, settings.max_slope),
-                                       normal_slope(texel_normal(b, ni, nj), axis[k], b.direction, settings.max_slope));
-                // allowed jump: the steeper normal's slope with tolerance, half a texel of
-                // curvature, and two quantisation steps
-                float allowed = (settings.slope_tolerance * slope + 0.5f) * b.texel_size * codes_per_world +
-                                2.0f * quantum_codes;
+                float slope = std::max(normal_slope(n, axis[k], b.direction),
+                                       normal_slope(texel_normal(b, ni, nj), axis[k], b.direction));
+                // the shared link rule (hf_link_tolerance), in depth codes
+                float allowed = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * b.texel_size * codes_per_world +
+                                float(HF_QUANTA) * quantum_codes;
                 float jump = std::abs(float(texel.depth) - float(other.depth));
                 if (jump > allowed) continue;
                 texel.flags |= bit_here[k];

@@ -39,12 +39,10 @@ struct HeightFieldAcceleration {
 };
 
 // Two neighbouring covered texels belong to one surface when their depth difference is within
-// what the steeper of their stored normals allows across one texel (x slope_tolerance, with the
-// normal's slope capped at max_slope) plus depth quantisation; a larger jump is an edge.
+// what the steeper of their stored normals allows across one texel: the rule every image-based
+// stand-in shares (reps/common/shaders/height_field.h), with the package's depth quantisation.
 struct LinkSettings {
-    float slope_tolerance = 1.5f;
-    float max_slope = 8.0f;   // texels of depth per texel (about 83 degrees)
-    int depth_bits = 16;      // of the package: 8-bit depths quantise more coarsely
+    int depth_bits = 16; // of the package: 8-bit depths quantise more coarsely
 };
 
 // Builds the acceleration of one billboard, padded to width x height (multiples of 2^levels, at

@@ -1,5 +1,5 @@
 // Greedy construction of enhanced billboards.
-// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.2, §3.4, §4.3), WSCG 2006 (001 §3.1, Fig. 3).
+// Vichitvejpaisal 2005 (§3.2, §3.4, §4.3), Vichitvejpaisal & Kanongchaiyos 2006 (§3.1, Fig. 3).
 //
 // Steps: one texel size for the whole model (seed: bounding-box diagonal -> 512 texels); then,
 // while faces are left, choose a direction, capture what a billboard along it can hold
@@ -27,8 +27,8 @@
 //   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
+#include "reps/common/coarse_mesh.h"
 
-#include <meshoptimizer.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
@@ -56,7 +56,8 @@ Status resolve_parameters(Options& parameters)
     if (parameters.given("texel-size") && parameters.given("resolution"))
         return error(StatusCode::invalid_argument, "--texel-size and --resolution: give one or the other");
     const std::string& directions = parameters.choice("directions");
-    if (parameters.given("direction-count") && directions != "sphere")
+    // (its default is accepted with any set, as every declared default is)
+    if (parameters.integer("direction-count") != k_default_direction_count && directions != "sphere")
         return error(StatusCode::invalid_argument, "--direction-count: applies to --directions sphere only");
     if (directions != "sphere") parameters.set_integer("direction-count", directions == "seed" ? 36 * 18 : 6);
     int depth_bits = parameters.integer("depth-bits");
@@ -285,53 +286,6 @@ std::size_t count_source_faces(const std::vector<std::uint32_t>& pieces, const s
     return n;
 }
 
-// The coarse mesh for hole filling (seed §3.4: "usually 10 times fewer polygons"): QEM
-// simplification on the position-welded topology, sloppy simplification when QEM stops early at
-// locked borders. Vertex colours carry the albedo; no textures.
-constexpr std::size_t k_min_coarse_triangles = 256;
-
-Mesh make_coarse_mesh(const Mesh& mesh, float ratio)
-{
-    Mesh coarse;
-    if (ratio <= 0.0f) return coarse;
-    std::size_t index_count = mesh.indices.size();
-    std::vector<std::uint32_t> welded(index_count), simplified(index_count);
-    meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), index_count, mesh.positions.data(),
-                                      mesh.vertex_count(), sizeof(glm::vec3), sizeof(glm::vec3));
-    // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one
-    // triangle, which fills no hole at all.
-    std::size_t triangles = index_count / 3;
-    std::size_t target_triangles = std::max(std::size_t(double(triangles) * ratio), std::min(triangles, k_min_coarse_triangles));
-    std::size_t target = std::max<std::size_t>(1, target_triangles) * 3;
-    const float* positions = &mesh.positions[0].x;
-    std::size_t count = meshopt_simplify(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
-                                         sizeof(glm::vec3), target, 1.0f, 0, nullptr);
-    if (count > target * 2)
-        count = meshopt_simplifySloppy(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
-                                       sizeof(glm::vec3), target, 1.0f, nullptr);
-    simplified.resize(count);
-
-    // compact the vertices, in order of first use; colour = albedo of the source vertex
-    std::vector<std::uint32_t> remap(mesh.vertex_count(), 0xffffffffu);
-    std::vector<std::uint32_t> corner_face(mesh.vertex_count(), 0), corner_slot(mesh.vertex_count(), 0);
-    for (std::size_t i = 0; i < index_count; ++i) corner_face[welded[i]] = std::uint32_t(i / 3), corner_slot[welded[i]] = std::uint32_t(i % 3);
-    for (std::uint32_t& index : simplified) {
-        if (remap[index] == 0xffffffffu) {
-            remap[index] = std::uint32_t(coarse.positions.size());
-            coarse.positions.push_back(mesh.positions[index]);
-            // the welded vertex is one of the source corners at this position; take its albedo
-            std::uint32_t face = corner_face[index], slot = corner_slot[index];
-            coarse.colors.push_back(mesh.albedo_at(face, slot == 1 ? 1.0f : 0.0f, slot == 2 ? 1.0f : 0.0f));
-        }
-        index = remap[index];
-    }
-    coarse.indices = std::move(simplified);
-    coarse.face_materials.assign(coarse.triangle_count(), 0);
-    coarse.materials.push_back(Material{"coarse", glm::vec4(1.0f), -1});
-    compute_smooth_normals(coarse);
-    return coarse;
-}
-
 } // namespace
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
@@ -406,7 +360,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // what was left and why; the coarse mesh covers it
     record_left(faces, remaining, too_small, directions, capture_settings.min_facing, hit_limit, source_face, package->left);
     context.progress.report("enhanced billboards: coarse mesh", 0.0);
-    package->coarse_mesh = make_coarse_mesh(mesh, settings.coarse_ratio);
+    package->coarse_mesh = reps::make_coarse_mesh(mesh, settings.coarse_ratio);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);
     return std::unique_ptr<Package>(std::move(package));
 }

@@ -1,10 +1,12 @@
-// Enhanced billboards in memory (seed 000 §3.1, 001 §3.1): oriented boxes, each with a colour +
+// Enhanced billboards in memory (Vichitvejpaisal 2005 §3.1, Vichitvejpaisal & Kanongchaiyos 2006 §3.1): oriented boxes, each with a colour +
 // coverage image and a normal + depth image over its front plane. Shared by the baker, the package
 // codec and the renderer of this folder.
 #pragma once
 
 #include <standin/image.h>
 #include <standin/package.h>
+
+#include "reps/common/surface_image.h"
 
 #include <glm/glm.hpp>
 
@@ -14,23 +16,10 @@
 
 namespace standin::billboards {
 
-// Texel (i, j) covers the square origin + [i, i+1) * texel_size * axis_u + [j, j+1) * texel_size *
-// axis_v on the front plane; row j of the images (j = 0 first in memory) is texel row j, and it is
-// uploaded as texture row j (t = (j + 0.5) / height). Depth d in [0, 1] of a texel puts the
-// surface at plane point + d * depth_range * direction.
-struct Billboard {
-    glm::vec3 origin{0.0f};        // world position of the plane corner at texel (0, 0)
-    glm::vec3 axis_u{1, 0, 0};     // unit, along image columns
-    glm::vec3 axis_v{0, 1, 0};     // unit, along image rows
-    glm::vec3 direction{0, 0, -1}; // unit projection direction w, from the plane into the model
-    float texel_size = 1.0f;       // world units per texel
-    float depth_range = 1.0f;      // world units from the plane (depth 0) to depth 1
-    int width = 0, height = 0;     // texels
-    // RGB: albedo (sRGB-encoded), A: coverage (0 empty, 255 covered)
-    ImageRGBA8 color;
-    // RGB: shading normal, world space, encoded n * 0.5 + 0.5 in 16 bits; A: depth in [0,1] * 65535
-    // (8-bit packages hold depth quantised to 8 bits, expanded to 16 in memory).
-    ImageRGBA16 normal_depth;
+// A billboard is a surface image (reps/common/surface_image.h: its frame, colour + coverage and
+// normal + depth, one depth encoding) with what its capture took. Row j of the images is uploaded
+// as texture row j (t = (j + 0.5) / height).
+struct Billboard : reps::SurfaceImage {
     std::size_t captured_faces = 0;
     double captured_area = 0.0;    // world units squared of source surface rasterised here
 };

@@ -1,5 +1,5 @@
 // Capturing the faces one enhanced billboard can hold, exactly.
-// Vichitvejpaisal 2005 (seeds/000_54bac8cf9a729e92.txt §3.1 conditions 1-3, §3.2 steps 6-9, §4.3).
+// Vichitvejpaisal 2005 (§3.1 conditions 1-3, §3.2 steps 6-9, §4.3).
 //
 // For a direction w the faces still to capture are split into
 //   S   facing the plane (n.w < 0), and S_p those of S not grazing (-n.w >= sin(grazing angle));
@@ -504,7 +504,6 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
     board.color = ImageRGBA8(board.width, board.height);
     board.normal_depth = ImageRGBA16(board.width, board.height);
     auto unorm8 = [](float x) { return std::uint8_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f)); };
-    auto unorm16 = [](float x) { return std::uint16_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 65535.0f)); };
     for (int y = 0; y < board.height; ++y)
         for (int x = 0; x < board.width; ++x) {
             std::size_t k = std::size_t(y) * board.width + x;
@@ -512,8 +511,8 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
             std::uint8_t* rgba = board.color.at(x, y);
             rgba[0] = unorm8(albedo[k].x), rgba[1] = unorm8(albedo[k].y), rgba[2] = unorm8(albedo[k].z), rgba[3] = 255;
             std::uint16_t* nd = board.normal_depth.at(x, y);
-            for (int a = 0; a < 3; ++a) nd[a] = unorm16(normal[k][a] * 0.5f + 0.5f);
-            nd[3] = unorm16((depth[k] - front) / board.depth_range);
+            for (int a = 0; a < 3; ++a) nd[a] = reps::encode_normal(normal[k][a]);
+            nd[3] = reps::encode_depth((depth[k] - front) / board.depth_range);
         }
     return board;
 }

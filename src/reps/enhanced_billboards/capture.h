@@ -1,4 +1,4 @@
-// One step of the greedy construction (seed 000 §3.2 steps 5-9): for a projection direction, find
+// One step of the greedy construction (Vichitvejpaisal 2005 §3.2 steps 5-9): for a projection direction, find
 // the faces one billboard can hold and, when asked, rasterise them into its maps. Internal to the
 // enhanced-billboards baker (bake.cpp); see capture.cpp for the method.
 #pragma once

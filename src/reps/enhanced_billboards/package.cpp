@@ -4,7 +4,8 @@
 // encoders); reading validates every field and every file, and refuses what it does not
 // understand with a status naming the file and the field.
 #include "reps/enhanced_billboards/billboards.h"
-#include "reps/manifest.h"
+#include "reps/common/package_cast.h"
+#include "reps/common/package_codec.h"
 
 #include <standin/files.h>
 
@@ -27,36 +28,8 @@ ImageRGBA8 to_8_bits(const ImageRGBA16& image)
     return out;
 }
 
-// Reads one PNG of a billboard, checking size and bit depth against the manifest.
-Status read_map(const std::string& path, int width, int height, int bits, ImageRGBA8* rgba8, ImageRGBA16* rgba16)
-{
-    int w = 0, h = 0;
-    Result<int> depth = png_bit_depth(path, &w, &h);
-    if (!depth) return depth.status();
-    if (w != width || h != height)
-        return error(StatusCode::bad_data, path + ": is " + std::to_string(w) + "x" + std::to_string(h) + ", the manifest says " +
-                                               std::to_string(width) + "x" + std::to_string(height));
-    if (*depth != bits)
-        return error(StatusCode::bad_data, path + ": has " + std::to_string(*depth) + "-bit samples, the manifest says " + std::to_string(bits));
-    if (rgba8) {
-        Result<ImageRGBA8> image = read_png_rgba8(path);
-        if (!image) return image.status();
-        *rgba8 = std::move(*image);
-    } else if (bits == 16) {
-        Result<ImageRGBA16> image = read_png_rgba16(path);
-        if (!image) return image.status();
-        *rgba16 = std::move(*image);
-    } else {
-        Result<ImageRGBA8> image = read_png_rgba8(path);
-        if (!image) return image.status();
-        *rgba16 = ImageRGBA16(image->width, image->height);
-        for (std::size_t k = 0; k < image->pixels.size(); ++k) rgba16->pixels[k] = std::uint16_t(image->pixels[k] * 257);
-    }
-    return Status::ok();
-}
-
-Billboard read_billboard(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
-                         const nlohmann::json& entry, std::size_t index, int depth_bits)
+Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& files, const nlohmann::json& entry,
+                         std::size_t index, int depth_bits)
 {
     std::string where = "billboards[" + std::to_string(index) + "].";
     Billboard b;
@@ -73,11 +46,8 @@ Billboard read_billboard(const manifest_io::Reader& in, const std::string& direc
     b.captured_area = in.number(entry, "captured_area", where, 0.0, 1e300);
     std::string color = in.string(in.member(entry, "color", where), "file", where + "color.");
     std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
-    manifest_io::check_file(in, directory, files, color);
-    manifest_io::check_file(in, directory, files, normal_depth);
-    Status status = read_map((fs::path(directory) / color).string(), b.width, b.height, 8, &b.color, nullptr);
-    if (status) status = read_map((fs::path(directory) / normal_depth).string(), b.width, b.height, depth_bits, nullptr, &b.normal_depth);
-    if (!status) throw manifest_io::BadField{status.message()};
+    b.color = manifest_io::read_image8(in, files, color, b.width, b.height);
+    b.normal_depth = manifest_io::read_image16(in, files, normal_depth, b.width, b.height, depth_bits);
     return b;
 }
 
@@ -85,19 +55,17 @@ Billboard read_billboard(const manifest_io::Reader& in, const std::string& direc
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& package = dynamic_cast<const EnhancedBillboardsPackage&>(base);
+    const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json boards = nlohmann::json::array();
     for (std::size_t k = 0; k < package.billboards.size(); ++k) {
         const Billboard& b = package.billboards[k];
         std::string color = billboard_file(k, "color"), normal_depth = billboard_file(k, "normal_depth");
-        STANDIN_RETURN_IF_ERROR(write_png(b.color, (fs::path(directory) / color).string()));
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, color, files));
         if (package.settings.depth_bits == 8)
-            STANDIN_RETURN_IF_ERROR(write_png(to_8_bits(b.normal_depth), (fs::path(directory) / normal_depth).string()));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(to_8_bits(b.normal_depth), directory, normal_depth, files));
         else
-            STANDIN_RETURN_IF_ERROR(write_png(b.normal_depth, (fs::path(directory) / normal_depth).string()));
-        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, color, files));
-        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, normal_depth, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.normal_depth, directory, normal_depth, files));
         boards.push_back({{"origin", manifest_io::vec3_json(b.origin)},
                           {"axis_u", manifest_io::vec3_json(b.axis_u)},
                           {"axis_v", manifest_io::vec3_json(b.axis_v)},
@@ -127,29 +95,23 @@ Status write(const Package& base, const std::string& directory)
     for (const auto& [reason, what] : package.left)
         left[reason] = {{"faces", what.faces}, {"area", what.area}, {"area_fraction", package.area_total > 0 ? what.area / package.area_total : 0.0}};
 
-    nlohmann::json manifest = {
-        {"format", k_package_format},
-        {"version", k_package_format_version},
-        {"representation", package.representation()},
-        {"source", manifest_io::source_json(package.source)},
-        {"bake", manifest_io::settings_json(package.parameters)},
-        {"faces_total", package.faces_total},
-        {"area_total", package.area_total},
-        {"area_captured", package.area_captured},
-        {"area_captured_fraction", package.area_total > 0 ? std::min(1.0, package.area_captured / package.area_total) : 0.0},
-        {"left", left},
-        {"billboards", boards},
-        {"coarse_mesh", coarse},
-        {"files", files},
-    };
-    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(2) + "\n");
+    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
+    manifest["faces_total"] = package.faces_total;
+    manifest["area_total"] = package.area_total;
+    manifest["area_captured"] = package.area_captured;
+    manifest["area_captured_fraction"] = package.area_total > 0 ? std::min(1.0, package.area_captured / package.area_total) : 0.0;
+    manifest["left"] = left;
+    manifest["billboards"] = boards;
+    manifest["coarse_mesh"] = coarse;
+    manifest["files"] = files;
+    return manifest_io::write_manifest(directory, manifest, 2);
 }
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), true);
-    auto package = std::make_unique<EnhancedBillboardsPackage>();
-    try {
+    manifest_io::Reader in(directory);
+    return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
+        auto package = std::make_unique<EnhancedBillboardsPackage>();
         package->source = manifest_io::read_source(in, manifest);
         package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
         package->settings = settings_from(package->parameters);
@@ -171,19 +133,17 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& boards = in.member(manifest, "billboards", "");
         if (!boards.is_array()) in.fail("billboards", "is not an array");
         for (std::size_t k = 0; k < boards.size(); ++k)
-            package->billboards.push_back(read_billboard(in, directory, files, boards[k], k, package->settings.depth_bits));
+            package->billboards.push_back(read_billboard(in, files, boards[k], k, package->settings.depth_bits));
         const nlohmann::json& coarse = in.member(manifest, "coarse_mesh", "");
         if (!coarse.is_null()) {
             std::string name = in.string(coarse, "file", "coarse_mesh.");
             manifest_io::check_file(in, directory, files, name);
             Result<Mesh> mesh = import_mesh((fs::path(directory) / name).string());
-            if (!mesh) return mesh.status();
+            if (!mesh) throw manifest_io::BadField{mesh.status().message()};
             package->coarse_mesh = std::move(*mesh);
         }
-    } catch (const manifest_io::BadField& bad) {
-        return error(StatusCode::bad_data, bad.message);
-    }
-    return std::unique_ptr<Package>(std::move(package));
+        return package;
+    });
 }
 
 } // namespace standin::billboards

@@ -1,5 +1,5 @@
 // The GPU renderer of enhanced billboards: per-pixel ray casting of each billboard's height field
-// inside its box (Vichitvejpaisal 2005, seeds/000_54bac8cf9a729e92.txt §3.3; 001 Fig. 7), with
+// inside its box (Vichitvejpaisal 2005 §3.3; Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7), with
 // the coarse mesh filling holes (000 §3.4).
 // Differences from the paper, all in shaders/march.frag:
 //  - default march "exact": the depth map is treated as a sheet of texel columns whose neighbours
@@ -22,10 +22,12 @@
 // Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/package_cast.h"
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
 #include "gpu/gl.h"
+#include "gpu/mesh_buffers.h"
 #include "gpu/shaders/common/bindings.h"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
@@ -67,8 +69,8 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
         for (int i = 0; i < b.width; ++i) {
             const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
             if (!(texel.flags & k_texel_covered)) continue;
-            lo = glm::min(lo, glm::vec3(float(i), float(j), float(texel.depth) / 65535.0f));
-            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), float(texel.depth) / 65535.0f));
+            lo = glm::min(lo, glm::vec3(float(i), float(j), reps::decode_depth(texel.depth)));
+            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), reps::decode_depth(texel.depth)));
         }
     }
     g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
@@ -150,8 +152,8 @@ private:
     gpu::Buffer coarse_list_;
     std::size_t coarse_list_capacity_ = 0;
     std::vector<std::pair<float, std::uint32_t>> sort_keys_;
-    gpu::VertexArray empty_vertex_array_, coarse_vertex_array_;
-    gpu::Buffer coarse_positions_, coarse_normals_, coarse_colors_, coarse_indices_;
+    gpu::VertexArray empty_vertex_array_;
+    gpu::MeshBuffers coarse_mesh_;
     GLsizei coarse_index_count_ = 0;
     gpu::Texture pixel_flags_, pixel_depth_;
     glm::ivec2 pixel_images_size_{0};
@@ -319,8 +321,8 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         // proxies: the occupied tiles, and the whole box of covered texels
         for (const TileBox& t : build_tiles(acc, 1 << tile_level)) {
             TileGpu tile;
-            tile.box_min = glm::vec4(glm::vec2(t.texel_min), float(t.depth_min) / 65535.0f - k_depth_margin, 0.0f);
-            tile.box_max = glm::vec4(glm::vec2(t.texel_max), float(t.depth_max) / 65535.0f + k_depth_margin, 0.0f);
+            tile.box_min = glm::vec4(glm::vec2(t.texel_min), reps::decode_depth(t.depth_min) - k_depth_margin, 0.0f);
+            tile.box_max = glm::vec4(glm::vec2(t.texel_max), reps::decode_depth(t.depth_max) + k_depth_margin, 0.0f);
             tile.info = glm::ivec4(layer, tile_level, 0, 0);
             fine.push_back(tile);
             proxies_.push_back({glm::vec3(g.object_from_box * (0.5f * (tile.box_min + tile.box_max) +
@@ -362,29 +364,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     return Status::ok();
 }
 
-void attach_attribute(GLuint vao, GLuint attribute, GLuint buffer, int components, std::size_t stride)
-{
-    glVertexArrayVertexBuffer(vao, attribute, buffer, 0, GLsizei(stride));
-    glVertexArrayAttribFormat(vao, attribute, components, GL_FLOAT, GL_FALSE, 0);
-    glVertexArrayAttribBinding(vao, attribute, attribute);
-    glEnableVertexArrayAttrib(vao, attribute);
-}
-
 void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
 {
-    coarse_positions_ = gpu::make_buffer(mesh.positions);
-    coarse_normals_ = gpu::make_buffer(mesh.normals);
-    std::vector<glm::vec4> colors = mesh.colors;
-    if (colors.size() != mesh.positions.size()) colors.assign(mesh.positions.size(), glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
-    coarse_colors_ = gpu::make_buffer(colors);
-    coarse_indices_ = gpu::make_buffer(mesh.indices);
-    coarse_index_count_ = GLsizei(mesh.indices.size());
-    coarse_vertex_array_ = gpu::make_vertex_array();
-    GLuint vao = coarse_vertex_array_.get();
-    attach_attribute(vao, ATTRIB_POSITION, coarse_positions_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_NORMAL, coarse_normals_.get(), 3, sizeof(glm::vec3));
-    attach_attribute(vao, ATTRIB_COLOR, coarse_colors_.get(), 4, sizeof(glm::vec4));
-    glVertexArrayElementBuffer(vao, coarse_indices_.get());
+    coarse_mesh_ = gpu::MeshBuffers::upload(mesh);
+    coarse_index_count_ = coarse_mesh_.index_count();
 }
 
 // The twelve edges of every billboard's whole box, in object space: corner bits (u, v, depth) pick
@@ -623,7 +606,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
         glProgramUniform1i(coarse_.id(), coarse_debug_at_, debug_view_);
         coarse_.use();
-        glBindVertexArray(coarse_vertex_array_.get());
+        coarse_mesh_.bind();
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
         glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_, GL_UNSIGNED_INT, nullptr, coarse_count);
         stats.draw_calls += 1;
@@ -640,11 +623,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
 
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
-    const auto* billboards = dynamic_cast<const EnhancedBillboardsPackage*>(&package);
-    if (!billboards)
-        return error(StatusCode::invalid_argument,
-                     "enhanced billboards: package holds '" + package.representation() + "', not enhanced billboards");
-    return BillboardRenderer::create(*billboards, settings);
+    return BillboardRenderer::create(reps::package_cast<EnhancedBillboardsPackage>(package), settings);
 }
 
 } // namespace standin::billboards

@@ -2,9 +2,13 @@
 // (declared once: the command line, --help, the viewer, the manifest's "bake" block and its
 // validation all come from these tables), debug views, and the summary `standin info` prints.
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/package_cast.h"
 
 #include <algorithm>
 #include <cstdio>
+
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
 
 namespace standin::billboards {
 
@@ -52,7 +56,7 @@ std::vector<OptionSpec> render_options()
 
 PackageSummary summarise(const Package& base)
 {
-    const auto& package = dynamic_cast<const EnhancedBillboardsPackage&>(base);
+    const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
     double total = package.area_total > 0.0 ? package.area_total : 1.0;
     nlohmann::json left_fraction = nlohmann::json::object(), left_faces = nlohmann::json::object();
     for (const auto& [reason, what] : package.left) {
@@ -111,24 +115,22 @@ BakeSettings settings_from(const Options& parameters)
 
 Representation registration()
 {
-    Representation r;
-    r.name = "enhanced-billboards";
-    r.title = "Enhanced billboards";
-    r.description = "greedy orthographic billboards with colour, coverage, normal and depth, ray-cast per pixel "
-                    "over their boxes, holes filled by a coarse mesh";
-    r.reference = "Vichitvejpaisal 2005; Vichitvejpaisal & Kanongchaiyos 2006";
-    r.bake_options = bake_options();
-    r.render_options = render_options();
-    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches, DebugView::proxies};
     OptionValues no_coarse;
     no_coarse.set("coarse", "off");
-    r.bench_variants = {no_coarse};
-    r.bake = bake;
-    r.write = write;
-    r.read = read;
-    r.make_renderer = make_renderer;
-    r.summarise = summarise;
-    return r;
+    return {.name = "enhanced-billboards",
+            .title = "Enhanced billboards",
+            .description = "greedy orthographic billboards with colour, coverage, normal and depth, ray-cast per "
+                           "pixel over their boxes, holes filled by a coarse mesh",
+            .reference = "Vichitvejpaisal 2005; Vichitvejpaisal & Kanongchaiyos 2006",
+            .bake_options = bake_options(),
+            .render_options = render_options(),
+            .debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches, DebugView::proxies},
+            .bench_variants = {no_coarse},
+            .bake = bake,
+            .write = write,
+            .read = read,
+            .make_renderer = make_renderer,
+            .summarise = summarise};
 }
 
 } // namespace standin::billboards

@@ -1,5 +1,5 @@
 // Baking a view atlas.
-// Saraiva, Oliveira, Pereira & Araújo (seeds/003_069a77515c8fea15.txt §3): render the model from
+// Saraiva, Oliveira, Pereira & Araújo (§3): render the model from
 // the face centres of a subdivided icosahedron, orthographically or with a perspective camera at the
 // base distance r / sin(fov/2), lit by the renderer's fixed light; crop every image to its content.
 // Steps: choose the directions (layout.cpp); render each view with the ground-truth renderer on the
@@ -15,6 +15,7 @@
 
 #include "gpu/frame.h"
 #include "gpu/gl.h"
+#include "gpu/mesh_buffers.h"
 #include "gpu/shaders/common/bindings.h"
 
 #include <algorithm>
@@ -35,42 +36,24 @@ public:
             gpu::Program::create({"reference/shaders/mesh.vert", "reps/view_atlas/shaders/capture_normal.frag"});
         if (!program) return program.status();
         r->program_ = std::move(*program);
-        r->positions_ = gpu::make_buffer(mesh.positions);
-        r->normals_ = gpu::make_buffer(mesh.normals);
-        r->indices_ = gpu::make_buffer(mesh.indices);
-        r->count_ = GLsizei(mesh.indices.size());
-        r->vao_ = gpu::make_vertex_array();
-        GLuint vao = r->vao_.get();
-        const std::pair<GLuint, GLuint> attributes[2] = {{ATTRIB_POSITION, r->positions_.get()},
-                                                         {ATTRIB_NORMAL, r->normals_.get()}};
-        for (auto [attribute, buffer] : attributes) {
-            glVertexArrayVertexBuffer(vao, attribute, buffer, 0, sizeof(glm::vec3));
-            glVertexArrayAttribFormat(vao, attribute, 3, GL_FLOAT, GL_FALSE, 0);
-            glVertexArrayAttribBinding(vao, attribute, attribute);
-            glEnableVertexArrayAttrib(vao, attribute);
-        }
-        glVertexArrayElementBuffer(vao, r->indices_.get());
+        r->mesh_ = gpu::MeshBuffers::upload(mesh);
         return r;
     }
     DrawStats draw(const DrawParams& params) override
     {
         frame_.bind(params);
         program_.use();
-        glBindVertexArray(vao_.get());
+        mesh_.bind();
         glEnable(GL_DEPTH_TEST);
         glDisable(GL_CULL_FACE);
-        glVertexAttrib4f(ATTRIB_COLOR, 1, 1, 1, 1);
-        glVertexAttrib2f(ATTRIB_UV, 0, 0);
-        glDrawElements(GL_TRIANGLES, count_, GL_UNSIGNED_INT, nullptr);
+        glDrawElements(GL_TRIANGLES, mesh_.index_count(), GL_UNSIGNED_INT, nullptr);
         glBindVertexArray(0);
-        return {1, std::uint64_t(count_ / 3)};
+        return {1, std::uint64_t(mesh_.index_count() / 3)};
     }
 
 private:
     gpu::Program program_;
-    gpu::Buffer positions_, normals_, indices_;
-    gpu::VertexArray vao_;
-    GLsizei count_ = 0;
+    gpu::MeshBuffers mesh_;
     gpu::FrameResources frame_;
 };
 

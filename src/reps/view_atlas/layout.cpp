@@ -1,5 +1,5 @@
 // Where a view atlas looks from, and how its crops share pages.
-// Icosahedral directions: Saraiva et al. (seeds/003_069a77515c8fea15.txt §3, after Oliveira &
+// Icosahedral directions: Saraiva et al. (§3, after Oliveira &
 // Buxton's PNORMS): centres of the faces of an icosahedron subdivided k times (k = 4: 5120 views).
 // Octahedral / hemi-octahedral frames: the grids of today's impostor bakers (Unreal's Impostor
 // Baker, Amplify Impostors), frame centres decoded from the octahedral map.

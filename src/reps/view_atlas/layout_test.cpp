@@ -24,7 +24,7 @@ TEST(ViewAtlasLayout, IcosahedralCountsSpacingAndPoles)
         ASSERT_EQ(d.size(), std::size_t(20) << (2 * k));
         for (const glm::vec3& v : d) EXPECT_NEAR(glm::length(v), 1.0f, 1e-5f);
     }
-    // k = 4: the seed's 5120 views, neighbours under 5.5 degrees apart (seed 003 §3)
+    // k = 4: the seed's 5120 views, neighbours under 5.5 degrees apart (Saraiva et al. §3)
     std::vector<glm::vec3> d = layout_directions("icosahedral", 4, 0);
     ASSERT_EQ(d.size(), 5120u);
     float widest = 0.0f;

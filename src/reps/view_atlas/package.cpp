@@ -2,7 +2,8 @@
 // direction, axes and rectangles, and the atlas pages as PNG (colour + coverage; normal + depth for
 // "surface" maps). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
 // every field and file and refuses what it does not understand with a status naming file and field.
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
+#include "reps/common/package_cast.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
@@ -17,13 +18,6 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
-
-Status write_page(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)
-{
-    std::string path = (fs::path(directory) / name).string();
-    STANDIN_RETURN_IF_ERROR(write_png(image, path));
-    return manifest_io::record_file(directory, name, files);
-}
 
 View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, std::size_t index, const BakeSettings& s, int pages)
 {
@@ -48,23 +42,6 @@ View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, std::
     return v;
 }
 
-// Checks a listed file against its recorded size and hash, then decodes it as an 8-bit page.
-ImageRGBA8 read_page(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
-                     const std::string& name, int page_size)
-{
-    manifest_io::check_file(in, directory, files, name);
-    std::string path = (fs::path(directory) / name).string();
-    int w = 0, h = 0;
-    Result<int> depth = png_bit_depth(path, &w, &h);
-    if (!depth) throw manifest_io::BadField{depth.status().message()};
-    if (w != page_size || h != page_size || *depth != 8)
-        throw manifest_io::BadField{path + ": is " + std::to_string(w) + "x" + std::to_string(h) + " with " + std::to_string(*depth) +
-                       "-bit samples, the manifest says " + std::to_string(page_size) + " square, 8-bit"};
-    Result<ImageRGBA8> image = read_png_rgba8(path);
-    if (!image) throw manifest_io::BadField{image.status().message()};
-    return std::move(*image);
-}
-
 } // namespace
 
 float ViewAtlasPackage::half_extent() const
@@ -77,14 +54,15 @@ float ViewAtlasPackage::capture_distance() const { return base_distance(radius, 
 
 Status write(const Package& base, const std::string& directory)
 {
-    const auto& package = dynamic_cast<const ViewAtlasPackage&>(base);
+    const auto& package = reps::package_cast<ViewAtlasPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json pages = nlohmann::json::array();
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
         nlohmann::json page = {{"color", page_file(k, "color")}, {"normal_depth", nullptr}};
-        STANDIN_RETURN_IF_ERROR(write_page(package.color_pages[k], directory, page_file(k, "color"), files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, page_file(k, "color"), files));
         if (package.has_surface()) {
-            STANDIN_RETURN_IF_ERROR(write_page(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
+            STANDIN_RETURN_IF_ERROR(
+                manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
             page["normal_depth"] = page_file(k, "normal_depth");
         }
         pages.push_back(page);
@@ -95,26 +73,20 @@ Status write(const Package& base, const std::string& directory)
                          {"axis_v", manifest_io::vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
                          {"width", v.width}, {"height", v.height}, {"page", v.page},
                          {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}});
-    nlohmann::json manifest = {
-        {"format", k_package_format},
-        {"version", k_package_format_version},
-        {"representation", package.representation()},
-        {"source", manifest_io::source_json(package.source)},
-        {"bake", manifest_io::settings_json(package.parameters)},
-        {"sphere", {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}}},
-        {"half_extent", package.half_extent()},
-        {"pages", pages},
-        {"views", views},
-        {"files", files},
-    };
-    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(1) + "\n");
+    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
+    manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
+    manifest["half_extent"] = package.half_extent();
+    manifest["pages"] = pages;
+    manifest["views"] = views;
+    manifest["files"] = files;
+    return manifest_io::write_manifest(directory, manifest, 1);
 }
 
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
 {
-    manifest_io::Reader in((fs::path(directory) / "manifest.json").string(), false);
-    auto package = std::make_unique<ViewAtlasPackage>();
-    try {
+    manifest_io::Reader in(directory);
+    return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
+        auto package = std::make_unique<ViewAtlasPackage>();
         package->source = manifest_io::read_source(in, manifest);
         package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
         package->settings = settings_from(package->parameters);
@@ -129,19 +101,18 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
         for (std::size_t k = 0; k < pages.size(); ++k) {
             std::string where = "pages[" + std::to_string(k) + "].";
-            package->color_pages.push_back(read_page(in, directory, files, in.string(pages[k], "color", where), s.page_size));
+            package->color_pages.push_back(
+                manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
             if (package->has_surface())
-                package->normal_depth_pages.push_back(
-                    read_page(in, directory, files, in.string(pages[k], "normal_depth", where), s.page_size));
+                package->normal_depth_pages.push_back(manifest_io::read_image8(
+                    in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size));
         }
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");
         for (std::size_t k = 0; k < views.size(); ++k)
             package->views.push_back(read_view(in, views[k], k, s, int(pages.size())));
-    } catch (const manifest_io::BadField& bad) {
-        return error(StatusCode::bad_data, bad.message);
-    }
-    return std::unique_ptr<Package>(std::move(package));
+        return package;
+    });
 }
 
 } // namespace standin::view_atlas

@@ -1,6 +1,6 @@
 // The GPU renderer of view atlases: one quad per instance, views chosen per instance in the vertex
 // stage (shaders/atlas.vert), the atlas read per pixel (shaders/atlas.frag).
-// Saraiva et al. (seeds/003_069a77515c8fea15.txt §3): style "seed" shows the view nearest to the
+// Saraiva et al. (§3): style "seed" shows the view nearest to the
 // viewing direction (largest cosine) on a camera-facing quad through the sphere's centre.
 // Beyond the paper (its §7): "octahedral-baseline" blends the three views around the direction with
 // one parallax step, as impostor bakers do; "corrected" (default) picks the three views around each
@@ -18,6 +18,7 @@
 // direction lookup cube (the nearest view of each cell's centre) and each view's
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
+#include "reps/common/package_cast.h"
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
@@ -519,11 +520,7 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
 
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
 {
-    const auto* atlas = dynamic_cast<const ViewAtlasPackage*>(&package);
-    if (!atlas)
-        return error(StatusCode::invalid_argument,
-                     "view atlas: package holds '" + package.representation() + "', not a view atlas");
-    return AtlasRenderer::create(*atlas, settings);
+    return AtlasRenderer::create(reps::package_cast<ViewAtlasPackage>(package), settings);
 }
 
 } // namespace standin::view_atlas

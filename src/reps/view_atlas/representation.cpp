@@ -2,8 +2,12 @@
 // the command line, --help, the viewer, the manifest's "bake" block and its validation all come
 // from these tables), debug views, and the summary `standin info` prints.
 #include "reps/view_atlas/view_atlas.h"
+#include "reps/common/package_cast.h"
 
 #include <cstdio>
+
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
 
 namespace standin::view_atlas {
 
@@ -42,7 +46,7 @@ std::vector<OptionSpec> render_options()
 
 PackageSummary summarise(const Package& base)
 {
-    const auto& package = dynamic_cast<const ViewAtlasPackage&>(base);
+    const auto& package = reps::package_cast<ViewAtlasPackage>(base);
     const BakeSettings& settings = package.settings;
     std::uint64_t texels = 0;
     for (const View& v : package.views) texels += std::uint64_t(v.width) * v.height;
@@ -100,21 +104,20 @@ Status check_settings(const BakeSettings& s)
 
 Representation registration()
 {
-    Representation r;
-    r.name = "view-atlas";
-    r.title = "View atlas";
-    r.description = "a camera-facing proxy textured from many pre-rendered views: the nearest, or three blended "
-                    "and intersected per pixel with their depth";
-    r.reference = "Saraiva, Oliveira, Pereira & Araújo";
-    r.bake_options = bake_options();
-    r.render_options = render_options();
-    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches};
-    r.bake = bake;
-    r.write = write;
-    r.read = read;
-    r.make_renderer = make_renderer;
-    r.summarise = summarise;
-    return r;
+    return {.name = "view-atlas",
+            .title = "View atlas",
+            .description = "a camera-facing proxy textured from many pre-rendered views: the nearest, or three "
+                           "blended and intersected per pixel with their depth",
+            .reference = "Saraiva, Oliveira, Pereira & Araújo",
+            .bake_options = bake_options(),
+            .render_options = render_options(),
+            .debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::fetches},
+            .bench_variants = {},
+            .bake = bake,
+            .write = write,
+            .read = read,
+            .make_renderer = make_renderer,
+            .summarise = summarise};
 }
 
 } // namespace standin::view_atlas

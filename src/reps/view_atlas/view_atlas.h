@@ -1,4 +1,4 @@
-// View atlas in memory (Saraiva et al., seeds/003_069a77515c8fea15.txt §3): the model rendered from
+// View atlas in memory (Saraiva et al. §3): the model rendered from
 // many directions around its bounding sphere, each image cropped to its content and packed into
 // atlas pages. At run time a camera-facing quad through the sphere's centre shows the nearest view
 // (style "seed"), or the views around the viewing direction are blended and, with stored depth,

@@ -1,4 +1,4 @@
-// The one shading model of standin (seed 000 §5.1 lost accuracy to a shading mismatch between the
+// The one shading model of standin (Vichitvejpaisal 2005 §5.1 lost accuracy to a shading mismatch between the
 // original and the billboards: every renderer includes this file, so differences measure the
 // representation, not the lighting). Albedo arrives sRGB-encoded; lighting is done in linear space;
 // the result is sRGB-encoded again for an RGBA8 target.

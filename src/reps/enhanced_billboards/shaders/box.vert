@@ -1,6 +1,6 @@
 #version 450 core
 // Enhanced billboards: every proxy box (one per occupied tile of a billboard, or one per billboard
-// for instances far away) of every instance is one instance of a 36-vertex box (seed 000 §3.3:
+// for instances far away) of every instance is one instance of a 36-vertex box (Vichitvejpaisal 2005 §3.3:
 // the box's faces towards the eye, at most three; back faces are culled by GL). The draw list,
 // built on the CPU each frame, names (instance, tile) per box, front to back, and is split in two:
 // boxes beyond the near plane (front faces), and boxes of instances that may cross it, drawn by

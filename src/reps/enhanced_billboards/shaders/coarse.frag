@@ -1,5 +1,5 @@
 #version 450 core
-// Hole filling with the coarse mesh (seed 000 §3.4), restricted to pixels where a billboard ray
+// Hole filling with the coarse mesh (Vichitvejpaisal 2005 §3.4), restricted to pixels where a billboard ray
 // came within a texel of a surface and missed or saw the back of a sheet (march.frag marks them),
 // and never where the nearest billboard hit is a front one: so it fills holes but neither covers a
 // billboard hit nor grows the silhouette.

@@ -1,5 +1,5 @@
 #version 450 core
-// The package's coarse mesh (seed 000 §3.4), drawn after the billboards to fill their holes.
+// The package's coarse mesh (Vichitvejpaisal 2005 §3.4), drawn after the billboards to fill their holes.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 

@@ -1,7 +1,7 @@
 #version 450 core
 // Enhanced billboards, per fragment: the eye ray is clipped to the proxy box (a tile of the
-// billboard, or the whole billboard) and intersected with the billboard's height field (seed 000
-// §3.3, 001 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
+// billboard, or the whole billboard) and intersected with the billboard's height field (Vichitvejpaisal 2005
+// §3.3; Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
 // the shader keeps itself: a fragment whose depth the shader writes is tested late on some GPUs and
 // on llvmpipe, and boxes are drawn front to back, so most rays behind a hit never start).
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
@@ -19,6 +19,7 @@ layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than th
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
+#include "reps/common/shaders/height_field.glsl"
 #include "reps/enhanced_billboards/shaders/billboard.glsl"
 
 flat in int v_tile;
@@ -42,7 +43,7 @@ uniform int mark_pixels;
 
 layout(location = 0) out vec4 out_color;
 
-const float k_codes = 65535.0;
+const float k_codes = HF_DEPTH_CODES;
 int g_fetches = 0;
 
 uvec4 fetch_surface(ivec2 texel, int layer)
@@ -94,29 +95,24 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
             uvec4 s = fetch_surface(texel, layer);
             if ((s.a & TEXEL_COVERED) != 0u && float(s.y) <= z_hi + 0.5 && float(s.z) >= z_lo - 0.5) {
                 near = true;
-                // the wall to the texel the ray came from
+                // the wall to the texel the ray came from, if it continues this surface, then the top
                 vec2 entry_bound = vec2(texel + ivec2(1) - ahead);
                 vec2 t_entries = (entry_bound - o.xy) * inv.xy;
                 int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
                 float t_in = t_entries[entry_axis];
                 uint link = entry_axis == 0 ? (dir.x > 0 ? LINK_MINUS_U : LINK_PLUS_U)
                                             : (dir.y > 0 ? LINK_MINUS_V : LINK_PLUS_V);
-                if (t_in >= t0 && (s.a & link) != 0u) {
-                    ivec2 from = texel;
-                    from[entry_axis] -= dir[entry_axis];
-                    float d_from = float(fetch_surface(from, layer).x);
-                    float z_in = (o.z + t_in * d.z) * k_codes;
-                    if (z_in >= min(d_from, float(s.x)) && z_in <= max(d_from, float(s.x))) {
-                        t_hit = t_in;
-                        hit_texel = abs(z_in - d_from) < abs(z_in - float(s.x)) ? from : texel;
-                        return true;
-                    }
-                }
-                // the texel's top
-                float depth = float(s.x);
-                if (depth >= z_lo && depth <= z_hi) {
-                    t_hit = abs(d.z) > 1e-20 ? clamp((depth / k_codes - o.z) / d.z, t, t_exit) : t;
-                    hit_texel = texel;
+                bool from_linked = t_in >= t0 && (s.a & link) != 0u;
+                ivec2 from = texel;
+                from[entry_axis] -= dir[entry_axis];
+                float d_from = from_linked ? float(fetch_surface(from, layer).x) / k_codes : 0.0;
+                float top = float(s.x) / k_codes;
+                vec2 crossing = hf_cross_column(t_in, t, t_exit, o.z, d.z, top, from_linked, d_from);
+                if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
+                    t_hit = crossing.x;
+                    // on a wall, the texel whose top is nearer the crossing
+                    float z_in = o.z + t_in * d.z;
+                    hit_texel = crossing.y == HF_WALL && abs(z_in - d_from) < abs(z_in - top) ? from : texel;
                     return true;
                 }
             }
@@ -145,7 +141,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
     return false;
 }
 
-// The seed's linear search (001 Fig. 7): equal steps over the box diagonal from the entry point.
+// The seed's linear search (Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7): equal steps over the box diagonal from the entry point.
 bool march_seed(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, float diagonal_t,
                 out float t_hit, out ivec2 hit_texel, inout bool near)
 {

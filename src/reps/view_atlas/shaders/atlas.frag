@@ -1,6 +1,6 @@
 #version 450 core
 // View atlas, per fragment.
-// STYLE_SEED: the nearest view's texel (seed 003 §3), lit colour as baked or, with surface maps,
+// STYLE_SEED: the nearest view's texel (Saraiva et al. §3), lit colour as baked or, with surface maps,
 // albedo lit from the stored normal.
 // STYLE_BASELINE: the way impostor bakers draw: the three views around the viewing direction, each
 // read where the eye ray crosses the centre plane moved by one parallax step along its depth,
@@ -13,6 +13,7 @@
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
+#include "reps/common/shaders/height_field.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 flat in ivec3 v_views;
@@ -149,8 +150,7 @@ vec4 height_texel(ViewData view, ivec2 capture_texel)
     if (max(nd.r, max(nd.g, nd.b)) < 0.1) return vec4(0.0);
     vec3 n = nd.rgb * 2.0 - 1.0;
     vec3 n_view = vec3(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz), dot(n, view.direction.xyz));
-    const float max_slope = 8.0; // about 83 degrees, as the billboards' LinkSettings
-    vec2 slope = min(abs(n_view.xy) / max(abs(n_view.z), 1e-3), vec2(max_slope));
+    vec2 slope = vec2(hf_slope(n_view.x, n_view.z), hf_slope(n_view.y, n_view.z));
     return vec4(1.0, atlas_radius - 2.0 * atlas_radius * nd.a, slope);
 }
 
@@ -167,14 +167,14 @@ float cell_top(ViewData view, ivec2 capture_texel)
     return atlas_radius - 2.0 * atlas_radius * code;
 }
 
-// Whether neighbouring covered texels a and b (across axis 0: u, 1: v) continue one surface: the
-// height step is within 1.5x what the steeper normal allows across one texel, plus 8-bit depth
-// quantisation.
+// One step of the stored 8-bit depth, in object units.
+float depth_quantum() { return 2.0 * atlas_radius / 255.0; }
+
+// Whether neighbouring covered texels a and b (across axis 0: u, 1: v) continue one surface
+// (height_field.h).
 bool linked(vec4 a, vec4 b, int axis, float texel)
 {
-    float slope = max(a[2 + axis], b[2 + axis]);
-    float quantum = 2.0 * atlas_radius / 255.0;
-    return abs(a.y - b.y) <= 1.5 * slope * texel + 1.5 * quantum;
+    return abs(a.y - b.y) <= hf_link_tolerance(a[2 + axis], b[2 + axis], texel, depth_quantum());
 }
 
 // Intersects ray o + t d (object space) with one view's height field: a digital walk over the
@@ -256,17 +256,14 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d)
         vec4 current = height_texel(view, cell);
         float t_exit = min(min(t_next.x, t_next.y), t1);
         if (current.x > 0.5) {
-            float z_enter = ro.z + t_enter * rd.z;
-            if (z_enter <= current.y) {
-                // entered below the top: a wall of this surface, or the far side of a depth edge
-                if (entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell);
-                if (entered_across >= 0 && previous.x > 0.5 && previous_above && linked(previous, current, entered_across, texel))
-                    return vec2(t_enter, RAY_HIT);
-                hidden = true;
-            } else {
-                float t_top = (current.y - ro.z) / rd.z;
-                if (t_top <= t_exit) return vec2(max(t_top, t_enter), RAY_HIT);
-            }
+            // depth grows away from the view's camera: the negated height
+            bool below = ro.z + t_enter * rd.z <= current.y;
+            if (below && entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell);
+            bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
+                               linked(previous, current, entered_across, texel);
+            vec2 crossing = hf_cross_column(t_enter, t_enter, t_exit, -ro.z, -rd.z, -current.y, from_linked, -previous.y);
+            if (crossing.y == HF_TOP || crossing.y == HF_WALL) return vec2(crossing.x, RAY_HIT);
+            hidden = hidden || crossing.y == HF_UNDER;
         }
         previous = current;
         previous_unread = false;
@@ -306,7 +303,8 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
             ivec2 corner = ivec2(k & 1, k >> 1);
             vec4 t = height_texel(view, base + corner);
             if (t.x < 0.5) continue;
-            float tolerance = 1.5 * max(t.z, t.w) * texel + 1.5 * (2.0 * atlas_radius / 255.0) + texel;
+            // the link rule's step, and a texel more: the hit may lie anywhere on its texel
+            float tolerance = hf_link_tolerance(t.z, t.w, texel, depth_quantum()) + texel;
             if (abs(t.y - height) > tolerance) continue;
             float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y) + 1e-6;
             ivec3 at = ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x);

@@ -1,5 +1,5 @@
 #version 450 core
-// View atlas: one proxy per instance. Style seed (seed 003 §3): the crop rectangle of the nearest
+// View atlas: one proxy per instance. Style seed (Saraiva et al. §3): the crop rectangle of the nearest
 // view on the plane through the sphere's centre, turned to face the camera (a 4-vertex strip).
 // Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
 // Corrected: the cut-out hull below (36 vertices). The fragment stage casts the rays; with the eye

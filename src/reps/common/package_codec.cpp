@@ -1,6 +1,6 @@
 // Manifest helpers shared by the package codecs: both write and validate manifest.json the same
 // way (docs/FORMAT.md). See manifest.h.
-#include "reps/manifest.h"
+#include "reps/common/package_codec.h"
 
 #include <standin/files.h>
 
@@ -47,16 +47,27 @@ const nlohmann::json& Reader::member(const nlohmann::json& object, const std::st
     return object[key];
 }
 
+Reader::Reader(const std::string& directory)
+    : directory_(directory), path_((fs::path(directory) / "manifest.json").string())
+{
+}
+
+Result<std::unique_ptr<Package>> read_fields(const std::function<std::unique_ptr<Package>()>& body)
+{
+    try {
+        return body();
+    } catch (const BadField& bad) {
+        return error(StatusCode::bad_data, bad.message);
+    }
+}
+
 double Reader::number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const
 {
     const nlohmann::json& value = member(object, key, where);
     if (!value.is_number()) fail(where + key, "is not a number");
     double x = value.get<double>();
-    if (!std::isfinite(x) || x < lo || x > hi) {
-        if (bounds_in_range_errors_)
-            fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        fail(where + key, "= " + value.dump() + " is out of range");
-    }
+    if (!std::isfinite(x) || x < lo || x > hi)
+        fail(where + key, "= " + value.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return x;
 }
 
@@ -101,7 +112,7 @@ glm::vec3 Reader::vec3(const nlohmann::json& object, const std::string& key, con
 
 void Reader::fail(const std::string& field, const std::string& problem) const
 {
-    throw BadField{path_ + ": \"" + field + "\" " + problem};
+    throw BadField{quoted(path_) + ": \"" + one_line(field, 200) + "\" " + problem};
 }
 
 SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
@@ -117,6 +128,12 @@ SourceInfo read_source(const Reader& in, const nlohmann::json& manifest)
     s.bounds.min = in.vec3(bounds, "min", "source.bounds.");
     s.bounds.max = in.vec3(bounds, "max", "source.bounds.");
     s.surface_area = in.number(source, "surface_area", "source.", 0.0, 1e300);
+    for (int k = 0; k < 3; ++k) {
+        if (!(s.bounds.min[k] <= s.bounds.max[k])) in.fail("source.bounds", "has min above max");
+        if (std::abs(s.bounds.min[k]) > k_max_coordinate || std::abs(s.bounds.max[k]) > k_max_coordinate)
+            in.fail("source.bounds", "lies beyond +-1e15, where float arithmetic overflows");
+    }
+    if (!(s.bounds.diagonal() > 0.0f) || !std::isfinite(s.bounds.diagonal())) in.fail("source.bounds", "has no extent");
     return s;
 }
 
@@ -192,19 +209,92 @@ void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, gl
         in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
 }
 
+bool is_plain_file_name(const std::string& name)
+{
+    if (name.empty() || name == "." || name == ".." || name.size() > 255) return false;
+    for (unsigned char c : name)
+        if (c == '/' || c == '\\' || c < 0x20 || c == 0x7f) return false;
+    return true;
+}
+
 void check_file(const Reader& in, const std::string& directory, const nlohmann::json& files, const std::string& name)
 {
-    if (name.empty() || name.find('/') != std::string::npos || name.find('\\') != std::string::npos || name == "..")
-        in.fail("files", "names '" + name + "', which is not a plain file name");
+    if (!is_plain_file_name(name)) in.fail("files", "names " + quoted(name) + ", which is not a plain file name");
     const nlohmann::json& entry = in.member(files, name, "files.");
     std::string path = (fs::path(directory) / name).string();
     Result<std::string> bytes = read_file(path);
-    if (!bytes) throw BadField{path + ": listed in the manifest but cannot be read: " + bytes.status().message()};
+    if (!bytes) throw BadField{bytes.status().message() + " (listed in the manifest)"};
     std::int64_t size = in.integer(entry, "bytes", "files." + name + ".", 0, INT64_MAX);
     if (std::uint64_t(size) != bytes->size())
-        throw BadField{path + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
+        throw BadField{quoted(path) + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
     if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
-        throw BadField{path + ": content does not match the manifest's hash (damaged file)"};
+        throw BadField{quoted(path) + ": content does not match the manifest's hash (damaged file)"};
+}
+
+Status write_image(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_png(image, (fs::path(directory) / name).string()));
+    return record_file(directory, name, files);
+}
+
+Status write_image(const ImageRGBA16& image, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_png(image, (fs::path(directory) / name).string()));
+    return record_file(directory, name, files);
+}
+
+nlohmann::json manifest_header(const Package& package, const Options& parameters)
+{
+    return {{"format", k_package_format},
+            {"version", k_package_format_version},
+            {"representation", package.representation()},
+            {"source", source_json(package.source)},
+            {"bake", settings_json(parameters)}};
+}
+
+Status write_manifest(const std::string& directory, const nlohmann::json& manifest, int indent)
+{
+    return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(indent) + "\n");
+}
+
+// Size and bit depth of a listed PNG against the manifest, before it is decoded.
+static std::string checked_png(const Reader& in, const nlohmann::json& files, const std::string& name, int width,
+                               int height, int bits)
+{
+    check_file(in, in.directory(), files, name);
+    std::string path = (fs::path(in.directory()) / name).string();
+    int w = 0, h = 0;
+    Result<int> depth = png_bit_depth(path, &w, &h);
+    if (!depth) throw BadField{depth.status().message()};
+    if (w != width || h != height)
+        throw BadField{quoted(path) + ": is " + std::to_string(w) + "x" + std::to_string(h) + ", the manifest says " +
+                       std::to_string(width) + "x" + std::to_string(height)};
+    if (*depth != bits)
+        throw BadField{quoted(path) + ": has " + std::to_string(*depth) + "-bit samples, the manifest says " + std::to_string(bits)};
+    return path;
+}
+
+ImageRGBA8 read_image8(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height)
+{
+    Result<ImageRGBA8> image = read_png_rgba8(checked_png(in, files, name, width, height, 8));
+    if (!image) throw BadField{image.status().message()};
+    return std::move(*image);
+}
+
+ImageRGBA16 read_image16(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height,
+                         int bits)
+{
+    std::string path = checked_png(in, files, name, width, height, bits);
+    if (bits == 16) {
+        Result<ImageRGBA16> image = read_png_rgba16(path);
+        if (!image) throw BadField{image.status().message()};
+        return std::move(*image);
+    }
+    Result<ImageRGBA8> image = read_png_rgba8(path);
+    if (!image) throw BadField{image.status().message()};
+    ImageRGBA16 wide(image->width, image->height);
+    for (std::size_t k = 0; k < image->pixels.size(); ++k) wide.pixels[k] = std::uint16_t(image->pixels[k] * 257);
+    return wide;
 }
 
 } // namespace standin::manifest_io

@@ -1,8 +1,11 @@
-// Manifest helpers shared by the package codecs (src/reps/*/package.cpp): both write and validate
-// manifest.json the same way (docs/FORMAT.md): the "source" block, files listed with size and
-// hash, and typed field readers whose refusals name the manifest and the field.
+// The package-codec plumbing every representation shares (its src/reps/<name>/package.cpp keeps
+// only what is its own): manifest.json's header ("format", "version", "representation", "source",
+// "bake"), files listed with size and hash, images written and read back with their size, bit depth
+// and hash checked, and typed field readers whose refusals name the manifest and the field
+// (docs/FORMAT.md).
 #pragma once
 
+#include <standin/image.h>
 #include <standin/options.h>
 #include <standin/package.h>
 #include <standin/status.h>
@@ -12,6 +15,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,6 +32,18 @@ std::string numbered_png(const char* prefix, std::size_t index, const char* map)
 // Records the size and hash of the file `name` (already written in `directory`) in `files`.
 Status record_file(const std::string& directory, const std::string& name, nlohmann::json& files);
 
+// Writes an image as PNG (8 or 16 bits per sample, as the image holds them) into `directory` and
+// records it in `files`.
+Status write_image(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files);
+Status write_image(const ImageRGBA16& image, const std::string& directory, const std::string& name, nlohmann::json& files);
+
+// What every manifest starts with: "format", "version", "representation", "source" and the "bake"
+// block of the parameters the package was baked with (settings_json). The codec adds its own keys
+// and "files", then calls write_manifest.
+nlohmann::json manifest_header(const Package& package, const Options& parameters);
+// Writes manifest.json (last: a package directory is complete once it is there), with `indent`.
+Status write_manifest(const std::string& directory, const nlohmann::json& manifest, int indent);
+
 // ------------------------------------------------------------------------------------------------
 // Reading: every accessor names the manifest and the field it refuses.
 
@@ -36,11 +53,8 @@ struct BadField {
 
 class Reader {
 public:
-    // `bounds_in_range_errors`: whether number()'s out-of-range refusal also names [lo, hi].
-    Reader(std::string path, bool bounds_in_range_errors)
-        : path_(std::move(path)), bounds_in_range_errors_(bounds_in_range_errors)
-    {
-    }
+    // `directory`: the package; the reader names its manifest.json in every refusal.
+    explicit Reader(const std::string& directory);
 
     const nlohmann::json& member(const nlohmann::json& object, const std::string& key, const std::string& where) const;
     double number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const;
@@ -52,11 +66,14 @@ public:
     glm::vec3 vec3(const nlohmann::json& object, const std::string& key, const std::string& where) const;
     [[noreturn]] void fail(const std::string& field, const std::string& problem) const;
     const std::string& path() const { return path_; }
+    const std::string& directory() const { return directory_; }
 
 private:
-    std::string path_;
-    bool bounds_in_range_errors_;
+    std::string directory_, path_;
 };
+
+// Runs a codec's reader body, turning the first refused field (BadField) into a bad_data status.
+Result<std::unique_ptr<Package>> read_fields(const std::function<std::unique_ptr<Package>()>& body);
 
 SourceInfo read_source(const Reader& in, const nlohmann::json& manifest);
 
@@ -69,7 +86,21 @@ Options read_settings(const Reader& in, const nlohmann::json& manifest, std::spa
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction);
 
+// A name a manifest may give a file: one path component inside the package (not empty, not "." or
+// "..", no '/' or '\\', no control characters, at most 255 bytes).
+bool is_plain_file_name(const std::string& name);
+
+// Largest coordinate a package's bounds (and an imported model) may hold: squares and cross products
+// of coordinates must stay finite in float.
+constexpr float k_max_coordinate = 1e15f;
+
 // Checks a listed file against its recorded size and hash.
 void check_file(const Reader& in, const std::string& directory, const nlohmann::json& files, const std::string& name);
+
+// A listed PNG of the package, checked (check_file) and decoded, refused unless it is width x height
+// with `bits` per sample (8 or 16; 8-bit samples read as 16 are scaled by 257).
+ImageRGBA8 read_image8(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height);
+ImageRGBA16 read_image16(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height,
+                         int bits);
 
 } // namespace standin::manifest_io

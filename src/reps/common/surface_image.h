@@ -1,0 +1,45 @@
+// The surface image: what every image-based stand-in stores of a piece of surface. A billboard, a
+// view of an atlas, a microfacet texture and a displaced patch are all oriented images of colour +
+// coverage and normal + depth over a plane, with one depth encoding (16 bits over a depth range).
+#pragma once
+
+#include <standin/image.h>
+
+#include "reps/common/shaders/height_field.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace standin::reps {
+
+// Texel (i, j) covers the square origin + [i, i+1) * texel_size * axis_u + [j, j+1) * texel_size *
+// axis_v on the front plane; row j of the images (j = 0 first in memory) is texel row j. Depth d in
+// [0, 1] of a texel puts the surface at plane point + d * depth_range * direction.
+struct SurfaceImage {
+    glm::vec3 origin{0.0f};        // world position of the plane corner at texel (0, 0)
+    glm::vec3 axis_u{1, 0, 0};     // unit, along image columns
+    glm::vec3 axis_v{0, 1, 0};     // unit, along image rows
+    glm::vec3 direction{0, 0, -1}; // unit, from the plane into the model (away from the capture)
+    float texel_size = 1.0f;       // world units per texel
+    float depth_range = 1.0f;      // world units from the plane (depth 0) to depth 1
+    int width = 0, height = 0;     // texels
+    // RGB: albedo (sRGB-encoded), A: coverage (0 empty, 255 covered)
+    ImageRGBA8 color;
+    // RGB: shading normal, world space, n * 0.5 + 0.5 (encode_normal); A: depth (encode_depth).
+    // Packages that store fewer bits hold the quantised value, expanded to 16 in memory.
+    ImageRGBA16 normal_depth;
+};
+
+// The one depth encoding: d in [0, 1] of the depth range, as a 16-bit code.
+constexpr float k_depth_codes = 65535.0f;
+static_assert(k_depth_codes == float(HF_DEPTH_CODES), "one depth encoding for C++ and GLSL");
+inline std::uint16_t encode_depth(float depth) { return std::uint16_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * k_depth_codes)); }
+inline float decode_depth(std::uint16_t code) { return float(code) / k_depth_codes; }
+// A normal component n in [-1, 1] as n * 0.5 + 0.5 in 16 bits, and back.
+inline std::uint16_t encode_normal(float n) { return encode_depth(n * 0.5f + 0.5f); }
+inline glm::vec3 decode_normal(const std::uint16_t* rgb) { return glm::vec3(rgb[0], rgb[1], rgb[2]) / k_depth_codes * 2.0f - 1.0f; }
+
+} // namespace standin::reps
