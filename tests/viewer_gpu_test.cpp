@@ -222,6 +222,25 @@ TEST(Viewer, BadPackageIsRefusedWithOneLine)
     }
 }
 
+TEST(Viewer, PackageWhoseRendererFailsEndsCleanlyAfterTheWindowCloses)
+{
+    // issue #15: a lit-only view atlas cannot be drawn with the default style; the early return
+    // left the renderers alive after the GL context was gone and libepoxy aborted
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+    std::string dir = test::fresh_directory("viewer_lit_atlas");
+    test::CommandResult bake = test::run_cli("bake " + test::source_dir() + "/data/bunny.ply -r view-atlas --maps lit "
+                                             "--resolution 16 --subdivisions 0 --page-size 256 -o " + dir + "/lit.standin");
+    ASSERT_EQ(bake.exit_code, 0) << bake.err;
+    std::string script = write_text(dir + "/s.txt", "wait 2\nquit\n");
+    test::CommandResult result = run_view_under_xvfb(test::source_dir() + "/data/bunny.ply " + dir + "/lit.standin --script " +
+                                                     script + " --size 160x120");
+    EXPECT_TRUE(result.exit_code == 0 || result.exit_code == 2) << result.exit_code << ": " << result.err;
+    if (result.exit_code == 2) {
+        EXPECT_EQ(line_count(result.err), 1) << result.err;
+        EXPECT_NE(result.err.find("lit.standin"), std::string::npos) << result.err;
+    }
+}
+
 TEST(Viewer, MissingDisplaySuggestsRender)
 {
     test::CommandResult result =

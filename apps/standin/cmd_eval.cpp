@@ -95,6 +95,7 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
     if (result.surface)
         std::printf("  surface         mean %.3g  max %.3g (of the bounding-box diagonal)\n", result.surface->mean_rel,
                     result.surface->max_rel);
+    std::printf("  verdict         %s\n", json["verdict"]["line"].get<std::string>().c_str());
 }
 
 static int run_eval(EvalArgs& args)

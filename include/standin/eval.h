@@ -172,11 +172,32 @@ using ViewSink = std::function<Status(std::size_t index, const ViewResult& resul
 Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSphere& sphere, const Protocol& protocol,
                             const EvalOptions& options, const Progress& progress, const ViewSink& sink = {});
 
+// What a user asks of an evaluation: from how far is the stand-in as good as the mesh, and from how
+// far is it cheaper, so that an engine's level of detail knows where to switch.
+struct Verdict {
+    double de2000_threshold = 2.0; // "indistinguishable": mean CIEDE2000 over the views at most this
+    // The smallest relative distance of the protocol from which every distance as far or farther is
+    // indistinguishable (nullopt: none is). With one distance, that distance or none.
+    std::optional<float> indistinguishable_from;
+    // The smallest relative distance from which the stand-in draws faster than the mesh at every
+    // distance as far or farther, and the mesh's mean screen coverage there in pixels (the stand-in
+    // is cheaper at that size and below); nullopt when not timed or never cheaper.
+    std::optional<float> cheaper_from;
+    double cheaper_below_pixels = 0.0;
+    // Frame times compared: wall time to glFinish where GPU timer queries miss the work (llvmpipe
+    // defers rasterisation) or read zero, else the GPU timer.
+    bool wall_time = false;
+    bool timed = false;
+    std::string line; // the sentence, for the terminal and the report
+};
+Verdict eval_verdict(const EvalResult& result);
+
 // Mean, median, max and min over views of one figure.
 MetricStats stats_over_views(const EvalResult& result, double (*figure)(const ViewResult&));
 
 // The --json document (docs/EVAL.md): {"format", "version", "protocol", "device", "model",
-// "package", "summary": {...}, "stats": {...}, "views": [...], "tables": {...}, "surface"}.
+// "package", "summary": {...}, "verdict": {...}, "stats": {...}, "views": [...], "tables": {...},
+// "surface"}.
 // `identity` is merged in at the top level (model and package names, command line).
 nlohmann::json eval_to_json(const EvalResult& result, const nlohmann::json& identity = {});
 

@@ -151,6 +151,99 @@ MetricStats stats_over_views(const EvalResult& result, double (*figure)(const Vi
     return stats;
 }
 
+// Whether the GPU timer queries of a result can be trusted: llvmpipe's miss its deferred
+// rasterisation, and a query that read zero measured nothing.
+static bool gpu_timers_usable(const EvalResult& result)
+{
+    if (result.device.find("llvmpipe") != std::string::npos) return false;
+    for (const ViewResult& v : result.views)
+        if (v.truth_wall_ms > 0.0 && (v.truth_ms <= 0.0 || v.standin_ms <= 0.0)) return false;
+    return true;
+}
+
+static std::string distance_text(float d)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(d));
+    return std::string(text) + "x the base distance";
+}
+
+Verdict eval_verdict(const EvalResult& result)
+{
+    Verdict verdict;
+    // per distance: mean CIEDE2000, mean frame times, mean pixels the mesh covers
+    struct Group {
+        double de2000 = 0.0, truth_ms = 0.0, standin_ms = 0.0, pixels = 0.0;
+        int views = 0, timed = 0;
+    };
+    std::map<float, Group> by_distance;
+    verdict.wall_time = !gpu_timers_usable(result);
+    for (const ViewResult& v : result.views) {
+        Group& g = by_distance[v.view.orbit.distance_rel];
+        g.de2000 += v.metrics.de2000_mean;
+        g.pixels += double(v.metrics.truth_pixels);
+        g.views += 1;
+        double t = verdict.wall_time ? v.truth_wall_ms : v.truth_ms, s = verdict.wall_time ? v.standin_wall_ms : v.standin_ms;
+        if (t > 0.0 && s > 0.0) {
+            g.truth_ms += t;
+            g.standin_ms += s;
+            g.timed += 1;
+        }
+    }
+    if (by_distance.empty()) return verdict;
+    // scanning from the farthest: the nearest distance from which all farther ones pass
+    bool all_indistinguishable = true, all_cheaper = true;
+    verdict.timed = std::all_of(by_distance.begin(), by_distance.end(), [](const auto& g) { return g.second.timed > 0; });
+    for (auto it = by_distance.rbegin(); it != by_distance.rend(); ++it) {
+        const Group& g = it->second;
+        all_indistinguishable = all_indistinguishable && g.de2000 / g.views <= verdict.de2000_threshold;
+        if (all_indistinguishable) verdict.indistinguishable_from = it->first;
+        all_cheaper = all_cheaper && verdict.timed && g.standin_ms < g.truth_ms;
+        if (all_cheaper) {
+            verdict.cheaper_from = it->first;
+            verdict.cheaper_below_pixels = g.pixels / g.views;
+        }
+    }
+
+    // the sentence
+    char text[160];
+    const Group& first = by_distance.begin()->second;
+    bool one_distance = by_distance.size() == 1;
+    std::string line;
+    if (one_distance) {
+        std::snprintf(text, sizeof text, "at %s: %s (mean CIEDE2000 %.2f, threshold %.0f)",
+                      distance_text(by_distance.begin()->first).c_str(),
+                      verdict.indistinguishable_from ? "indistinguishable from the mesh" : "distinguishable from the mesh",
+                      first.de2000 / first.views, verdict.de2000_threshold);
+        line = text;
+    } else if (verdict.indistinguishable_from) {
+        std::snprintf(text, sizeof text, "indistinguishable from the mesh (mean CIEDE2000 <= %.0f) from %s on",
+                      verdict.de2000_threshold, distance_text(*verdict.indistinguishable_from).c_str());
+        line = text;
+    } else {
+        std::snprintf(text, sizeof text, "distinguishable from the mesh at every distance (mean CIEDE2000 > %.0f at %s)",
+                      verdict.de2000_threshold, distance_text(by_distance.rbegin()->first).c_str());
+        line = text;
+    }
+    std::string clock = verdict.wall_time ? "wall time to glFinish: this device's GPU timers miss its work" : "GPU timer queries";
+    if (!verdict.timed) {
+        line += "; not timed (--frames 0)";
+    } else if (one_distance) {
+        std::snprintf(text, sizeof text, "; %s than the mesh there (%.3f vs %.3f ms, %s)",
+                      first.standin_ms < first.truth_ms ? "cheaper" : "dearer", first.standin_ms / first.timed,
+                      first.truth_ms / first.timed, clock.c_str());
+        line += text;
+    } else if (verdict.cheaper_from) {
+        std::snprintf(text, sizeof text, "; cheaper than the mesh from %s on, where it covers %.0f px or fewer (%s)",
+                      distance_text(*verdict.cheaper_from).c_str(), verdict.cheaper_below_pixels, clock.c_str());
+        line += text;
+    } else {
+        line += "; never cheaper than the mesh at these distances (" + clock + ")";
+    }
+    verdict.line = line;
+    return verdict;
+}
+
 nlohmann::json eval_to_json(const EvalResult& result, const nlohmann::json& identity)
 {
     using nlohmann::json;
@@ -174,6 +267,13 @@ nlohmann::json eval_to_json(const EvalResult& result, const nlohmann::json& iden
     summary["views"] = result.views.size();
     doc["summary"] = summary;
     doc["stats"] = stats;
+    Verdict verdict = eval_verdict(result);
+    doc["verdict"] = {{"line", verdict.line},
+                      {"de2000_threshold", verdict.de2000_threshold},
+                      {"indistinguishable_from_distance", verdict.indistinguishable_from ? json(*verdict.indistinguishable_from) : json(nullptr)},
+                      {"cheaper_from_distance", verdict.cheaper_from ? json(*verdict.cheaper_from) : json(nullptr)},
+                      {"cheaper_below_pixels", verdict.cheaper_from ? json(verdict.cheaper_below_pixels) : json(nullptr)},
+                      {"timing", !verdict.timed ? "none" : verdict.wall_time ? "wall" : "gpu"}};
 
     // every view
     json views = json::array();

@@ -168,15 +168,16 @@ std::vector<Series> series_by_fov(const EvalResult& result, double (*figure)(con
 }
 
 // The frame rate of truth and stand-in per resolution (Vichitvejpaisal 2005 Table A-1 / Fig. 4-6).
-std::vector<Series> fps_by_pixels(const EvalResult& result)
+std::vector<Series> fps_by_pixels(const EvalResult& result, bool wall_time)
 {
     std::map<int, std::pair<double, double>> ms; // pixels -> (truth, standin) sums
     std::map<int, int> counts;
     for (const ViewResult& v : result.views) {
-        if (v.truth_ms <= 0.0 || v.standin_ms <= 0.0) continue;
+        double t = wall_time ? v.truth_wall_ms : v.truth_ms, s = wall_time ? v.standin_wall_ms : v.standin_ms;
+        if (t <= 0.0 || s <= 0.0) continue;
         int pixels = v.view.width * v.view.height;
-        ms[pixels].first += v.truth_ms;
-        ms[pixels].second += v.standin_ms;
+        ms[pixels].first += t;
+        ms[pixels].second += s;
         counts[pixels] += 1;
     }
     Series truth{"original mesh", {}}, standin{"stand-in", {}};
@@ -268,22 +269,22 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
         several_distances |= v.view.orbit.distance_rel != result.views.front().view.orbit.distance_rel;
     if (several_distances) {
         charts.push_back({"chart_total_error.svg",
-                          {"Total error vs. relative distance (Saraiva et al. Figs. 1, 3, 5)", "relative distance (log2)",
+                          {"Total colour error by distance", "relative distance (log2)",
                            "total |dR|+|dG|+|dB| (log10)", true, true,
                            series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_total; })}});
         charts.push_back({"chart_average_error.svg",
-                          {"Average error vs. relative distance (Saraiva et al. Figs. 2, 4, 6)", "relative distance (log2)",
+                          {"Average colour error by distance", "relative distance (log2)",
                            "average error per rectangle pixel", true, false,
                            series_by_fov(result, [](const ViewResult& v) { return v.metrics.rgb_avg; })}});
         charts.push_back({"chart_luv.svg",
-                          {"Luv difference vs. relative distance", "relative distance (log2)", "Luv (eq. 2.2)", true,
+                          {"Luv difference by distance", "relative distance (log2)", "Luv difference", true,
                            false, series_by_fov(result, [](const ViewResult& v) { return v.metrics.luv_mean; })}});
     }
-    std::vector<Series> fps = fps_by_pixels(result);
-    if (!fps.front().points.empty())
+    const Verdict verdict = eval_verdict(result);
+    std::vector<Series> fps = fps_by_pixels(result, verdict.wall_time);
+    if (fps.front().points.size() >= 2) // a chart of one point says nothing a table does not
         charts.push_back({"chart_fps.svg",
-                          {"Frame rate vs. resolution (Vichitvejpaisal 2005 Table A-1)", "kilopixels", "frames per second (log10)",
-                           false, true, fps}});
+                          {"Frame rate by image size", "kilopixels", "frames per second (log10)", false, true, fps}});
     for (const auto& [name, chart] : charts)
         STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / name).string(), svg_chart(chart)));
 
@@ -302,6 +303,7 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
     for (const char* key : {"model", "package", "representation", "protocol", "device", "command"})
         if (json.contains(key)) identity_rows.push_back({key, json_text(json[key])});
     html << html_table({"", ""}, identity_rows);
+    html << "<h2>Verdict</h2>\n<p><strong>" << escape_html(verdict.line) << "</strong></p>\n";
 
     // summary
     html << "<h2>Summary over " << result.views.size() << " views</h2>\n";
@@ -317,29 +319,34 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
              << fmt("%.4g", result.surface->max_rel) << " of the bounding-box diagonal.</p>\n";
 
     // Vichitvejpaisal 2005 tables
-    html << "<h2>Luv difference by resolution (Vichitvejpaisal 2005 Table A-2)</h2>\n";
+    html << "<h2>Colour difference by image size</h2>\n<p>Vichitvejpaisal 2005 Table A-2; Luv is its eq. 2.2.</p>\n";
     rows.clear();
     std::vector<std::vector<std::string>> fps_rows;
     for (const auto& row : json["tables"]["by_resolution"]) {
         std::string size = std::to_string(row["width"].get<int>()) + "x" + std::to_string(row["height"].get<int>());
         rows.push_back({size, std::to_string(row["views"].get<int>()), fmt("%.2f", row["luv_mean"].get<double>()),
                         fmt("%.3f", row["de2000_mean"].get<double>()), fmt("%.2f", row["rgb_avg"].get<double>())});
-        double tm = row["truth_ms"].get<double>(), sm = row["standin_ms"].get<double>();
+        const char* clock = verdict.wall_time ? "_wall_ms" : "_ms";
+        double tm = row[std::string("truth") + clock].get<double>(), sm = row[std::string("standin") + clock].get<double>();
         if (tm > 0 && sm > 0)
             fps_rows.push_back({size, fmt("%.3f", tm), fmt("%.3f", sm), fmt("%.2f", 1000.0 / tm),
                                 fmt("%.2f", 1000.0 / sm), fmt("%.2f", tm / sm)});
     }
     html << html_table({"resolution", "views", "Luv (eq. 2.2)", "CIEDE2000", "RGB avg"}, rows);
     if (!fps_rows.empty()) {
-        html << "<h2>Frame time by resolution (Vichitvejpaisal 2005 Table A-1; device: " << escape_html(result.device)
-             << ")</h2>\n<p>GPU timer queries, median of a few frames per view, mean over views. On llvmpipe compare "
-                "ratios only.</p>\n";
+        html << "<h2>Frame time by image size</h2>\n<p>Vichitvejpaisal 2005 Table A-1, on " << escape_html(result.device)
+             << ". "
+             << (verdict.wall_time ? "Wall time from submission to glFinish: this device's GPU timer queries miss its "
+                                     "work (llvmpipe rasterises later). Software rendering: compare ratios only."
+                                   : "GPU timer queries.")
+             << " Median of a few frames per view, mean over views.</p>\n";
         html << html_table({"resolution", "mesh ms", "stand-in ms", "mesh fps", "stand-in fps", "speed-up"}, fps_rows);
     }
 
     // Saraiva et al. Tables 1-3
     if (several_distances) {
-        html << "<h2>Error by relative distance (Saraiva et al. Tables 1-3)</h2>\n";
+        html << "<h2>Colour error by distance</h2>\n<p>Saraiva et al. Tables 1-3: total and average |dR|+|dG|+|dB| over "
+                "the rectangle holding both objects.</p>\n";
         rows.clear();
         for (const auto& row : json["tables"]["by_fov_distance"])
             rows.push_back({fmt("%g", row["fov"].get<double>()), fmt("%g", row["distance"].get<double>()),

@@ -16,6 +16,7 @@ constexpr std::uint64_t k_render_bytes_per_pixel = 24;
 
 Status check_render_target(int width, int height, const std::string& what)
 {
+    // any current context: EGL (render_offscreen) or the viewer's GLFW window
     GLint max_renderbuffer = 0, max_texture = 0;
     glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);

@@ -100,6 +100,12 @@ static Status check_off_counts(const std::string& path)
     return Status::ok();
 }
 
+static Status check_import_size(std::uint64_t triangles, std::uint64_t vertices, const std::string& path)
+{
+    STANDIN_RETURN_IF_ERROR(check_triangles(triangles, quoted(path)));
+    return check_memory(triangles * 120 + vertices * 100, "importing " + quoted(path) + " (" + std::to_string(triangles) + " triangles)");
+}
+
 // Triangles the scene will have after triangulation, against the triangle budget and the memory
 // the conversion needs (about 120 bytes per triangle at its peak, assimp's copy included).
 static Status check_scene_size(const aiScene& scene, const std::string& path)
@@ -112,8 +118,7 @@ static Status check_scene_size(const aiScene& scene, const std::string& path)
         for (unsigned f = 0; f < mesh->mNumFaces; ++f)
             if (mesh->mFaces[f].mNumIndices >= 3) triangles += mesh->mFaces[f].mNumIndices - 2;
     }
-    STANDIN_RETURN_IF_ERROR(check_triangles(triangles, quoted(path)));
-    return check_memory(triangles * 120 + vertices * 100, "importing " + quoted(path) + " (" + std::to_string(triangles) + " triangles)");
+    return check_import_size(triangles, vertices, path);
 }
 
 // Before post-processing: JoinIdenticalVertices merges NaN vertices into their neighbours, hiding them.
@@ -809,6 +814,7 @@ static Result<const aiScene*> read_any(const std::string& path, const std::strin
     if (ply->skipped_faces > 0)
         report.warnings.push_back(quoted(path) + ": skipped " + std::to_string(ply->skipped_faces) + " faces with fewer than 3 corners");
     if (ply->triangles.empty()) return error(StatusCode::bad_data, quoted(path) + ": contains no triangles");
+    STANDIN_RETURN_IF_ERROR(check_import_size(ply->triangles.size() / 3, ply->positions.size(), path));
     storage = scene_from_ply(*ply);
     STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*storage, path));
     return static_cast<const aiScene*>(storage.get());

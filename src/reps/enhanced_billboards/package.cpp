@@ -142,6 +142,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             if (!mesh) throw manifest_io::BadField{mesh.status().message()};
             package->coarse_mesh = std::move(*mesh);
         }
+        if (package->billboards.empty() && package->coarse_mesh.triangle_count() == 0)
+            in.fail("billboards", "is empty and there is no coarse mesh: the package draws nothing");
         return package;
     });
 }

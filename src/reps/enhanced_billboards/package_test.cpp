@@ -179,6 +179,14 @@ TEST(BillboardPackage, DamagedPackagesAreRefused)
     manifest["billboards"][0]["texel_size"] = -1.0;
     write_manifest(nonfinite, manifest);
     expect_refused(nonfinite, "billboards[0].texel_size");
+
+    // no billboard and no coarse mesh: a package that draws nothing
+    std::string empty = fresh("empty");
+    manifest = read_manifest(empty);
+    manifest["billboards"] = nlohmann::json::array();
+    manifest["coarse_mesh"] = nullptr;
+    write_manifest(empty, manifest);
+    expect_refused(empty, "draws nothing");
 }
 
 TEST(BillboardPackage, BakeAndInfoCommands)

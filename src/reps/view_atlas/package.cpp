@@ -8,6 +8,7 @@
 
 #include <standin/files.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -99,6 +100,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!files.is_object()) in.fail("files", "is not an object");
         const nlohmann::json& pages = in.member(manifest, "pages", "");
         if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
+        if (pages.empty()) in.fail("pages", "is empty: the package draws nothing");
         for (std::size_t k = 0; k < pages.size(); ++k) {
             std::string where = "pages[" + std::to_string(k) + "].";
             package->color_pages.push_back(
@@ -111,6 +113,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");
         for (std::size_t k = 0; k < views.size(); ++k)
             package->views.push_back(read_view(in, views[k], k, s, int(pages.size())));
+        if (std::none_of(package->views.begin(), package->views.end(), [](const View& v) { return v.width > 0; }))
+            in.fail("views", "are all empty: the package draws nothing");
         return package;
     });
 }

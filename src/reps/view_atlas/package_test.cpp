@@ -108,6 +108,11 @@ TEST(ViewAtlasPackage, RefusesDamage)
         {"axis_u", [](nlohmann::json& m) { m["views"][0]["axis_u"] = {2.0, 0.0, 0.0}; }},
         {"projection", [](nlohmann::json& m) { m["bake"]["projection"] = "fisheye"; }},
         {"page", [](nlohmann::json& m) { m["views"][0]["page"] = 3; }},
+        // a package that draws nothing
+        {"pages", [](nlohmann::json& m) { m["pages"] = nlohmann::json::array(); }},
+        {"views", [](nlohmann::json& m) {
+             for (auto& v : m["views"]) v["width"] = 0;
+         }},
     };
     for (const Edit& edit : edits) {
         fs::remove_all(path);
