@@ -120,6 +120,25 @@ const DisplacedMeshPackage& as_displaced(const Package& package)
     return *p;
 }
 
+// What most commands open: the model, a GL context and the package.
+struct Subject {
+    Mesh mesh;
+    std::unique_ptr<GpuContext> context;
+    std::unique_ptr<Package> loaded;
+    const DisplacedMeshPackage* package = nullptr;
+};
+
+Subject open_subject(const Args& args, const char* usage, bool gpu = true)
+{
+    if (args.positional.size() != 2) fail(usage);
+    Subject s;
+    s.mesh = load(args.positional[0]);
+    if (gpu) s.context = take(create_headless_context());
+    s.loaded = take(read_package(args.positional[1]));
+    s.package = &as_displaced(*s.loaded);
+    return s;
+}
+
 double wall_ms(Renderer& renderer, const DrawParams& params, int frames)
 {
     gpu::FrameTimes times = take(gpu::time_frames(renderer, params, 1, frames));
@@ -216,11 +235,9 @@ int command_bake(const Args& args)
 
 int command_runtime(const Args& args)
 {
-    if (args.positional.size() != 2) fail("runtime MODEL PACKAGE");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<GpuContext> context = take(create_headless_context());
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "runtime MODEL PACKAGE");
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "800x600"));
     int frames = std::stoi(args.get("frames", "3"));
     std::vector<glm::vec2> views = directions(std::stoi(args.get("views", "14")));
@@ -272,11 +289,9 @@ int command_runtime(const Args& args)
 
 int command_mips(const Args& args)
 {
-    if (args.positional.size() != 2) fail("mips MODEL PACKAGE");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<GpuContext> context = take(create_headless_context());
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "mips MODEL PACKAGE");
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "400x300"));
     float step = std::stof(args.get("step", "0.5")), span = std::stof(args.get("span", "20"));
     std::unique_ptr<Renderer> truth = take(make_mesh_renderer(mesh));
@@ -342,11 +357,9 @@ std::vector<glm::vec3> face_normals_mean(const std::vector<glm::vec3>& positions
 
 int command_bend(const Args& args)
 {
-    if (args.positional.size() != 2) fail("bend MODEL PACKAGE");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<GpuContext> context = take(create_headless_context());
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "bend MODEL PACKAGE");
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "800x600"));
     int frames = std::stoi(args.get("frames", "5"));
     Bounds box = mesh.bounds();
@@ -500,10 +513,9 @@ double count_at_error(const std::vector<std::pair<double, double>>& sweep, doubl
 
 int command_lod(const Args& args)
 {
-    if (args.positional.size() != 2) fail("lod MODEL PACKAGE");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "lod MODEL PACKAGE", false);
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "800x600"));
     std::vector<glm::vec2> views = directions(std::stoi(args.get("views", "4")));
     float distance = std::stof(args.get("distance", "1"));
@@ -584,11 +596,9 @@ int command_lod(const Args& args)
 
 int command_picture(const Args& args)
 {
-    if (args.positional.size() != 2) fail("picture MODEL PACKAGE --out PNG");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<GpuContext> context = take(create_headless_context());
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "picture MODEL PACKAGE --out PNG");
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "800x600"));
     RendererSettings settings = render_settings(args, std::stof(args.get("tau", "1")));
     settings.debug_view = take(parse_debug_view(args.get("debug-view", "")));
@@ -608,11 +618,9 @@ int command_picture(const Args& args)
 // Frame time of one view, for profiling: the stand-in alone, N frames.
 int command_frames(const Args& args)
 {
-    if (args.positional.size() != 2) fail("frames MODEL PACKAGE");
-    Mesh mesh = load(args.positional[0]);
-    std::unique_ptr<GpuContext> context = take(create_headless_context());
-    std::unique_ptr<Package> loaded = take(read_package(args.positional[1]));
-    const DisplacedMeshPackage& package = as_displaced(*loaded);
+    Subject subject = open_subject(args, "frames MODEL PACKAGE");
+    const Mesh& mesh = subject.mesh;
+    const DisplacedMeshPackage& package = *subject.package;
     glm::ivec2 size = size_of(args.get("size", "800x600"));
     RendererSettings settings = render_settings(args, std::stof(args.get("tau", "1")));
     settings.debug_view = take(parse_debug_view(args.get("debug-view", "")));
