@@ -151,6 +151,8 @@ static GLenum stage_of(const std::string& name)
     if (ends_with(".frag")) return GL_FRAGMENT_SHADER;
     if (ends_with(".comp")) return GL_COMPUTE_SHADER;
     if (ends_with(".geom")) return GL_GEOMETRY_SHADER;
+    if (ends_with(".tesc")) return GL_TESS_CONTROL_SHADER;
+    if (ends_with(".tese")) return GL_TESS_EVALUATION_SHADER;
     return 0;
 }
 

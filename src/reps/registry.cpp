@@ -1,5 +1,6 @@
 // Every representation standin knows. Adding one is a folder under src/reps/ (its registration()
 // describes it: options, debug views, bake, codec, renderer, summary) and a line here.
+#include "reps/displaced_mesh/displaced_mesh.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/microfacets/microfacets.h"
 #include "reps/view_atlas/view_atlas.h"
@@ -17,6 +18,7 @@ const std::vector<Representation>& representations()
         billboards::registration(),
         view_atlas::registration(),
         microfacets::registration(),
+        displaced_mesh::registration(),
     };
     return all;
 }

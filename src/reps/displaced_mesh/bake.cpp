@@ -1,0 +1,164 @@
+// Baking a displaced control mesh: the paper's offline stage.
+// Bauman, Livny & El-Sana, §3 (control mesh), §3.1 (sampling), §3.2 (displacement maps and ∆_f),
+// §3.4 (mip maps) and §5.1 (0.4% / 0.1% of the faces for degrees 17 / 33).
+//
+// Steps:
+//  1. the settings (declared in representation.cpp); the target control-face count is the
+//     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
+//     paper's 0.4% and 0.1%);
+//  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp);
+//  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
+//  4. quantise the elevations (16 bits over the package's range) and use the decoded values from
+//     here on, so what is measured is what is drawn;
+//  5. rebuild Ms and measure ∆_f and d against the original;
+//  6. encode shading normals (octahedral) and albedo (RGBA8).
+// Deterministic for any thread count: the decimator is sequential; everything else writes fixed
+// slots from TBB loops.
+#include "reps/displaced_mesh/control_mesh.h"
+#include "reps/displaced_mesh/displaced_mesh.h"
+#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/displaced_mesh/sample.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace standin::displaced_mesh {
+
+namespace {
+
+std::size_t target_faces(std::size_t input_faces, const BakeSettings& s)
+{
+    if (s.control_faces > 0) return std::size_t(s.control_faces);
+    std::size_t per_face = std::size_t(s.degree - 1) * std::size_t(s.degree - 1);
+    std::size_t target = (input_faces + per_face / 2) / per_face;
+    return std::max(target, std::min(k_min_control_faces, input_faces));
+}
+
+} // namespace
+
+std::uint32_t encode_normal(glm::vec3 n)
+{
+    float sum = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    glm::vec2 p = sum > 0.0f ? glm::vec2(n.x, n.y) / sum : glm::vec2(0.0f);
+    if (n.z < 0.0f) {
+        glm::vec2 folded((1.0f - std::abs(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f), (1.0f - std::abs(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f));
+        p = folded;
+    }
+    auto snorm = [](float v) { return std::uint32_t(std::uint16_t(std::int16_t(std::lround(std::clamp(v, -1.0f, 1.0f) * 32767.0f)))); };
+    return snorm(p.x) | (snorm(p.y) << 16);
+}
+
+glm::vec3 decode_normal(std::uint32_t packed)
+{
+    auto unsnorm = [](std::uint32_t bits) { return std::max(float(std::int16_t(std::uint16_t(bits))) / 32767.0f, -1.0f); };
+    glm::vec2 p(unsnorm(packed & 0xffffu), unsnorm(packed >> 16));
+    glm::vec3 n(p.x, p.y, 1.0f - std::abs(p.x) - std::abs(p.y));
+    if (n.z < 0.0f) {
+        float x = n.x;
+        n.x = (1.0f - std::abs(n.y)) * (x >= 0.0f ? 1.0f : -1.0f);
+        n.y = (1.0f - std::abs(x)) * (n.y >= 0.0f ? 1.0f : -1.0f);
+    }
+    return glm::normalize(n);
+}
+
+std::uint32_t pack_rgba8(glm::vec4 c)
+{
+    auto unorm = [](float v) { return std::uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    return unorm(c.x) | (unorm(c.y) << 8) | (unorm(c.z) << 16) | (unorm(c.w) << 24);
+}
+
+Mesh sampled_mesh(const DisplacedMeshPackage& package)
+{
+    const PatternLayout layout = package.layout();
+    std::vector<float> finest(package.face_count() * layout.finest_samples);
+    for (std::size_t f = 0; f < package.face_count(); ++f)
+        std::copy_n(&package.elevations[f * layout.samples_per_face], layout.finest_samples, &finest[f * layout.finest_samples]);
+    ControlGeometry control{package.positions, package.normals, package.indices, package.topology};
+    return reconstruct(control, layout, finest);
+}
+
+Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, const SourceInfo& source,
+                                                            const Options& parameters, const Progress& progress)
+{
+    // the settings: the paper's target is the input's faces over (k - 1)^2
+    const BakeSettings settings = settings_from(parameters);
+    STANDIN_RETURN_IF_ERROR(check_settings(settings));
+    STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "displaced mesh bake"));
+    auto package = std::make_unique<DisplacedMeshPackage>();
+    package->source = source;
+    package->parameters = parameters;
+    package->settings = settings;
+    const PatternLayout layout(settings.degree);
+
+    // the control mesh under the cone constraint
+    progress.report("control mesh", 0.0);
+    ControlMeshOptions simplify;
+    simplify.target_faces = target_faces(mesh.triangle_count(), settings);
+    simplify.cone_angle_degrees = settings.cone_angle;
+    Result<ControlMesh> control = build_control_mesh(mesh, simplify);
+    if (!control) return control.status();
+    package->positions = std::move(control->positions);
+    package->normals = std::move(control->normals);
+    package->indices = std::move(control->indices);
+    package->control = {control->input_faces, control->target_faces, control->reached_target, control->stopped_by,
+                        control->collapses, control->refused_cone, control->refused_flip, control->refused_topology};
+    Result<ControlTopology> topology = build_topology(package->positions.size(), package->indices);
+    if (!topology) return topology.status();
+    package->topology = std::move(*topology);
+    progress.report("control mesh", 1.0);
+
+    // sample the original, then the levels
+    Result<std::unique_ptr<RayScene>> scene = RayScene::create(mesh.positions, mesh.indices);
+    if (!scene) return scene.status();
+    ControlGeometry geometry{package->positions, package->normals, package->indices, package->topology};
+    SampleOptions sample_options;
+    sample_options.degree = settings.degree;
+    sample_options.sampler = settings.sampler;
+    sample_options.interpolation_rays = settings.interpolation_rays;
+    sample_options.ray_range = settings.ray_range * mesh.bounds().diagonal();
+    Result<SampledSurface> sampled = sample_surface(mesh, **scene, geometry, sample_options, progress);
+    if (!sampled) return sampled.status();
+    std::vector<float> levels = build_levels(layout, sampled->elevation);
+
+    // quantise, and keep what the renderer will decode
+    if (settings.elevation_bits == 16) {
+        Quantisation q = choose_quantisation(levels);
+        package->elevation_codes = quantise(levels, q);
+        package->elevation_minimum = q.minimum;
+        package->elevation_step = q.step;
+        for (std::size_t i = 0; i < levels.size(); ++i) levels[i] = q.decode(package->elevation_codes[i]);
+    }
+    package->elevations = std::move(levels);
+
+    // Ms against the original: ∆_f and d
+    Mesh ms = sampled_mesh(*package);
+    Result<SamplingError> measured =
+        measure_sampling_error(mesh, **scene, ms, package->face_count(), settings.degree, progress);
+    if (!measured) return measured.status();
+    package->face_error = std::move(measured->face_error);
+    package->sampling = {sampled->rays, sampled->misses, measured->original_to_sampled_mean, measured->original_to_sampled_max,
+                         measured->sampled_to_original_mean, measured->sampled_to_original_max};
+
+    // shading attributes
+    package->shading_normals.resize(sampled->normal.size());
+    package->albedo.resize(sampled->albedo.size());
+    for (std::size_t i = 0; i < sampled->normal.size(); ++i) {
+        package->shading_normals[i] = encode_normal(sampled->normal[i]);
+        package->albedo[i] = pack_rgba8(sampled->albedo[i]);
+    }
+    return package;
+}
+
+Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+{
+    std::optional<tbb::global_control> threads;
+    if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(context.mesh, context.source, context.parameters, context.progress);
+    if (!package) return package.status();
+    return std::unique_ptr<Package>(std::move(*package));
+}
+
+} // namespace standin::displaced_mesh

@@ -1,0 +1,120 @@
+// The control mesh: cone merging, the cone invariant after every collapse, reaching the target,
+// stopping early (reported) when the cones allow no coarser mesh, determinism.
+#include "reps/displaced_mesh/control_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+
+namespace standin::displaced_mesh {
+namespace {
+
+Mesh noisy_sphere(std::size_t triangles, float amplitude = 0.08f)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::noisy_sphere;
+    options.target_triangles = triangles;
+    options.noise_amplitude = amplitude;
+    Result<Mesh> mesh = generate_mesh(options);
+    EXPECT_TRUE(mesh.is_ok());
+    return std::move(*mesh);
+}
+
+TEST(DisplacedMeshControl, ConesMergeToTheSmallestHoldingBoth)
+{
+    NormalCone a = merge_direction({}, {1, 0, 0});
+    EXPECT_FLOAT_EQ(a.half_angle, 0.0f);
+    NormalCone b = merge_direction(a, {0, 1, 0});
+    EXPECT_NEAR(b.half_angle, std::numbers::pi_v<float> / 4.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(b.axis, glm::normalize(glm::vec3(1, 1, 0))), 1.0f, 1e-6f);
+    EXPECT_TRUE(b.contains({1, 0, 0}));
+    EXPECT_TRUE(b.contains({0, 1, 0}));
+    EXPECT_FALSE(b.contains({0, 0, 1}));
+    // a cone inside another changes nothing; opposite directions fill a half-sphere exactly
+    EXPECT_EQ(merge_cones(b, merge_direction({}, glm::normalize(glm::vec3(1, 1, 0)))).half_angle, b.half_angle);
+    EXPECT_GE(merge_direction(a, {-1, 0, 0}).half_angle, std::numbers::pi_v<float> / 2.0f - 1e-6f);
+}
+
+TEST(DisplacedMeshControl, ConeInvariantHoldsAfterEveryCollapse)
+{
+    Mesh mesh = noisy_sphere(3000, 0.3f);
+    ControlMeshOptions options;
+    options.target_faces = 40;
+    options.cone_angle_degrees = 90.0f;
+    std::size_t collapses = 0, violations = 0;
+    const float limit = glm::radians(options.cone_angle_degrees);
+    options.observer = [&](const CollapseView& view) {
+        ++collapses;
+        for (std::uint32_t v : view.affected_vertices()) {
+            NormalCone cone = view.cone(v);
+            if (!(cone.half_angle < limit)) ++violations;
+            for (glm::vec3 n : view.face_normals_around(v))
+                if (!cone.contains(n, 1e-3f)) ++violations;
+        }
+    };
+    Result<ControlMesh> control = build_control_mesh(mesh, options);
+    ASSERT_TRUE(control.is_ok()) << control.status().message();
+    EXPECT_EQ(collapses, control->collapses);
+    EXPECT_GT(collapses, 1000u);
+    EXPECT_EQ(violations, 0u);
+    for (const NormalCone& cone : control->cones) EXPECT_LT(cone.half_angle, limit);
+}
+
+TEST(DisplacedMeshControl, SphereReachesTheTargetWithInputVertices)
+{
+    Mesh mesh = noisy_sphere(8000);
+    ControlMeshOptions options;
+    options.target_faces = 200;
+    Result<ControlMesh> control = build_control_mesh(mesh, options);
+    ASSERT_TRUE(control.is_ok());
+    EXPECT_TRUE(control->reached_target);
+    EXPECT_EQ(control->stopped_by, "target");
+    EXPECT_LE(control->face_count(), 200u);
+    EXPECT_GE(control->face_count(), 196u);
+    // half-edge collapses keep input positions; a closed sphere stays closed (V - E + F = 2)
+    std::set<std::tuple<float, float, float>> input;
+    for (glm::vec3 p : mesh.positions) input.insert({p.x, p.y, p.z});
+    for (glm::vec3 p : control->positions) EXPECT_TRUE(input.count({p.x, p.y, p.z}));
+    EXPECT_EQ(control->positions.size() + control->face_count() - 3 * control->face_count() / 2, 2u);
+    for (glm::vec3 n : control->normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+}
+
+TEST(DisplacedMeshControl, ConesStopSimplificationEarlyAndSayWhy)
+{
+    // a sphere cannot become 4 faces without a vertex's cone passing a half-sphere
+    Mesh mesh = noisy_sphere(2000, 0.0f);
+    ControlMeshOptions options;
+    options.target_faces = 4;
+    Result<ControlMesh> control = build_control_mesh(mesh, options);
+    ASSERT_TRUE(control.is_ok());
+    EXPECT_FALSE(control->reached_target);
+    EXPECT_EQ(control->stopped_by, "no valid collapse");
+    EXPECT_GT(control->face_count(), 4u);
+    EXPECT_GT(control->refused_cone, 0u);
+    // a narrower cone stops it earlier
+    options.cone_angle_degrees = 45.0f;
+    Result<ControlMesh> narrow = build_control_mesh(mesh, options);
+    ASSERT_TRUE(narrow.is_ok());
+    EXPECT_GT(narrow->face_count(), control->face_count());
+}
+
+TEST(DisplacedMeshControl, DeterministicAndRefusesBadOptions)
+{
+    Mesh mesh = noisy_sphere(4000, 0.2f);
+    ControlMeshOptions options;
+    options.target_faces = 100;
+    Result<ControlMesh> a = build_control_mesh(mesh, options), b = build_control_mesh(mesh, options);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_EQ(a->indices, b->indices);
+    EXPECT_EQ(a->positions, b->positions);
+    options.target_faces = 0;
+    EXPECT_EQ(build_control_mesh(mesh, options).status().code(), StatusCode::invalid_argument);
+    options.target_faces = 10;
+    options.cone_angle_degrees = 0.0f;
+    EXPECT_EQ(build_control_mesh(mesh, options).status().code(), StatusCode::invalid_argument);
+}
+
+} // namespace
+} // namespace standin::displaced_mesh

@@ -1,0 +1,107 @@
+// Displaced control mesh in memory (Bauman, Livny & El-Sana, "GPU-Based Adaptive-Subdivision for
+// View-Dependent Rendering"): a control mesh simplified from the original under a normal-cone
+// constraint, and per control face a triangular displacement map of degree k (k = 2^m + 1) with
+// its mip levels, plus shading normals and albedo sampled with it. At run time the control faces
+// are culled on their prisms, bisected on the GPU to a screen-space tolerance and displaced
+// (renderer.cpp). Shared by the baker, the package codec and the renderer of this folder.
+#pragma once
+
+#include "reps/displaced_mesh/pattern.h"
+#include "reps/displaced_mesh/topology.h"
+
+#include <standin/package.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace standin::displaced_mesh {
+
+// Bake parameters typed (docs/FORMAT.md, "Displaced control mesh"; declared in representation.cpp,
+// defaults measured in docs/RESULTS.md).
+struct BakeSettings {
+    int degree = 17;                   // pattern degree k: 5, 9, 17 or 33
+    int control_faces = 0;             // target; 0: input faces / (k - 1)^2, at least k_min_control_faces (or all)
+    float cone_angle = 90.0f;          // degrees: no vertex's normal cone may reach it (90: a half-sphere)
+    std::string sampler = "intersection"; // "intersection" or "interpolation" (§3.1)
+    int interpolation_rays = 16;       // sub-rays per pattern triangle of the interpolation sampler
+    float ray_range = 0.05f;           // fraction of the bounding-box diagonal, each way along the normal
+    int elevation_bits = 16;           // 16: unorm over the package's range; 32: float
+};
+
+// Control faces wanted at least (all the input's when it has fewer): small models would otherwise
+// get a handful of faces whose patches cannot follow the surface.
+constexpr std::size_t k_min_control_faces = 256;
+
+struct ControlStats {
+    std::size_t input_faces = 0, target_faces = 0;
+    bool reached_target = false;
+    std::string stopped_by;
+    std::size_t collapses = 0, refused_cone = 0, refused_flip = 0, refused_topology = 0;
+};
+
+struct SamplingStats {
+    std::size_t rays = 0, misses = 0;
+    // the paper's d (Table 2/3): mean and max distance from the original's vertices to Ms; and from
+    // Ms's vertices to the original. World units.
+    double original_to_sampled_mean = 0.0, original_to_sampled_max = 0.0;
+    double sampled_to_original_mean = 0.0, sampled_to_original_max = 0.0;
+};
+
+class DisplacedMeshPackage final : public Package {
+public:
+    std::string representation() const override { return "displaced-mesh"; }
+
+    std::size_t face_count() const { return indices.size() / 3; }
+    PatternLayout layout() const { return PatternLayout(settings.degree); }
+
+    Options parameters;    // as baked
+    BakeSettings settings; // settings_from(parameters)
+    // the control mesh (object space); normals unit, one per vertex (the displacement directions)
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<std::uint32_t> indices;
+    ControlTopology topology; // derived from indices
+    ControlStats control;
+
+    // every level of every face's elevations, face-major (PatternLayout::samples_per_face each),
+    // decoded to world units; with 16-bit storage also the codes and their range
+    std::vector<float> elevations;
+    std::vector<std::uint16_t> elevation_codes;
+    float elevation_minimum = 0.0f, elevation_step = 0.0f;
+    // finest level only, face-major: octahedral unit normal (two snorm16) and RGBA8 albedo (sRGB)
+    std::vector<std::uint32_t> shading_normals;
+    std::vector<std::uint32_t> albedo;
+    std::vector<float> face_error; // ∆_f per face, world units
+    SamplingStats sampling;
+};
+
+// Octahedral encoding of unit normals into two snorm16 (x in the low half).
+std::uint32_t encode_normal(glm::vec3 n);
+glm::vec3 decode_normal(std::uint32_t packed);
+std::uint32_t pack_rgba8(glm::vec4 c);
+
+// The sampled mesh Ms of a package at its finest level (sample.h: reconstruct), in object space.
+Mesh sampled_mesh(const DisplacedMeshPackage& package);
+
+// The bake parameters typed (representation.cpp), and the checks between them.
+BakeSettings settings_from(const Options& parameters);
+Status check_settings(const BakeSettings& settings);
+
+// The registry entry (representation.cpp): options, debug views and the functions below.
+Representation registration();
+Result<std::unique_ptr<Package>> bake(const BakeContext& context);
+Status write(const Package& package, const std::string& directory);
+Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
+
+// The bake itself, for tests and benchmarks that want the in-memory package: `parameters` are
+// the representation's declared bake options (defaults for those not given).
+Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, const SourceInfo& source,
+                                                            const Options& parameters, const Progress& progress);
+// The declared bake options with the given ones set (NAME, VALUE; invalid_argument as the CLI's).
+Result<Options> bake_parameters(const std::vector<std::pair<std::string, std::string>>& values);
+
+} // namespace standin::displaced_mesh

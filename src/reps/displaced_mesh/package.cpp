@@ -1,0 +1,203 @@
+// Displaced-mesh packages on disk (docs/FORMAT.md, "Displaced control mesh"): manifest.json, the
+// control mesh as PLY, and little-endian arrays: elevations of every level (uint16 codes over the
+// package's range, or float32), ∆_f per face (float32), and at the finest level octahedral shading
+// normals and RGBA8 albedo. Writing is deterministic; reading checks every field, size and hash and
+// that the control mesh is the one the manifest describes, and refuses with a status naming file
+// and field.
+#include "reps/displaced_mesh/displaced_mesh.h"
+#include "io/read_ply.h"
+#include "reps/common/package_cast.h"
+#include "reps/common/package_codec.h"
+
+#include <standin/files.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+
+namespace standin::displaced_mesh {
+
+namespace fs = std::filesystem;
+
+static_assert(std::endian::native == std::endian::little, "package arrays are written as little-endian bytes");
+
+namespace {
+
+const char* const k_control_file = "control.ply";
+const char* const k_elevation_file = "elevation.bin";
+const char* const k_face_error_file = "face_error.bin";
+const char* const k_normal_file = "normal.bin";
+const char* const k_albedo_file = "albedo.bin";
+
+template <typename T>
+Status write_array(const std::string& directory, const std::string& name, const std::vector<T>& values, nlohmann::json& files)
+{
+    std::string_view bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / name).string(), bytes));
+    return manifest_io::record_file(directory, name, files);
+}
+
+template <typename T>
+std::vector<T> read_array(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
+                          const std::string& name, std::size_t count)
+{
+    manifest_io::check_file(in, directory, files, name);
+    std::string path = (fs::path(directory) / name).string();
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) throw manifest_io::BadField{bytes.status().message()};
+    if (bytes->size() != count * sizeof(T))
+        throw manifest_io::BadField{path + ": holds " + std::to_string(bytes->size()) + " bytes, the manifest implies " +
+                                    std::to_string(count * sizeof(T))};
+    std::vector<T> values(count);
+    std::memcpy(values.data(), bytes->data(), bytes->size());
+    return values;
+}
+
+Mesh control_as_mesh(const DisplacedMeshPackage& p)
+{
+    Mesh m;
+    m.positions = p.positions;
+    m.normals = p.normals;
+    m.indices = p.indices;
+    m.colors.assign(p.positions.size(), glm::vec4(1.0f));
+    m.face_materials.assign(p.face_count(), 0);
+    m.materials.push_back(Material{});
+    return m;
+}
+
+// The control mesh back from its PLY, checked against the manifest. Read with the PLY reader itself
+// rather than import_mesh: the normals are displacement directions and must come back bit for bit
+// (import renormalises them).
+void read_control(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
+                  const nlohmann::json& control, DisplacedMeshPackage& p)
+{
+    std::string name = in.string(control, "file", "control.");
+    manifest_io::check_file(in, directory, files, name);
+    std::size_t faces = std::size_t(in.integer(control, "faces", "control.", 1, 100'000'000));
+    std::size_t vertices = std::size_t(in.integer(control, "vertices", "control.", 3, 100'000'000));
+    Result<PlyData> ply = read_ply((fs::path(directory) / name).string());
+    if (!ply) throw manifest_io::BadField{ply.status().message()};
+    if (ply->triangles.size() != 3 * faces || ply->positions.size() != vertices || ply->normals.size() != vertices)
+        in.fail("control.faces", "the control mesh holds " + std::to_string(ply->triangles.size() / 3) + " faces and " +
+                                     std::to_string(ply->positions.size()) + " vertices with " +
+                                     std::to_string(ply->normals.size()) + " normals");
+    for (glm::vec3 v : ply->positions)
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) in.fail("control.file", "has a position that is not finite");
+    p.positions = std::move(ply->positions);
+    p.normals = std::move(ply->normals);
+    for (glm::vec3& n : p.normals) {
+        float length = glm::length(n);
+        if (!(std::abs(length - 1.0f) < 1e-3f)) in.fail("control.file", "has a normal that is not unit");
+    }
+    p.indices = std::move(ply->triangles);
+    p.control.input_faces = std::size_t(in.integer(control, "input_faces", "control.", 0, 1'000'000'000));
+    p.control.target_faces = std::size_t(in.integer(control, "target_faces", "control.", 0, 1'000'000'000));
+    const nlohmann::json& reached = in.member(control, "reached_target", "control.");
+    if (!reached.is_boolean()) in.fail("control.reached_target", "is not a boolean");
+    p.control.reached_target = reached.get<bool>();
+    p.control.stopped_by = in.choice(control, "stopped_by", "control.", {"target", "no valid collapse"});
+    p.control.collapses = std::size_t(in.integer(control, "collapses", "control.", 0, 1'000'000'000));
+    p.control.refused_cone = std::size_t(in.integer(control, "refused_cone", "control.", 0, 1'000'000'000'000));
+    p.control.refused_flip = std::size_t(in.integer(control, "refused_flip", "control.", 0, 1'000'000'000'000));
+    p.control.refused_topology = std::size_t(in.integer(control, "refused_topology", "control.", 0, 1'000'000'000'000));
+}
+
+} // namespace
+
+Status write(const Package& base, const std::string& directory)
+{
+    const auto& p = reps::package_cast<DisplacedMeshPackage>(base);
+    const PatternLayout layout = p.layout();
+    nlohmann::json files = nlohmann::json::object();
+    STANDIN_RETURN_IF_ERROR(write_ply(control_as_mesh(p), (fs::path(directory) / k_control_file).string()));
+    STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, k_control_file, files));
+    if (p.settings.elevation_bits == 16)
+        STANDIN_RETURN_IF_ERROR(write_array(directory, k_elevation_file, p.elevation_codes, files));
+    else
+        STANDIN_RETURN_IF_ERROR(write_array(directory, k_elevation_file, p.elevations, files));
+    STANDIN_RETURN_IF_ERROR(write_array(directory, k_face_error_file, p.face_error, files));
+    STANDIN_RETURN_IF_ERROR(write_array(directory, k_normal_file, p.shading_normals, files));
+    STANDIN_RETURN_IF_ERROR(write_array(directory, k_albedo_file, p.albedo, files));
+
+    const ControlStats& c = p.control;
+    const SamplingStats& s = p.sampling;
+    nlohmann::json manifest = manifest_io::manifest_header(p, p.parameters);
+    manifest.update({
+        {"control", {{"file", k_control_file}, {"faces", p.face_count()}, {"vertices", p.positions.size()},
+                     {"input_faces", c.input_faces}, {"target_faces", c.target_faces}, {"reached_target", c.reached_target},
+                     {"stopped_by", c.stopped_by}, {"collapses", c.collapses}, {"refused_cone", c.refused_cone},
+                     {"refused_flip", c.refused_flip}, {"refused_topology", c.refused_topology}}},
+        {"pattern", {{"degree", layout.degree}, {"levels", layout.exponent + 1}, {"samples_per_face", layout.samples_per_face},
+                     {"finest_samples", layout.finest_samples}}},
+        {"elevation", {{"file", k_elevation_file}, {"bits", p.settings.elevation_bits},
+                       {"minimum", p.elevation_minimum}, {"step", p.elevation_step}}},
+        {"face_error", {{"file", k_face_error_file}}},
+        {"shading_normal", {{"file", k_normal_file}, {"encoding", "octahedral-snorm16x2"}}},
+        {"albedo", {{"file", k_albedo_file}, {"encoding", "rgba8-srgb"}}},
+        {"sampling", {{"rays", s.rays}, {"misses", s.misses},
+                      {"original_to_sampled_mean", s.original_to_sampled_mean}, {"original_to_sampled_max", s.original_to_sampled_max},
+                      {"sampled_to_original_mean", s.sampled_to_original_mean}, {"sampled_to_original_max", s.sampled_to_original_max}}},
+        {"files", files},
+    });
+    return manifest_io::write_manifest(directory, manifest, 1);
+}
+
+Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest)
+{
+    manifest_io::Reader in(directory);
+    return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
+        auto p = std::make_unique<DisplacedMeshPackage>();
+        p->source = manifest_io::read_source(in, manifest);
+        p->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        p->settings = settings_from(p->parameters);
+        if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
+        const nlohmann::json& files = in.member(manifest, "files", "");
+        if (!files.is_object()) in.fail("files", "is not an object");
+        read_control(in, directory, files, in.member(manifest, "control", ""), *p);
+        Result<ControlTopology> topology = build_topology(p->positions.size(), p->indices);
+        if (!topology) throw manifest_io::BadField{in.path() + ": control mesh: " + topology.status().message()};
+        p->topology = std::move(*topology);
+
+        const PatternLayout layout = p->layout();
+        const std::size_t faces = p->face_count();
+        const nlohmann::json& pattern = in.member(manifest, "pattern", "");
+        if (in.integer(pattern, "degree", "pattern.", 5, 33) != layout.degree ||
+            std::size_t(in.integer(pattern, "samples_per_face", "pattern.", 1, 1'000'000)) != layout.samples_per_face)
+            in.fail("pattern", "does not match bake.degree");
+        const nlohmann::json& elevation = in.member(manifest, "elevation", "");
+        std::string elevation_file = in.string(elevation, "file", "elevation.");
+        if (in.integer(elevation, "bits", "elevation.", 16, 32) != p->settings.elevation_bits)
+            in.fail("elevation.bits", "differs from bake.elevation_bits");
+        std::size_t samples = faces * layout.samples_per_face, finest = faces * layout.finest_samples;
+        if (p->settings.elevation_bits == 16) {
+            p->elevation_minimum = float(in.number(elevation, "minimum", "elevation.", -1e30, 1e30));
+            p->elevation_step = float(in.number(elevation, "step", "elevation.", 0.0, 1e30));
+            p->elevation_codes = read_array<std::uint16_t>(in, directory, files, elevation_file, samples);
+            p->elevations.resize(samples);
+            for (std::size_t i = 0; i < samples; ++i)
+                p->elevations[i] = p->elevation_minimum + float(p->elevation_codes[i]) * p->elevation_step;
+        } else {
+            p->elevations = read_array<float>(in, directory, files, elevation_file, samples);
+            for (float h : p->elevations)
+                if (!std::isfinite(h)) in.fail("elevation.file", "holds a value that is not finite");
+        }
+        p->face_error = read_array<float>(in, directory, files, in.string(in.member(manifest, "face_error", ""), "file", "face_error."), faces);
+        for (float e : p->face_error)
+            if (!(e >= 0.0f && std::isfinite(e))) in.fail("face_error.file", "holds a value that is negative or not finite");
+        p->shading_normals = read_array<std::uint32_t>(in, directory, files,
+                                                       in.string(in.member(manifest, "shading_normal", ""), "file", "shading_normal."), finest);
+        p->albedo = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "albedo", ""), "file", "albedo."), finest);
+        const nlohmann::json& sampling = in.member(manifest, "sampling", "");
+        SamplingStats& s = p->sampling;
+        s.rays = std::size_t(in.integer(sampling, "rays", "sampling.", 0, INT64_MAX));
+        s.misses = std::size_t(in.integer(sampling, "misses", "sampling.", 0, INT64_MAX));
+        s.original_to_sampled_mean = in.number(sampling, "original_to_sampled_mean", "sampling.", 0.0, 1e30);
+        s.original_to_sampled_max = in.number(sampling, "original_to_sampled_max", "sampling.", 0.0, 1e30);
+        s.sampled_to_original_mean = in.number(sampling, "sampled_to_original_mean", "sampling.", 0.0, 1e30);
+        s.sampled_to_original_max = in.number(sampling, "sampled_to_original_max", "sampling.", 0.0, 1e30);
+        return p;
+    });
+}
+
+} // namespace standin::displaced_mesh

@@ -1,0 +1,138 @@
+// The displaced-mesh package through the registry: a bake is byte-identical at 1 and 2 threads,
+// round-trips through write and read, refuses damaged or inconsistent packages naming file and
+// field, and its declared options refuse what the baker cannot take.
+#include "test_support.h"
+
+#include "reps/displaced_mesh/displaced_mesh.h"
+
+#include <standin/files.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace standin::displaced_mesh {
+namespace {
+
+namespace fs = std::filesystem;
+
+Mesh small_sphere()
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::noisy_sphere;
+    options.target_triangles = 6000;
+    options.noise_amplitude = 0.1f;
+    return std::move(*generate_mesh(options));
+}
+
+std::string file_text(const std::string& path) { return *read_file(path); }
+
+TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
+{
+    Mesh mesh = small_sphere();
+    SourceInfo source;
+    source.bounds = mesh.bounds();
+    OptionValues values;
+    values.set("degree", "9");
+    const Representation& r = *find_representation("displaced-mesh");
+    Result<std::unique_ptr<Package>> one = bake_package(r, mesh, source, values, {}, 1);
+    Result<std::unique_ptr<Package>> two = bake_package(r, mesh, source, values, {}, 2);
+    ASSERT_TRUE(one.is_ok() && two.is_ok()) << one.status().message();
+    std::string dir = test::fresh_directory("displaced_roundtrip");
+    ASSERT_TRUE(write_package(**one, dir + "/a.standin").is_ok());
+    ASSERT_TRUE(write_package(**two, dir + "/b.standin").is_ok());
+    for (const char* name : {"manifest.json", "control.ply", "elevation.bin", "face_error.bin", "normal.bin", "albedo.bin"})
+        EXPECT_EQ(file_text(dir + "/a.standin/" + name), file_text(dir + "/b.standin/" + name)) << name;
+
+    Result<std::unique_ptr<Package>> back = read_package(dir + "/a.standin");
+    ASSERT_TRUE(back.is_ok()) << back.status().message();
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**one);
+    const auto& q = dynamic_cast<const DisplacedMeshPackage&>(**back);
+    EXPECT_EQ(q.positions, p.positions);
+    EXPECT_EQ(q.normals, p.normals);
+    EXPECT_EQ(q.indices, p.indices);
+    EXPECT_EQ(q.elevations, p.elevations);
+    EXPECT_EQ(q.shading_normals, p.shading_normals);
+    EXPECT_EQ(q.albedo, p.albedo);
+    EXPECT_EQ(q.face_error, p.face_error);
+    EXPECT_EQ(q.settings.degree, 9);
+    EXPECT_EQ(q.topology.edges.size(), p.topology.edges.size());
+    EXPECT_EQ(summarise_package(q).details["control_faces"], p.face_count());
+
+    // a package baked with 32-bit elevations round-trips too
+    values.set("elevation-bits", "32");
+    Result<std::unique_ptr<Package>> floats = bake_package(r, mesh, source, values, {}, 1);
+    ASSERT_TRUE(floats.is_ok());
+    ASSERT_TRUE(write_package(**floats, dir + "/c.standin").is_ok());
+    Result<std::unique_ptr<Package>> floats_back = read_package(dir + "/c.standin");
+    ASSERT_TRUE(floats_back.is_ok()) << floats_back.status().message();
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(**floats_back).elevations,
+              dynamic_cast<const DisplacedMeshPackage&>(**floats).elevations);
+}
+
+TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
+{
+    Mesh mesh = small_sphere();
+    std::unique_ptr<Package> package = test::bake(mesh, "displaced-mesh", {{"degree", "5"}});
+    ASSERT_TRUE(package);
+    std::string dir = test::fresh_directory("displaced_damaged");
+    auto fresh = [&](const std::string& name) {
+        std::string path = dir + "/" + name + ".standin";
+        EXPECT_TRUE(write_package(*package, path).is_ok());
+        return path;
+    };
+    // a flipped byte
+    std::string flipped = fresh("flipped");
+    {
+        std::fstream f(flipped + "/elevation.bin", std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(10);
+        f.put(char(0x5a));
+    }
+    Result<std::unique_ptr<Package>> a = read_package(flipped);
+    ASSERT_FALSE(a.is_ok());
+    EXPECT_NE(a.status().message().find("elevation.bin"), std::string::npos) << a.status().message();
+
+    // a manifest that disagrees with the control mesh, or with the declared options
+    auto edit_manifest = [&](const std::string& path, const std::string& from, const std::string& to) {
+        std::string text = file_text(path + "/manifest.json");
+        std::size_t at = text.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+        ASSERT_TRUE(write_file_atomic(path + "/manifest.json", text).is_ok());
+    };
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(*package);
+    std::string faces = fresh("faces");
+    edit_manifest(faces, "\"faces\": " + std::to_string(p.face_count()), "\"faces\": " + std::to_string(p.face_count() + 1));
+    Result<std::unique_ptr<Package>> b = read_package(faces);
+    ASSERT_FALSE(b.is_ok());
+    EXPECT_NE(b.status().message().find("control.faces"), std::string::npos) << b.status().message();
+    std::string sampler = fresh("sampler");
+    edit_manifest(sampler, "\"sampler\": \"intersection\"", "\"sampler\": \"guesswork\"");
+    Result<std::unique_ptr<Package>> c = read_package(sampler);
+    ASSERT_FALSE(c.is_ok());
+    EXPECT_NE(c.status().message().find("sampler"), std::string::npos) << c.status().message();
+    std::string degree = fresh("degree");
+    edit_manifest(degree, "\"degree\": 5", "\"degree\": 7");
+    EXPECT_FALSE(read_package(degree).is_ok());
+}
+
+TEST(DisplacedMeshPackage, OptionsTheBakerCannotTakeAreRefused)
+{
+    Mesh mesh = small_sphere();
+    SourceInfo source;
+    const Representation& r = *find_representation("displaced-mesh");
+    for (auto [name, value] : std::vector<std::pair<std::string, std::string>>{
+             {"degree", "12"}, {"degree", "65"}, {"interpolation-rays", "5"}, {"elevation-bits", "24"},
+             {"cone-angle", "0"}, {"sampler", "nearest"}, {"resolution", "512"}}) {
+        OptionValues values;
+        values.set(name, value);
+        Result<std::unique_ptr<Package>> baked = bake_package(r, mesh, source, values, {}, 1);
+        ASSERT_FALSE(baked.is_ok()) << name << " " << value;
+        EXPECT_EQ(baked.status().code(), StatusCode::invalid_argument);
+        EXPECT_NE(baked.status().message().find(name), std::string::npos) << baked.status().message();
+    }
+}
+
+} // namespace
+} // namespace standin::displaced_mesh

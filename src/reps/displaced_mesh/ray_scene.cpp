@@ -1,0 +1,152 @@
+// embree 3 behind RayScene (ray_scene.h). Steps: one device and one static triangle scene over the
+// caller's arrays; rays with rtcIntersect1; closest points with rtcPointQuery and a callback that
+// tests each candidate triangle exactly and shrinks the query radius.
+#include "reps/displaced_mesh/ray_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace standin::displaced_mesh {
+
+struct RayScene::State {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    const std::vector<glm::vec3>* positions = nullptr;
+    const std::vector<std::uint32_t>* indices = nullptr;
+    ~State()
+    {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+RayScene::~RayScene() = default;
+
+Result<std::unique_ptr<RayScene>> RayScene::create(const std::vector<glm::vec3>& positions,
+                                                   const std::vector<std::uint32_t>& indices)
+{
+    std::unique_ptr<RayScene> out(new RayScene());
+    out->state_ = std::make_unique<State>();
+    State& s = *out->state_;
+    s.positions = &positions;
+    s.indices = &indices;
+    s.device = rtcNewDevice(nullptr);
+    if (!s.device) return error(StatusCode::unsupported, "displaced mesh: embree device creation failed");
+    s.scene = rtcNewScene(s.device);
+    rtcSetSceneBuildQuality(s.scene, RTC_BUILD_QUALITY_MEDIUM);
+    RTCGeometry geometry = rtcNewGeometry(s.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, positions.data(), 0,
+                               sizeof(glm::vec3), positions.size());
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, indices.data(), 0,
+                               3 * sizeof(std::uint32_t), indices.size() / 3);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(s.scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(s.scene);
+    if (rtcGetDeviceError(s.device) != RTC_ERROR_NONE)
+        return error(StatusCode::bad_data, "displaced mesh: embree could not build the surface");
+    return out;
+}
+
+SurfacePoint RayScene::intersect(glm::vec3 origin, glm::vec3 direction, float t_max) const
+{
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit query{};
+    query.ray.org_x = origin.x, query.ray.org_y = origin.y, query.ray.org_z = origin.z;
+    query.ray.dir_x = direction.x, query.ray.dir_y = direction.y, query.ray.dir_z = direction.z;
+    query.ray.tnear = 0.0f;
+    query.ray.tfar = t_max;
+    query.ray.mask = 0xffffffffu;
+    query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(state_->scene, &context, &query);
+    SurfacePoint out;
+    if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+    out.found = true;
+    out.triangle = query.hit.primID;
+    out.b1 = query.hit.u, out.b2 = query.hit.v;
+    out.t = query.ray.tfar;
+    out.position = origin + out.t * direction;
+    return out;
+}
+
+// The closest point of a triangle: the plane projection when it falls inside, else the nearest of
+// the three edges' closest points.
+glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c, float& b1, float& b2)
+{
+    glm::vec3 e1 = b - a, e2 = c - a, d = p - a;
+    float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    float det = d11 * d22 - d12 * d12;
+    if (det > 0.0f) {
+        float r1 = glm::dot(d, e1), r2 = glm::dot(d, e2);
+        float u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+        if (u >= 0.0f && v >= 0.0f && u + v <= 1.0f) {
+            b1 = u, b2 = v;
+            return a + u * e1 + v * e2;
+        }
+    }
+    // on the boundary: the best of the three segments, each clamped
+    const glm::vec3 corners[3] = {a, b, c};
+    float best = std::numeric_limits<float>::infinity();
+    glm::vec3 best_point = a;
+    b1 = b2 = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        glm::vec3 s0 = corners[k], s1 = corners[(k + 1) % 3], s = s1 - s0;
+        float length2 = glm::dot(s, s);
+        float t = length2 > 0.0f ? std::clamp(glm::dot(p - s0, s) / length2, 0.0f, 1.0f) : 0.0f;
+        glm::vec3 q = s0 + t * s;
+        float dist2 = glm::dot(p - q, p - q);
+        if (dist2 < best) {
+            best = dist2, best_point = q;
+            float w[3] = {0.0f, 0.0f, 0.0f};
+            w[k] = 1.0f - t, w[(k + 1) % 3] = t;
+            b1 = w[1], b2 = w[2];
+        }
+    }
+    return best_point;
+}
+
+namespace {
+
+struct ClosestQuery {
+    const RayScene::State* state;
+    SurfacePoint best;
+};
+
+bool closest_callback(RTCPointQueryFunctionArguments* args)
+{
+    auto* q = static_cast<ClosestQuery*>(args->userPtr);
+    const std::vector<glm::vec3>& positions = *q->state->positions;
+    const std::uint32_t* t = &(*q->state->indices)[3 * std::size_t(args->primID)];
+    glm::vec3 p(args->query->x, args->query->y, args->query->z);
+    float b1 = 0.0f, b2 = 0.0f;
+    glm::vec3 c = closest_point_in_triangle(p, positions[t[0]], positions[t[1]], positions[t[2]], b1, b2);
+    float distance = glm::length(p - c);
+    // ties (a point closest to an edge two triangles share) go to the lower triangle index, so the
+    // answer does not depend on the order embree visits them
+    if (q->best.found && (distance > q->best.distance || (distance == q->best.distance && args->primID > q->best.triangle)))
+        return false;
+    q->best = {true, args->primID, b1, b2, 0.0f, distance, c};
+    args->query->radius = distance * (1.0f + 1e-6f) + 1e-30f; // keep visiting exact ties
+    return true;
+}
+
+} // namespace
+
+SurfacePoint RayScene::closest(glm::vec3 point, float radius) const
+{
+    RTCPointQuery query;
+    query.x = point.x, query.y = point.y, query.z = point.z;
+    query.time = 0.0f;
+    query.radius = radius;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    ClosestQuery q{state_.get(), {}};
+    rtcPointQuery(state_->scene, &query, &context, closest_callback, &q);
+    return q.best;
+}
+
+} // namespace standin::displaced_mesh

@@ -1,0 +1,49 @@
+// Rays and closest points against a triangle mesh with embree 3, for sampling the original
+// surface (Bauman, Livny & El-Sana §3.1: "a ray is shot through each refined-vertex along its
+// interpolated normal") and measuring how far a reconstruction lies from it (§3.2, §5.1).
+// Built once, then safe to query from many threads.
+#pragma once
+
+#include <standin/status.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace standin::displaced_mesh {
+
+// A point on the mesh: triangle and barycentric weights (b1, b2) of its 2nd and 3rd corner.
+struct SurfacePoint {
+    bool found = false;
+    std::uint32_t triangle = 0;
+    float b1 = 0.0f, b2 = 0.0f;
+    float t = 0.0f;          // along the ray (ray queries)
+    float distance = 0.0f;   // from the query point (closest-point queries)
+    glm::vec3 position{0.0f};
+};
+
+class RayScene {
+public:
+    // Keeps references to both arrays: they must outlive the scene. unsupported when embree fails.
+    static Result<std::unique_ptr<RayScene>> create(const std::vector<glm::vec3>& positions,
+                                                    const std::vector<std::uint32_t>& indices);
+    ~RayScene();
+
+    // The first hit along origin + t * direction, t in [0, t_max].
+    SurfacePoint intersect(glm::vec3 origin, glm::vec3 direction, float t_max) const;
+    // The closest point of the mesh to `point` within `radius` (infinite: anywhere).
+    SurfacePoint closest(glm::vec3 point, float radius) const;
+
+    struct State; // embree's device and scene (ray_scene.cpp)
+
+private:
+    RayScene() = default;
+    std::unique_ptr<State> state_;
+};
+
+// The closest point of triangle abc to p, with its barycentric weights (b1 on b, b2 on c).
+glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c, float& b1, float& b2);
+
+} // namespace standin::displaced_mesh

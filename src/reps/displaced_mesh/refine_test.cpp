@@ -1,0 +1,149 @@
+// The CPU reference of the refinement: no T-junction on a closed model at several tolerances (the
+// displaced vertices of both sides of every edge are bit-identical), the paper's literal rule
+// leaves some, rendered triangles fall as tau grows, culling keeps what the camera sees.
+#include "reps/displaced_mesh/displaced_mesh.h"
+#include "reps/displaced_mesh/refine.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+#include <memory>
+#include <tuple>
+
+namespace standin::displaced_mesh {
+namespace {
+
+struct Baked {
+    std::unique_ptr<DisplacedMeshPackage> package;
+    std::vector<FaceRefineData> faces;
+    RefineSurface surface;
+};
+
+Baked bake_noisy_sphere(int degree, std::size_t triangles)
+{
+    GenerateOptions noisy;
+    noisy.shape = GeneratedShape::noisy_sphere;
+    noisy.target_triangles = triangles;
+    noisy.noise_amplitude = 0.12f;
+    Result<Mesh> mesh = generate_mesh(noisy);
+    EXPECT_TRUE(mesh.is_ok());
+    Result<Options> parameters = bake_parameters({{"degree", std::to_string(degree)}});
+    EXPECT_TRUE(parameters.is_ok());
+    SourceInfo source;
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(*mesh, source, *parameters, Progress());
+    EXPECT_TRUE(package.is_ok()) << package.status().message();
+    Baked out;
+    out.package = std::move(*package);
+    const DisplacedMeshPackage& p = *out.package;
+    out.faces = prepare_faces(p.positions, p.normals, p.indices, p.topology, p.layout(), p.elevations, p.face_error);
+    out.surface = {&p.positions, &p.normals, &p.indices, &p.topology, &p.elevations, &out.faces, degree};
+    return out;
+}
+
+RefineView view_at(float distance, float azimuth = 30.0f)
+{
+    OrbitView orbit;
+    orbit.azimuth_degrees = azimuth;
+    orbit.elevation_degrees = 20.0f;
+    orbit.distance_rel = distance;
+    Camera camera = orbit_camera({glm::vec3(0.0f), std::sqrt(3.0f)}, orbit, 800.0f / 600.0f);
+    return make_refine_view(camera, 600, glm::mat4(1.0f));
+}
+
+// Directed edges of the displaced triangles without their reverse: T-junctions and cracks on a
+// closed surface (vertices compared bit for bit).
+std::size_t unmatched_edges(const Baked& baked, const std::vector<RefinedTriangle>& triangles, const RefineView& view,
+                            const RefineOptions& options)
+{
+    using Key = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>;
+    auto key = [](glm::vec3 p) {
+        Key k;
+        std::memcpy(&std::get<0>(k), &p.x, 4), std::memcpy(&std::get<1>(k), &p.y, 4), std::memcpy(&std::get<2>(k), &p.z, 4);
+        return k;
+    };
+    std::map<std::pair<Key, Key>, int> edges;
+    for (const RefinedTriangle& t : triangles) {
+        Key v[3];
+        for (int k = 0; k < 3; ++k) v[k] = key(displaced_position(baked.surface, t.face, t.q[k][0], t.q[k][1], view, options));
+        for (int k = 0; k < 3; ++k) ++edges[{v[k], v[(k + 1) % 3]}];
+    }
+    std::size_t unmatched = 0;
+    for (const auto& [edge, count] : edges) {
+        auto reverse = edges.find({edge.second, edge.first});
+        if (reverse == edges.end() || reverse->second != count) ++unmatched;
+    }
+    return unmatched;
+}
+
+TEST(DisplacedMeshRefine, NoTJunctionsOnAClosedModelAtSeveralTolerances)
+{
+    Baked baked = bake_noisy_sphere(9, 20000);
+    ASSERT_TRUE(baked.package);
+    RefineView view = view_at(1.5f);
+    for (Criterion criterion : {Criterion::error, Criterion::weighted, Criterion::length})
+        for (float tau : {0.5f, 1.0f, 2.0f, 4.0f, 16.0f}) {
+            SCOPED_TRACE(testing::Message() << "criterion " << int(criterion) << " tau " << tau);
+            RefineOptions options;
+            options.tau = tau;
+            options.criterion = criterion;
+            options.cull = false;
+            RefineStats stats;
+            std::vector<RefinedTriangle> triangles = refine(baked.surface, view, options, stats);
+            EXPECT_GT(stats.rendered, baked.package->face_count());
+            EXPECT_EQ(stats.capped, 0u);
+            EXPECT_EQ(unmatched_edges(baked, triangles, view, options), 0u);
+        }
+}
+
+TEST(DisplacedMeshRefine, ThePapersLiteralRuleLeavesTJunctions)
+{
+    Baked baked = bake_noisy_sphere(9, 20000);
+    ASSERT_TRUE(baked.package);
+    RefineView view = view_at(1.5f);
+    RefineOptions options;
+    options.criterion = Criterion::seed;
+    options.cull = false;
+    std::size_t unmatched = 0;
+    for (float tau : {1.0f, 2.0f, 4.0f}) {
+        options.tau = tau;
+        RefineStats stats;
+        unmatched += unmatched_edges(baked, refine(baked.surface, view, options, stats), view, options);
+    }
+    EXPECT_GT(unmatched, 0u);
+}
+
+TEST(DisplacedMeshRefine, RenderedTrianglesFallAsTauGrows)
+{
+    Baked baked = bake_noisy_sphere(17, 20000);
+    ASSERT_TRUE(baked.package);
+    RefineView view = view_at(3.0f);
+    std::uint64_t previous = UINT64_MAX;
+    for (float tau : {0.5f, 1.0f, 2.0f, 4.0f, 8.0f}) {
+        RefineOptions options;
+        options.tau = tau;
+        RefineStats stats;
+        refine(baked.surface, view, options, stats);
+        EXPECT_LT(stats.rendered, previous) << "tau " << tau;
+        EXPECT_GT(stats.processed, stats.rendered);
+        previous = stats.rendered;
+    }
+}
+
+TEST(DisplacedMeshRefine, CullingDropsFacesBehindTheModel)
+{
+    Baked baked = bake_noisy_sphere(9, 20000);
+    ASSERT_TRUE(baked.package);
+    RefineView view = view_at(1.0f);
+    RefineOptions options;
+    RefineStats culled, all;
+    refine(baked.surface, view, options, culled);
+    options.cull = false;
+    refine(baked.surface, view, options, all);
+    EXPECT_LT(culled.faces_visible, baked.package->face_count() * 3 / 4);
+    EXPECT_GT(culled.faces_visible, baked.package->face_count() / 4);
+    EXPECT_LT(culled.rendered, all.rendered);
+}
+
+} // namespace
+} // namespace standin::displaced_mesh

@@ -1,0 +1,419 @@
+// The displaced-mesh renderer: the paper's runtime stage with compute passes instead of geometry
+// shaders and stream-out (Bauman, Livny & El-Sana §3.3, §3.4, §4).
+//
+// Steps per draw (every camera, the shadow map's too):
+//  1. upload the frame and refinement blocks; clear the per-draw state;
+//  2. cull: one invocation per control face and instance (shaders/cull.comp), a scan of the
+//     survivors and their root records in (instance, face) order (scan_groups, scatter_roots);
+//  3. bisect, pass by pass: decide (shaders/decide.comp), scan the (splits, finals) counts, scatter
+//     children to the other list and finals to the final list (scatter.comp); dispatch sizes come
+//     from the GPU (glDispatchComputeIndirect), lists alternate (the paper's two VBOs);
+//  4. read back the counts; if a list overflowed, grow the lists and run 2-3 again (the result
+//     never depends on when that happened);
+//  5. draw the final list with glDrawArraysIndirect, vertices pulled from it (shaders/draw.vert),
+//     shaded by shaders/draw.frag.
+// The "tess" subdivision draws each visible control face as a GL patch instead, tessellated to
+// power-of-two levels from edge-only data (a baseline to compare with).
+#include "reps/displaced_mesh/renderer.h"
+
+#include "gpu/counters.h"
+#include "gpu/frame.h"
+#include "gpu/gl.h"
+#include "reps/common/package_cast.h"
+#include "reps/displaced_mesh/face_point.h"
+#include "reps/displaced_mesh/shaders/displaced_layout.glsl"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace standin::displaced_mesh {
+
+static_assert(DM_BARY_BITS == k_bary_bits, "shaders/displaced_layout.glsl and face_point.h disagree");
+static_assert(int(Criterion::weighted) == DM_CRITERION_WEIGHTED && int(Criterion::length) == DM_CRITERION_LENGTH &&
+                  int(Criterion::seed) == DM_CRITERION_SEED && int(Criterion::error) == DM_CRITERION_ERROR,
+              "shaders/displaced_layout.glsl and refine.h number the criteria differently");
+
+namespace {
+
+constexpr std::uint64_t k_initial_records = 1u << 18;
+// llvmpipe's largest shader storage block is 128 MiB; a record is 36 bytes
+constexpr std::uint64_t k_max_records = (std::uint64_t(128) << 20) / (DM_RECORD_UINTS * 4);
+
+struct RefineBlock {
+    glm::mat4 clip_from_view;
+    glm::vec4 view_terms;   // tau, pixels per unit, near, orthographic
+    glm::uvec4 counts;      // faces, instances, n, m
+    glm::uvec4 options;     // criterion, mip, cull, debug view
+    glm::uvec4 capacities;  // list, final, samples per face, finest samples
+    glm::vec4 error_terms;  // full scale of the error view
+};
+static_assert(sizeof(RefineBlock) == 64 + 5 * 16, "std140 layout of RefineBlock");
+
+struct FaceData {
+    glm::uvec4 corners;
+    glm::vec4 weights;
+    glm::vec4 range;
+    glm::vec4 extra;
+    glm::vec4 curvature;
+};
+
+struct ControlVertex {
+    glm::vec4 position;
+    glm::vec4 normal;
+    glm::vec4 rest_normal;
+    glm::vec4 rest_tangent;
+    glm::uvec4 reference;
+};
+
+Result<int> debug_view_code(DebugView view)
+{
+    switch (view) {
+    case DebugView::none: case DebugView::parts: case DebugView::level: case DebugView::error: case DebugView::depth:
+    case DebugView::normal:
+        return int(view);
+    default:
+        return error(StatusCode::invalid_argument,
+                     std::string("--debug-view: the displaced mesh draws parts, level, error, depth and normal, not ") +
+                         debug_view_name(view));
+    }
+}
+
+class Impl final : public DisplacedRenderer {
+public:
+    Status init(const DisplacedMeshPackage& package, const RendererSettings& settings);
+    DrawStats draw(const DrawParams& params) override;
+    void set_counting(bool on) override { counters_->set_counting(on); }
+    std::uint64_t read_counter(Counter counter) override { return counters_->read(int(counter)); }
+    Status update_control(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) override;
+    RefineCounters last_counters() const override { return refine_counters_; }
+    ErrorCounters read_error_counters() override;
+    const RendererSettings& settings() const override { return settings_; }
+
+private:
+    void ensure_capacity(std::uint64_t list_records, std::uint64_t final_records);
+    void run_passes(const DrawParams& params, std::uint32_t instances);
+    std::vector<std::uint32_t> read_state();
+    void dispatch(const gpu::Program& program, GLuint groups);
+    void dispatch_indirect(const gpu::Program& program, std::uint32_t parity);
+
+    RendererSettings settings_;
+    int debug_code_ = DEBUG_VIEW_NONE;
+    PatternLayout layout_{17};
+    std::uint32_t face_count_ = 0, vertex_count_ = 0;
+    int passes_ = 0;
+    void upload_block(const DrawParams& params, std::uint32_t instances);
+    DrawStats draw_patches(std::uint32_t instances);
+
+    gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
+    gpu::Query primitives_query_;
+    gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
+    gpu::Buffer lists_[2];
+    std::uint64_t list_capacity_ = 0, final_capacity_ = 0, scan_capacity_ = 0;
+    gpu::VertexArray empty_vertex_array_;
+    gpu::FrameResources frame_;
+    RefineCounters refine_counters_;
+    std::unique_ptr<gpu::Counters> counters_; // fragments, fetches, then DM_COUNTER_ERROR_SUM and _MAX
+    std::vector<ControlVertex> rest_; // the package's control vertices with their rest frames
+    bool moved_ = false; // update_control was called: shading normals follow the control mesh
+};
+
+Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& settings)
+{
+    settings_ = settings;
+    Result<int> debug = debug_view_code(settings.debug_view);
+    if (!debug) return debug.status();
+    debug_code_ = *debug;
+    if (!(settings.tau > 0.0f)) return error(StatusCode::invalid_argument, "--tau: must be greater than 0");
+    layout_ = package.layout();
+    face_count_ = std::uint32_t(package.face_count());
+    vertex_count_ = std::uint32_t(package.positions.size());
+    passes_ = refinement_passes(layout_.degree, settings.max_depth);
+
+    struct Stage {
+        gpu::Program* program;
+        const char* source;
+    };
+    for (Stage s : {Stage{&cull_, "cull.comp"}, Stage{&scatter_roots_, "scatter_roots.comp"}, Stage{&decide_, "decide.comp"},
+                    Stage{&scan_groups_, "scan_groups.comp"}, Stage{&scatter_, "scatter.comp"}}) {
+        Result<gpu::Program> program = gpu::Program::create({std::string("reps/displaced_mesh/shaders/") + s.source});
+        if (!program) return program.status();
+        *s.program = std::move(*program);
+    }
+    Result<gpu::Program> draw = gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"});
+    if (!draw) return draw.status();
+    draw_ = std::move(*draw);
+    if (settings.subdivision == "tess") {
+        Result<gpu::Program> patches = gpu::Program::create(
+            {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
+             "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"});
+        if (!patches) return patches.status();
+        patches_ = std::move(*patches);
+        primitives_query_ = gpu::make_query(GL_PRIMITIVES_GENERATED);
+    } else if (settings.subdivision != "leb") {
+        return error(StatusCode::invalid_argument, "--subdivision: must be leb or tess, not '" + settings.subdivision + "'");
+    }
+
+    // the package on the GPU: control vertices (updatable), per-face data, elevations, shading
+    // each vertex's rest frame: its normal and the direction to a neighbour (the next corner of
+    // its first face), so that a moved control mesh turns the maps' normals with it
+    rest_ = std::vector<ControlVertex>(vertex_count_);
+    for (std::size_t v = 0; v < rest_.size(); ++v) {
+        std::uint32_t neighbour = std::uint32_t(v);
+        if (!package.topology.vertex_faces[v].empty()) {
+            std::uint32_t f = package.topology.vertex_faces[v].front();
+            int k = 0;
+            while (package.indices[3 * f + std::size_t(k)] != v) ++k;
+            neighbour = package.indices[3 * f + std::size_t((k + 1) % 3)];
+        }
+        glm::vec3 n = package.normals[v], t = package.positions[neighbour] - package.positions[v];
+        t -= glm::dot(t, n) * n;
+        t = glm::length(t) > 0.0f ? glm::normalize(t) : glm::vec3(1.0f, 0.0f, 0.0f);
+        rest_[v] = {glm::vec4(package.positions[v], 1.0f), glm::vec4(n, 0.0f), glm::vec4(n, 0.0f), glm::vec4(t, 0.0f),
+                    glm::uvec4(neighbour, 0u, 0u, 0u)};
+    }
+    vertices_ = gpu::make_buffer(rest_, GL_DYNAMIC_STORAGE_BIT);
+    std::vector<FaceRefineData> prepared = prepare_faces(package.positions, package.normals, package.indices, package.topology,
+                                                         layout_, package.elevations, package.face_error);
+    std::vector<FaceData> faces(face_count_);
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+        const FaceRefineData& d = prepared[f];
+        faces[f].corners = glm::uvec4(package.indices[3 * f], package.indices[3 * f + 1], package.indices[3 * f + 2],
+                                      package.topology.face_edge_reversed[f]);
+        faces[f].weights = glm::vec4(d.edge_weight[0], d.edge_weight[1], d.edge_weight[2], d.interior_weight);
+        faces[f].range = glm::vec4(d.h_min, d.h_max, d.cone_half_angle, d.normal_shrink);
+        faces[f].extra = glm::vec4(d.grid_length, 0.0f, 0.0f, 0.0f);
+        faces[f].curvature = glm::vec4(d.edge_curvature[0], d.edge_curvature[1], d.edge_curvature[2], d.interior_curvature);
+    }
+    faces_ = gpu::make_buffer(faces);
+    elevations_ = gpu::make_buffer(package.elevations);
+    std::vector<glm::uvec2> shading(package.shading_normals.size());
+    for (std::size_t i = 0; i < shading.size(); ++i) shading[i] = {package.shading_normals[i], package.albedo[i]};
+    shading_ = gpu::make_buffer(shading);
+    refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);
+    std::vector<std::uint32_t> zero(DM_STATE_UINTS, 0u);
+    state_ = gpu::make_buffer(zero, GL_DYNAMIC_STORAGE_BIT);
+    counters_ = std::make_unique<gpu::Counters>(DM_COUNTER_COUNT);
+    empty_vertex_array_ = gpu::make_vertex_array();
+    ensure_capacity(k_initial_records, k_initial_records);
+    if (GLenum e = glGetError(); e != GL_NO_ERROR)
+        return error(StatusCode::gpu_error, "displaced mesh: OpenGL error " + std::to_string(e) + " while uploading");
+    return Status::ok();
+}
+
+void Impl::ensure_capacity(std::uint64_t list_records, std::uint64_t final_records)
+{
+    list_records = std::min(list_records, k_max_records);
+    final_records = std::min(final_records, k_max_records);
+    if (list_records > list_capacity_) {
+        list_capacity_ = list_records;
+        for (gpu::Buffer& list : lists_) list = gpu::make_buffer(nullptr, list_capacity_ * DM_RECORD_UINTS * 4);
+    }
+    if (final_records > final_capacity_) {
+        final_capacity_ = final_records;
+        final_ = gpu::make_buffer(nullptr, final_capacity_ * DM_RECORD_UINTS * 4);
+    }
+}
+
+void Impl::dispatch(const gpu::Program& program, GLuint groups)
+{
+    program.use();
+    glDispatchCompute(std::max(groups, 1u), 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT | GL_UNIFORM_BARRIER_BIT);
+}
+
+void Impl::dispatch_indirect(const gpu::Program& program, std::uint32_t parity)
+{
+    program.use();
+    glDispatchComputeIndirect(GLintptr((DM_STATE_DISPATCH + 3 * parity) * sizeof(std::uint32_t)));
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+}
+
+// The refinement block of this draw and the package's buffers, bound.
+void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
+{
+    RefineView view = make_refine_view(params.camera, params.viewport.y, glm::mat4(1.0f));
+    RefineBlock block;
+    block.clip_from_view = params.camera.clip_from_view;
+    block.view_terms = glm::vec4(settings_.tau, view.pixels_per_unit, view.near_plane, view.orthographic ? 1.0f : 0.0f);
+    block.counts = glm::uvec4(face_count_, instances, std::uint32_t(layout_.segments), std::uint32_t(layout_.exponent));
+    block.options = glm::uvec4(std::uint32_t(settings_.criterion), settings_.mip ? 1u : 0u, settings_.cull ? 1u : 0u,
+                               std::uint32_t(debug_code_));
+    block.capacities = glm::uvec4(std::uint32_t(list_capacity_), std::uint32_t(final_capacity_),
+                                  std::uint32_t(layout_.samples_per_face), std::uint32_t(layout_.finest_samples));
+    block.error_terms = glm::vec4(settings_.error_scale > 0.0f ? settings_.error_scale : settings_.tau, moved_ ? 1.0f : 0.0f, settings_.outline, 0.0f);
+    glNamedBufferSubData(refine_block_.get(), 0, sizeof block, &block);
+    std::uint32_t zero = 0;
+    glClearNamedBufferSubData(state_.get(), GL_R32UI, 0, DM_STATE_UINTS * sizeof(std::uint32_t), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero);
+    counters_->bind();
+
+    glBindBufferBase(GL_UNIFORM_BUFFER, DM_REFINE_UBO, refine_block_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_VERTICES_SSBO, vertices_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FACES_SSBO, faces_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_ELEVATIONS_SSBO, elevations_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_STATE_SSBO, state_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
+}
+
+void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
+{
+    // scan buffers hold one entry per element of the largest list a pass may see
+    std::uint64_t elements = std::max<std::uint64_t>(std::uint64_t(face_count_) * instances, list_capacity_);
+    if (elements > scan_capacity_) {
+        scan_capacity_ = elements;
+        scan_ = gpu::make_buffer(nullptr, scan_capacity_ * 16);
+        groups_ = gpu::make_buffer(nullptr, (scan_capacity_ / DM_GROUP_SIZE + 1) * 8);
+    }
+    upload_block(params, instances);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SCAN_SSBO, scan_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_GROUPS_SSBO, groups_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FINAL_SSBO, final_.get());
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, state_.get());
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);
+
+    // cull into list 0 (the cull pass has parity 1: it writes the counts of slot 0)
+    GLuint root_groups = GLuint((std::uint64_t(face_count_) * instances + DM_GROUP_SIZE - 1) / DM_GROUP_SIZE);
+    for (const gpu::Program* p : {&cull_, &scan_groups_, &scatter_roots_}) glProgramUniform1ui(p->id(), p->uniform("parity"), 1u);
+    glProgramUniform1ui(scan_groups_.id(), scan_groups_.uniform("after_cull"), 1u);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_LIST_OUT_SSBO, lists_[0].get());
+    dispatch(cull_, root_groups);
+    dispatch(scan_groups_, 1);
+    dispatch(scatter_roots_, root_groups);
+
+    // bisect: pass p reads list p % 2 and writes the other
+    glProgramUniform1ui(scan_groups_.id(), scan_groups_.uniform("after_cull"), 0u);
+    for (int pass = 0; pass < passes_; ++pass) {
+        std::uint32_t parity = std::uint32_t(pass % 2);
+        for (const gpu::Program* p : {&decide_, &scan_groups_, &scatter_}) glProgramUniform1ui(p->id(), p->uniform("parity"), parity);
+        glProgramUniform1ui(decide_.id(), decide_.uniform("last_pass"), pass == passes_ - 1 ? 1u : 0u);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_LIST_IN_SSBO, lists_[parity].get());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_LIST_OUT_SSBO, lists_[1 - parity].get());
+        dispatch_indirect(decide_, parity);
+        dispatch(scan_groups_, 1);
+        dispatch_indirect(scatter_, parity);
+    }
+}
+
+std::vector<std::uint32_t> Impl::read_state()
+{
+    std::vector<std::uint32_t> state(DM_STATE_UINTS);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(state_.get(), 0, GLsizeiptr(state.size() * sizeof(std::uint32_t)), state.data());
+    return state;
+}
+
+DrawStats Impl::draw(const DrawParams& params)
+{
+    frame_.bind(params);
+    std::uint32_t instances = std::uint32_t(frame_.instance_count());
+    if (settings_.subdivision == "tess") {
+        upload_block(params, instances);
+        return draw_patches(instances);
+    }
+
+    // refine; when a list overflowed, grow the lists and refine again
+    std::vector<std::uint32_t> state;
+    for (;;) {
+        run_passes(params, instances);
+        state = read_state();
+        bool short_of_room = state[DM_STATE_OVERFLOWED] > 0 || state[DM_STATE_DROPPED] > 0;
+        if (!short_of_room || (list_capacity_ >= k_max_records && final_capacity_ >= k_max_records)) break;
+        ensure_capacity(list_capacity_ * 2, final_capacity_ * 2);
+    }
+    refine_counters_ = {state[DM_STATE_VISIBLE], state[DM_STATE_PROCESSED], state[DM_STATE_FINAL], state[DM_STATE_CAPPED],
+                        state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
+
+    // draw the final list
+    glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counters_->counting() ? 1 : 0);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
+    glBindVertexArray(empty_vertex_array_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    draw_.use();
+    glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(DM_STATE_DRAW * sizeof(std::uint32_t))));
+    glBindVertexArray(0);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    if (counters_->counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return {std::uint64_t(2 + 3 * passes_ + 1), refine_counters_.rendered};
+}
+
+// The tessellation baseline: every control face of every instance as one patch; the triangles the
+// tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
+DrawStats Impl::draw_patches(std::uint32_t instances)
+{
+    glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counters_->counting() ? 1 : 0);
+    glBindVertexArray(empty_vertex_array_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glPatchParameteri(GL_PATCH_VERTICES, 3);
+    patches_.use();
+    glBeginQuery(GL_PRIMITIVES_GENERATED, primitives_query_.get());
+    glDrawArraysInstanced(GL_PATCHES, 0, GLsizei(3 * face_count_), GLsizei(instances));
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    glBindVertexArray(0);
+    GLuint64 generated = 0;
+    glGetQueryObjectui64v(primitives_query_.get(), GL_QUERY_RESULT, &generated);
+    refine_counters_ = {};
+    refine_counters_.rendered = generated;
+    refine_counters_.processed = std::uint64_t(face_count_) * instances;
+    if (counters_->counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    return {1, generated};
+}
+
+ErrorCounters Impl::read_error_counters()
+{
+    ErrorCounters out;
+    out.fragments = counters_->read(COUNTER_FRAGMENTS);
+    double sum = double(counters_->read(DM_COUNTER_ERROR_SUM));
+    out.error_mean_px = out.fragments ? sum / DM_ERROR_UNITS / double(out.fragments) : 0.0;
+    out.error_max_px = double(counters_->read(DM_COUNTER_ERROR_MAX)) / DM_ERROR_UNITS;
+    return out;
+}
+
+Status Impl::update_control(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals)
+{
+    if (positions.size() != vertex_count_ || normals.size() != vertex_count_)
+        return error(StatusCode::invalid_argument, "displaced mesh: update_control needs " + std::to_string(vertex_count_) +
+                                                       " positions and normals");
+    std::vector<ControlVertex> vertices = rest_;
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+        vertices[v].position = glm::vec4(positions[v], 1.0f), vertices[v].normal = glm::vec4(normals[v], 0.0f);
+    moved_ = true;
+    glNamedBufferSubData(vertices_.get(), 0, GLsizeiptr(vertices.size() * sizeof(ControlVertex)), vertices.data());
+    return Status::ok();
+}
+
+} // namespace
+
+Result<std::unique_ptr<DisplacedRenderer>> DisplacedRenderer::create(const DisplacedMeshPackage& package, const RendererSettings& settings)
+{
+    if (!gpu::has_current_context()) return error(StatusCode::gpu_error, "displaced mesh: no current OpenGL context");
+    auto renderer = std::make_unique<Impl>();
+    STANDIN_RETURN_IF_ERROR(renderer->init(package, settings));
+    return std::unique_ptr<DisplacedRenderer>(std::move(renderer));
+}
+
+RendererSettings renderer_settings(const RenderSettings& settings)
+{
+    RendererSettings out;
+    out.tau = settings.options.number("tau");
+    parse_criterion(settings.options.choice("criterion"), out.criterion);
+    out.cull = settings.options.flag("cull");
+    out.mip = settings.options.flag("mip");
+    out.subdivision = settings.options.choice("subdivision");
+    out.outline = settings.options.number("outline");
+    out.debug_view = settings.debug_view;
+    return out;
+}
+
+Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings)
+{
+    Result<std::unique_ptr<DisplacedRenderer>> renderer =
+        DisplacedRenderer::create(reps::package_cast<DisplacedMeshPackage>(package), renderer_settings(settings));
+    if (!renderer) return renderer.status();
+    return std::unique_ptr<Renderer>(std::move(*renderer));
+}
+
+} // namespace standin::displaced_mesh

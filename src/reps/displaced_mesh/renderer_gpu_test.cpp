@@ -1,0 +1,281 @@
+// The displaced-mesh renderer on the GPU: no crack inside the silhouette of a closed model at
+// several tolerances, renders byte-identical across renderers and runs, the GPU refinement matches
+// the CPU reference's counts, rendered triangles fall as tau grows, culling and the debug views,
+// moving the control mesh moves the picture, and shadows are cast.
+#include "test_support.h"
+
+#include "reps/displaced_mesh/displaced_mesh.h"
+#include "reps/displaced_mesh/renderer.h"
+
+#include <standin/eval.h>
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <deque>
+
+namespace standin::displaced_mesh {
+namespace {
+
+struct Subject {
+    Mesh mesh;
+    std::unique_ptr<DisplacedMeshPackage> package;
+};
+
+const Subject& noisy_sphere()
+{
+    test::gpu_context();
+    static Subject subject = [] {
+        Subject s;
+        GenerateOptions options;
+        options.shape = GeneratedShape::noisy_sphere;
+        options.target_triangles = 20000;
+        options.noise_amplitude = 0.12f;
+        s.mesh = std::move(*generate_mesh(options));
+        Result<Options> parameters = bake_parameters({{"degree", "9"}});
+        EXPECT_TRUE(parameters.is_ok());
+        Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(s.mesh, SourceInfo{}, *parameters, Progress());
+        EXPECT_TRUE(package.is_ok());
+        s.package = std::move(*package);
+        return s;
+    }();
+    return subject;
+}
+
+std::unique_ptr<DisplacedRenderer> make(const DisplacedMeshPackage& package, const RendererSettings& settings)
+{
+    test::gpu_context();
+    Result<std::unique_ptr<DisplacedRenderer>> renderer = DisplacedRenderer::create(package, settings);
+    EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+    return renderer.is_ok() ? std::move(*renderer) : nullptr;
+}
+
+Camera camera_for(const Mesh& mesh, float azimuth, float distance, int width, int height)
+{
+    OrbitView view;
+    view.azimuth_degrees = azimuth;
+    view.elevation_degrees = 25.0f;
+    view.distance_rel = distance;
+    return orbit_camera(mesh.bounding_sphere(), view, float(width) / float(height));
+}
+
+RenderedImage render(Renderer& renderer, const Camera& camera, int width, int height)
+{
+    Result<RenderedImage> image = render_offscreen(renderer, camera, default_light(camera), width, height);
+    EXPECT_TRUE(image.is_ok()) << image.status().message();
+    return image.is_ok() ? std::move(*image) : RenderedImage{};
+}
+
+// Uncovered pixels that the background cannot reach from the image border: cracks and holes
+// inside the silhouette.
+std::size_t enclosed_holes(const ImageRGBA8& image)
+{
+    const int w = image.width, h = image.height;
+    std::vector<std::uint8_t> outside(std::size_t(w) * std::size_t(h), 0);
+    std::deque<std::pair<int, int>> queue;
+    auto covered = [&](int x, int y) { return image.pixels[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 4 + 3] != 0; };
+    auto push = [&](int x, int y) {
+        if (x < 0 || y < 0 || x >= w || y >= h) return;
+        std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+        if (outside[i] || covered(x, y)) return;
+        outside[i] = 1;
+        queue.push_back({x, y});
+    };
+    for (int x = 0; x < w; ++x) push(x, 0), push(x, h - 1);
+    for (int y = 0; y < h; ++y) push(0, y), push(w - 1, y);
+    while (!queue.empty()) {
+        auto [x, y] = queue.front();
+        queue.pop_front();
+        push(x + 1, y), push(x - 1, y), push(x, y + 1), push(x, y - 1);
+    }
+    std::size_t holes = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) holes += !covered(x, y) && !outside[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+    return holes;
+}
+
+TEST(DisplacedMeshRenderer, NoCracksAtSeveralTolerancesAndCloseToTheTruth)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(s.mesh);
+    ASSERT_TRUE(truth.is_ok());
+    for (float tau : {0.5f, 1.0f, 2.0f, 8.0f}) {
+        SCOPED_TRACE(tau);
+        RendererSettings settings;
+        settings.tau = tau;
+        std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, settings);
+        ASSERT_TRUE(renderer);
+        for (float azimuth : {0.0f, 130.0f}) {
+            Camera camera = camera_for(s.mesh, azimuth, 1.0f, 320, 240);
+            RenderedImage image = render(*renderer, camera, 320, 240);
+            EXPECT_EQ(enclosed_holes(image.color), 0u);
+            EXPECT_EQ(renderer->last_counters().capped, 0u);
+            if (tau <= 1.0f) {
+                ImageMetrics m = compare_images(render(**truth, camera, 320, 240).color, image.color);
+                EXPECT_GT(m.iou, 0.99);
+                EXPECT_LT(m.hole_fraction, 0.005);
+                EXPECT_LT(m.luv_mean, 1.5);
+            }
+        }
+    }
+}
+
+TEST(DisplacedMeshRenderer, ByteIdenticalAndMatchesTheCpuReference)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    RendererSettings settings;
+    std::unique_ptr<DisplacedRenderer> a = make(*s.package, settings), b = make(*s.package, settings);
+    ASSERT_TRUE(a && b);
+    Camera camera = camera_for(s.mesh, 40.0f, 1.2f, 400, 300);
+    RenderedImage first = render(*a, camera, 400, 300);
+    RenderedImage second = render(*b, camera, 400, 300);
+    RenderedImage again = render(*a, camera, 400, 300);
+    EXPECT_EQ(first.color.pixels, second.color.pixels);
+    EXPECT_EQ(first.color.pixels, again.color.pixels);
+    EXPECT_EQ(first.depth, second.depth);
+
+    // the CPU reference refines the same way (floating-point details of sqrt and log2 aside)
+    const DisplacedMeshPackage& p = *s.package;
+    std::vector<FaceRefineData> faces = prepare_faces(p.positions, p.normals, p.indices, p.topology, p.layout(), p.elevations, p.face_error);
+    RefineSurface surface{&p.positions, &p.normals, &p.indices, &p.topology, &p.elevations, &faces, p.settings.degree};
+    RefineStats stats;
+    refine(surface, make_refine_view(camera, 300, glm::mat4(1.0f)), RefineOptions{}, stats);
+    RefineCounters gpu = a->last_counters();
+    EXPECT_EQ(gpu.faces_visible, stats.faces_visible);
+    EXPECT_NEAR(double(gpu.rendered), double(stats.rendered), 0.002 * double(stats.rendered));
+    EXPECT_NEAR(double(gpu.processed), double(stats.processed), 0.002 * double(stats.processed));
+}
+
+TEST(DisplacedMeshRenderer, FewerTrianglesAsTauGrowsAndCullingHelps)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    Camera camera = camera_for(s.mesh, 10.0f, 2.0f, 400, 300);
+    std::uint64_t previous = UINT64_MAX;
+    for (float tau : {0.5f, 1.0f, 2.0f, 4.0f}) {
+        RendererSettings settings;
+        settings.tau = tau;
+        std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, settings);
+        render(*renderer, camera, 400, 300);
+        RefineCounters c = renderer->last_counters();
+        EXPECT_LT(c.rendered, previous) << tau;
+        EXPECT_GT(c.processed, c.rendered);
+        previous = c.rendered;
+    }
+    RendererSettings no_cull;
+    no_cull.cull = false;
+    std::unique_ptr<DisplacedRenderer> all = make(*s.package, no_cull);
+    RendererSettings cull;
+    std::unique_ptr<DisplacedRenderer> culled = make(*s.package, cull);
+    RenderedImage with = render(*culled, camera, 400, 300), without = render(*all, camera, 400, 300);
+    EXPECT_LT(culled->last_counters().faces_visible, all->last_counters().faces_visible * 3 / 4);
+    EXPECT_EQ(with.color.pixels, without.color.pixels);
+}
+
+TEST(DisplacedMeshRenderer, DebugViewsAndMovingTheControlMesh)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    Camera camera = camera_for(s.mesh, 0.0f, 1.0f, 160, 120);
+    for (DebugView view : {DebugView::parts, DebugView::level, DebugView::error, DebugView::depth, DebugView::normal}) {
+        RendererSettings settings;
+        settings.debug_view = view;
+        std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, settings);
+        ASSERT_TRUE(renderer) << debug_view_name(view);
+        EXPECT_GT(compare_images(ImageRGBA8(160, 120), render(*renderer, camera, 160, 120).color).spill_pixels, 1000u);
+    }
+    RendererSettings bad;
+    bad.debug_view = DebugView::fetches;
+    EXPECT_FALSE(DisplacedRenderer::create(*s.package, bad).is_ok());
+
+    // §5.3: shift the control mesh to the right: the picture follows
+    std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, RendererSettings{});
+    RenderedImage before = render(*renderer, camera, 160, 120);
+    std::vector<glm::vec3> moved = s.package->positions;
+    glm::vec3 right = glm::vec3(glm::inverse(camera.view_from_world)[0]);
+    for (glm::vec3& p : moved) p += 0.3f * right;
+    ASSERT_TRUE(renderer->update_control(moved, s.package->normals).is_ok());
+    RenderedImage after = render(*renderer, camera, 160, 120);
+    auto centre_x = [](const ImageRGBA8& image) {
+        double sum = 0.0, count = 0.0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                if (image.pixels[(std::size_t(y) * image.width + x) * 4 + 3]) sum += x, count += 1;
+        return sum / count;
+    };
+    EXPECT_GT(centre_x(after.color), centre_x(before.color) + 5.0);
+    EXPECT_FALSE(renderer->update_control(std::vector<glm::vec3>(3), std::vector<glm::vec3>(3)).is_ok());
+}
+
+TEST(DisplacedMeshRenderer, TurningTheControlMeshTurnsItsShadingToo)
+{
+    // §5.3 with a rigid motion: the control mesh turned by 90 degrees on the CPU must look like the
+    // package drawn with that turn as its instance transform (geometry and shading normals alike)
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    glm::mat4 turn = glm::rotate(glm::mat4(1.0f), glm::radians(90.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+    std::vector<glm::vec3> positions = s.package->positions, normals = s.package->normals;
+    for (glm::vec3& p : positions) p = glm::vec3(turn * glm::vec4(p, 1.0f));
+    for (glm::vec3& n : normals) n = glm::normalize(glm::mat3(turn) * n);
+    std::unique_ptr<DisplacedRenderer> moved = make(*s.package, RendererSettings{}), instanced = make(*s.package, RendererSettings{});
+    ASSERT_TRUE(moved && instanced);
+    ASSERT_TRUE(moved->update_control(positions, normals).is_ok());
+    Camera camera = camera_for(s.mesh, 20.0f, 1.0f, 320, 240);
+    Light light = default_light(camera);
+    std::vector<glm::mat4> instance = {turn};
+    Result<RenderedImage> a = render_offscreen(*moved, camera, light, 320, 240);
+    Result<RenderedImage> b = render_offscreen(*instanced, camera, light, 320, 240, instance);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    ImageMetrics m = compare_images(b->color, a->color);
+    EXPECT_GT(m.iou, 0.995);
+    EXPECT_LT(m.luv_mean, 0.3); // turning normals by the vertex normals alone (no twist) gave 1.28
+}
+
+TEST(DisplacedMeshRenderer, TessellationBaselineIsCrackFreeAndAgreesWithBisection)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    RendererSettings tess;
+    tess.subdivision = "tess";
+    std::unique_ptr<DisplacedRenderer> patches = make(*s.package, tess), bisection = make(*s.package, RendererSettings{});
+    ASSERT_TRUE(patches && bisection);
+    for (float azimuth : {0.0f, 200.0f}) {
+        Camera camera = camera_for(s.mesh, azimuth, 1.0f, 320, 240);
+        RenderedImage a = render(*patches, camera, 320, 240), b = render(*bisection, camera, 320, 240);
+        EXPECT_EQ(enclosed_holes(a.color), 0u);
+        EXPECT_GT(patches->last_counters().rendered, 1000u);
+        ImageMetrics m = compare_images(b.color, a.color);
+        EXPECT_GT(m.iou, 0.995);
+        EXPECT_LT(m.luv_mean, 1.0);
+    }
+    tess.subdivision = "geometry";
+    EXPECT_FALSE(DisplacedRenderer::create(*s.package, tess).is_ok());
+}
+
+TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    Camera camera = camera_for(s.mesh, 0.0f, 1.5f, 400, 300);
+    double previous = 0.0;
+    for (float tau : {1.0f, 4.0f}) {
+        RendererSettings settings;
+        settings.tau = tau;
+        settings.mip = false;
+        std::unique_ptr<DisplacedRenderer> renderer = make(*s.package, settings);
+        renderer->set_counting(true);
+        render(*renderer, camera, 400, 300);
+        ErrorCounters e = renderer->read_error_counters();
+        EXPECT_GT(e.fragments, 10000u);
+        EXPECT_GT(e.error_mean_px, previous);
+        EXPECT_LT(e.error_mean_px, tau);
+        previous = e.error_mean_px;
+    }
+}
+
+} // namespace
+} // namespace standin::displaced_mesh

@@ -1,0 +1,136 @@
+// The displaced control mesh as the registry sees it: its bake parameters and run-time options
+// (declared once: the command line, --help, the viewer, the manifest's "bake" block and its
+// validation all come from these tables), debug views, and the summary `standin info` prints.
+#include "reps/displaced_mesh/displaced_mesh.h"
+
+#include "reps/common/package_cast.h"
+
+#include <cmath>
+#include <cstdio>
+
+// this target's shaders, registered at static initialisation (cmake/shaders.cmake)
+#include "embedded_shaders.inc"
+
+namespace standin::displaced_mesh {
+
+namespace {
+
+std::vector<OptionSpec> bake_options()
+{
+    return {
+        integer_option("degree", 17, 5, 33,
+                       "Sampling-pattern degree k: 5, 9, 17 or 33 vertices per edge, (k-1)^2 triangles per control "
+                       "face (Bauman et al.: 17 and 33; 17 measured better)"),
+        integer_option("control-faces", 0, 0, 50'000'000,
+                       "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them)"),
+        number_option("cone-angle", "90", 0.0, 180.0,
+                      "No vertex's normal cone may reach this half-angle, degrees (90: a half-sphere, the paper)", true),
+        choice_option("sampler", "intersection", {"intersection", "interpolation"},
+                      "Elevations: intersection (where the vertex's ray meets the surface) or interpolation (the "
+                      "paper's neighbourhood sampler: hat-weighted mean of sub-ray elevations)"),
+        integer_option("interpolation-rays", 16, 1, 64, "Sub-rays per pattern triangle of the interpolation sampler (a square)"),
+        number_option("ray-range", "0.05", 0.0, 10.0,
+                      "How far rays look each way along the normal, fraction of the bounding-box diagonal", true),
+        integer_option("elevation-bits", 16, 16, 32, "Elevation storage: 16 (unorm over the package's range) or 32 (float)"),
+    };
+}
+
+std::vector<OptionSpec> render_options()
+{
+    return {
+        number_option("tau", "1", 0.0, 1000.0, "Screen-space tolerance, pixels (the paper's tau)", true),
+        choice_option("criterion", "error", {"error", "weighted", "length", "seed"},
+                      "Split test: error (a segment's chord error in pixels), weighted (length x edge curvature, "
+                      "conforming), length (projected length), seed (the paper's literal rule, leaves T-junctions)"),
+        number_option("outline", "2", 1.0, 64.0,
+                      "Error criterion: how much more error counts near the silhouette (chords there leave hole pixels)"),
+        flag_option("cull", true, "Cull control faces on their displaced prisms (outside the frustum or facing away)"),
+        flag_option("mip", true, "Read elevations from the mip level whose spacing projects to about tau pixels"),
+        choice_option("subdivision", "leb", {"leb", "tess"},
+                      "leb: longest-edge bisection in compute passes; tess: tessellation shaders (a baseline)"),
+    };
+}
+
+PackageSummary summarise(const Package& base)
+{
+    const auto& p = reps::package_cast<DisplacedMeshPackage>(base);
+    const PatternLayout l = p.layout();
+    std::uint64_t refined = std::uint64_t(p.face_count()) * std::uint64_t(l.segments) * std::uint64_t(l.segments);
+    PackageSummary summary;
+    summary.details = {{"source", p.source.file_name},
+                       {"control_faces", p.face_count()},
+                       {"control_vertices", p.positions.size()},
+                       {"control_target_faces", p.control.target_faces},
+                       {"control_reached_target", p.control.reached_target},
+                       {"degree", p.settings.degree},
+                       {"refined_triangles", refined},
+                       {"sampler", p.settings.sampler},
+                       {"elevation_bits", p.settings.elevation_bits},
+                       {"misses", p.sampling.misses},
+                       {"d_mean", p.sampling.original_to_sampled_mean},
+                       {"d_max", p.sampling.original_to_sampled_max}};
+    char line[200];
+    std::snprintf(line, sizeof line, "%zu control faces x %d^2 pattern (%llu triangles at full detail), %d-bit elevations%s",
+                  p.face_count(), l.segments, (unsigned long long)refined, p.settings.elevation_bits,
+                  p.control.reached_target ? "" : "; the cones stopped simplification early");
+    summary.headline = line;
+    return summary;
+}
+
+} // namespace
+
+BakeSettings settings_from(const Options& parameters)
+{
+    BakeSettings s;
+    s.degree = parameters.integer("degree");
+    s.control_faces = parameters.integer("control-faces");
+    s.cone_angle = parameters.number("cone-angle");
+    s.sampler = parameters.choice("sampler");
+    s.interpolation_rays = parameters.integer("interpolation-rays");
+    s.ray_range = parameters.number("ray-range");
+    s.elevation_bits = parameters.integer("elevation-bits");
+    return s;
+}
+
+Status check_settings(const BakeSettings& s)
+{
+    if (!is_pattern_degree(s.degree)) return error(StatusCode::invalid_argument, "--degree: must be 5, 9, 17 or 33");
+    int root = int(std::lround(std::sqrt(double(s.interpolation_rays))));
+    if (root * root != s.interpolation_rays)
+        return error(StatusCode::invalid_argument, "--interpolation-rays: must be a square number (1, 4, 9, ..., 64)");
+    if (s.elevation_bits != 16 && s.elevation_bits != 32)
+        return error(StatusCode::invalid_argument, "--elevation-bits: must be 16 or 32");
+    return Status::ok();
+}
+
+Result<Options> bake_parameters(const std::vector<std::pair<std::string, std::string>>& values)
+{
+    OptionValues given;
+    for (const auto& [name, value] : values) given.set(name, value);
+    std::vector<OptionSpec> specs = bake_options();
+    return Options::parse(specs, given, "displaced-mesh");
+}
+
+Representation registration()
+{
+    Representation r;
+    r.name = "displaced-mesh";
+    r.title = "Displaced control mesh";
+    r.description = "a coarse control mesh with a displacement map per face, culled and bisected on the GPU every "
+                    "frame to a screen-space tolerance: real geometry, crack-free";
+    r.reference = "Bauman, Livny & El-Sana";
+    r.bake_options = bake_options();
+    r.render_options = render_options();
+    r.debug_views = {DebugView::parts, DebugView::depth, DebugView::normal, DebugView::level, DebugView::error};
+    OptionValues tessellation;
+    tessellation.set("subdivision", "tess");
+    r.bench_variants = {tessellation};
+    r.bake = bake;
+    r.write = write;
+    r.read = read;
+    r.make_renderer = make_renderer;
+    r.summarise = summarise;
+    return r;
+}
+
+} // namespace standin::displaced_mesh

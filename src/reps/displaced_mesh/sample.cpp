@@ -1,0 +1,366 @@
+// Sampling the original surface along the control mesh's interpolated normals.
+// Bauman, Livny & El-Sana, §3.1 (Eq. 1a/1b, intersection and interpolation sampling), §3.2
+// (displacement maps, the sampling error ∆_f) and §5.1 (the distance d of Tables 2 and 3).
+//
+// Steps:
+//  1. one sample per control vertex, one per interior vertex of each control edge (in the edge's
+//     canonical direction), and the interior vertices of each face: the point T(w) and normal N(w)
+//     of Eq. 1, a ray each way along N(w)/|N(w)| up to the ray range, the nearer hit kept as a
+//     signed elevation; where both rays miss, the closest point of the surface, its offset along
+//     the normal as the elevation (counted as a miss). Each hit also gives the original's shading
+//     normal and albedo there (the paper never says where its shading normals came from);
+//  2. "interpolation" sampling replaces each elevation by the mean of sub-ray elevations over the
+//     vertex's ring of pattern triangles, weighted by the vertex's hat function: the paper's
+//     "roughly equal cells" weighted by distance, with a kernel that vanishes at the ring so
+//     neighbouring samples share the work. Rings cross control edges and corners; their sums are
+//     gathered per edge and per vertex in increasing face order, so both sides agree;
+//  3. every face's finest array is assembled by copying the edge and corner samples in.
+// Then Ms (the sampled mesh) is rebuilt and measured against the original: ∆_f and d.
+#include "reps/displaced_mesh/sample.h"
+
+#include "reps/displaced_mesh/face_point.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace standin::displaced_mesh {
+
+namespace {
+
+struct Sample {
+    float elevation = 0.0f;
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};
+    glm::vec4 albedo{0.8f, 0.8f, 0.8f, 1.0f};
+    bool missed = false;
+};
+
+// The nearer of the hits along +direction and -direction within `range`, as a signed distance;
+// the closest point's offset along `direction` when both miss.
+SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 direction, float range, float& elevation,
+                           bool& missed)
+{
+    SurfacePoint forward = scene.intersect(origin, direction, range);
+    SurfacePoint backward = scene.intersect(origin, -direction, range);
+    missed = false;
+    if (forward.found && (!backward.found || forward.t <= backward.t)) {
+        elevation = forward.t;
+        return forward;
+    }
+    if (backward.found) {
+        elevation = -backward.t;
+        return backward;
+    }
+    // a ray starting on the surface (a control vertex is an input vertex) may report no hit at
+    // t = 0 either way: the closest point says so, and is not a miss
+    SurfacePoint closest = scene.closest(origin, std::numeric_limits<float>::infinity());
+    elevation = glm::dot(closest.position - origin, direction);
+    missed = closest.distance > 1e-5f * range;
+    return closest;
+}
+
+Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range)
+{
+    Sample s;
+    glm::vec3 direction = unit_direction(point.normal);
+    SurfacePoint hit = nearest_along(scene, point.position, direction, range, s.elevation, s.missed);
+    if (!hit.found) return s;
+    const std::uint32_t* t = &original.indices[3 * std::size_t(hit.triangle)];
+    float b0 = 1.0f - hit.b1 - hit.b2;
+    glm::vec3 n = b0 * original.normals[t[0]] + hit.b1 * original.normals[t[1]] + hit.b2 * original.normals[t[2]];
+    s.normal = unit_direction(n);
+    s.albedo = original.albedo_at(hit.triangle, hit.b1, hit.b2);
+    return s;
+}
+
+// Pattern vertex (i, j) of a face as fixed-point barycentric weights of corners 1 and 2.
+inline std::uint32_t bary(int index, int n) { return std::uint32_t(index) * (k_bary_one / std::uint32_t(n)); }
+
+enum class VertexKind { corner, edge, interior };
+
+// Where pattern vertex (i, j) of a face lives: corner `which`, or edge `which` at position `along`
+// (walking from the edge's first corner), or inside.
+VertexKind classify(int n, int i, int j, int& which, int& along)
+{
+    if (i == 0 && j == 0) return which = 0, VertexKind::corner;
+    if (i == 0 && j == n) return which = 1, VertexKind::corner;
+    if (i == n) return which = 2, VertexKind::corner;
+    if (i == 0) return which = 0, along = j, VertexKind::edge;
+    if (i + j == n) return which = 1, along = i, VertexKind::edge;
+    if (j == 0) return which = 2, along = n - i, VertexKind::edge;
+    return VertexKind::interior;
+}
+
+// Runs `work(index)` for index in [0, count) on the TBB pool, reporting progress between chunks.
+template <typename Work>
+void for_each_chunked(std::size_t count, const Progress& progress, const std::string& stage, Work work)
+{
+    const std::size_t chunk = 4096;
+    for (std::size_t start = 0; start < count; start += chunk) {
+        std::size_t end = std::min(count, start + chunk);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(start, end), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) work(i);
+        });
+        progress.report(stage, double(end) / double(count));
+    }
+}
+
+// Hat-weighted sums of sub-ray elevations for every pattern vertex of one face (step 2).
+void ring_sums(const RayScene& scene, const ControlGeometry& control, std::uint32_t face, int n, int rays_per_side, float range,
+               std::vector<double>& sum_wh, std::vector<double>& sum_w)
+{
+    const std::uint32_t* corner = &control.indices[3 * std::size_t(face)];
+    glm::vec3 p[3], nrm[3];
+    for (int k = 0; k < 3; ++k) p[k] = control.positions[corner[k]], nrm[k] = control.normals[corner[k]];
+    auto add_triangle = [&](int ia, int ja, int ib, int jb, int ic, int jc) {
+        std::size_t va = triangle_index(n, ia, ja), vb = triangle_index(n, ib, jb), vc = triangle_index(n, ic, jc);
+        const int r = rays_per_side;
+        for (int a = 0; a < r; ++a)
+            for (int b = 0; b < r - a; ++b)
+                for (int down = 0; down < (b < r - a - 1 ? 2 : 1); ++down) {
+                    // centroid of a sub-triangle, as weights on the pattern triangle's corners
+                    float x = (float(b) + (down ? 2.0f : 1.0f) / 3.0f) / float(r);
+                    float y = (float(a) + (down ? 2.0f : 1.0f) / 3.0f) / float(r);
+                    float hat[3] = {1.0f - x - y, x, y};
+                    // pattern coordinates of the sub-ray, then face weights (w1 = j / n, w2 = i / n)
+                    float i = hat[0] * float(ia) + hat[1] * float(ib) + hat[2] * float(ic);
+                    float j = hat[0] * float(ja) + hat[1] * float(jb) + hat[2] * float(jc);
+                    float w1 = j / float(n), w2 = i / float(n), w0 = 1.0f - w1 - w2;
+                    glm::vec3 origin = w0 * p[0] + w1 * p[1] + w2 * p[2];
+                    glm::vec3 direction = unit_direction(w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]);
+                    float h = 0.0f;
+                    bool missed = false;
+                    nearest_along(scene, origin, direction, range, h, missed);
+                    sum_wh[va] += double(hat[0]) * h, sum_w[va] += hat[0];
+                    sum_wh[vb] += double(hat[1]) * h, sum_w[vb] += hat[1];
+                    sum_wh[vc] += double(hat[2]) * h, sum_w[vc] += hat[2];
+                }
+    };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n - i; ++j) {
+            add_triangle(i, j, i, j + 1, i + 1, j);
+            if (j < n - i - 1) add_triangle(i, j + 1, i + 1, j + 1, i + 1, j);
+        }
+}
+
+} // namespace
+
+Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
+                                      const SampleOptions& options, const Progress& progress)
+{
+    if (!is_pattern_degree(options.degree))
+        return error(StatusCode::invalid_argument, "degree: " + std::to_string(options.degree) + " is not one of 5, 9, 17, 33");
+    const PatternLayout layout(options.degree);
+    const int n = layout.segments;
+    const std::size_t faces = control.face_count(), per_face = layout.finest_samples;
+    const ControlTopology& topology = control.topology;
+    const float range = options.ray_range;
+
+    // corners and edges, once each
+    std::vector<Sample> corners(control.positions.size());
+    for_each_chunked(corners.size(), progress, "sampling corners", [&](std::size_t v) {
+        corners[v] = sample_at(original, scene, {control.positions[v], control.normals[v]}, range);
+    });
+    std::vector<Sample> edge_samples(topology.edges.size() * std::size_t(n - 1));
+    for_each_chunked(topology.edges.size(), progress, "sampling edges", [&](std::size_t e) {
+        const ControlEdge& edge = topology.edges[e];
+        const std::uint32_t ends[3] = {edge.lo, edge.hi, edge.hi};
+        for (int s = 1; s < n; ++s) {
+            FacePoint point = face_point(control.positions.data(), control.normals.data(), ends, bary(s, n), 0);
+            edge_samples[e * std::size_t(n - 1) + std::size_t(s - 1)] = sample_at(original, scene, point, range);
+        }
+    });
+
+    // faces: interior samples, and the shared ones copied in
+    SampledSurface out;
+    out.elevation.assign(faces * per_face, 0.0f);
+    out.normal.assign(faces * per_face, glm::vec3(0.0f));
+    out.albedo.assign(faces * per_face, glm::vec4(0.0f));
+    std::vector<std::uint8_t> missed(faces * per_face, 0);
+    auto shared_sample = [&](std::uint32_t f, VertexKind kind, int which, int along) -> const Sample& {
+        if (kind == VertexKind::corner) return corners[control.indices[3 * std::size_t(f) + std::size_t(which)]];
+        int s = topology.reversed(f, which) ? n - along : along;
+        return edge_samples[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(s - 1)];
+    };
+    for_each_chunked(faces, progress, "sampling faces", [&](std::size_t face) {
+        std::uint32_t f = std::uint32_t(face);
+        const std::uint32_t* corner = &control.indices[3 * face];
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; j <= n - i; ++j) {
+                int which = 0, along = 0;
+                VertexKind kind = classify(n, i, j, which, along);
+                Sample s = kind == VertexKind::interior
+                               ? sample_at(original, scene,
+                                           face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
+                                           range)
+                               : shared_sample(f, kind, which, along);
+                std::size_t at = face * per_face + triangle_index(n, i, j);
+                out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
+                missed[at] = kind == VertexKind::interior && s.missed;
+            }
+    });
+    std::size_t interior_per_face = per_face - 3 * std::size_t(n);
+    out.rays = 2 * (corners.size() + edge_samples.size() + faces * interior_per_face);
+    for (const Sample& s : corners) out.misses += s.missed;
+    for (const Sample& s : edge_samples) out.misses += s.missed;
+    for (std::uint8_t m : missed) out.misses += m;
+
+    if (options.sampler == "interpolation") {
+        // hat-weighted sums per face, then per edge and per corner in increasing face order
+        int r = int(std::lround(std::sqrt(double(options.interpolation_rays))));
+        std::vector<double> sum_wh(faces * per_face, 0.0), sum_w(faces * per_face, 0.0);
+        for_each_chunked(faces, progress, "interpolation sampling", [&](std::size_t f) {
+            std::vector<double> wh(per_face, 0.0), w(per_face, 0.0);
+            ring_sums(scene, control, std::uint32_t(f), n, r, range, wh, w);
+            std::copy(wh.begin(), wh.end(), sum_wh.begin() + std::ptrdiff_t(f * per_face));
+            std::copy(w.begin(), w.end(), sum_w.begin() + std::ptrdiff_t(f * per_face));
+        });
+        out.rays += 2 * faces * std::size_t(n) * std::size_t(n) * std::size_t(r) * std::size_t(r);
+        auto local_index = [&](std::uint32_t f, int which, int canonical_s) {
+            int along = topology.reversed(f, which) ? n - canonical_s : canonical_s;
+            int i = 0, j = 0;
+            edge_vertex(n, which, along, i, j);
+            return std::size_t(f) * per_face + triangle_index(n, i, j);
+        };
+        std::vector<float> corner_h(control.positions.size()), edge_h(edge_samples.size());
+        for (std::size_t v = 0; v < corner_h.size(); ++v) {
+            double wh = 0.0, w = 0.0;
+            for (std::uint32_t f : topology.vertex_faces[v]) {
+                int k = 0;
+                while (control.indices[3 * std::size_t(f) + std::size_t(k)] != v) ++k;
+                int i = 0, j = 0;
+                edge_vertex(n, k, 0, i, j);
+                wh += sum_wh[std::size_t(f) * per_face + triangle_index(n, i, j)];
+                w += sum_w[std::size_t(f) * per_face + triangle_index(n, i, j)];
+            }
+            corner_h[v] = w > 0.0 ? float(wh / w) : corners[v].elevation;
+        }
+        for (std::size_t e = 0; e < topology.edges.size(); ++e)
+            for (int s = 1; s < n; ++s) {
+                double wh = 0.0, w = 0.0;
+                for (std::uint32_t f : topology.edges[e].faces) {
+                    int which = 0;
+                    while (topology.face_edges[f][std::size_t(which)] != e) ++which;
+                    std::size_t at = local_index(f, which, s);
+                    wh += sum_wh[at], w += sum_w[at];
+                }
+                edge_h[e * std::size_t(n - 1) + std::size_t(s - 1)] = float(wh / w);
+            }
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& range_f) {
+            for (std::size_t f = range_f.begin(); f != range_f.end(); ++f)
+                for (int i = 0; i <= n; ++i)
+                    for (int j = 0; j <= n - i; ++j) {
+                        int which = 0, along = 0;
+                        VertexKind kind = classify(n, i, j, which, along);
+                        std::size_t at = f * per_face + triangle_index(n, i, j);
+                        if (kind == VertexKind::interior) {
+                            out.elevation[at] = float(sum_wh[at] / sum_w[at]);
+                        } else if (kind == VertexKind::corner) {
+                            out.elevation[at] = corner_h[control.indices[3 * f + std::size_t(which)]];
+                        } else {
+                            int s = topology.reversed(std::uint32_t(f), which) ? n - along : along;
+                            out.elevation[at] = edge_h[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) +
+                                                       std::size_t(s - 1)];
+                        }
+                    }
+        });
+    }
+    return out;
+}
+
+Quantisation choose_quantisation(const std::vector<float>& values)
+{
+    Quantisation q;
+    if (values.empty()) return q;
+    auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+    q.minimum = *lo;
+    q.step = (*hi - *lo) / 65535.0f;
+    return q;
+}
+
+std::vector<std::uint16_t> quantise(const std::vector<float>& values, const Quantisation& q)
+{
+    std::vector<std::uint16_t> codes(values.size(), 0);
+    if (!(q.step > 0.0f)) return codes;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        double code = std::round((double(values[i]) - double(q.minimum)) / double(q.step));
+        codes[i] = std::uint16_t(std::clamp(code, 0.0, 65535.0));
+    }
+    return codes;
+}
+
+Mesh reconstruct(const ControlGeometry& control, const PatternLayout& layout, const std::vector<float>& finest_elevation)
+{
+    const int n = layout.segments;
+    const std::size_t faces = control.face_count(), per_face = layout.finest_samples;
+    Mesh ms;
+    ms.positions.resize(faces * per_face);
+    ms.indices.reserve(faces * std::size_t(n) * std::size_t(n) * 3);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f)
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n - i; ++j) {
+                    std::size_t at = f * per_face + triangle_index(n, i, j);
+                    FacePoint point = face_point(control.positions.data(), control.normals.data(), &control.indices[3 * f],
+                                                 bary(j, n), bary(i, n));
+                    ms.positions[at] = point.position + finest_elevation[at] * unit_direction(point.normal);
+                }
+    });
+    for (std::size_t f = 0; f < faces; ++f) {
+        auto v = [&](int i, int j) { return std::uint32_t(f * per_face + triangle_index(n, i, j)); };
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n - i; ++j) {
+                ms.indices.insert(ms.indices.end(), {v(i, j), v(i, j + 1), v(i + 1, j)});
+                if (j < n - i - 1) ms.indices.insert(ms.indices.end(), {v(i, j + 1), v(i + 1, j + 1), v(i + 1, j)});
+            }
+    }
+    ms.colors.assign(ms.positions.size(), glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+    ms.face_materials.assign(ms.triangle_count(), 0);
+    ms.materials.push_back(Material{});
+    compute_smooth_normals(ms);
+    return ms;
+}
+
+Result<SamplingError> measure_sampling_error(const Mesh& original, const RayScene& original_scene, const Mesh& sampled,
+                                             std::size_t control_faces, int degree, const Progress& progress)
+{
+    Result<std::unique_ptr<RayScene>> sampled_scene = RayScene::create(sampled.positions, sampled.indices);
+    if (!sampled_scene) return sampled_scene.status();
+    const std::size_t triangles_per_face = std::size_t(degree - 1) * std::size_t(degree - 1);
+    const float infinite = std::numeric_limits<float>::infinity();
+
+    // original -> Ms: the paper's d, and ∆_f by the face holding each vertex's closest point
+    std::vector<float> distance(original.vertex_count());
+    std::vector<std::uint32_t> face_of(original.vertex_count());
+    for_each_chunked(original.vertex_count(), progress, "measuring the sampled mesh", [&](std::size_t v) {
+        SurfacePoint c = (*sampled_scene)->closest(original.positions[v], infinite);
+        distance[v] = c.distance;
+        face_of[v] = std::uint32_t(c.triangle / triangles_per_face);
+    });
+    SamplingError out;
+    out.face_error.assign(control_faces, 0.0f);
+    double sum = 0.0;
+    for (std::size_t v = 0; v < distance.size(); ++v) {
+        sum += distance[v];
+        out.original_to_sampled_max = std::max(out.original_to_sampled_max, double(distance[v]));
+        out.face_error[face_of[v]] = std::max(out.face_error[face_of[v]], distance[v]);
+    }
+    out.original_to_sampled_mean = distance.empty() ? 0.0 : sum / double(distance.size());
+
+    // Ms -> original, over Ms's vertices
+    std::vector<float> back(sampled.vertex_count());
+    for_each_chunked(sampled.vertex_count(), progress, "measuring the original", [&](std::size_t v) {
+        back[v] = original_scene.closest(sampled.positions[v], infinite).distance;
+    });
+    sum = 0.0;
+    for (float d : back) {
+        sum += d;
+        out.sampled_to_original_max = std::max(out.sampled_to_original_max, double(d));
+    }
+    out.sampled_to_original_mean = back.empty() ? 0.0 : sum / double(back.size());
+    return out;
+}
+
+} // namespace standin::displaced_mesh

@@ -1,0 +1,87 @@
+// Sampling the original surface over the control mesh's pattern, the mip levels of the samples,
+// and how far the result lies from the original (Bauman, Livny & El-Sana §3.1, §3.2, §3.4, §5.1).
+// sample.cpp and levels.cpp hold the algorithms.
+#pragma once
+
+#include "reps/displaced_mesh/pattern.h"
+#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/displaced_mesh/topology.h"
+
+#include <standin/mesh.h>
+#include <standin/progress.h>
+#include <standin/status.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace standin::displaced_mesh {
+
+// The control mesh as the sampler and the reconstruction read it.
+struct ControlGeometry {
+    const std::vector<glm::vec3>& positions;
+    const std::vector<glm::vec3>& normals;     // unit, one per vertex
+    const std::vector<std::uint32_t>& indices; // three per face
+    const ControlTopology& topology;
+    std::size_t face_count() const { return indices.size() / 3; }
+};
+
+struct SampleOptions {
+    int degree = 17;
+    // "intersection": the elevation where the vertex's ray meets the surface (§3.1);
+    // "interpolation": the paper's neighbourhood sampler, here the mean of sub-ray elevations over
+    // the vertex's ring of pattern triangles, weighted by the vertex's hat function.
+    std::string sampler = "intersection";
+    int interpolation_rays = 16; // per pattern triangle, a square number (r x r sub-triangles)
+    float ray_range = 1.0f;      // world units, each way along the normal
+};
+
+// The finest level of every face, face-major (PatternLayout::finest_samples per face).
+struct SampledSurface {
+    std::vector<float> elevation;      // signed, along the unit interpolated normal
+    std::vector<glm::vec3> normal;     // unit shading normal of the original where the ray met it
+    std::vector<glm::vec4> albedo;     // sRGB-encoded albedo there (Mesh::albedo_at)
+    std::size_t rays = 0;              // rays cast
+    std::size_t misses = 0;            // vertices whose rays met nothing within range (closest point used)
+};
+
+// Shared edges and corners are sampled once, from the edge or the vertex, and copied into every
+// face that has them: the faces' values there are bit-identical. Deterministic for any thread count.
+Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& original_scene, const ControlGeometry& control,
+                                      const SampleOptions& options, const Progress& progress);
+
+// Every level of every face from the finest (levels.cpp): level l + 1 keeps the even vertices of
+// level l, filtered: corners copied, vertices on the face's edges by 1/4, 1/2, 1/4 along the edge
+// (a symmetric formula, so both faces of an edge compute the same bits), inside by 1/2 of the
+// centre and 1/12 of each of the six neighbours. Face-major, PatternLayout::samples_per_face each.
+std::vector<float> build_levels(const PatternLayout& layout, const std::vector<float>& finest);
+
+// Elevations stored in 16 bits: codes over one range for the whole package (per-face ranges would
+// decode the sample two faces share differently on each, and crack).
+struct Quantisation {
+    float minimum = 0.0f;
+    float step = 0.0f; // (maximum - minimum) / 65535
+    float decode(std::uint16_t code) const { return minimum + float(code) * step; }
+};
+Quantisation choose_quantisation(const std::vector<float>& values);
+std::vector<std::uint16_t> quantise(const std::vector<float>& values, const Quantisation& q);
+
+// The sampled mesh Ms at the finest level: every face's pattern displaced, one vertex per face
+// sample (shared samples repeated), (k - 1)^2 triangles per face, face-major. Positions use the
+// face_point arithmetic of the renderer.
+Mesh reconstruct(const ControlGeometry& control, const PatternLayout& layout, const std::vector<float>& finest_elevation);
+
+// Distances between the original and Ms: ∆_f per face (A7 of the design note: the largest
+// distance from an original vertex to Ms among the vertices whose closest point lies on f's patch)
+// and the paper's d both ways.
+struct SamplingError {
+    std::vector<float> face_error;  // ∆_f, world units
+    double original_to_sampled_mean = 0.0, original_to_sampled_max = 0.0; // the paper's d (Table 2)
+    double sampled_to_original_mean = 0.0, sampled_to_original_max = 0.0; // over Ms's vertices
+};
+Result<SamplingError> measure_sampling_error(const Mesh& original, const RayScene& original_scene, const Mesh& sampled,
+                                             std::size_t control_faces, int degree, const Progress& progress);
+
+} // namespace standin::displaced_mesh

@@ -1,0 +1,126 @@
+#version 450 core
+// Shading of the displaced surface: the normal and albedo sampled with the displacement (the paper
+// never says where its shading normals came from), read at the fragment's place in its control
+// face from the finest pattern (three samples, barycentric), lit by the shared lighting.glsl with
+// the frame's shadows. True depth: the triangles are real geometry. Debug views: control faces,
+// bisection depth, and the distance to the finest surface in pixels (the paper's Fig. 11c).
+#include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/lighting.glsl"
+#include "gpu/shaders/common/counters.glsl"
+#include "reps/displaced_mesh/shaders/displaced.glsl"
+
+layout(std430, binding = DM_SHADING_SSBO) readonly buffer ShadingBlock { uvec2 shading[]; };
+
+layout(early_fragment_tests) in; // counters count the fragments that pass the depth test
+
+uniform int counting; // 1: add this fragment, its reads and its error to the counters
+
+in vec3 v_position_world;
+in vec2 v_face_bary;
+flat in uint v_face;
+flat in uint v_instance;
+flat in uint v_depth;
+
+layout(location = 0) out vec4 out_color;
+
+vec3 decode_normal(uint bits)
+{
+    vec2 p = max(unpackSnorm2x16(bits), vec2(-1.0));
+    vec3 n = vec3(p, 1.0 - abs(p.x) - abs(p.y));
+    if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+// The finest pattern triangle holding the fragment: its three samples and weights.
+void finest_triangle(out uint index[3], out float weight[3])
+{
+    int n = int(refine.counts.z);
+    float x = clamp(v_face_bary.x, 0.0, 1.0) * float(n), y = clamp(v_face_bary.y, 0.0, 1.0) * float(n);
+    int i0 = clamp(int(floor(y)), 0, n - 1);
+    int j0 = clamp(int(floor(x)), 0, n - 1 - i0);
+    float fx = x - float(j0), fy = y - float(i0);
+    uint face_base = v_face * refine.capacities.w;
+    if (fx + fy <= 1.0) {
+        index = uint[3](face_base + triangle_index(n, i0, j0), face_base + triangle_index(n, i0, j0 + 1),
+                        face_base + triangle_index(n, i0 + 1, j0));
+        weight = float[3](1.0 - fx - fy, fx, fy);
+    } else {
+        index = uint[3](face_base + triangle_index(n, i0, j0 + 1), face_base + triangle_index(n, i0 + 1, j0 + 1),
+                        face_base + triangle_index(n, i0 + 1, j0));
+        weight = float[3](1.0 - fy, fx + fy - 1.0, 1.0 - fx);
+    }
+}
+
+// A vertex's frame: its normal and the direction to its reference neighbour, made orthogonal.
+mat3 vertex_frame(vec3 normal, vec3 position, vec3 neighbour)
+{
+    vec3 n = normalize(normal);
+    vec3 t = neighbour - position;
+    t = normalize(t - dot(t, n) * n);
+    return mat3(t, cross(n, t), n);
+}
+
+// A moved control mesh (§5.3): the maps' normals were sampled in the rest pose, so turn them as the
+// corners' frames turned, blended across the face like the corners (continuous across edges).
+vec3 follow_control_mesh(vec3 normal)
+{
+    uvec3 corner = faces[v_face].corners.xyz;
+    float w[3] = float[3](1.0 - v_face_bary.x - v_face_bary.y, v_face_bary.x, v_face_bary.y);
+    vec3 turned = vec3(0.0);
+    for (int k = 0; k < 3; ++k) {
+        ControlVertex c = control_vertices[corner[k]];
+        mat3 rest = mat3(c.rest_tangent.xyz, cross(c.rest_normal.xyz, c.rest_tangent.xyz), c.rest_normal.xyz);
+        mat3 now = vertex_frame(c.normal.xyz, c.position.xyz, control_position(c.reference.x));
+        turned += w[k] * (now * (transpose(rest) * normal));
+    }
+    return turned;
+}
+
+// Distance in pixels from this fragment to the finest displaced surface at the same place of the
+// face: the geometric error of the refinement (what the tolerance tau bounds).
+float error_pixels(mat4 world_from_object)
+{
+    uint q1 = uint(clamp(v_face_bary.x, 0.0, 1.0) * float(BARY_ONE));
+    uint q2 = min(uint(clamp(v_face_bary.y, 0.0, 1.0) * float(BARY_ONE)), BARY_ONE - q1);
+    FacePoint point = face_point(faces[v_face].corners.xyz, q1, q2);
+    vec3 finest = point.position + elevation_at(v_face, q1, q2, 0.0) * unit_direction(point.normal);
+    vec3 finest_world = (world_from_object * vec4(finest, 1.0)).xyz;
+    float d = length(finest_world - v_position_world) * refine.view_terms.y;
+    if (refine.view_terms.w < 0.5) d /= max(refine.view_terms.z, -(frame.view_from_world * vec4(v_position_world, 1.0)).z);
+    return d;
+}
+
+void main()
+{
+    uint index[3];
+    float weight[3];
+    finest_triangle(index, weight);
+    vec3 normal = vec3(0.0);
+    vec4 albedo = vec4(0.0);
+    for (int k = 0; k < 3; ++k) {
+        uvec2 s = shading[index[k]];
+        normal += weight[k] * decode_normal(s.x);
+        albedo += weight[k] * unpackUnorm4x8(s.y);
+    }
+    if (refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
+    mat4 world_from_object = instances.world_from_object[v_instance];
+    vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
+    vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);
+    vec3 color = shade_at(albedo.rgb, normal_world, to_eye, v_position_world);
+
+    uint debug_view = refine.options.w;
+    bool want_error = debug_view == DEBUG_VIEW_ERROR || counting != 0;
+    float error_px = want_error ? error_pixels(world_from_object) : 0.0;
+    if (counting != 0) {
+        count_fragment(3u);
+        uint e = uint(min(error_px * DM_ERROR_UNITS, 1.0e9));
+        atomicAdd(counters[DM_COUNTER_ERROR_SUM], e);
+        atomicMax(counters[DM_COUNTER_ERROR_MAX], e);
+    }
+    if (debug_view == DEBUG_VIEW_PARTS) color = index_color(int(v_face));
+    else if (debug_view == DEBUG_VIEW_LEVEL) color = heat(float(v_depth) / float(3u * refine.counts.w + 6u));
+    else if (debug_view == DEBUG_VIEW_ERROR) color = heat(error_px / refine.error_terms.x);
+    else if (debug_view == DEBUG_VIEW_DEPTH) color = vec3(1.0 - gl_FragCoord.z);
+    else if (debug_view == DEBUG_VIEW_NORMAL) color = normalize(normal_world) * 0.5 + 0.5;
+    out_color = vec4(color, 1.0);
+}
