@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <span>
 #include <string>
 #include <string_view>
@@ -104,6 +105,9 @@ public:
     // for beyond the defaults (a package records it; a batch bake compares it to skip up-to-date
     // packages).
     std::map<std::string, std::string> requested() const;
+    // Marks exactly `names` as requested: a package read back keeps the record its manifest holds
+    // rather than counting every resolved value (a derived texel size) as asked for.
+    void set_requested(const std::set<std::string>& names);
     // In declaration order.
     const std::vector<std::pair<std::string, Value>>& values() const { return values_; }
 

@@ -233,6 +233,11 @@ std::map<std::string, std::string> Options::requested() const
     return out;
 }
 
+void Options::set_requested(const std::set<std::string>& names)
+{
+    for (auto& [name, value] : values_) value.requested = names.count(name) > 0;
+}
+
 std::string Options::text(std::string_view name) const
 {
     auto it = std::find_if(values_.begin(), values_.end(), [&](const auto& v) { return v.first == name; });

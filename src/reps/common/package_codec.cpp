@@ -197,6 +197,17 @@ Options read_settings(const Reader& in, const nlohmann::json& manifest, std::spa
         std::string name = message.substr(2, colon == std::string::npos ? 0 : colon - 2);
         in.fail("bake." + manifest_key(name), colon == std::string::npos ? message : message.substr(colon + 2));
     }
+    // what the user asked for beyond the defaults, as the bake recorded it (a batch compares it)
+    if (manifest.contains("requested")) {
+        const nlohmann::json& requested = manifest["requested"];
+        if (!requested.is_object()) in.fail("requested", "is not an object");
+        std::set<std::string> names;
+        for (const auto& [name, text] : requested.items()) {
+            if (!options->declared(name)) in.fail("requested." + name, "is not a bake option of this representation");
+            names.insert(name);
+        }
+        options->set_requested(names);
+    }
     return std::move(*options);
 }
 
