@@ -29,12 +29,7 @@ std::string make_library(const std::string& dir)
     return models;
 }
 
-nlohmann::json read_json(const std::string& path)
-{
-    Result<std::string> text = read_file(path);
-    EXPECT_TRUE(text.is_ok()) << path;
-    return text ? nlohmann::json::parse(*text) : nlohmann::json();
-}
+using test::read_json;
 
 const nlohmann::json* entry(const nlohmann::json& summary, const std::string& package)
 {

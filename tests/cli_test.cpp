@@ -22,12 +22,7 @@ std::string write_text(const std::string& dir, const std::string& name, const st
     return path;
 }
 
-int line_count(const std::string& text)
-{
-    int lines = 0;
-    for (char c : text) lines += c == '\n';
-    return lines;
-}
+using test::line_count;
 
 TEST(Cli, HelpListsTheCommands)
 {

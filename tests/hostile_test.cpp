@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 
 void write_bytes(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
 
-int line_count(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
+using test::line_count;
 
 // The promise is 5 seconds for a Release build; the sanitizer lane (2-4x slower) scales it with
 // STANDIN_TEST_TIME_SCALE.

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <standin/files.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,6 +27,20 @@ std::string cli_path()
 {
     const char* path = std::getenv("STANDIN_CLI");
     return path ? path : STANDIN_TEST_CLI;
+}
+
+int line_count(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
+
+nlohmann::json read_json(const std::string& path)
+{
+    Result<std::string> text = read_file(path);
+    EXPECT_TRUE(text.is_ok()) << path;
+    return text ? nlohmann::json::parse(*text) : nlohmann::json();
+}
+
+void expect_near(glm::vec4 a, glm::vec4 b, float tolerance)
+{
+    for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], tolerance) << "component " << i;
 }
 
 std::string fresh_directory(const std::string& name)

@@ -5,6 +5,9 @@
 #include <standin/package.h>
 #include <standin/render.h>
 
+#include <glm/vec4.hpp>
+#include <nlohmann/json.hpp>
+
 #include <memory>
 #include <string>
 #include <utility>
@@ -21,6 +24,13 @@ struct CommandResult {
     int exit_code = -1;
     std::string out, err;
 };
+// Lines in a program's output (newlines counted).
+int line_count(const std::string& text);
+// A JSON file the test wrote or had written; fails the test (and returns null) when unreadable.
+nlohmann::json read_json(const std::string& path);
+// Component-wise EXPECT_NEAR of two colours or points.
+void expect_near(glm::vec4 a, glm::vec4 b, float tolerance = 1e-5f);
+
 // Runs a shell command line, capturing stdout and stderr.
 CommandResult run_command(const std::string& command_line);
 // Runs `standin ARGS`.

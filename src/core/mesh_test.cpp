@@ -3,6 +3,8 @@
 #include <standin/files.h>
 #include <standin/mesh.h>
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_dir(const std::string& name)
+std::string mesh_test_dir(const std::string& name)
 {
     fs::path dir = fs::path(::testing::TempDir()) / ("standin_mesh_test_" + std::to_string(::getpid()) + "_" + name);
     fs::remove_all(dir);
@@ -32,10 +34,7 @@ std::string slurp(const std::string& path)
     return s.str();
 }
 
-void expect_near(glm::vec4 a, glm::vec4 b, float tolerance = 1e-5f)
-{
-    for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], tolerance) << "component " << i;
-}
+using test::expect_near;
 
 // 2x2 texture, row 0 at v = 0: red, green / blue, white.
 Texture two_by_two()
@@ -197,7 +196,7 @@ TEST(SmoothNormals, AreaWeighted)
 
 TEST(WritePly, LayoutAndDeterminism)
 {
-    std::string dir = temp_dir("write_ply");
+    std::string dir = mesh_test_dir("write_ply");
     Mesh mesh = two_triangles();
     std::string a = dir + "/a.ply", b = dir + "/b.ply";
     ASSERT_TRUE(write_ply(mesh, a).is_ok());
@@ -222,7 +221,7 @@ TEST(WritePly, RefusesAnInvalidMesh)
 {
     Mesh mesh = two_triangles();
     mesh.indices[0] = 99;
-    std::string path = temp_dir("write_ply_invalid") + "/bad.ply";
+    std::string path = mesh_test_dir("write_ply_invalid") + "/bad.ply";
     EXPECT_EQ(write_ply(mesh, path).code(), StatusCode::bad_data);
     EXPECT_FALSE(fs::exists(path));
 }

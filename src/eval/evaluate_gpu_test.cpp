@@ -40,12 +40,7 @@ Result<EvalResult> run_quick(const Mesh& truth, const Mesh& standin)
     return evaluate(**truth_renderer, **standin_renderer, truth.bounding_sphere(), *make_protocol("quick"), options, {});
 }
 
-nlohmann::json read_json(const std::string& path)
-{
-    Result<std::string> text = read_file(path);
-    EXPECT_TRUE(text.is_ok()) << path;
-    return text ? nlohmann::json::parse(*text) : nlohmann::json();
-}
+using test::read_json;
 
 TEST(Evaluate, TruthAgainstItselfHasNoError)
 {

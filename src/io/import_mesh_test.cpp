@@ -4,6 +4,8 @@
 #include <standin/image.h>
 #include <standin/mesh.h>
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,7 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_dir(const std::string& name)
+std::string import_test_dir(const std::string& name)
 {
     fs::path dir = fs::path(::testing::TempDir()) / ("standin_import_test_" + std::to_string(::getpid()) + "_" + name);
     fs::remove_all(dir);
@@ -64,10 +66,7 @@ void expect_error(const std::string& path, StatusCode code, const std::string& f
     EXPECT_EQ(mesh.status().message().find('\n'), std::string::npos) << mesh.status().message();
 }
 
-void expect_near(glm::vec4 a, glm::vec4 b, float tolerance)
-{
-    for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], tolerance) << "component " << i;
-}
+using test::expect_near;
 
 glm::vec3 corner(const Mesh& mesh, std::size_t triangle, int k) { return mesh.positions[mesh.indices[triangle * 3 + k]]; }
 
@@ -103,7 +102,7 @@ TEST(ImportMesh, PlyRoundTrip)
     options.color = {0.2f, 0.4f, 0.6f, 1.0f};
     Result<Mesh> original = generate_mesh(options);
     ASSERT_TRUE(original.is_ok());
-    std::string path = temp_dir("ply_round_trip") + "/sphere.ply";
+    std::string path = import_test_dir("ply_round_trip") + "/sphere.ply";
     ASSERT_TRUE(write_ply(*original, path).is_ok());
 
     ImportReport report;
@@ -134,7 +133,7 @@ TEST(ImportMesh, PlyBodyStartingWithANewlineByte)
     original.indices = {0, 1, 2};
     original.face_materials = {0};
     original.materials.resize(1);
-    std::string path = temp_dir("ply_newline") + "/newline.ply";
+    std::string path = import_test_dir("ply_newline") + "/newline.ply";
     ASSERT_TRUE(write_ply(original, path).is_ok());
     Mesh mesh = import_ok(path);
     ASSERT_EQ(mesh.triangle_count(), 1u);
@@ -151,7 +150,7 @@ TEST(ImportMesh, AsciiPlyWithPolygonsColoursAndCrlf)
         "element face 2\r\nproperty list uchar int vertex_indices\r\nelement edge 1\r\n"
         "property int vertex1\r\nproperty int vertex2\r\nend_header\r\n";
     std::string body = "0 0 0 255 0 0\r\n1 0 0 255 0 0\r\n1 1 0 0 0 255\r\n+0 1 0 0 0 255\r\n4 0 1 2 3\r\n2 0 1\r\n0 1\r\n";
-    std::string path = write_text(temp_dir("ply_ascii"), "quad.ply", header + body);
+    std::string path = write_text(import_test_dir("ply_ascii"), "quad.ply", header + body);
     ImportReport report;
     Mesh mesh = import_ok(path, &report);
     EXPECT_EQ(mesh.triangle_count(), 2u);
@@ -174,7 +173,7 @@ TEST(ImportMesh, BigEndianPly)
     for (double value : {0.0, 0.0, 0.0, 3.0, 0.0, 0.0, 0.0, 2.0, 0.0}) put_be(&value, sizeof value);
     bytes += char(3);
     for (std::uint16_t index : {0, 1, 2}) put_be(&index, sizeof index);
-    std::string path = write_text(temp_dir("ply_big_endian"), "big.ply", bytes);
+    std::string path = write_text(import_test_dir("ply_big_endian"), "big.ply", bytes);
     Mesh mesh = import_ok(path);
     ASSERT_EQ(mesh.triangle_count(), 1u);
     EXPECT_DOUBLE_EQ(mesh.surface_area(), 3.0);
@@ -183,7 +182,7 @@ TEST(ImportMesh, BigEndianPly)
 
 TEST(ImportMesh, MalformedPlyIsBadData)
 {
-    std::string dir = temp_dir("ply_malformed");
+    std::string dir = import_test_dir("ply_malformed");
     const std::string header = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
                                "element face 1\nproperty list uchar int vertex_indices\n";
     // assimp 5.2.5 loops forever on this one
@@ -204,7 +203,7 @@ TEST(ImportMesh, MalformedPlyIsBadData)
 
 TEST(ImportMesh, ObjQuadIsTriangulatedAndKeepsNormals)
 {
-    std::string dir = temp_dir("obj_quad");
+    std::string dir = import_test_dir("obj_quad");
     std::string path = write_text(dir, "quad.obj",
                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
                                   "vn 0.6 0 0.8\n"
@@ -221,7 +220,7 @@ TEST(ImportMesh, ObjQuadIsTriangulatedAndKeepsNormals)
 
 TEST(ImportMesh, ObjMaterialColoursBecomeVertexColours)
 {
-    std::string dir = temp_dir("obj_mtl");
+    std::string dir = import_test_dir("obj_mtl");
     write_text(dir, "colours.mtl",
                "newmtl red\nKd 0.9 0.1 0.1\n"
                "newmtl blue\nKd 0.2 0.4 0.6\nd 0.5\n");
@@ -253,7 +252,7 @@ void write_checker_png(const std::string& path)
 
 TEST(ImportMesh, ObjTextureIsSampledAndKept)
 {
-    std::string dir = temp_dir("obj_texture");
+    std::string dir = import_test_dir("obj_texture");
     write_checker_png(dir + "/checker.png");
     write_text(dir, "textured.mtl", "newmtl checker\nKd 1 1 1\nmap_Kd checker.png\n");
     // each corner's UV is the centre of one texel
@@ -292,7 +291,7 @@ TEST(ImportMesh, ObjTextureIsSampledAndKept)
 
 TEST(ImportMesh, TexturePathsWithBackslashesAndSpaces)
 {
-    std::string dir = temp_dir("obj_texture_paths");
+    std::string dir = import_test_dir("obj_texture_paths");
     fs::create_directories(dir + "/my textures");
     write_checker_png(dir + "/my textures/checker 1.png");
     write_text(dir, "m.mtl", "newmtl m\nKd 1 1 1\nmap_Kd my textures\\checker 1.png\n");
@@ -307,7 +306,7 @@ TEST(ImportMesh, TexturePathsWithBackslashesAndSpaces)
 
 TEST(ImportMesh, MissingTextureFallsBackToMaterialColourWithWarning)
 {
-    std::string dir = temp_dir("obj_missing_texture");
+    std::string dir = import_test_dir("obj_missing_texture");
     write_text(dir, "m.mtl", "newmtl m\nKd 0.5 0.25 1\nmap_Kd nowhere.png\n");
     std::string path = write_text(dir, "m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n");
     ImportReport report;
@@ -361,7 +360,7 @@ TEST(ImportMesh, GltfNodeTransformsAreFlattened)
     {"mesh": 0, "translation": [0, 3, 0], "scale": [-1, 1, 1]},
     {"mesh": 0, "scale": [2, 2, 2]}
   ])");
-    std::string path = write_text(temp_dir("gltf_nodes"), "nodes.gltf", gltf);
+    std::string path = write_text(import_test_dir("gltf_nodes"), "nodes.gltf", gltf);
     ImportReport report;
     Mesh mesh = import_ok(path, &report);
     EXPECT_EQ(report.format, "gltf");
@@ -385,7 +384,7 @@ TEST(ImportMesh, NormalsFollowNonUniformScale)
     float n = 1.0f / std::sqrt(3.0f);
     std::string gltf = triangle_gltf({1, 0, 0, 0, 1, 0, 0, 0, 1}, {n, n, n, n, n, n, n, n, n}, "[0]",
                                      R"([{"mesh": 0, "scale": [2, 1, 1]}])");
-    Mesh mesh = import_ok(write_text(temp_dir("gltf_scale"), "scaled.gltf", gltf));
+    Mesh mesh = import_ok(write_text(import_test_dir("gltf_scale"), "scaled.gltf", gltf));
     ASSERT_EQ(mesh.triangle_count(), 1u);
     glm::vec3 expected = glm::vec3(1, 2, 2) / 3.0f;
     EXPECT_NEAR(glm::length(geometric_normal(mesh, 0) - expected), 0.0f, 1e-6f);
@@ -394,7 +393,7 @@ TEST(ImportMesh, NormalsFollowNonUniformScale)
 
 TEST(ImportMesh, OffFile)
 {
-    std::string path = write_text(temp_dir("off"), "square.off", "OFF\n4 1 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n");
+    std::string path = write_text(import_test_dir("off"), "square.off", "OFF\n4 1 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n4 0 1 2 3\n");
     ImportReport report;
     Mesh mesh = import_ok(path, &report);
     EXPECT_EQ(report.format, "off");
@@ -409,7 +408,7 @@ const char* k_cube_obj =
 
 TEST(ImportMesh, MissingNormalsAreSplitAtCreases)
 {
-    std::string path = write_text(temp_dir("crease"), "cube.obj", k_cube_obj);
+    std::string path = write_text(import_test_dir("crease"), "cube.obj", k_cube_obj);
     // 90 degree edges are creases at the default 80 degrees: four vertices per face, flat normals
     Mesh sharp = import_ok(path);
     ASSERT_EQ(sharp.triangle_count(), 12u);
@@ -467,18 +466,18 @@ TEST(ImportMesh, BundledTexturedBoxHasItsEmbeddedTexture)
 
 TEST(ImportMesh, MissingFileIsNotFound)
 {
-    expect_error(temp_dir("missing") + "/nothing_here.obj", StatusCode::not_found);
+    expect_error(import_test_dir("missing") + "/nothing_here.obj", StatusCode::not_found);
 }
 
 TEST(ImportMesh, UnknownExtensionIsUnsupported)
 {
-    std::string path = write_text(temp_dir("unknown"), "model.xyz123", "v 0 0 0\n");
+    std::string path = write_text(import_test_dir("unknown"), "model.xyz123", "v 0 0 0\n");
     expect_error(path, StatusCode::unsupported, ".xyz123");
 }
 
 TEST(ImportMesh, CorruptFilesAreBadData)
 {
-    std::string dir = temp_dir("corrupt");
+    std::string dir = import_test_dir("corrupt");
     std::mt19937 random(12345);
     for (const char* name : {"random.ply", "random.obj", "random.glb", "random.stl", "random.off", "random.gltf"}) {
         std::string bytes(4096, '\0');
@@ -493,7 +492,7 @@ TEST(ImportMesh, CorruptFilesAreBadData)
 
 TEST(ImportMesh, TruncatedPlyIsBadData)
 {
-    std::string dir = temp_dir("truncated");
+    std::string dir = import_test_dir("truncated");
     GenerateOptions options;
     options.target_triangles = 200;
     ASSERT_TRUE(write_ply(*generate_mesh(options), dir + "/whole.ply").is_ok());
@@ -505,7 +504,7 @@ TEST(ImportMesh, TruncatedPlyIsBadData)
 
 TEST(ImportMesh, EmptyFilesAreBadData)
 {
-    std::string dir = temp_dir("empty");
+    std::string dir = import_test_dir("empty");
     expect_error(write_text(dir, "empty.obj", ""), StatusCode::bad_data);
     expect_error(write_text(dir, "comments.obj", "# nothing but a comment, long enough for assimp to parse it\n"),
                  StatusCode::bad_data);
@@ -515,7 +514,7 @@ TEST(ImportMesh, EmptyFilesAreBadData)
 
 TEST(ImportMesh, NonFiniteCoordinatesAreBadData)
 {
-    std::string dir = temp_dir("non_finite");
+    std::string dir = import_test_dir("non_finite");
     expect_error(write_text(dir, "nan.obj", "v 0 0 0\nv nan 0 0\nv 1 1 0\nf 1 2 3\n"), StatusCode::bad_data, "non-finite");
     expect_error(write_text(dir, "inf.obj", "v 0 0 0\nv 1e40 0 0\nv 1 1 0\nf 1 2 3\n"), StatusCode::bad_data, "non-finite");
     expect_error(write_text(dir, "nan.ply",
@@ -527,7 +526,7 @@ TEST(ImportMesh, NonFiniteCoordinatesAreBadData)
 
 TEST(ImportMesh, DegenerateTrianglesAreDroppedAndCounted)
 {
-    std::string dir = temp_dir("degenerate");
+    std::string dir = import_test_dir("degenerate");
     std::string path = write_text(dir, "degenerate.obj",
                                   "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\n"
                                   "f 1 2 3\n"   // fine
