@@ -26,21 +26,20 @@ std::string write_text(const std::string& path, const std::string& text)
     return path;
 }
 
-int line_count(const std::string& text)
-{
-    int lines = 0;
-    for (char c : text) lines += c == '\n';
-    return lines;
-}
+using test::line_count;
 
 // `standin view ARGS` in a fresh virtual X server (llvmpipe: keep windows small). xvfb-run -a
 // starts its search for a free display at 99 in every process, so two test processes started
-// together (ctest -j) can race for the same one: each process starts from its own number.
+// together (ctest -j) can race for the same one: each process starts from its own number. The
+// X authority file is the test's own (-f): xvfb-run's temporary folder for it once failed to be
+// removed under a parallel run, and xvfb-run then exits 5 whatever the viewer returned.
 test::CommandResult run_view_under_xvfb(const std::string& arguments)
 {
+    static int calls = 0;
     std::string first_display = std::to_string(100 + ::getpid() % 800);
-    return test::run_command("xvfb-run -a -n " + first_display + " -s '-screen 0 1024x768x24' " + test::cli_path() +
-                             " view " + arguments);
+    std::string authority = test::fresh_directory("xauth_" + std::to_string(calls++)) + "/Xauthority";
+    return test::run_command("xvfb-run -a -n " + first_display + " -f " + authority + " -s '-screen 0 1024x768x24' " +
+                             test::cli_path() + " view " + arguments);
 }
 
 ImageRGBA8 load(const std::string& path)
