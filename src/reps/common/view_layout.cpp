@@ -1,10 +1,10 @@
-// Where a view atlas looks from, and how its crops share pages.
+// Where the image-based stand-ins look from, and how their crops share pages.
 // Icosahedral directions: Saraiva et al. (§3, after Oliveira &
 // Buxton's PNORMS): centres of the faces of an icosahedron subdivided k times (k = 4: 5120 views).
 // Octahedral / hemi-octahedral frames: the grids of today's impostor bakers (Unreal's Impostor
 // Baker, Amplify Impostors), frame centres decoded from the octahedral map.
 // Packing: shelf packing of cell-aligned crops (Jylänki, "A Thousand Ways to Pack the Bin", 2010).
-#include "reps/view_atlas/view_atlas.h"
+#include "reps/common/view_layout.h"
 
 #include <algorithm>
 #include <array>
@@ -12,7 +12,9 @@
 #include <cmath>
 #include <numeric>
 
-namespace standin::view_atlas {
+#include <glm/glm.hpp>
+
+namespace standin::reps {
 
 namespace {
 
@@ -135,4 +137,4 @@ int pack_views(std::vector<View>& views, int page_size)
     return pages;
 }
 
-} // namespace standin::view_atlas
+} // namespace standin::reps

@@ -1,12 +1,14 @@
 // View-atlas directions and packing: counts, spacing, poles, hemispheres; packed crops stay inside
 // their pages, never overlap and do not depend on anything but the input.
-#include "reps/view_atlas/view_atlas.h"
+#include "reps/common/view_layout.h"
 
 #include <gtest/gtest.h>
 
+#include <glm/glm.hpp>
+
 #include <cmath>
 
-namespace standin::view_atlas {
+namespace standin::reps {
 namespace {
 
 float max_cosine_to_others(const std::vector<glm::vec3>& d, std::size_t k)
@@ -17,7 +19,7 @@ float max_cosine_to_others(const std::vector<glm::vec3>& d, std::size_t k)
     return best;
 }
 
-TEST(ViewAtlasLayout, IcosahedralCountsSpacingAndPoles)
+TEST(ViewLayout, IcosahedralCountsSpacingAndPoles)
 {
     for (int k = 0; k <= 3; ++k) {
         std::vector<glm::vec3> d = layout_directions("icosahedral", k, 0);
@@ -38,7 +40,7 @@ TEST(ViewAtlasLayout, IcosahedralCountsSpacingAndPoles)
     EXPECT_GT(bottom, 1.0f - 1e-5f);
 }
 
-TEST(ViewAtlasLayout, OctahedralGrids)
+TEST(ViewLayout, OctahedralGrids)
 {
     std::vector<glm::vec3> full = layout_directions("octahedral", 0, 16);
     ASSERT_EQ(full.size(), 256u);
@@ -54,7 +56,7 @@ TEST(ViewAtlasLayout, OctahedralGrids)
     }
 }
 
-TEST(ViewAtlasLayout, PackingStaysInsidePagesWithoutOverlap)
+TEST(ViewLayout, PackingStaysInsidePagesWithoutOverlap)
 {
     std::vector<View> views;
     for (int k = 0; k < 200; ++k) {
@@ -91,4 +93,4 @@ TEST(ViewAtlasLayout, PackingStaysInsidePagesWithoutOverlap)
 }
 
 } // namespace
-} // namespace standin::view_atlas
+} // namespace standin::reps

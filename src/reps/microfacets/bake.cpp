@@ -10,7 +10,7 @@
 //  3. per capture direction (the view atlas's sphere layouts, or the seed's turntable circle):
 //     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
 //     saw surface; quantise depth to 16 (or 8) bits; crop to the covered texels in whole cells;
-//  4. pack the crops into pages (view_atlas::pack_views) and copy them in.
+//  4. pack the crops into pages (reps::pack_views) and copy them in.
 // Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage);
 // orthographic cameras (depth along the view is then affine over a facet, so eq. 1 is exact per
 // texel); 16-bit depth by default (the paper's 8 bits cap it at 256^3, §6.2).
@@ -97,7 +97,7 @@ Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radiu
     view.axis_v = capture.axis_v;
     Crop crop;
     if (x1 < 0) return crop; // nothing seen: width 0
-    const int cell = view_atlas::k_cell;
+    const int cell = reps::k_cell;
     view.crop_x = x0 - 1;
     view.crop_y = y0 - 1;
     view.width = (x1 - x0 + 3 + cell - 1) / cell * cell;
@@ -134,7 +134,7 @@ void copy_into_page(const Image& crop, Image& page, int x, int y)
 
 std::vector<glm::vec3> capture_directions(const BakeSettings& settings)
 {
-    if (settings.layout != "circle") return view_atlas::layout_directions(settings.layout, settings.subdivisions, settings.frames);
+    if (settings.layout != "circle") return reps::layout_directions(settings.layout, settings.subdivisions, settings.frames);
     std::vector<glm::vec3> directions;
     for (int k = 0; k < settings.frames; ++k) directions.push_back(direction_from_angles(360.0f * float(k) / float(settings.frames), 0.0f));
     return directions;
@@ -186,7 +186,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     }
 
     // pack the crops into pages
-    int pages = view_atlas::pack_views(package->views, s.page_size);
+    int pages = reps::pack_views(package->views, s.page_size);
     package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
     package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA16(s.page_size, s.page_size));
     for (std::size_t k = 0; k < package->views.size(); ++k) {

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "reps/microfacets/voxels.h"
-#include "reps/view_atlas/view_atlas.h"
+#include "reps/common/view_layout.h"
 
 #include <standin/image.h>
 #include <standin/package.h>
@@ -20,10 +20,10 @@
 
 namespace standin::microfacets {
 
-// Crops of the captured views sit on the view atlas's grid of cells (view_atlas::k_cell), so the
+// Crops of the captured views sit on the view atlas's grid of cells (reps::k_cell), so the
 // first k_mip_levels levels of a colour page never mix two views.
-using view_atlas::View;
-constexpr int k_mip_levels = view_atlas::k_mip_levels;
+using reps::View;
+constexpr int k_mip_levels = reps::k_mip_levels;
 
 struct BakeSettings {
     int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
@@ -36,7 +36,7 @@ struct BakeSettings {
     std::string geometry_from = "full"; // "full", or the incomplete-scan experiment: "simplified", "noisy"
     float geometry_amount = 0.1f;    // simplified: fraction of the triangles kept; noisy: amplitude / radius
     bool fill_holes = true;          // the seed's range-image median filter (only changes degraded geometry)
-    int page_size = 2048;            // atlas page side, texels (multiple of view_atlas::k_cell)
+    int page_size = 2048;            // atlas page side, texels (multiple of reps::k_cell)
 };
 
 class MicrofacetsPackage final : public Package {
@@ -51,7 +51,7 @@ public:
     // The largest angle (radians) between any direction and its nearest captured view (in the
     // circle's plane for the circle layout): the delta of eq. 2 the LOD rule assumes.
     float max_view_angle = 0.1f;
-    std::vector<View> views; // captured orthographically: half extent = radius (view_atlas.h, View)
+    std::vector<View> views; // captured orthographically: half extent = radius (reps/common/view_layout.h, View)
     // RGB: albedo, sRGB-encoded; A: coverage 0 / 255.
     std::vector<ImageRGBA8> color_pages;
     // RGB: world normal * 0.5 + 0.5 (captured in 8 bits, x 257); A: depth (r - dot(p - centre,
@@ -61,7 +61,7 @@ public:
     std::vector<ImageRGBA16> normal_depth_pages;
 };
 
-// The capture directions of a layout: the view atlas's sphere layouts (view_atlas::layout_directions)
+// The capture directions of a layout: the view atlas's sphere layouts (reps::layout_directions)
 // or "circle": `frames` directions on the horizontal circle, azimuth 360 k / frames from +Z.
 std::vector<glm::vec3> capture_directions(const BakeSettings& settings);
 

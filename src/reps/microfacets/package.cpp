@@ -34,7 +34,7 @@ nlohmann::json view_json(const View& v)
 View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, const std::string& where, const BakeSettings& s,
                int pages)
 {
-    const int cell = view_atlas::k_cell, n = s.resolution;
+    const int cell = reps::k_cell, n = s.resolution;
     View v;
     v.direction = in.vec3(entry, "direction", where);
     v.axis_u = in.vec3(entry, "axis_u", where);

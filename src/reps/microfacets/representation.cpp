@@ -123,9 +123,9 @@ Status check_settings(const BakeSettings& s)
                                                        std::to_string(s.level));
     if (s.depth_bits != 8 && s.depth_bits != 16)
         return error(StatusCode::invalid_argument, "--depth-bits: must be 8 or 16, not " + std::to_string(s.depth_bits));
-    if (s.page_size % view_atlas::k_cell != 0)
-        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(view_atlas::k_cell));
-    if (s.resolution + 2 * view_atlas::k_cell > s.page_size)
+    if (s.page_size % reps::k_cell != 0)
+        return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(reps::k_cell));
+    if (s.resolution + 2 * reps::k_cell > s.page_size)
         return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
     return Status::ok();
 }

@@ -9,6 +9,8 @@
 #include <standin/image.h>
 #include <standin/package.h>
 
+#include "reps/common/view_layout.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -17,10 +19,13 @@
 
 namespace standin::view_atlas {
 
-// Crops are placed on a grid of k_cell x k_cell texels and padded to whole cells, so that the first
-// k_mip_levels - 1 mip levels of a page never mix two views (renderer.cpp clamps the level there).
-constexpr int k_cell = 16;
-constexpr int k_mip_levels = 5; // 1, 2, 4, 8, 16 texels
+// Views, cells, layouts and page packing are the image-based stand-ins' own (reps/common/view_layout.h).
+using reps::k_cell;
+using reps::k_mip_levels;
+using reps::View;
+using reps::layout_directions;
+using reps::pack_views;
+
 // Bytes one GPU texture array may hold (llvmpipe refuses textures over 1 GiB).
 constexpr std::uint64_t k_texture_budget_bytes = 960ull << 20;
 
@@ -33,21 +38,6 @@ struct BakeSettings {
     int resolution = 256;               // capture image size, pixels (square)
     std::string maps = "surface";       // "lit": shaded colour (the seed); "surface": albedo + normal/depth
     int page_size = 2048;               // atlas page size, texels (multiple of k_cell)
-};
-
-// One captured view. Capture pixel (x, y) (y down, continuous, 0..resolution) lies on the plane
-// through the sphere centre perpendicular to `direction` at
-//   centre + (-h + x * 2h / resolution) * axis_u + (-h + y * 2h / resolution) * axis_v,
-// h = ViewAtlasPackage::half_extent(). The crop [crop_x, crop_x + width) x [crop_y, crop_y + height)
-// of the capture is stored at [atlas_x, atlas_x + width) x [atlas_y, atlas_y + height) of page
-// `page` (atlas row atlas_y + r holds capture row crop_y + r). Width and height are multiples of
-// k_cell, or 0 when the view saw nothing.
-struct View {
-    glm::vec3 direction{0, 0, 1}; // unit, from the centre towards the capture camera
-    glm::vec3 axis_u{1, 0, 0};    // unit, image columns (camera right)
-    glm::vec3 axis_v{0, -1, 0};   // unit, image rows (camera down)
-    int crop_x = 0, crop_y = 0, width = 0, height = 0;
-    int page = 0, atlas_x = 0, atlas_y = 0;
 };
 
 class ViewAtlasPackage final : public Package {
@@ -72,18 +62,6 @@ public:
     // (2r) in [0, 1], 0 nearest to the capture camera.
     std::vector<ImageRGBA8> normal_depth_pages;
 };
-
-// The capture directions of a layout (deterministic order).
-// icosahedral: centres of the faces of an icosahedron subdivided `subdivisions` times, rotated so
-// that one face centre is +Y (the protocols' top view is then a captured view);
-// octahedral: centres of a frames x frames grid over the octahedral map of the sphere;
-// hemi-octahedral: the same over the upper hemisphere (+Y).
-std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivisions, int frames);
-
-// Shelf packing of crops (sizes multiples of k_cell) into pages of page_size: sets page,
-// atlas_x, atlas_y of every view and returns the number of pages. Deterministic: tallest first,
-// ties by index.
-int pack_views(std::vector<View>& views, int page_size);
 
 // The bake parameters typed (representation.cpp), and the checks between them.
 BakeSettings settings_from(const Options& parameters);
