@@ -4,6 +4,7 @@
 
 #include <standin/files.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -218,6 +219,36 @@ void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, gl
     if (std::abs(glm::dot(axis_u, axis_v)) > 1e-3f || std::abs(glm::dot(axis_u, direction)) > 1e-3f ||
         std::abs(glm::dot(axis_v, direction)) > 1e-3f)
         in.fail(where + "axis_u", "axis_u, axis_v and direction are not orthogonal");
+}
+
+nlohmann::json view_json(const reps::View& v)
+{
+    return {{"direction", vec3_json(v.direction)}, {"axis_u", vec3_json(v.axis_u)}, {"axis_v", vec3_json(v.axis_v)},
+            {"crop_x", v.crop_x}, {"crop_y", v.crop_y}, {"width", v.width}, {"height", v.height}, {"page", v.page},
+            {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}};
+}
+
+reps::View read_view(const Reader& in, const nlohmann::json& entry, const std::string& where, int resolution,
+                     int page_size, int pages)
+{
+    const int cell = reps::k_cell, n = resolution;
+    reps::View v;
+    v.direction = in.vec3(entry, "direction", where);
+    v.axis_u = in.vec3(entry, "axis_u", where);
+    v.axis_v = in.vec3(entry, "axis_v", where);
+    check_axes(in, where, v.axis_u, v.axis_v, v.direction);
+    v.width = int(in.integer(entry, "width", where, 0, page_size));
+    v.height = int(in.integer(entry, "height", where, 0, page_size));
+    v.crop_x = int(in.integer(entry, "crop_x", where, -1, n));
+    v.crop_y = int(in.integer(entry, "crop_y", where, -1, n));
+    v.page = int(in.integer(entry, "page", where, 0, std::max(0, pages - 1)));
+    v.atlas_x = int(in.integer(entry, "atlas_x", where, 0, page_size - v.width));
+    v.atlas_y = int(in.integer(entry, "atlas_y", where, 0, page_size - v.height));
+    if (v.width % cell || v.height % cell || v.atlas_x % cell || v.atlas_y % cell)
+        in.fail(where + "width", "rectangles must lie on whole cells of " + std::to_string(cell) + " texels");
+    if (v.crop_x + v.width > n + 2 * cell || v.crop_y + v.height > n + 2 * cell)
+        in.fail(where + "crop_x", "the crop reaches beyond the capture");
+    return v;
 }
 
 bool is_plain_file_name(const std::string& name)

@@ -10,6 +10,8 @@
 #include <standin/package.h>
 #include <standin/status.h>
 
+#include "reps/common/view_layout.h"
+
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
@@ -85,6 +87,13 @@ Options read_settings(const Reader& in, const nlohmann::json& manifest, std::spa
 
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction);
+
+// A captured view's entry (reps/common/view_layout.h View), and read back: axes unit and orthogonal,
+// rectangles on whole cells (k_cell), the crop inside the capture of `resolution` (padded by a
+// cell) and the atlas rectangle inside its page of `page_size`, `page` below `pages`.
+nlohmann::json view_json(const reps::View& view);
+reps::View read_view(const Reader& in, const nlohmann::json& entry, const std::string& where, int resolution,
+                     int page_size, int pages);
 
 // A name a manifest may give a file: one path component inside the package (not empty, not "." or
 // "..", no '/' or '\\', no control characters, at most 255 bytes).

@@ -23,37 +23,6 @@ constexpr const char* k_voxels_file = "voxels.bin";
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
 
-nlohmann::json view_json(const View& v)
-{
-    return {{"direction", manifest_io::vec3_json(v.direction)}, {"axis_u", manifest_io::vec3_json(v.axis_u)},
-            {"axis_v", manifest_io::vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
-            {"width", v.width}, {"height", v.height}, {"page", v.page}, {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}};
-}
-
-// A view's fields: axes unit and orthogonal, rectangles on whole cells inside their capture and page.
-View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, const std::string& where, const BakeSettings& s,
-               int pages)
-{
-    const int cell = reps::k_cell, n = s.resolution;
-    View v;
-    v.direction = in.vec3(entry, "direction", where);
-    v.axis_u = in.vec3(entry, "axis_u", where);
-    v.axis_v = in.vec3(entry, "axis_v", where);
-    manifest_io::check_axes(in, where, v.axis_u, v.axis_v, v.direction);
-    v.width = int(in.integer(entry, "width", where, 0, s.page_size));
-    v.height = int(in.integer(entry, "height", where, 0, s.page_size));
-    v.crop_x = int(in.integer(entry, "crop_x", where, -1, n));
-    v.crop_y = int(in.integer(entry, "crop_y", where, -1, n));
-    v.page = int(in.integer(entry, "page", where, 0, std::max(0, pages - 1)));
-    v.atlas_x = int(in.integer(entry, "atlas_x", where, 0, s.page_size - v.width));
-    v.atlas_y = int(in.integer(entry, "atlas_y", where, 0, s.page_size - v.height));
-    if (v.width % cell || v.height % cell || v.atlas_x % cell || v.atlas_y % cell)
-        in.fail(where + "width", "rectangles must lie on whole cells of " + std::to_string(cell) + " texels");
-    if (v.crop_x + v.width > n + 2 * cell || v.crop_y + v.height > n + 2 * cell)
-        in.fail(where + "crop_x", "the crop reaches beyond the capture");
-    return v;
-}
-
 // The octree's levels from voxels.bin: codes inside their level's grid, ascending, and each level
 // exactly the OR of the next finer one.
 Octree read_octree(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& manifest,
@@ -138,7 +107,7 @@ Status write(const Package& base, const std::string& directory)
         pages.push_back({{"color", color}, {"normal_depth", normal_depth}});
     }
     nlohmann::json views = nlohmann::json::array();
-    for (const View& v : package.views) views.push_back(view_json(v));
+    for (const View& v : package.views) views.push_back(manifest_io::view_json(v));
     nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
     manifest["grid"] = {{"origin", manifest_io::vec3_json(package.octree.grid.origin)}, {"size", package.octree.grid.size}};
     manifest["levels"] = levels;
@@ -183,7 +152,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty() || views.size() > 65535) in.fail("views", "is not an array of 1..65535 views");
         for (std::size_t k = 0; k < views.size(); ++k)
-            package->views.push_back(read_view(in, views[k], "views[" + std::to_string(k) + "].", s, int(pages.size())));
+            package->views.push_back(
+                manifest_io::read_view(in, views[k], "views[" + std::to_string(k) + "].", s.resolution, s.page_size, int(pages.size())));
         return package;
     });
 }

@@ -20,29 +20,6 @@ namespace {
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
 
-View read_view(const manifest_io::Reader& in, const nlohmann::json& entry, std::size_t index, const BakeSettings& s, int pages)
-{
-    std::string where = "views[" + std::to_string(index) + "].";
-    View v;
-    v.direction = in.vec3(entry, "direction", where);
-    v.axis_u = in.vec3(entry, "axis_u", where);
-    v.axis_v = in.vec3(entry, "axis_v", where);
-    manifest_io::check_axes(in, where, v.axis_u, v.axis_v, v.direction);
-    const int n = s.resolution;
-    v.width = int(in.integer(entry, "width", where, 0, s.page_size));
-    v.height = int(in.integer(entry, "height", where, 0, s.page_size));
-    if (v.width % k_cell || v.height % k_cell) in.fail(where + "width", "width and height must be multiples of 16");
-    v.crop_x = int(in.integer(entry, "crop_x", where, -1, n));
-    v.crop_y = int(in.integer(entry, "crop_y", where, -1, n));
-    if (v.crop_x + v.width > n + 2 * k_cell || v.crop_y + v.height > n + 2 * k_cell)
-        in.fail(where + "crop_x", "the crop reaches beyond the capture");
-    v.page = int(in.integer(entry, "page", where, 0, std::max(0, pages - 1)));
-    v.atlas_x = int(in.integer(entry, "atlas_x", where, 0, s.page_size - v.width));
-    v.atlas_y = int(in.integer(entry, "atlas_y", where, 0, s.page_size - v.height));
-    if (v.atlas_x % k_cell || v.atlas_y % k_cell) in.fail(where + "atlas_x", "atlas_x and atlas_y must be multiples of 16");
-    return v;
-}
-
 } // namespace
 
 float ViewAtlasPackage::half_extent() const
@@ -70,10 +47,7 @@ Status write(const Package& base, const std::string& directory)
     }
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views)
-        views.push_back({{"direction", manifest_io::vec3_json(v.direction)}, {"axis_u", manifest_io::vec3_json(v.axis_u)},
-                         {"axis_v", manifest_io::vec3_json(v.axis_v)}, {"crop_x", v.crop_x}, {"crop_y", v.crop_y},
-                         {"width", v.width}, {"height", v.height}, {"page", v.page},
-                         {"atlas_x", v.atlas_x}, {"atlas_y", v.atlas_y}});
+        views.push_back(manifest_io::view_json(v));
     nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
     manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
     manifest["half_extent"] = package.half_extent();
@@ -112,7 +86,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");
         for (std::size_t k = 0; k < views.size(); ++k)
-            package->views.push_back(read_view(in, views[k], k, s, int(pages.size())));
+            package->views.push_back(
+                manifest_io::read_view(in, views[k], "views[" + std::to_string(k) + "].", s.resolution, s.page_size, int(pages.size())));
         if (std::none_of(package->views.begin(), package->views.end(), [](const View& v) { return v.width > 0; }))
             in.fail("views", "are all empty: the package draws nothing");
         return package;
