@@ -22,10 +22,23 @@ cp "$root/data/bunny.ply" bunny.ply
 # 1. every stand-in with its defaults on each model, thesis protocol (42 views, distance 1)
 for m in bunny shrub fur; do
   for r in microfacets enhanced-billboards view-atlas; do
+    [ -f ${m}_$r.thesis.json ] && continue # a rerun into the same folder resumes
     log "bake $m $r"
     /usr/bin/time -f "%e s %M KiB" -o "${m}_$r.bake.txt" "$standin" bake $m.ply -r $r -o ${m}_$r.standin -q
     du -sb ${m}_$r.standin >> sizes.txt
     "$standin" eval $m.ply ${m}_$r.standin --protocol thesis --frames 0 --json ${m}_$r.thesis.json > ${m}_$r.thesis.txt
+  done
+done
+
+# 1b. at comparable package size: finer billboards, coarser microfacet captures
+for m in shrub fur; do
+  for variant in "enhanced-billboards --resolution 1024:bb1024" "microfacets --resolution 256:mf256"; do
+    args=${variant%%:*}; tag=${variant##*:}
+    [ -f ${m}_$tag.thesis.json ] && continue
+    log "bake $m $tag"
+    /usr/bin/time -f "%e s %M KiB" -o "${m}_$tag.bake.txt" "$standin" bake $m.ply -r $args -o ${m}_$tag.standin -q
+    du -sb ${m}_$tag.standin >> sizes.txt
+    "$standin" eval $m.ply ${m}_$tag.standin --protocol thesis --frames 0 --json ${m}_$tag.thesis.json > ${m}_$tag.thesis.txt
   done
 done
 
@@ -34,7 +47,7 @@ log "bench by distance"
 "$standin" bench bunny.ply bunny_microfacets.standin --frames 5 --warmup 2 --json bench_bunny.json > bench_bunny.txt
 "$standin" bench fur.ply fur_microfacets.standin --frames 5 --warmup 2 --json bench_fur.json > bench_fur.txt
 log "crowd"
-"$standin" bake ns235k.ply -r microfacets -o ns235k_mf.standin -q
+[ -f ns235k_mf.standin/manifest.json ] || "$standin" bake ns235k.ply -r microfacets -o ns235k_mf.standin -q
 "$standin" bench ns235k.ply ns235k_mf.standin --frames 1 --warmup 1 --no-coverage --crowd 1000 --json crowd_ns235k.json > crowd_ns235k.txt
 
 # 3. Table 1: the fur ball at 256^3, fixed levels; the paper's texturing (one view, eq. 1) with every
