@@ -19,7 +19,6 @@ in vec2 v_corner; // position on the facet's square, [-1, 1]^2
 flat in uint v_instance;
 flat in int v_level;
 flat in uvec4 v_views;
-flat in int v_far;
 flat in vec4 v_weights;
 
 uniform int debug_view;    // DEBUG_VIEW_*
@@ -50,7 +49,7 @@ void main()
         float wk = v_weights[k];
         if (wk <= 0.0) continue;
         ViewSample s;
-        if (clip_rule == MF_CLIP_RAY && v_far == 0) {
+        if (clip_rule == MF_CLIP_RAY) {
             int outcome = walk_view(views.items[v_views[k]], ray_origin, ray, v_center, w, color_level, s);
             if (outcome == RAY_HIDDEN) abstained += wk;
         } else {

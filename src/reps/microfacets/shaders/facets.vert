@@ -26,7 +26,6 @@ out vec2 v_corner; // position on the square, [-1, 1]^2 (DEBUG_VIEW_PROXIES outl
 flat out uint v_instance;
 flat out int v_level;
 flat out uvec4 v_views;
-flat out int v_far; // 1: project the one view (eq. 1) instead of walking (select.comp)
 flat out vec4 v_weights;
 
 // The square's half side and in-plane axes for a facet at c of voxel size w.
@@ -88,7 +87,6 @@ void main()
     v_weights = vec4(facet_weight(f, 0), facet_weight(f, 1), facet_weight(f, 2), facet_weight(f, 3));
     v_center = c;
     v_corner = corner;
-    v_far = facet_far(f) ? 1 : 0;
     if (facet_shape == MF_FACET_BOX) {
         vec3 p;
         if (!box_corner(lod, c, w, (gl_VertexID % vertices_per_facet) / 6, corner, p)) {

@@ -28,7 +28,7 @@ layout(std430, binding = MF_INSTANCES_SSBO) readonly buffer InstanceLodBlock {
     InstanceLod items[];
 } lods;
 
-// A selected facet. a.x: instance (bits 0..23), level (24..27), kind (28..29), far (30); a.y: Morton code;
+// A selected facet. a.x: instance (bits 0..23), level (24..27), kind (28..29); a.y: Morton code;
 // a.z, a.w: view ids 0|1 and 2|3 (16 bits each); b.x, b.y: their weights, unorm16 pairs; b.z: in
 // MF_SELECTED_SSBO, the rank among the group's quads (0..15) and points (16..31).
 struct Facet {
@@ -64,7 +64,6 @@ vec3 voxel_center(uint code, int level)
 uint facet_instance(Facet f) { return f.a.x & 0xffffffu; }
 int facet_level(Facet f) { return int((f.a.x >> 24) & 15u); }
 uint facet_kind(Facet f) { return (f.a.x >> 28) & 3u; }
-bool facet_far(Facet f) { return (f.a.x & MF_FAR_BIT) != 0u; }
 int facet_view(Facet f, int k)
 {
     uint word = k < 2 ? f.a.z : f.a.w;

@@ -37,7 +37,6 @@
 #define MF_KIND_NONE 0
 #define MF_KIND_QUAD 1
 #define MF_KIND_POINT 2
-#define MF_FAR_BIT 0x40000000u // Facet.a.x bit 30: a ray-clip facet under a pixel of eq. 2 error, projected
 
 // run-time options (renderer.cpp)
 #define MF_SELECT_LOOKUP 0 // candidates from the direction lookup (default)

@@ -51,7 +51,7 @@ uniform int primitive;          // MF_PRIMITIVE_*
 uniform float point_pixels;     // auto: facets narrower than this many pixels are points
 uniform uint lookup_list;       // index in `lookup` of the per-draw list (count, then views)
 uniform uint seen_words;        // words per node in `seen`; 0: no culling of unseen nodes
-uniform int clip_rule;          // MF_CLIP_*: far facets of the ray clip are projected (MF_FAR_BIT)
+uniform int clip_rule;          // MF_CLIP_*: far facets of the ray clip walk one view
 const float k_far_error_pixels = 1.0; // the paper's bound (§4.1): under a pixel
 
 shared uint s_ranks[MF_GROUP_SIZE];
@@ -160,8 +160,9 @@ uint select_facet(uint w, out Facet f)
     uvec4 ids;
     vec4 weights;
     select_views(to_eye_object(lod, c), ids, weights);
-    // a facet whose eq. 2 error is under a pixel even with the paper's texturing (one view projected
-    // on the facet, eq. 1) needs neither the blend nor the walk: far facets, most of a crowd
+    // a facet whose eq. 2 error is under a pixel needs no blend: its nearest view alone is walked
+    // (far facets, most of a crowd). Projecting that view instead (eq. 1) was cheaper still but
+    // brought back eq. 1's slab holes: Luv 3.2 against 0.6 at a fixed 128^3 (docs/failure_cases.md)
     bool far = clip_rule == MF_CLIP_RAY && node_error(lod, c, level) <= k_far_error_pixels;
     if (far) weights = vec4(1.0, 0.0, 0.0, 0.0);
     // step 4b (--clip ray): a node none of its views saw surface in draws nothing (every walk misses
@@ -174,7 +175,7 @@ uint select_facet(uint w, out Facet f)
         }
         if (!any_seen) return MF_KIND_NONE;
     }
-    f.a = uvec4(i | (uint(level) << 24) | (far ? MF_FAR_BIT : 0u), code, ids.x | (ids.y << 16), ids.z | (ids.w << 16));
+    f.a = uvec4(i | (uint(level) << 24), code, ids.x | (ids.y << 16), ids.z | (ids.w << 16));
     f.b = uvec4(packUnorm2x16(weights.xy), packUnorm2x16(weights.zw), 0u, 0u);
     // step 5
     if (primitive == MF_PRIMITIVE_POINTS) return MF_KIND_POINT;
