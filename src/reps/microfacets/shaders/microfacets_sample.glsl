@@ -23,6 +23,22 @@ struct ViewSample {
     vec3 surface;   // the stored surface point: the facet point moved along the view to its depth
 };
 
+// The colour of a view's texel `at` (page coordinates), straight (not premultiplied); at lod > 0
+// filtered with the footprint kept inside the crop (crops sit on cells of 2^max_color_lod texels).
+vec3 view_color(ViewData view, ivec2 at, float lod)
+{
+    vec2 texel_center = vec2(at) + 0.5;
+    if (lod > 0.0) {
+        lod = min(lod, float(max_color_lod));
+        float margin = 0.5 * exp2(ceil(lod));
+        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
+    }
+    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
+    g_fetches += 1u;
+    return c.a > 0.0 ? c.rgb / c.a : c.rgb;
+}
+
+
 // The view's sample at facet point p (object space) for the facet of the voxel at `center` of size
 // w; `lod` is the colour's mip level (<= 0: the exact texel; above: the covered texels around it,
 // averaged through the pages' coverage-premultiplied mips).
@@ -45,16 +61,7 @@ ViewSample sample_view(ViewData view, vec3 p, vec3 center, float w, float lod)
         return s;
     s.passed = true;
     s.normal = decode_normal(nd.rgb);
-    vec2 texel_center = vec2(at) + 0.5;
-    if (lod > 0.0) {
-        // filtered: keep the footprint inside the crop (crops sit on cells of 2^max_color_lod texels)
-        lod = min(lod, float(max_color_lod));
-        float margin = 0.5 * exp2(ceil(lod));
-        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
-    }
-    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
-    g_fetches += 1u;
-    s.color = c.a > 0.0 ? c.rgb / c.a : c.rgb;
+    s.color = view_color(view, at, lod);
     return s;
 }
 
@@ -131,15 +138,7 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
                     s.passed = true;
                     s.surface = mix(p0, p1, crossing.x);
                     s.normal = normal;
-                    vec2 texel_center = vec2(at) + 0.5;
-                    if (lod > 0.0) {
-                        lod = min(lod, float(max_color_lod));
-                        float margin = 0.5 * exp2(ceil(lod));
-                        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
-                    }
-                    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
-                    g_fetches += 1u;
-                    s.color = c.a > 0.0 ? c.rgb / c.a : c.rgb;
+                    s.color = view_color(view, at, lod);
                     return RAY_HIT;
                 }
                 previous_top = top;
