@@ -38,3 +38,23 @@ function(standin_embed_shaders target)
   target_sources(${target} PRIVATE ${out})
   target_include_directories(${target} PRIVATE ${out_dir})
 endfunction()
+
+# standin_standalone_glsl(FOLDER): FOLDER's run-time shaders flattened into one self-contained,
+# documented GLSL file (cmake/standalone_glsl.cmake), the reference for porting them to another
+# engine: build/share/standin/glsl/NAME.glsl, checked by glslangValidator, built with `all` and
+# installed to share/standin/glsl/. Called per representation by standin_representation.
+function(standin_standalone_glsl folder)
+  get_filename_component(name ${folder} NAME)
+  file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${folder}/shaders/*)
+  file(GLOB_RECURSE includable CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/*.glsl ${PROJECT_SOURCE_DIR}/src/*/shaders/*.h)
+  set(out ${PROJECT_BINARY_DIR}/share/standin/glsl/${name}.glsl)
+  add_custom_command(
+    OUTPUT ${out}
+    COMMAND ${CMAKE_COMMAND} -DSRC_ROOT=${PROJECT_SOURCE_DIR}/src -DFOLDER=${folder} -DOUT=${out}
+            -DVALIDATOR=${GLSLANG_VALIDATOR} -P ${PROJECT_SOURCE_DIR}/cmake/standalone_glsl.cmake
+    DEPENDS ${sources} ${includable} ${PROJECT_SOURCE_DIR}/cmake/standalone_glsl.cmake
+    COMMENT "Flattening the shaders of ${folder} into share/standin/glsl/${name}.glsl"
+    VERBATIM)
+  add_custom_target(standin_glsl_${name} ALL DEPENDS ${out})
+  install(FILES ${out} DESTINATION ${CMAKE_INSTALL_DATADIR}/standin/glsl)
+endfunction()

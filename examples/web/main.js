@@ -1,0 +1,383 @@
+// standin web viewer: a stand-in exported by `standin export` (a .glb) next to the original model,
+// orbited by one camera. WebGL2 through three.js; the grid-atlas impostor is drawn by
+// shaders/grid_impostor.{vert,frag}, the reference GLSL for that format (docs/FORMAT.md, "Export"),
+// plain meshes by shaders/mesh.{vert,frag}, both with standin's lighting.
+//
+// URL parameters (all optional; a test drives the viewer through them, README.md):
+//   model=URL      the original model: .glb/.gltf, .ply or .obj
+//   standin=URL    the exported stand-in (.glb)
+//   view=both|model|standin   side by side (default when both are given), or one alone
+//   azimuth, elevation (degrees), distance (relative), fov (degrees), ortho=1: standin's orbit
+//                  camera (include/standin/camera.h): around the bounding sphere of the model's box,
+//                  distance 1 = radius / sin(fov / 2), +Y up; defaults 0, 0, 1, 40, as `standin render`
+//   size=WxH       the drawing size in pixels (default: the window)
+//   blend=1|3      impostor frames blended (default 3); steps=N ray-march steps (default 96)
+//   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
+//   spin=DEG       degrees of azimuth per second while not still (default 10)
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+
+const params = new URLSearchParams(location.search);
+const number = (name, fallback) => {
+    const v = params.get(name);
+    if (v === null || v === '') return fallback;
+    const n = Number(v);
+    if (!Number.isFinite(n)) throw new Error(`URL parameter ${name}=${v} is not a number`);
+    return n;
+};
+
+// what the page reports to a test: ready, error, and the helpers below
+window.standin = { ready: false, error: null, info: {} };
+
+// standin's default light (src/core/camera.cpp default_light): from above-left of the camera,
+// ambient 0.2, diffuse 0.8
+const k_light_view = new THREE.Vector3(-0.4, 0.6, 1.0).normalize();
+const k_light_terms = new THREE.Vector2(0.2, 0.8);
+
+async function fetch_text(url) {
+    const response = await fetch(url);
+    if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+    return response.text();
+}
+
+// three adds `#version 300 es` itself (glslVersion GLSL3); the files carry it for glslangValidator
+const strip_version = (text) => text.replace(/^#version[^\n]*\n/, '');
+
+async function load_shaders() {
+    const names = ['mesh.vert', 'mesh.frag', 'grid_impostor.vert', 'grid_impostor.frag'];
+    const texts = await Promise.all(names.map((n) => fetch_text(new URL(`shaders/${n}`, import.meta.url))));
+    return Object.fromEntries(names.map((n, i) => [n, strip_version(texts[i])]));
+}
+
+function extension_of(url) {
+    const path = new URL(url, location.href).pathname.toLowerCase();
+    const dot = path.lastIndexOf('.');
+    return dot < 0 ? '' : path.slice(dot + 1);
+}
+
+async function load_model(url) {
+    const ext = extension_of(url);
+    if (ext === 'glb' || ext === 'gltf') return { object: (await new GLTFLoader().loadAsync(url)).scene };
+    if (ext === 'ply') {
+        const geometry = await new PLYLoader().loadAsync(url);
+        if (!geometry.getAttribute('normal')) geometry.computeVertexNormals();
+        const material = new THREE.MeshBasicMaterial({ vertexColors: !!geometry.getAttribute('color') });
+        return { object: new THREE.Mesh(geometry, material) };
+    }
+    if (ext === 'obj') return { object: await new OBJLoader().loadAsync(url) };
+    throw new Error(`${url}: the viewer reads .glb, .gltf, .ply and .obj models`);
+}
+
+// standin's shading for a plain mesh: its glTF/three material becomes mesh.{vert,frag}
+function mesh_material(shaders, source, geometry) {
+    const defines = {};
+    if (geometry.getAttribute('color')) defines.HAS_COLOR = 1;
+    const map = source && source.map ? source.map : null;
+    if (map && geometry.getAttribute('uv')) {
+        defines.HAS_UV = 1;
+        defines.HAS_MAP = 1;
+    }
+    const base = source && source.color ? source.color : new THREE.Color(1, 1, 1);
+    const opacity = source && source.opacity !== undefined ? source.opacity : 1;
+    const cutoff = source && source.alphaTest > 0 ? source.alphaTest : 0;
+    return new THREE.RawShaderMaterial({
+        glslVersion: THREE.GLSL3,
+        vertexShader: shaders['mesh.vert'],
+        fragmentShader: shaders['mesh.frag'],
+        defines,
+        side: THREE.DoubleSide,
+        uniforms: {
+            base_color: { value: new THREE.Vector4(base.r, base.g, base.b, opacity) },
+            alpha_cutoff: { value: cutoff },
+            to_light_world: { value: new THREE.Vector3(0, 0, 1) },
+            light_terms: { value: k_light_terms },
+            base_color_map: { value: map },
+        },
+    });
+}
+
+function use_mesh_materials(root, shaders) {
+    root.traverse((node) => {
+        if (!node.isMesh) return;
+        const source = Array.isArray(node.material) ? node.material[0] : node.material;
+        if (!node.geometry.getAttribute('normal')) node.geometry.computeVertexNormals();
+        node.material = mesh_material(shaders, source, node.geometry);
+    });
+}
+
+// the octahedral frame directions the export documents, to check a file's frame_axes against the
+// rule grid_impostor.frag rederives them by
+function frame_direction(i, j, frames, hemi) {
+    const ex = ((i + 0.5) / frames) * 2 - 1, ey = ((j + 0.5) / frames) * 2 - 1;
+    let d;
+    if (hemi) {
+        const a = 0.5 * (ex + ey), b = 0.5 * (ey - ex);
+        d = new THREE.Vector3(a, 1 - Math.abs(a) - Math.abs(b), b);
+    } else {
+        d = new THREE.Vector3(ex, 1 - Math.abs(ex) - Math.abs(ey), ey);
+        if (d.y < 0) {
+            const x = (1 - Math.abs(d.z)) * (d.x >= 0 ? 1 : -1), z = (1 - Math.abs(d.x)) * (d.z >= 0 ? 1 : -1);
+            d.x = x;
+            d.z = z;
+        }
+    }
+    return d.normalize();
+}
+
+function check_frame_axes(extras) {
+    const axes = extras.frame_axes;
+    if (!Array.isArray(axes)) return null;
+    let worst = 0;
+    for (let j = 0; j < extras.frames; ++j)
+        for (let i = 0; i < extras.frames; ++i) {
+            const a = axes[j * extras.frames + i];
+            if (!a || a.length !== 9) continue;
+            const d = frame_direction(i, j, extras.frames, extras.layout === 'hemi-octahedral');
+            worst = Math.max(worst, Math.abs(d.x - a[6]), Math.abs(d.y - a[7]), Math.abs(d.z - a[8]));
+        }
+    if (worst > 1e-3) console.warn(`grid impostor: frame_axes differ from the octahedral rule by ${worst}`);
+    return worst;
+}
+
+async function grid_impostor(node, extras, parser, shaders) {
+    if (extras.projection && extras.projection !== 'ortho')
+        throw new Error(`grid impostor: projection "${extras.projection}" is not supported (ortho only)`);
+    const color = await parser.getDependency('texture', extras.color_texture);
+    const has_nd = extras.normal_depth_texture !== undefined && extras.normal_depth_texture !== null;
+    const normal_depth = has_nd ? await parser.getDependency('texture', extras.normal_depth_texture) : null;
+    for (const t of [color, normal_depth]) {
+        if (!t) continue;
+        // codes, decoded by the shader: no sRGB decode by the sampler, no mips (level 0 is read)
+        t.colorSpace = THREE.NoColorSpace;
+        t.generateMipmaps = false;
+        t.minFilter = THREE.LinearFilter;
+        t.magFilter = THREE.LinearFilter;
+        t.flipY = false;
+        t.needsUpdate = true;
+    }
+    const material = new THREE.RawShaderMaterial({
+        glslVersion: THREE.GLSL3,
+        vertexShader: shaders['grid_impostor.vert'],
+        fragmentShader: shaders['grid_impostor.frag'],
+        side: THREE.DoubleSide,
+        uniforms: {
+            color_atlas: { value: color },
+            normal_depth_atlas: { value: normal_depth || color },
+            has_normal_depth: { value: has_nd ? 1 : 0 },
+            lit_color: { value: extras.color === 'lit' ? 1 : 0 },
+            frames: { value: extras.frames },
+            hemi: { value: extras.layout === 'hemi-octahedral' ? 1 : 0 },
+            center: { value: new THREE.Vector3().fromArray(extras.center) },
+            radius: { value: extras.radius },
+            half_extent: { value: extras.half_extent },
+            depth_near: { value: extras.depth_near },
+            depth_scale: { value: extras.depth_scale },
+            eye_object: { value: new THREE.Vector3() },
+            forward_object: { value: new THREE.Vector3(0, 0, -1) },
+            orthographic: { value: 0 },
+            clip_from_object: { value: new THREE.Matrix4() },
+            to_light_object: { value: new THREE.Vector3(0, 0, 1) },
+            light_terms: { value: k_light_terms },
+            blend_frames: { value: number('blend', 3) === 1 ? 1 : 3 },
+            steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
+        },
+    });
+    const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+    mesh.frustumCulled = false; // the vertex stage places the quad
+    // the camera in the impostor's object space, every frame
+    mesh.onBeforeRender = (renderer, scene, camera) => {
+        const u = material.uniforms;
+        const object_from_world = mesh.matrixWorld.clone().invert();
+        u.eye_object.value.setFromMatrixPosition(camera.matrixWorld).applyMatrix4(object_from_world);
+        u.forward_object.value.set(0, 0, -1).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
+        u.orthographic.value = camera.isOrthographicCamera ? 1 : 0;
+        u.clip_from_object.value.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse).multiply(mesh.matrixWorld);
+        u.to_light_object.value.copy(k_light_view).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
+        material.uniformsNeedUpdate = true;
+    };
+    window.standin.info.frame_axes_error = check_frame_axes(extras);
+    return mesh;
+}
+
+async function load_standin(url, shaders) {
+    const gltf = await new GLTFLoader().loadAsync(url);
+    const root = gltf.scene;
+    let root_extras = null;
+    const impostors = [];
+    const roles = [];
+    root.traverse((node) => {
+        const extras = node.userData && node.userData.standin;
+        if (!extras) return;
+        if (extras.representation) root_extras = extras;
+        if (extras.role) roles.push(extras.role);
+        if (extras.role === 'grid-impostor') impostors.push({ node, extras });
+    });
+    use_mesh_materials(root, shaders);
+    for (const { node, extras } of impostors) {
+        const mesh = await grid_impostor(node, extras, gltf.parser, shaders);
+        node.parent.add(mesh);
+        mesh.position.copy(node.position);
+        mesh.quaternion.copy(node.quaternion);
+        mesh.scale.copy(node.scale);
+        node.visible = false; // the front-facing quad is for plain glTF viewers
+    }
+    window.standin.info.representation = root_extras ? root_extras.representation : null;
+    window.standin.info.roles = roles;
+    return { object: root, extras: root_extras, impostors };
+}
+
+// standin's orbit camera (src/core/camera.cpp orbit_camera)
+function orbit_camera(sphere, aspect) {
+    const az = THREE.MathUtils.degToRad(number('azimuth', 0));
+    const el = THREE.MathUtils.degToRad(number('elevation', 0));
+    const distance_rel = number('distance', 1);
+    const fov = number('fov', 40);
+    const ortho = params.get('ortho') === '1';
+    const r = Math.max(sphere.radius, 1e-12);
+    const dir = new THREE.Vector3(Math.cos(el) * Math.sin(az), Math.sin(el), Math.cos(el) * Math.cos(az));
+    let camera, eye_distance;
+    if (ortho) {
+        eye_distance = 3 * r;
+        const hh = r * distance_rel, hw = hh * aspect;
+        camera = new THREE.OrthographicCamera(-hw, hw, hh, -hh, eye_distance - 1.05 * r, eye_distance + 1.05 * r);
+    } else {
+        eye_distance = (r / Math.sin(THREE.MathUtils.degToRad(fov) * 0.5)) * distance_rel;
+        camera = new THREE.PerspectiveCamera(fov, aspect, Math.max(eye_distance - 1.05 * r, 0.01 * r), eye_distance + 1.05 * r);
+    }
+    camera.up.set(0, 1, 0);
+    if (Math.abs(dir.y) > 0.999) camera.up.set(0, 0, dir.y > 0 ? -1 : 1);
+    camera.position.copy(sphere.center).addScaledVector(dir, eye_distance);
+    camera.lookAt(sphere.center);
+    camera.updateMatrixWorld();
+    return camera;
+}
+
+function sphere_of_box(box) {
+    // standin's bounding sphere: the box's centre, half its diagonal (include/standin/mesh.h)
+    const center = box.getCenter(new THREE.Vector3());
+    return new THREE.Sphere(center, 0.5 * box.getSize(new THREE.Vector3()).length());
+}
+
+function update_light(scene, camera) {
+    const to_light = k_light_view.clone().transformDirection(camera.matrixWorld);
+    scene.traverse((node) => {
+        if (node.isMesh && node.material.uniforms && node.material.uniforms.to_light_world)
+            node.material.uniforms.to_light_world.value.copy(to_light);
+    });
+}
+
+async function main() {
+    const model_url = params.get('model');
+    const standin_url = params.get('standin');
+    if (!model_url && !standin_url) throw new Error('give ?model=URL and/or ?standin=URL (README.md)');
+    let view = params.get('view') || (model_url && standin_url ? 'both' : model_url ? 'model' : 'standin');
+    if (!['both', 'model', 'standin'].includes(view)) throw new Error(`view=${view}: use both, model or standin`);
+    const still = params.get('still') === '1';
+
+    const shaders = await load_shaders();
+    const [model, standin] = await Promise.all([
+        model_url ? load_model(model_url) : null,
+        standin_url ? load_standin(standin_url, shaders) : null,
+    ]);
+    if (model) use_mesh_materials(model.object, shaders);
+
+    // frame both as `standin render` frames them: the model's box (a package is framed by its
+    // source's bounds, which are the model's); without the model, the impostor's sphere or the
+    // stand-in's own box
+    let sphere;
+    if (model) sphere = sphere_of_box(new THREE.Box3().setFromObject(model.object));
+    else if (standin.impostors.length)
+        sphere = new THREE.Sphere(new THREE.Vector3().fromArray(standin.impostors[0].extras.center), standin.impostors[0].extras.radius);
+    else sphere = sphere_of_box(new THREE.Box3().setFromObject(standin.object));
+    window.standin.info.sphere = { center: sphere.center.toArray(), radius: sphere.radius };
+
+    const size = params.get('size');
+    let width = window.innerWidth, height = window.innerHeight;
+    if (size) {
+        const m = /^(\d+)x(\d+)$/.exec(size);
+        if (!m) throw new Error(`size=${size}: use WxH`);
+        width = Number(m[1]);
+        height = Number(m[2]);
+    }
+    const canvas = document.getElementById('view');
+    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
+    renderer.setPixelRatio(size ? 1 : window.devicePixelRatio);
+    renderer.setSize(width, height, true);
+    renderer.setClearColor(0x000000, 0);
+    renderer.autoClear = false;
+
+    const halves = [];
+    if (view !== 'standin' && model) halves.push(new THREE.Scene().add(model.object));
+    if (view !== 'model' && standin) halves.push(new THREE.Scene().add(standin.object));
+    const split = halves.length;
+    const camera = orbit_camera(sphere, width / split / height);
+    let controls = null;
+    if (!still) {
+        controls = new OrbitControls(camera, canvas);
+        controls.target.copy(sphere.center);
+        controls.autoRotate = true;
+        controls.autoRotateSpeed = number('spin', 10) / 6; // OrbitControls: 2 = 30 s a turn (12 deg/s)
+        controls.update();
+    }
+
+    const draw = () => {
+        renderer.setScissorTest(false);
+        renderer.clear();
+        renderer.setScissorTest(true);
+        const w = renderer.domElement.width / renderer.getPixelRatio() / split;
+        halves.forEach((scene, k) => {
+            renderer.setViewport(k * w, 0, w, height);
+            renderer.setScissor(k * w, 0, w, height);
+            update_light(scene, camera);
+            renderer.render(scene, camera);
+        });
+    };
+    if (still) {
+        draw();
+        window.standin.ready = true;
+        return;
+    }
+    renderer.setAnimationLoop(() => {
+        controls.update();
+        draw();
+    });
+    window.standin.ready = true;
+}
+
+// The covered pixels of the drawing against standin's picture of the same camera (a PNG with a
+// transparent background): intersection over union of alpha >= 0.5, for the browser test.
+window.standin.silhouette_iou = async (png_url) => {
+    const canvas = document.getElementById('view');
+    const gl = canvas.getContext('webgl2');
+    const w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+    const pixels = new Uint8Array(w * h * 4);
+    gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, pixels);
+    const blob = await (await fetch(png_url)).blob();
+    const bitmap = await createImageBitmap(blob, { premultiplyAlpha: 'none', colorSpaceConversion: 'none' });
+    if (bitmap.width !== w || bitmap.height !== h)
+        throw new Error(`${png_url} is ${bitmap.width}x${bitmap.height}, the drawing ${w}x${h}`);
+    const context = new OffscreenCanvas(w, h).getContext('2d');
+    context.drawImage(bitmap, 0, 0);
+    const truth = context.getImageData(0, 0, w, h).data;
+    let both = 0, either = 0, ours = 0, theirs = 0;
+    for (let y = 0; y < h; ++y)
+        for (let x = 0; x < w; ++x) {
+            const a = pixels[((h - 1 - y) * w + x) * 4 + 3] >= 128; // readPixels rows run bottom-up
+            const b = truth[(y * w + x) * 4 + 3] >= 128;
+            if (a) ++ours;
+            if (b) ++theirs;
+            if (a && b) ++both;
+            if (a || b) ++either;
+        }
+    return { iou: either ? both / either : 1, web_pixels: ours, standin_pixels: theirs, width: w, height: h };
+};
+
+main().catch((error) => {
+    console.error(error);
+    window.standin.error = String(error && error.message ? error.message : error);
+    const banner = document.getElementById('error');
+    if (banner) banner.textContent = window.standin.error;
+});
