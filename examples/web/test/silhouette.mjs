@@ -1,0 +1,191 @@
+// The web viewer in a real headless browser (Chromium through playwright-core, WebGL2 on its
+// SwiftShader), compared with `standin render` of the same thing from the same camera: the
+// silhouette IoU (intersection over union of the pixels each covers, alpha >= 0.5) must reach
+// --min-iou (0.95).
+//   - harness cases: the original model drawn by the viewer against standin's ground-truth render
+//     (checks the camera model, the loaders and the read-back);
+//   - stand-in cases: a package baked by `standin bake`, exported by `standin export` to .glb, drawn
+//     by the viewer, against `standin render` of the package (its own renderer).
+// Exit status: 0 pass, 1 fail, 77 skipped (no Chromium, or no npm to install playwright-core/three),
+// 2 bad arguments. Registered in ctest as web_viewer_silhouette (tests/CMakeLists.txt).
+//   node test/silhouette.mjs --cli build/standin [--work DIR] [--chromium /usr/bin/chromium]
+//        [--min-iou 0.95] [--only NAME]
+import { spawnSync } from 'node:child_process';
+import { existsSync, mkdirSync, rmSync, writeFileSync } from 'node:fs';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const web_dir = resolve(dirname(fileURLToPath(import.meta.url)), '..');
+const repo_dir = resolve(web_dir, '..', '..');
+const k_skip = 77;
+
+const options = { cli: null, work: null, chromium: process.env.STANDIN_CHROMIUM || '/usr/bin/chromium', min_iou: 0.95, only: null };
+{
+    const args = process.argv.slice(2);
+    for (let i = 0; i < args.length; ++i) {
+        const value = args[i + 1];
+        if (args[i] === '--cli') options.cli = value;
+        else if (args[i] === '--work') options.work = value;
+        else if (args[i] === '--chromium') options.chromium = value;
+        else if (args[i] === '--min-iou') options.min_iou = Number(value);
+        else if (args[i] === '--only') options.only = value;
+        else {
+            console.error(`silhouette: unknown argument ${args[i]}`);
+            process.exit(2);
+        }
+        ++i;
+    }
+    if (!options.cli) options.cli = join(repo_dir, 'build', 'standin');
+    if (!options.work) options.work = join(repo_dir, 'build', 'web_viewer_test');
+    if (!(options.min_iou > 0 && options.min_iou <= 1)) {
+        console.error('silhouette: --min-iou must be in (0, 1]');
+        process.exit(2);
+    }
+}
+
+// One camera for every case, as `standin render` takes it (and the viewer's URL parameters).
+const k_camera = { azimuth: 30, elevation: 20, distance: 1, fov: 40, size: '480x360' };
+
+// What the cases bake and export is test data: the representations' names and options appear
+// here as they do in tests/*_test.cpp. The grid atlas needs an octahedral view atlas.
+const k_cases = [
+    { name: 'model bunny.ply', model: 'data/bunny.ply' },
+    { name: 'model box_textured.glb', model: 'data/box_textured.glb' },
+    { name: 'view-atlas grid atlas', model: 'data/bunny.ply',
+      bake: ['-r', 'view-atlas', '--layout', 'octahedral', '--frames', '16', '--resolution', '192'],
+      export: ['--atlas-size', '2048'] },
+    { name: 'displaced-mesh', model: 'data/bunny.ply', bake: ['-r', 'displaced-mesh'], export: [] },
+    { name: 'enhanced-billboards', model: 'data/bunny.ply', bake: ['-r', 'enhanced-billboards'], export: [],
+      measured_only: 'the viewer draws billboard boxes as alpha-masked plain meshes, not by the ray cast' },
+];
+
+function skip(message) {
+    console.log(`SKIP: ${message}`);
+    process.exit(k_skip);
+}
+
+function run(command, args, cwd = repo_dir) {
+    const result = spawnSync(command, args, { cwd, encoding: 'utf8' });
+    if (result.error) throw new Error(`${command}: ${result.error.message}`);
+    return result;
+}
+
+function cli(args) {
+    const prefix = (process.env.STANDIN_CLI_PREFIX || '').split(' ').filter(Boolean);
+    const all = [...prefix, options.cli, ...args];
+    const result = run(all[0], all.slice(1));
+    if (result.status !== 0) throw new Error(`standin ${args.join(' ')}: exit ${result.status}: ${(result.stderr || '').trim()}`);
+    return result;
+}
+
+// the prerequisites: Chromium, and node_modules (npm ci when npm is there)
+if (!existsSync(options.chromium)) skip(`no Chromium at ${options.chromium} (Debian package chromium; scripts/setup installs it)`);
+if (!existsSync(join(web_dir, 'node_modules', 'playwright-core')) || !existsSync(join(web_dir, 'node_modules', 'three'))) {
+    const npm = run('sh', ['-c', 'command -v npm']);
+    if (npm.status !== 0) skip('npm is not installed: cannot install playwright-core and three (examples/web/package.json)');
+    console.log('silhouette: npm ci in examples/web');
+    const ci = run('npm', ['ci', '--no-audit', '--no-fund'], web_dir);
+    if (ci.status !== 0) {
+        console.error(`silhouette: npm ci failed in ${web_dir}:\n${ci.stdout}${ci.stderr}`);
+        process.exit(1);
+    }
+}
+if (!existsSync(options.cli)) {
+    console.error(`silhouette: no standin executable at ${options.cli} (--cli)`);
+    process.exit(2);
+}
+
+const { chromium } = await import(join(web_dir, 'node_modules', 'playwright-core', 'index.mjs'));
+const { serve } = await import(join(web_dir, 'server.mjs'));
+
+const started = Date.now();
+rmSync(options.work, { recursive: true, force: true });
+mkdirSync(options.work, { recursive: true });
+const has_export = /^\s+export\b/m.test(run(options.cli, ['--help']).stdout || '');
+
+const server = await serve([['/', web_dir], ['/repo', repo_dir], ['/work', options.work]]);
+const base = `http://127.0.0.1:${server.address().port}`;
+// WebGL2 without a GPU: ANGLE on SwiftShader (Chromium's own software Vulkan), deterministic
+const browser = await chromium.launch({
+    executablePath: options.chromium,
+    headless: true,
+    args: ['--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-sandbox'],
+});
+
+const camera_args = ['--azimuth', String(k_camera.azimuth), '--elevation', String(k_camera.elevation),
+    '--distance', String(k_camera.distance), '--fov', String(k_camera.fov), '--size', k_camera.size];
+const camera_query = `azimuth=${k_camera.azimuth}&elevation=${k_camera.elevation}&distance=${k_camera.distance}` +
+    `&fov=${k_camera.fov}&size=${k_camera.size}&still=1`;
+
+async function view_in_browser(query, truth_png, screenshot) {
+    const [w, h] = k_camera.size.split('x').map(Number);
+    const page = await browser.newPage({ viewport: { width: w, height: h } });
+    const messages = [];
+    page.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') messages.push(m.text()); });
+    page.on('pageerror', (e) => messages.push(String(e)));
+    try {
+        await page.goto(`${base}/index.html?${query}`);
+        await page.waitForFunction(() => window.standin && (window.standin.ready || window.standin.error), null, { timeout: 240000 });
+        const state = await page.evaluate(() => ({ error: window.standin.error, info: window.standin.info }));
+        if (state.error) throw new Error(`viewer: ${state.error}`);
+        await page.locator('#view').screenshot({ path: screenshot, omitBackground: true });
+        const iou = await page.evaluate((url) => window.standin.silhouette_iou(url), truth_png);
+        return { ...iou, info: state.info };
+    } catch (error) {
+        throw new Error(`${error.message}${messages.length ? `\n  browser: ${messages.join('\n  browser: ')}` : ''}`);
+    } finally {
+        await page.close();
+    }
+}
+
+const results = [];
+let failed = false;
+try {
+    for (const c of k_cases) {
+        if (options.only && !c.name.includes(options.only)) continue;
+        const t0 = Date.now();
+        const slug = c.name.replace(/[^a-z0-9]+/gi, '_');
+        const row = { name: c.name };
+        try {
+            let query;
+            const truth = join(options.work, `${slug}.standin.png`);
+            if (!c.bake) {
+                cli(['render', join(repo_dir, c.model), '-o', truth, ...camera_args]);
+                query = `model=/repo/${c.model}&view=model&${camera_query}`;
+            } else {
+                if (!has_export) {
+                    row.status = 'not run: this standin has no export command';
+                    results.push(row);
+                    continue;
+                }
+                const pkg = join(options.work, `${slug}.standin`);
+                const glb = join(options.work, `${slug}.glb`);
+                cli(['bake', join(repo_dir, c.model), '-o', pkg, ...c.bake]);
+                cli(['export', pkg, '-o', glb, ...c.export]);
+                cli(['render', pkg, '-o', truth, ...camera_args]);
+                // framed by the model's box, as standin render frames a package by its source's bounds
+                query = `model=/repo/${c.model}&standin=/work/${slug}.glb&view=standin&${camera_query}`;
+            }
+            const r = await view_in_browser(query, `/work/${slug}.standin.png`, join(options.work, `${slug}.web.png`));
+            Object.assign(row, { iou: r.iou, web_pixels: r.web_pixels, standin_pixels: r.standin_pixels, info: r.info });
+            const pass = r.iou >= options.min_iou;
+            row.status = pass ? 'pass' : c.measured_only ? `measured only (${c.measured_only})` : 'FAIL';
+            if (!pass && !c.measured_only) failed = true;
+        } catch (error) {
+            row.status = 'FAIL';
+            row.error = error.message;
+            failed = true;
+        }
+        row.seconds = (Date.now() - t0) / 1000;
+        results.push(row);
+        const iou = row.iou !== undefined ? `IoU ${row.iou.toFixed(4)} (${row.web_pixels} web / ${row.standin_pixels} standin pixels)` : '';
+        console.log(`${row.status.padEnd(5)} ${c.name}: ${iou} ${row.seconds.toFixed(1)} s${row.error ? `\n  ${row.error}` : ''}`);
+    }
+} finally {
+    await browser.close();
+    server.close();
+}
+const summary = { camera: k_camera, min_iou: options.min_iou, seconds: (Date.now() - started) / 1000, results };
+writeFileSync(join(options.work, 'silhouette.json'), JSON.stringify(summary, null, 2) + '\n');
+console.log(`silhouette: ${failed ? 'FAILED' : 'passed'} in ${summary.seconds.toFixed(1)} s (pictures and silhouette.json in ${options.work})`);
+process.exit(failed ? 1 : 0);
