@@ -17,5 +17,6 @@ CommandRun add_bake_command(CLI::App& root);
 CommandRun add_eval_command(CLI::App& root);
 CommandRun add_bench_command(CLI::App& root);
 CommandRun add_view_command(CLI::App& root);
+CommandRun add_export_command(CLI::App& root);
 
 } // namespace standin::cli

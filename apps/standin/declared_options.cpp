@@ -34,7 +34,9 @@ void DeclaredOptions::add_to(CLI::App& command, OptionKind kind)
     std::vector<std::string> order;
     std::map<std::string, std::vector<std::pair<const Representation*, const OptionSpec*>>> declared;
     for (const Representation& r : representations()) {
-        for (const OptionSpec& spec : kind == OptionKind::bake ? r.bake_options : r.render_options) {
+        const std::vector<OptionSpec>& specs =
+            kind == OptionKind::bake ? r.bake_options : kind == OptionKind::render ? r.render_options : r.export_options;
+        for (const OptionSpec& spec : specs) {
             if (!declared.count(spec.name)) order.push_back(spec.name);
             declared[spec.name].push_back({&r, &spec});
         }

@@ -15,7 +15,7 @@
 
 namespace standin::cli {
 
-enum class OptionKind { bake, render };
+enum class OptionKind { bake, render, export_ };
 
 class DeclaredOptions {
 public:

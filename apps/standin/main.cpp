@@ -36,6 +36,7 @@ int main(int argc, char** argv)
     route("eval", add_eval_command(app));
     route("bench", add_bench_command(app));
     route("view", add_view_command(app));
+    route("export", add_export_command(app));
 
     try {
         app.parse(argc, argv);

@@ -19,6 +19,8 @@
 
 namespace standin {
 
+struct ExportScene; // export.h
+
 // Where a package came from; stored in every manifest so that a package names its source.
 struct SourceInfo {
     std::string file_name;      // base name of the model file
@@ -83,6 +85,10 @@ struct Representation {
     // Uploads a package to the current GL context.
     Result<std::unique_ptr<Renderer>> (*make_renderer)(const Package& package, const RenderSettings& settings);
     PackageSummary (*summarise)(const Package& package);
+    // `standin export` (export.h): the options it declares (checked before the call), and the scene
+    // it exports, its geometry in the source model's object space. Null: not exported yet.
+    std::vector<OptionSpec> export_options = {};
+    Result<ExportScene> (*export_scene)(const Package& package, const Options& options) = nullptr;
 };
 
 const std::vector<Representation>& representations();

@@ -82,6 +82,18 @@ Status write_png(const ImageRGBA8& image, const std::string& path)
     return write_file_atomic(path, *bytes);
 }
 
+Result<std::string> encode_png_bytes(const ImageRGBA8& image)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, "PNG"));
+    return encode_png(image.width, image.height, 8, image.pixels.data());
+}
+
+Result<std::string> encode_png_bytes(const ImageRGBA16& image)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, "PNG"));
+    return encode_png(image.width, image.height, 16, image.pixels.data());
+}
+
 Status write_png(const ImageRGBA16& image, const std::string& path)
 {
     STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, path));

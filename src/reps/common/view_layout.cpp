@@ -104,6 +104,39 @@ std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivis
     return directions;
 }
 
+glm::vec3 grid_decode(const std::string& layout, float ex, float ey)
+{
+    return layout == "hemi-octahedral" ? hemi_octahedral_decode({ex, ey}) : octahedral_decode({ex, ey});
+}
+
+void grid_encode(const std::string& layout, glm::vec3 d, float& ex, float& ey)
+{
+    if (layout == "hemi-octahedral") d.y = std::max(d.y, 0.0f);
+    float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    glm::vec3 p = l1 > 0.0f ? d / l1 : glm::vec3(0.0f, 1.0f, 0.0f);
+    if (layout == "hemi-octahedral") {
+        // the inverse of hemi_octahedral_decode: (a, b) = (p.x, p.z) turned back by 45 degrees
+        ex = p.x - p.z;
+        ey = p.x + p.z;
+        return;
+    }
+    if (p.y >= 0.0f) {
+        ex = p.x;
+        ey = p.z;
+    } else {
+        ex = (1.0f - std::abs(p.z)) * (p.x >= 0.0f ? 1.0f : -1.0f);
+        ey = (1.0f - std::abs(p.x)) * (p.z >= 0.0f ? 1.0f : -1.0f);
+    }
+}
+
+void grid_frame(const std::string& layout, int frames, glm::vec3 direction, int& i, int& j)
+{
+    float ex = 0.0f, ey = 0.0f;
+    grid_encode(layout, direction, ex, ey);
+    i = std::clamp(int(std::floor((ex * 0.5f + 0.5f) * float(frames))), 0, frames - 1);
+    j = std::clamp(int(std::floor((ey * 0.5f + 0.5f) * float(frames))), 0, frames - 1);
+}
+
 int pack_views(std::vector<View>& views, int page_size)
 {
     assert(page_size % k_cell == 0);

@@ -36,6 +36,17 @@ struct View {
 // hemi-octahedral: the same over the upper hemisphere (+Y).
 std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivisions, int frames);
 
+// The (hemi-)octahedral grids as impostor shaders address them (docs/FORMAT.md, "Grid atlas").
+// Frame (i, j), column i and row j of a frames x frames grid, is view j * frames + i of
+// layout_directions; its centre has octahedral coordinates e = ((i + 0.5, j + 0.5) / frames) * 2 - 1.
+// octahedral_decode / _encode map e in [-1, 1]^2 to a unit direction and back (+Y up; e.y runs
+// along +Z); hemi-octahedral ones cover the upper hemisphere (directions below it encode as their
+// projection onto the horizon).
+glm::vec3 grid_decode(const std::string& layout, float ex, float ey);
+void grid_encode(const std::string& layout, glm::vec3 direction, float& ex, float& ey);
+// The frame whose cell holds `direction`'s coordinates (column i, row j).
+void grid_frame(const std::string& layout, int frames, glm::vec3 direction, int& i, int& j);
+
 // Shelf packing of crops (sizes multiples of k_cell) into pages of page_size: sets page,
 // atlas_x, atlas_y of every view and returns the number of pages. Deterministic: tallest first,
 // ties by index.

@@ -96,6 +96,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
+// `standin export` (export.cpp): the surface refined to a tolerance, as one plain mesh.
+std::vector<OptionSpec> export_options();
+Result<ExportScene> export_scene(const Package& package, const Options& options);
 
 // The bake itself, for tests and benchmarks that want the in-memory package: `parameters` are
 // the representation's declared bake options (defaults for those not given).

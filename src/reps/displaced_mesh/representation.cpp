@@ -130,6 +130,8 @@ Representation registration()
     r.read = read;
     r.make_renderer = make_renderer;
     r.summarise = summarise;
+    r.export_options = export_options();
+    r.export_scene = export_scene;
     return r;
 }
 

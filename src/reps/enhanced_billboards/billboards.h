@@ -71,5 +71,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
+// `standin export` (export.cpp): the boxes with their maps and the coarse mesh.
+Result<ExportScene> export_scene(const Package& package, const Options& options);
 
 } // namespace standin::billboards

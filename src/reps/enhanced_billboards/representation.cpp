@@ -130,7 +130,8 @@ Representation registration()
             .write = write,
             .read = read,
             .make_renderer = make_renderer,
-            .summarise = summarise};
+            .summarise = summarise,
+            .export_scene = export_scene};
 }
 
 } // namespace standin::billboards

@@ -117,7 +117,9 @@ Representation registration()
             .write = write,
             .read = read,
             .make_renderer = make_renderer,
-            .summarise = summarise};
+            .summarise = summarise,
+            .export_options = export_options(),
+            .export_scene = export_scene};
 }
 
 } // namespace standin::view_atlas

@@ -1,0 +1,99 @@
+// Export of enhanced billboards (docs/FORMAT.md, "Export: enhanced billboards"): each billboard's
+// box (Vichitvejpaisal 2005 §3.1: the front plane swept over its depth range) as a mesh whose UVs
+// project every corner onto the front plane, with its colour + coverage map as base colour and its
+// 16-bit normal + depth map referenced from the node's extras for a height-field shader; plus the
+// coarse hole-filling mesh (§3.4) as a vertex-coloured mesh. A plain viewer then shows each
+// billboard's image on its front face, alpha-masked; a shader ray-marches the box with the maps.
+#include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/package_cast.h"
+
+#include <standin/export.h>
+
+#include <cstdio>
+
+namespace standin::billboards {
+
+namespace {
+
+nlohmann::json billboard_vec3(glm::vec3 v) { return {v.x, v.y, v.z}; }
+
+// The six faces of the box as quads of corner indices (bit 0: +u, bit 1: +v, bit 2: +depth).
+constexpr int k_box_faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
+
+ExportMesh billboard_box(const Billboard& b, const std::string& name)
+{
+    const float w = float(b.width) * b.texel_size, h = float(b.height) * b.texel_size, d = b.depth_range;
+    glm::vec3 corner[8];
+    for (int k = 0; k < 8; ++k)
+        corner[k] = b.origin + float(k & 1) * w * b.axis_u + float((k >> 1) & 1) * h * b.axis_v + float((k >> 2) & 1) * d * b.direction;
+    const glm::vec3 centre = b.origin + 0.5f * (w * b.axis_u + h * b.axis_v + d * b.direction);
+    ExportMesh mesh;
+    mesh.name = name;
+    for (const auto& face : k_box_faces) {
+        glm::vec3 p[4];
+        for (int k = 0; k < 4; ++k) p[k] = corner[face[k]];
+        glm::vec3 outward = 0.25f * (p[0] + p[1] + p[2] + p[3]) - centre;
+        glm::vec3 normal = glm::normalize(glm::cross(p[1] - p[0], p[2] - p[0]));
+        bool flip = glm::dot(normal, outward) < 0.0f;
+        if (flip) normal = -normal;
+        auto base = std::uint32_t(mesh.positions.size());
+        for (int k = 0; k < 4; ++k) {
+            mesh.positions.push_back(p[k]);
+            mesh.normals.push_back(normal);
+            mesh.uvs.push_back({float(face[k] & 1), float((face[k] >> 1) & 1)});
+        }
+        if (flip) mesh.indices.insert(mesh.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
+        else mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
+    }
+    mesh.alpha_mode = "MASK";
+    return mesh;
+}
+
+} // namespace
+
+Result<ExportScene> export_scene(const Package& base, const Options&)
+{
+    const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
+    ExportScene scene;
+    for (std::size_t k = 0; k < package.billboards.size(); ++k) {
+        const Billboard& b = package.billboards[k];
+        if (b.width <= 0 || b.height <= 0) continue;
+        std::string name = "billboard_" + std::to_string(k);
+        Result<ExportTexture> color = make_export_texture(name + "_color", b.color);
+        if (!color) return color.status();
+        Result<ExportTexture> normal_depth = make_export_texture(name + "_normal_depth", b.normal_depth);
+        if (!normal_depth) return normal_depth.status();
+        const int color_index = int(scene.textures.size());
+        scene.textures.push_back(std::move(*color));
+        scene.textures.push_back(std::move(*normal_depth));
+        ExportMesh box = billboard_box(b, name);
+        box.base_color_texture = color_index;
+        box.extras["standin"] = {{"role", "billboard"},
+                                 {"color_texture", color_index},
+                                 {"normal_depth_texture", color_index + 1},
+                                 {"origin", billboard_vec3(b.origin)},
+                                 {"axis_u", billboard_vec3(b.axis_u)},
+                                 {"axis_v", billboard_vec3(b.axis_v)},
+                                 {"direction", billboard_vec3(b.direction)},
+                                 {"texel_size", b.texel_size},
+                                 {"depth_range", b.depth_range},
+                                 {"width", b.width},
+                                 {"height", b.height}};
+        scene.meshes.push_back(std::move(box));
+    }
+    if (!package.coarse_mesh.indices.empty()) {
+        ExportMesh coarse = export_vertex_colored_mesh(package.coarse_mesh, "coarse_mesh");
+        coarse.extras["standin"] = {{"role", "coarse-mesh"}};
+        scene.meshes.push_back(std::move(coarse));
+    }
+    std::uint64_t texture_bytes = 0;
+    for (const ExportTexture& t : scene.textures) texture_bytes += export_texture_bytes(t);
+    char line[200];
+    std::snprintf(line, sizeof line, "%zu billboard boxes with colour + coverage (8-bit) and normal + depth (16-bit) maps%s: %.1f MiB of textures on the GPU",
+                  package.billboards.size(), package.coarse_mesh.indices.empty() ? "" : ", coarse mesh",
+                  double(texture_bytes) / (1 << 20));
+    scene.notes.push_back(line);
+    return scene;
+}
+
+} // namespace standin::billboards

@@ -1,0 +1,124 @@
+// Export of a view atlas (docs/FORMAT.md, "Export: view atlas"): the (hemi-)octahedral views as
+// the grid atlas today's impostor shaders read (reps/common/grid_atlas.h: Brucks's Impostor Baker
+// for Unreal, 2018; Amplify Impostors; Godot octahedral impostors), and a camera-facing quad node
+// carrying in its extras what such a shader needs. Steps: check that the package was baked on a
+// grid (icosahedral views have no grid layout), resample the stored crops into the atlas, build the
+// quad (textured, for a plain viewer, with the frame that looks along +Z), describe the frames.
+#include "reps/view_atlas/view_atlas.h"
+#include "reps/common/grid_atlas.h"
+#include "reps/common/package_cast.h"
+
+#include <standin/export.h>
+#include <standin/files.h>
+
+#include <cstdio>
+
+namespace standin::view_atlas {
+
+std::vector<OptionSpec> export_options()
+{
+    return {
+        integer_option("atlas-size", 2048, 16, 16384,
+                       "Side of the square grid atlas, texels (view-atlas: each frame gets atlas-size / frames)"),
+        integer_option("frames", 0, 0, 64,
+                       "Frames per side of the grid atlas; 0: as baked (a view atlas exports the grid it was baked "
+                       "with: bake with --layout octahedral --frames N)"),
+    };
+}
+
+Result<ExportScene> export_scene(const Package& base, const Options& options)
+{
+    const auto& package = reps::package_cast<ViewAtlasPackage>(base);
+    const BakeSettings& s = package.settings;
+    const std::string name = quoted(package.directory.empty() ? std::string("package") : package.directory);
+    if (s.layout != "octahedral" && s.layout != "hemi-octahedral")
+        return error(StatusCode::unsupported, name + ": a grid atlas needs a view atlas baked with --layout octahedral "
+                                                     "or hemi-octahedral (this one is " + s.layout + ")");
+    const int frames = options.integer("frames");
+    if (frames != 0 && frames != s.frames)
+        return error(StatusCode::invalid_argument, "--frames " + std::to_string(frames) + ": " + name + " was baked with " +
+                                                       std::to_string(s.frames) + " frames; re-bake with --frames " +
+                                                       std::to_string(frames) + " or leave --frames out");
+    const int size = options.integer("atlas-size");
+    if (size < s.frames)
+        return error(StatusCode::invalid_argument, "--atlas-size " + std::to_string(size) + ": smaller than the " +
+                                                       std::to_string(s.frames) + " frames per side");
+
+    reps::GridAtlasInput input;
+    input.views = &package.views;
+    input.color_pages = &package.color_pages;
+    input.normal_depth_pages = package.has_surface() ? &package.normal_depth_pages : nullptr;
+    input.resolution = s.resolution;
+    input.frames = s.frames;
+    Result<reps::GridAtlas> atlas = reps::make_grid_atlas(input, size);
+    if (!atlas) return atlas.status();
+
+    ExportScene scene;
+    Result<ExportTexture> color = make_export_texture("grid_color", atlas->color);
+    if (!color) return color.status();
+    scene.textures.push_back(std::move(*color));
+    int normal_depth_texture = -1;
+    if (!atlas->normal_depth.empty()) {
+        Result<ExportTexture> nd = make_export_texture("grid_normal_depth", atlas->normal_depth);
+        if (!nd) return nd.status();
+        scene.textures.push_back(std::move(*nd));
+        normal_depth_texture = 1;
+    }
+
+    // the quad through the centre facing +Z, showing the frame that looks along +Z (camera right +X,
+    // image down -Y there), so that a viewer without the impostor shader still shows the model
+    const float h = package.half_extent();
+    const glm::vec3 c = package.center;
+    int fi = 0, fj = 0;
+    reps::grid_frame(s.layout, s.frames, glm::vec3(0.0f, 0.0f, 1.0f), fi, fj);
+    const View& front = package.views[std::size_t(fj) * s.frames + fi];
+    ExportMesh quad;
+    quad.name = "impostor";
+    const glm::vec2 corner[4] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    for (const glm::vec2& k : corner) {
+        quad.positions.push_back(c + h * (k.x * front.axis_u - k.y * front.axis_v));
+        quad.normals.push_back(front.direction);
+        quad.uvs.push_back({(float(fi) + 0.5f * (k.x + 1.0f)) / float(s.frames), (float(fj) + 0.5f * (1.0f - k.y)) / float(s.frames)});
+    }
+    quad.indices = {0, 1, 2, 0, 2, 3};
+    quad.base_color_texture = 0;
+    quad.alpha_mode = "MASK";
+    quad.double_sided = true;
+    nlohmann::json axes = nlohmann::json::array();
+    for (const View& v : package.views)
+        axes.push_back({v.axis_u.x, v.axis_u.y, v.axis_u.z, v.axis_v.x, v.axis_v.y, v.axis_v.z, v.direction.x, v.direction.y, v.direction.z});
+    nlohmann::json block = {{"role", "grid-impostor"},
+                            {"layout", s.layout},
+                            {"frames", s.frames},
+                            {"atlas_size", size},
+                            {"color_texture", 0},
+                            {"color", s.maps == "lit" ? "lit" : "albedo"},
+                            {"center", {c.x, c.y, c.z}},
+                            {"radius", package.radius},
+                            {"half_extent", h},
+                            {"projection", s.projection},
+                            {"capture_resolution", s.resolution},
+                            {"frame_axes", axes}};
+    if (s.projection == "perspective") {
+        block["fov"] = s.fov;
+        block["capture_distance"] = package.capture_distance();
+    }
+    if (normal_depth_texture >= 0) {
+        block["normal_depth_texture"] = normal_depth_texture;
+        block["depth_near"] = package.radius;        // depth 0: this far in front of the centre
+        block["depth_scale"] = 2.0f * package.radius; // depth 1: depth_near - depth_scale
+    }
+    quad.extras["standin"] = block;
+    scene.meshes.push_back(std::move(quad));
+
+    std::uint64_t texture_bytes = 0;
+    for (const ExportTexture& t : scene.textures) texture_bytes += export_texture_bytes(t);
+    char line[240];
+    std::snprintf(line, sizeof line, "grid atlas %dx%d, %dx%d %s frames of %.1f texels, %s: %.1f MiB on the GPU (RGBA8 with mips)",
+                  size, size, s.frames, s.frames, s.layout.c_str(), double(size) / s.frames,
+                  normal_depth_texture >= 0 ? "colour+alpha and normal+depth" : "colour+alpha", double(texture_bytes) / (1 << 20));
+    scene.notes.push_back(line);
+    return scene;
+}
+
+} // namespace standin::view_atlas
