@@ -47,7 +47,7 @@ async function fetch_text(url) {
 const strip_version = (text) => text.replace(/^#version[^\n]*\n/, '');
 
 async function load_shaders() {
-    const names = ['mesh.vert', 'mesh.frag', 'grid_impostor.vert', 'grid_impostor.frag'];
+    const names = ['mesh.vert', 'mesh.frag', 'grid_impostor.vert', 'grid_impostor.frag', 'billboard.vert', 'billboard.frag'];
     const texts = await Promise.all(names.map((n) => fetch_text(new URL(`shaders/${n}`, import.meta.url))));
     return Object.fromEntries(names.map((n, i) => [n, strip_version(texts[i])]));
 }
@@ -142,22 +142,77 @@ function check_frame_axes(extras) {
     return worst;
 }
 
+// data textures as the shaders decode them: no sRGB decode by the sampler, no mips (level 0 is read)
+function as_codes(texture) {
+    texture.colorSpace = THREE.NoColorSpace;
+    texture.generateMipmaps = false;
+    texture.minFilter = THREE.LinearFilter;
+    texture.magFilter = THREE.LinearFilter;
+    texture.flipY = false;
+    texture.needsUpdate = true;
+    return texture;
+}
+
+// the camera and light in a mesh's object space, before each draw (uniforms eye_object,
+// forward_object, orthographic, clip_from_object, to_light_object)
+function track_camera(mesh, material) {
+    mesh.onBeforeRender = (renderer, scene, camera) => {
+        const u = material.uniforms;
+        const object_from_world = mesh.matrixWorld.clone().invert();
+        u.eye_object.value.setFromMatrixPosition(camera.matrixWorld).applyMatrix4(object_from_world);
+        u.forward_object.value.set(0, 0, -1).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
+        u.orthographic.value = camera.isOrthographicCamera ? 1 : 0;
+        u.clip_from_object.value.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse).multiply(mesh.matrixWorld);
+        u.to_light_object.value.copy(k_light_view).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
+        material.uniformsNeedUpdate = true;
+    };
+}
+
+const camera_uniforms = () => ({
+    eye_object: { value: new THREE.Vector3() },
+    forward_object: { value: new THREE.Vector3(0, 0, -1) },
+    orthographic: { value: 0 },
+    clip_from_object: { value: new THREE.Matrix4() },
+    to_light_object: { value: new THREE.Vector3(0, 0, 1) },
+    light_terms: { value: k_light_terms },
+});
+
+// a `billboard` node: its box drawn by billboard.{vert,frag} (the ray cast through its height field)
+async function billboard(node, extras, parser, shaders) {
+    const color = as_codes((await parser.getDependency('texture', extras.color_texture)).clone());
+    const normal_depth = as_codes((await parser.getDependency('texture', extras.normal_depth_texture)).clone());
+    const material = new THREE.RawShaderMaterial({
+        glslVersion: THREE.GLSL3,
+        vertexShader: shaders['billboard.vert'],
+        fragmentShader: shaders['billboard.frag'],
+        side: THREE.BackSide,
+        uniforms: {
+            color_map: { value: color },
+            normal_depth_map: { value: normal_depth },
+            origin: { value: new THREE.Vector3().fromArray(extras.origin) },
+            axis_u: { value: new THREE.Vector3().fromArray(extras.axis_u) },
+            axis_v: { value: new THREE.Vector3().fromArray(extras.axis_v) },
+            direction: { value: new THREE.Vector3().fromArray(extras.direction) },
+            texel_size: { value: extras.texel_size },
+            depth_range: { value: extras.depth_range },
+            size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
+            steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
+            ...camera_uniforms(),
+        },
+    });
+    const mesh = node.isMesh ? node : node.children.find((c) => c.isMesh);
+    if (!mesh) throw new Error('billboard node without a mesh');
+    mesh.material = material;
+    track_camera(mesh, material);
+}
+
 async function grid_impostor(node, extras, parser, shaders) {
     if (extras.projection && extras.projection !== 'ortho')
         throw new Error(`grid impostor: projection "${extras.projection}" is not supported (ortho only)`);
-    const color = await parser.getDependency('texture', extras.color_texture);
+    const color = (await parser.getDependency('texture', extras.color_texture)).clone();
     const has_nd = extras.normal_depth_texture !== undefined && extras.normal_depth_texture !== null;
-    const normal_depth = has_nd ? await parser.getDependency('texture', extras.normal_depth_texture) : null;
-    for (const t of [color, normal_depth]) {
-        if (!t) continue;
-        // codes, decoded by the shader: no sRGB decode by the sampler, no mips (level 0 is read)
-        t.colorSpace = THREE.NoColorSpace;
-        t.generateMipmaps = false;
-        t.minFilter = THREE.LinearFilter;
-        t.magFilter = THREE.LinearFilter;
-        t.flipY = false;
-        t.needsUpdate = true;
-    }
+    const normal_depth = has_nd ? (await parser.getDependency('texture', extras.normal_depth_texture)).clone() : null;
+    for (const t of [color, normal_depth]) if (t) as_codes(t);
     const material = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['grid_impostor.vert'],
@@ -175,29 +230,14 @@ async function grid_impostor(node, extras, parser, shaders) {
             half_extent: { value: extras.half_extent },
             depth_near: { value: extras.depth_near },
             depth_scale: { value: extras.depth_scale },
-            eye_object: { value: new THREE.Vector3() },
-            forward_object: { value: new THREE.Vector3(0, 0, -1) },
-            orthographic: { value: 0 },
-            clip_from_object: { value: new THREE.Matrix4() },
-            to_light_object: { value: new THREE.Vector3(0, 0, 1) },
-            light_terms: { value: k_light_terms },
+            ...camera_uniforms(),
             blend_frames: { value: number('blend', 3) === 1 ? 1 : 3 },
             steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
         },
     });
     const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
     mesh.frustumCulled = false; // the vertex stage places the quad
-    // the camera in the impostor's object space, every frame
-    mesh.onBeforeRender = (renderer, scene, camera) => {
-        const u = material.uniforms;
-        const object_from_world = mesh.matrixWorld.clone().invert();
-        u.eye_object.value.setFromMatrixPosition(camera.matrixWorld).applyMatrix4(object_from_world);
-        u.forward_object.value.set(0, 0, -1).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
-        u.orthographic.value = camera.isOrthographicCamera ? 1 : 0;
-        u.clip_from_object.value.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse).multiply(mesh.matrixWorld);
-        u.to_light_object.value.copy(k_light_view).transformDirection(camera.matrixWorld).transformDirection(object_from_world);
-        material.uniformsNeedUpdate = true;
-    };
+    track_camera(mesh, material);
     window.standin.info.frame_axes_error = check_frame_axes(extras);
     return mesh;
 }
@@ -207,6 +247,7 @@ async function load_standin(url, shaders) {
     const root = gltf.scene;
     let root_extras = null;
     const impostors = [];
+    const billboards = [];
     const roles = [];
     root.traverse((node) => {
         const extras = node.userData && node.userData.standin;
@@ -214,8 +255,11 @@ async function load_standin(url, shaders) {
         if (extras.representation) root_extras = extras;
         if (extras.role) roles.push(extras.role);
         if (extras.role === 'grid-impostor') impostors.push({ node, extras });
+        if (extras.role === 'billboard') billboards.push({ node, extras });
     });
     use_mesh_materials(root, shaders);
+    if (params.get('billboards') !== 'plain')
+        for (const { node, extras } of billboards) await billboard(node, extras, gltf.parser, shaders);
     for (const { node, extras } of impostors) {
         const mesh = await grid_impostor(node, extras, gltf.parser, shaders);
         node.parent.add(mesh);
