@@ -233,6 +233,8 @@ async function grid_impostor(node, extras, parser, shaders) {
             ...camera_uniforms(),
             blend_frames: { value: number('blend', 3) === 1 ? 1 : 3 },
             steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
+            vote_threshold: { value: Math.min(0.999, number('vote', 0.999)) },
+            depth_tolerance: { value: has_nd ? (extras.depth_scale * number('tolerance', 1.5)) / 255 : 0 },
         },
     });
     const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);

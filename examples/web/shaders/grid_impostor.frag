@@ -9,15 +9,16 @@
 //     direction from the centre towards the eye gives a position g on the frame grid (frame
 //     centres at integer g); `blend_frames` 3 takes the three frames of the grid triangle holding g
 //     with barycentric weights (the bakers' 3-frame blend), 1 the nearest frame alone;
-//  3. per frame, the ray is intersected with the frame's height field: the frame is an orthographic
-//     view along `direction` whose texels say "the surface lies at signed distance depth_near -
-//     d * depth_scale from the centre along direction, where alpha (coverage) >= 0.5". The walk
-//     takes `steps` points between the sphere's entry and exit, stops at the first covered texel
-//     whose surface is at or in front of the ray point (seen from the frame's camera), and refines
-//     between that point and the previous one by bisection;
-//  4. coverage = the summed weight of the frames that hit; below 0.5 the pixel is discarded (the
-//     alpha test); colour and normal are the weighted means over the frames that hit, the depth is
-//     the weighted mean hit distance, written as gl_FragDepth;
+//  3. each frame is an orthographic view along `direction` whose texels say "the surface lies at
+//     signed distance depth_near - d * depth_scale from the centre along direction, where alpha
+//     (coverage) >= 0.5": a point behind that surface (seen from the frame's camera) on a covered
+//     texel is held by the frame. Each frame's solid extends behind its surface to the sphere, so
+//     one frame alone widens thin parts seen obliquely; the point must be held by frames of summed
+//     weight >= vote_threshold (default all of them: the intersection of their solids, as
+//     space carving does). The walk takes `steps` points between the sphere's entry and exit,
+//     stops at the first held one and refines between it and the previous one by bisection; no
+//     held point: discard (the alpha test). The hit's depth is written as gl_FragDepth;
+//  4. colour and normal are the frames' texels at the hit, weighted by frame weight x coverage;
 //  5. shading is standin's (src/gpu/shaders/common/lighting.glsl): Lambert + ambient, two-sided, in
 //     linear light, from sRGB albedo to sRGB output; a `lit` atlas is shown as stored.
 // Departures from the standin renderer (src/reps/view_atlas): the exported grid has frames on a
@@ -33,7 +34,8 @@
 // Uniforms: the node's extras (frames, hemi = layout "hemi-octahedral", center, radius,
 // half_extent, depth_near, depth_scale), the camera in object space (eye_object, forward_object,
 // orthographic), clip_from_object (for the depth written), the light (to_light_object, unit;
-// light_terms = ambient, diffuse), and the walk's knobs (blend_frames 1 or 3, steps <= 256).
+// light_terms = ambient, diffuse), and the walk's knobs (blend_frames 1 or 3, steps <= 256,
+// vote_threshold, depth_tolerance: about 1.5 depth codes, depth_scale * 1.5 / 255 for 8-bit maps).
 // Perspective captures (extras projection "perspective") are not handled: the export's default is
 // ortho.
 precision highp float;
@@ -58,6 +60,8 @@ uniform vec3 to_light_object;
 uniform vec2 light_terms;
 uniform int blend_frames;
 uniform int steps;
+uniform float vote_threshold;  // weight of the frames that must hold a point: 1 = all (default), 0.5 = a majority
+uniform float depth_tolerance; // object units a point may lie in front of a frame's surface and still be held (quantisation)
 
 in vec3 v_position_object;
 out vec4 out_color;
@@ -99,76 +103,45 @@ void frame_axes(ivec2 frame, out vec3 direction, out vec3 axis_u, out vec3 axis_
     axis_v = cross(axis_u, direction);
 }
 
-struct FrameHit {
-    bool hit;
-    float t;
-    vec4 color;
-    vec3 normal;
+struct Frame {
+    ivec2 cell;
+    vec3 direction, axis_u, axis_v;
+    float weight;
 };
 
 // the atlas coordinates of frame point st (in [0, 1]^2), kept half a texel inside the frame
-vec2 atlas_uv(ivec2 frame, vec2 st)
+vec2 atlas_uv(ivec2 cell, vec2 st)
 {
     float texels = float(textureSize(color_atlas, 0).x) / float(frames);
     st = clamp(st, 0.5 / texels, 1.0 - 0.5 / texels);
-    return (vec2(frame) + st) / float(frames);
+    return (vec2(cell) + st) / float(frames);
 }
 
-// covered and in front of the ray point: the frame's height field holds the point
-bool inside(ivec2 frame, vec3 p, vec3 direction, vec3 axis_u, vec3 axis_v)
+vec2 frame_st(Frame f, vec3 p)
 {
     vec3 q = p - center;
-    vec2 st = vec2(dot(q, axis_u), dot(q, axis_v)) / half_extent * 0.5 + 0.5;
-    if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return false;
-    vec2 uv = atlas_uv(frame, st);
-    if (textureLod(color_atlas, uv, 0.0).a < 0.5) return false;
-    if (has_normal_depth == 0) return true; // colour only: the frame's plane is the surface
-    float d = textureLod(normal_depth_atlas, uv, 0.0).a;
-    return dot(q, direction) <= depth_near - d * depth_scale;
+    return vec2(dot(q, f.axis_u), dot(q, f.axis_v)) / half_extent * 0.5 + 0.5;
 }
 
-FrameHit walk(ivec2 frame, vec3 origin, vec3 ray, float t0, float t1)
+// covered and behind the frame's surface (seen from its camera): the frame's height field holds p.
+// Without depth the frame's plane through the centre is the surface.
+bool inside(Frame f, vec3 p)
 {
-    FrameHit result;
-    result.hit = false;
-    vec3 direction, axis_u, axis_v;
-    frame_axes(frame, direction, axis_u, axis_v);
-    if (has_normal_depth == 0) {
-        // no depth: the frame's plane through the centre
-        float denom = dot(ray, direction);
-        if (abs(denom) < 1e-6) return result;
-        float t = dot(center - origin, direction) / denom;
-        if (!inside(frame, origin + ray * t, direction, axis_u, axis_v)) return result;
-        t0 = t;
-        t1 = t;
-    } else {
-        float dt = (t1 - t0) / float(steps);
-        float previous = t0;
-        bool found = false;
-        for (int i = 0; i < 256; ++i) {
-            if (i >= steps) break;
-            float t = t0 + (float(i) + 0.5) * dt;
-            if (inside(frame, origin + ray * t, direction, axis_u, axis_v)) {
-                t1 = t;
-                t0 = previous;
-                found = true;
-                break;
-            }
-            previous = t;
-        }
-        if (!found) return result;
-        for (int i = 0; i < 6; ++i) {
-            float t = 0.5 * (t0 + t1);
-            if (inside(frame, origin + ray * t, direction, axis_u, axis_v)) t1 = t; else t0 = t;
-        }
-    }
-    vec3 q = origin + ray * t1 - center;
-    vec2 uv = atlas_uv(frame, vec2(dot(q, axis_u), dot(q, axis_v)) / half_extent * 0.5 + 0.5);
-    result.hit = true;
-    result.t = t1;
-    result.color = textureLod(color_atlas, uv, 0.0);
-    result.normal = has_normal_depth == 1 ? textureLod(normal_depth_atlas, uv, 0.0).rgb * 2.0 - 1.0 : -ray;
-    return result;
+    vec2 st = frame_st(f, p);
+    if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return false;
+    vec2 uv = atlas_uv(f.cell, st);
+    if (textureLod(color_atlas, uv, 0.0).a < 0.5) return false;
+    float surface = has_normal_depth == 1 ? depth_near - textureLod(normal_depth_atlas, uv, 0.0).a * depth_scale : 0.0;
+    return dot(p - center, f.direction) <= surface + depth_tolerance;
+}
+
+// the weight of the frames that hold p
+float vote(Frame f[3], vec3 p)
+{
+    float held = 0.0;
+    for (int k = 0; k < 3; ++k)
+        if (f[k].weight > 0.0 && inside(f[k], p)) held += f[k].weight;
+    return held;
 }
 
 vec3 srgb_to_linear(vec3 c)
@@ -217,25 +190,52 @@ void main()
         }
     }
 
-    // 3. 4. each frame's height field, blended
-    float coverage = 0.0, t = 0.0;
+    Frame f[3];
+    for (int k = 0; k < 3; ++k) {
+        f[k].cell = clamp(cells[k], ivec2(0), ivec2(frames - 1));
+        frame_axes(f[k].cell, f[k].direction, f[k].axis_u, f[k].axis_v);
+        f[k].weight = weights[k];
+    }
+
+    // 3. the first point along the ray that the frames' height fields hold by vote (each frame's
+    // solid extends behind its surface: one frame alone would widen thin parts seen obliquely)
+    float dt = (t1 - t0) / float(steps);
+    float t_out = t0, t_in = t1;
+    bool found = false;
+    for (int i = 0; i < 256; ++i) {
+        if (i >= steps) break;
+        float t = t0 + (float(i) + 0.5) * dt;
+        if (vote(f, origin + ray * t) >= vote_threshold) {
+            t_in = t;
+            found = true;
+            break;
+        }
+        t_out = t;
+    }
+    if (!found) discard;
+    for (int i = 0; i < 6; ++i) {
+        float t = 0.5 * (t_out + t_in);
+        if (vote(f, origin + ray * t) >= vote_threshold) t_in = t; else t_out = t;
+    }
+    vec3 hit = origin + ray * t_in;
+    vec4 clip = clip_from_object * vec4(hit, 1.0);
+    gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+
+    // 4. colour and normal: the frames' texels at the hit, by weight over the covered ones
     vec4 color = vec4(0.0);
     vec3 normal = vec3(0.0);
+    float coverage = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (weights[k] <= 0.0) continue;
-        ivec2 frame = clamp(cells[k], ivec2(0), ivec2(frames - 1));
-        FrameHit hit = walk(frame, origin, ray, t0, t1);
-        if (!hit.hit) continue;
-        coverage += weights[k];
-        t += weights[k] * hit.t;
-        color += weights[k] * hit.color;
-        normal += weights[k] * hit.normal;
+        if (f[k].weight <= 0.0) continue;
+        vec2 uv = atlas_uv(f[k].cell, frame_st(f[k], hit));
+        vec4 c = textureLod(color_atlas, uv, 0.0);
+        float w = f[k].weight * c.a;
+        color += w * c;
+        if (has_normal_depth == 1) normal += w * (textureLod(normal_depth_atlas, uv, 0.0).rgb * 2.0 - 1.0);
+        coverage += w;
     }
-    if (coverage < 0.5) discard;
-    t /= coverage;
-    color /= coverage;
-    vec4 clip = clip_from_object * vec4(origin + ray * t, 1.0);
-    gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+    color /= max(coverage, 1e-6);
+    if (has_normal_depth == 0) normal = -ray;
 
     // 5. standin's shading
     if (lit_color == 1) {
