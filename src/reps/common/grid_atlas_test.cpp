@@ -46,7 +46,9 @@ TEST(GridAtlas, EncodeInvertsDecodeOverTheWholeSquare)
             for (const std::string layout : {"octahedral", "hemi-octahedral"}) {
                 glm::vec3 d = grid_decode(layout, ex, ey);
                 EXPECT_NEAR(glm::length(d), 1.0f, 1e-5f);
-                if (layout == "hemi-octahedral") EXPECT_GE(d.y, -1e-6f);
+                if (layout == "hemi-octahedral") {
+                    EXPECT_GE(d.y, -1e-6f);
+                }
                 glm::vec3 again;
                 float rx = 0.0f, ry = 0.0f;
                 grid_encode(layout, d, rx, ry);
