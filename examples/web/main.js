@@ -1,7 +1,8 @@
 // standin web viewer: a stand-in exported by `standin export` (a .glb) next to the original model,
 // orbited by one camera. WebGL2 through three.js; the grid-atlas impostor is drawn by
 // shaders/grid_impostor.{vert,frag}, the reference GLSL for that format (docs/FORMAT.md, "Export"),
-// plain meshes by shaders/mesh.{vert,frag}, both with standin's lighting.
+// billboards by shaders/billboard.{vert,frag}, plain meshes by shaders/mesh.{vert,frag}, all with
+// standin's lighting.
 //
 // URL parameters (all optional; a test drives the viewer through them, README.md):
 //   model=URL      the original model: .glb/.gltf, .ply or .obj
@@ -12,6 +13,9 @@
 //                  distance 1 = radius / sin(fov / 2), +Y up; defaults 0, 0, 1, 40, as `standin render`
 //   size=WxH       the drawing size in pixels (default: the window)
 //   blend=1|3      impostor frames blended (default 3); steps=N ray-march steps (default 96)
+//   vote=W, tolerance=CODES   impostor: frame weight that must hold a point (default all), depth slack
+//   wall=TEXELS    billboards: a larger depth jump between two samples is a wall, not a crossing (4)
+//   billboards=plain          billboard boxes as textured meshes instead of the ray cast
 //   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
 //   spin=DEG       degrees of azimuth per second while not still (default 10)
 import * as THREE from 'three';
@@ -197,6 +201,9 @@ async function billboard(node, extras, parser, shaders) {
             depth_range: { value: extras.depth_range },
             size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
             steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
+            // a surface at 60 degrees to the front plane changes depth by 1.7 texels a texel: walls
+            // are the jumps of more than 4 texels' worth between two samples
+            wall_depth: { value: (number('wall', 4) * extras.texel_size) / extras.depth_range },
             ...camera_uniforms(),
         },
     });

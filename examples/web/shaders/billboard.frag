@@ -12,7 +12,8 @@
 //  2. `steps` samples along it; a sample is on a covered texel (colour alpha >= 0.5) with signed
 //     height f = z - d (d: the depth code in the normal + depth map's alpha). The ray hits where f
 //     changes sign between two successive covered samples (the surface as a sheet, seen from the
-//     front or the back), refined by bisection;
+//     front or the back) whose depths d differ by no more than the ray's z moved or wall_depth
+//     (else the sign change is the wall at a depth edge between two surfaces), refined by bisection;
 //  3. the hit's depth is written (gl_FragDepth), so boxes and the coarse mesh resolve by the depth
 //     test; no hit: discard;
 //  4. shading is standin's: Lambert + ambient, two-sided, linear light, sRGB in and out.
@@ -44,6 +45,7 @@ uniform mat4 clip_from_object;
 uniform vec3 to_light_object;
 uniform vec2 light_terms;
 uniform int steps;
+uniform float wall_depth; // depth (in units of depth_range) two neighbouring samples of one surface may differ by
 
 in vec3 v_position_object;
 out vec4 out_color;
@@ -100,7 +102,11 @@ void main()
         float t = t0 + float(i) * dt;
         bool covered;
         float f = height(b0 + db * t, covered);
-        if (covered && previous_covered && (f >= 0.0) != (previous_f >= 0.0)) {
+        // a crossing between texels of one surface, not the wall between two surfaces at a depth edge
+        // (the sheet's depth jumps there by more than the ray moved and more than wall_texels allow)
+        float jump = abs((f - previous_f) - (b0.z + db.z * t - (b0.z + db.z * previous_t)));
+        bool same_surface = jump <= max(2.0 * abs(db.z) * dt, wall_depth);
+        if (covered && previous_covered && same_surface && (f >= 0.0) != (previous_f >= 0.0)) {
             ta_hit = previous_t;
             tb_hit = t;
             found = true;
