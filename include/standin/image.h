@@ -35,6 +35,8 @@ struct ImageRGBA16 {
 // PNG writers are deterministic (fixed zlib level, no timestamps) and atomic.
 Status write_png(const ImageRGBA8& image, const std::string& path);
 Status write_png(const ImageRGBA16& image, const std::string& path);
+// The bytes write_png would write (for models that embed their textures, write_gltf).
+Result<std::string> encode_png_bytes(const ImageRGBA8& image);
 // Readers: regular files only; the decoded size is checked against the memory budget (limits.h)
 // before decoding. Any colour type is converted to RGBA.
 Result<ImageRGBA8> read_png_rgba8(const std::string& path);
