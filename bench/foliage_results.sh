@@ -15,7 +15,7 @@ standin="$build/standin"
 cd "$out"
 log() { echo "[$(date +%T)] $*" >&2; }
 
-[ -f tree.gltf ] || "$standin" generate tree -t 6000 --seed 1 -o tree.gltf
+[ -f tree.gltf ] || "$standin" generate tree -t 4000 --seed 1 -o tree.gltf
 reps="enhanced-billboards view-atlas microfacets displaced-mesh"
 for tag in after before; do
   bin=$standin
@@ -24,7 +24,7 @@ for tag in after before; do
     [ -f tree_${r}_$tag.foliage.json ] && continue # a rerun into the same folder resumes
     log "bake $r ($tag)"
     /usr/bin/time -f "%e s %M KiB" -o tree_${r}_$tag.bake.txt "$bin" bake tree.gltf -r $r -o tree_${r}_$tag.standin -q
-    "$standin" eval tree.gltf tree_${r}_$tag.standin --protocol thesis --frames 0 --json tree_${r}_$tag.thesis.json > /dev/null
+    [ $tag = after ] && "$standin" eval tree.gltf tree_${r}_$tag.standin --protocol thesis --frames 0 --json tree_${r}_$tag.thesis.json > /dev/null
     "$standin" eval tree.gltf tree_${r}_$tag.standin --protocol foliage --frames 0 --json tree_${r}_$tag.foliage.json > /dev/null
   done
 done
@@ -38,11 +38,13 @@ for r in sys.argv[1:]:
         f = f"tree_{r}_{tag}.foliage.json"
         if not os.path.exists(f): continue
         views = json.load(open(f))["views"]
-        thesis = json.load(open(f"tree_{r}_{tag}.thesis.json"))["views"]
+        t = f"tree_{r}_{tag}.thesis.json"
+        thesis = json.load(open(t))["views"] if os.path.exists(t) else None
         def mean(vs, key): return sum(v[key] for v in vs) / len(vs)
         by = {}
         for v in views: by.setdefault(v["distance"], []).append(v)
         cov = lambda d: sum(v["standin_pixels"] for v in by[d]) / sum(v["truth_pixels"] for v in by[d])
-        print(f"| {r} | {tag} | {mean(thesis,'iou'):.3f} | {mean(thesis,'luv_mean'):.2f} | {mean(by[1.0],'iou'):.3f} | "
+        th = f"{mean(thesis,'iou'):.3f} | {mean(thesis,'luv_mean'):.2f}" if thesis else "- | -"
+        print(f"| {r} | {tag} | {th} | {mean(by[1.0],'iou'):.3f} | "
               f"{mean(by[1.0],'luv_mean'):.2f} | {cov(4.0):.3f} | {cov(8.0):.3f} |")
 PY
