@@ -1,5 +1,5 @@
-// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball) up to
-// millions of faces.
+// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball, tree) up to
+// millions of faces; PLY, or glTF (what the tree's textured, alpha-masked leaves need).
 #include "commands.h"
 #include "common.h"
 
@@ -24,7 +24,8 @@ static int run_generate(const GenerateArgs& args)
 {
     static const std::map<std::string, GeneratedShape> shapes = {
         {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere},
-        {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball}};
+        {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball},
+        {"tree", GeneratedShape::tree}};
     GenerateOptions options;
     options.shape = shapes.at(args.shape);
     options.target_triangles = args.triangles;
@@ -33,9 +34,14 @@ static int run_generate(const GenerateArgs& args)
     options.seed = args.seed;
     Result<Mesh> mesh = generate_mesh(options);
     if (!mesh) return fail(mesh.status());
-    if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".ply")
-        return fail(args.output + ": generate writes PLY, name the output *.ply");
-    Status written = write_ply(*mesh, args.output);
+    auto ends_with = [&](const std::string& tail) {
+        return args.output.size() > tail.size() && args.output.compare(args.output.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    bool gltf = ends_with(".gltf");
+    if (!gltf && !ends_with(".ply")) return fail(args.output + ": generate writes PLY or glTF, name the output *.ply or *.gltf");
+    if (!gltf && !mesh->textures.empty())
+        return fail(args.output + ": PLY keeps no textures (the " + args.shape + "'s leaves are a texture), name the output *.gltf");
+    Status written = gltf ? write_gltf(*mesh, args.output) : write_ply(*mesh, args.output);
     if (!written) return fail(written);
     std::fprintf(stderr, "standin: wrote %s (%zu triangles, %zu vertices)\n", args.output.c_str(),
                  mesh->triangle_count(), mesh->vertex_count());
@@ -49,15 +55,15 @@ CommandRun add_generate_command(CLI::App& root)
         "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a sphere with a noisy radius, a shrub "
                     "(branches and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
                     "benchmarks up to millions of faces)");
-    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball")
-        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball"}))
+    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | tree")
+        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "tree"}))
         ->required();
-    command->add_option("-o,--output", args->output, "Output file (.ply)")->required();
+    command->add_option("-o,--output", args->output, "Output file (.ply, or .gltf: the textures embedded)")->required();
     command->add_option("-t,--triangles", args->triangles, "Approximate triangle count")->capture_default_str();
     command->add_option("--radius", args->radius, "Radius")->capture_default_str();
     command->add_option("--noise", args->noise, "noisy-sphere: displacement amplitude relative to the radius")
         ->capture_default_str();
-    command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball: random seed")->capture_default_str();
+    command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball, tree: random seed")->capture_default_str();
     return [args] { return run_generate(*args); };
 }
 

@@ -27,11 +27,37 @@ struct Texture {
 // base_color in), so the albedo of a point is the interpolated Mesh::colors, times the material's
 // texture at the interpolated UV when it has one. base_color is kept for reference and export; do
 // not multiply it in again. Products are taken on the stored (sRGB-encoded) values.
+// How a material's alpha (the albedo's w: vertex colour alpha x material opacity x texture alpha)
+// shows (glTF 2.0 alphaMode; issue #14). opaque ignores alpha; mask keeps a point where alpha >=
+// alpha_cutoff and cuts it out elsewhere (leaf cards); blend is drawn as mask at cutoff 0.5, with
+// an import warning (docs/ARCHITECTURE.md "Alpha"): every stand-in keeps binary coverage, so an
+// alpha-tested truth is the one they can be measured against.
+enum class AlphaMode : std::uint8_t { opaque, mask, blend };
+
 struct Material {
     std::string name;
     glm::vec4 base_color{0.8f, 0.8f, 0.8f, 1.0f}; // sRGB-encoded; already folded into Mesh::colors
     int base_color_texture = -1;                   // index into Mesh::textures, -1 for none
+    // Alpha (issue #14). A separate opacity map (OBJ map_d) is merged into the base-colour
+    // texture's alpha at import, so one texture lookup gives colour and coverage.
+    AlphaMode alpha_mode = AlphaMode::opaque;
+    float alpha_cutoff = 0.5f; // mask only: alpha below it is cut out
+    // Whether back faces show. True unless the file says otherwise (glTF doubleSided: false):
+    // formats without the notion keep what standin always drew, both sides.
+    bool double_sided = true;
 };
+
+// The alpha below which a point of `material` is cut out: 0 (nothing cut) for opaque, the cutoff
+// for mask, 0.5 for blend (drawn as mask). Every consumer (truth renderer, bakers) uses this one rule.
+inline float alpha_test_cutoff(const Material& material)
+{
+    switch (material.alpha_mode) {
+    case AlphaMode::opaque: return 0.0f;
+    case AlphaMode::mask: return material.alpha_cutoff;
+    case AlphaMode::blend: return 0.5f;
+    }
+    return 0.0f;
+}
 
 struct Bounds {
     glm::vec3 min{0.0f}, max{0.0f};
@@ -73,6 +99,11 @@ struct Mesh {
     // the interpolated Mesh::colors (which include the material colour), times the texture at the
     // interpolated UV when the triangle's material has one.
     glm::vec4 albedo_at(std::size_t triangle, float b1, float b2) const;
+    // Whether the point survives its material's alpha test (always for opaque materials): what
+    // bakers that sample the surface themselves use, so cut-out texels are holes, not cards.
+    bool covered_at(std::size_t triangle, float b1, float b2) const;
+    // Whether any material cuts anything out (mask or blend) or hides back faces.
+    bool has_alpha_test() const;
 };
 
 // What import found worth telling the user. Nothing in here is fatal.
@@ -134,7 +165,11 @@ Status write_ply(const Mesh& mesh, const std::string& path);
 // sphere of `radius`, their own colours (`color` unused).
 // invalid_argument for target_triangles outside [8, 50'000'000], non-finite or non-positive sizes,
 // minor_radius >= radius (torus) or noise_amplitude outside [0, 1) (noisy_sphere).
-enum class GeneratedShape { sphere, torus, noisy_sphere, shrub, fur_ball };
+// tree (issue #14): a trunk and branches (tubes, a bark material) carrying leaf cards (quads with
+// UVs) of one alpha-masked, double-sided material whose texture is made procedurally (an RGBA
+// leaf shape: alpha 0 outside it, veins in the colour); a glTF-shaped model for the alpha tests
+// and the demo, written by `standin generate tree -o tree.gltf`.
+enum class GeneratedShape { sphere, torus, noisy_sphere, shrub, fur_ball, tree };
 struct GenerateOptions {
     GeneratedShape shape = GeneratedShape::sphere;
     std::size_t target_triangles = 20000; // the result has about this many
@@ -145,5 +180,12 @@ struct GenerateOptions {
     glm::vec4 color{0.8f, 0.8f, 0.8f, 1.0f};
 };
 Result<Mesh> generate_mesh(const GenerateOptions& options);
+
+// Writes a glTF 2.0 model (`path` *.gltf, with the buffer and every texture embedded as data URIs)
+// with positions, normals, UVs, and per material its base colour, texture, alphaMode, alphaCutoff
+// and doubleSided; one primitive per material. Vertex colours are not written: every vertex of a
+// material must carry that material's base colour (what generate_mesh's tree holds), else
+// invalid_argument. Deterministic bytes; atomic.
+Status write_gltf(const Mesh& mesh, const std::string& path);
 
 } // namespace standin

@@ -74,18 +74,18 @@ Status check_size(int width, int height, const std::string& path)
 
 } // namespace
 
+Result<std::string> encode_png_bytes(const ImageRGBA8& image)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, "PNG"));
+    return encode_png(image.width, image.height, 8, image.pixels.data());
+}
+
 Status write_png(const ImageRGBA8& image, const std::string& path)
 {
     STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, path));
     Result<std::string> bytes = encode_png(image.width, image.height, 8, image.pixels.data());
     if (!bytes) return error(bytes.status().code(), path + ": " + bytes.status().message());
     return write_file_atomic(path, *bytes);
-}
-
-Result<std::string> encode_png_bytes(const ImageRGBA8& image)
-{
-    STANDIN_RETURN_IF_ERROR(check_size(image.width, image.height, "PNG"));
-    return encode_png(image.width, image.height, 8, image.pixels.data());
 }
 
 Result<std::string> encode_png_bytes(const ImageRGBA16& image)

@@ -101,6 +101,18 @@ glm::vec4 Mesh::albedo_at(std::size_t triangle, float b1, float b2) const
     return color;
 }
 
+bool Mesh::covered_at(std::size_t triangle, float b1, float b2) const
+{
+    float cutoff = alpha_test_cutoff(materials[face_materials[triangle]]);
+    return cutoff <= 0.0f || albedo_at(triangle, b1, b2).w >= cutoff;
+}
+
+bool Mesh::has_alpha_test() const
+{
+    return std::any_of(materials.begin(), materials.end(),
+                       [](const Material& m) { return alpha_test_cutoff(m) > 0.0f || !m.double_sided; });
+}
+
 std::vector<glm::vec4> vertex_albedo(const Mesh& mesh)
 {
     std::vector<glm::vec4> albedo = mesh.colors;
@@ -190,6 +202,8 @@ static Status check_materials(const Mesh& mesh, const std::string& what)
         if (t < -1 || t >= int(mesh.textures.size()))
             return invalid(what, field + ".base_color_texture = " + std::to_string(t) + " is out of range");
         if (t >= 0 && mesh.uvs.empty()) return invalid(what, field + " has a texture but the mesh has no uvs");
+        if (!std::isfinite(material.alpha_cutoff) || material.alpha_cutoff < 0.0f || material.alpha_cutoff > 1.0f)
+            return invalid(what, field + ".alpha_cutoff = " + std::to_string(material.alpha_cutoff) + " is outside [0, 1]");
     }
     for (std::size_t t = 0; t < mesh.textures.size(); ++t) {
         const Texture& texture = mesh.textures[t];

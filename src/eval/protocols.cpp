@@ -20,7 +20,7 @@ std::vector<glm::vec2> fourteen_directions()
     return directions;
 }
 
-std::vector<std::string> protocol_names() { return {"quick", "thesis", "saraiva"}; }
+std::vector<std::string> protocol_names() { return {"quick", "thesis", "saraiva", "foliage"}; }
 
 static EvalView make_view(glm::vec2 direction, float distance_rel, float fov, int width, int height)
 {
@@ -54,6 +54,13 @@ Result<Protocol> make_protocol(const std::string& name)
             for (int n = -1; n <= 6; ++n)
                 for (glm::vec2 d : fourteen_directions())
                     protocol.views.push_back(make_view(d, std::ldexp(1.0f, n), fov, 512, 512));
+    } else if (name == "foliage") {
+        // issue #14: alpha-masked leaves must neither vanish nor fatten in the distance, so the
+        // thesis' directions and first size are repeated at distances 4 and 8, where a leaf card
+        // spans a few pixels and coverage (standin_pixels / truth_pixels) tells the two apart
+        protocol.description = "alpha-masked foliage (issue #14): 14 directions at distances 1, 4 and 8, fov 40, 800x600";
+        for (float distance : {1.0f, 4.0f, 8.0f})
+            for (glm::vec2 d : fourteen_directions()) protocol.views.push_back(make_view(d, distance, 40.0f, 800, 600));
     } else {
         std::string known;
         for (const std::string& p : protocol_names()) known += (known.empty() ? "" : ", ") + p;

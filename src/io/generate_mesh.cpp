@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -359,6 +360,105 @@ static void make_shrub(Mesh& mesh, const GenerateOptions& options)
     fit_into_sphere(mesh, options.radius);
 }
 
+// The tree's leaf texture: a spray of three pointed leaves fanning out from the bottom centre of a
+// square, with darker mid-ribs; alpha 255 inside a leaf, 0 outside (binary, so the cut-out does not
+// depend on the cutoff between 0 and 1). Row 0 at v = 0 (Texture), the spray's stem at v = 0.
+static Texture make_leaf_texture()
+{
+    constexpr int k_size = 128;
+    Texture texture;
+    texture.name = "leaf";
+    texture.width = texture.height = k_size;
+    texture.rgba.assign(std::size_t(k_size) * k_size * 4, 0);
+    const float angles[3] = {-0.55f, 0.0f, 0.55f}, lengths[3] = {0.78f, 0.95f, 0.78f};
+    const glm::vec3 greens[3] = {{0.20f, 0.47f, 0.12f}, {0.27f, 0.56f, 0.15f}, {0.22f, 0.50f, 0.10f}};
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            glm::vec2 p((float(x) + 0.5f) / k_size - 0.5f, (float(y) + 0.5f) / k_size - 0.02f);
+            for (int l = 0; l < 3; ++l) {
+                // the leaf's own frame: t along its rib from the stem (0) to the tip (1), s across
+                glm::vec2 along(std::sin(angles[l]), std::cos(angles[l])), across(along.y, -along.x);
+                float t = glm::dot(p, along) / lengths[l], s = glm::dot(p, across) / lengths[l];
+                if (t <= 0.04f || t >= 1.0f) continue;
+                float half_width = 0.2f * std::pow(std::sin(std::numbers::pi_v<float> * std::pow(t, 0.8f)), 0.9f);
+                if (std::abs(s) >= half_width) continue;
+                float rib = std::abs(s) < 0.012f ? 0.7f : 1.0f;
+                glm::vec3 c = greens[l] * rib * (0.85f + 0.3f * std::abs(s) / 0.2f);
+                std::uint8_t* texel = &texture.rgba[(std::size_t(y) * k_size + std::size_t(x)) * 4];
+                for (int k = 0; k < 3; ++k) texel[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+                texel[3] = 255;
+                break;
+            }
+        }
+    // the cut-out's colour bleeds one texel outwards, so bilinear lookups at the cut-out's edge do
+    // not darken towards the (black) outside
+    std::vector<std::uint8_t> grown = texture.rgba;
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            std::uint8_t* texel = &grown[(std::size_t(y) * k_size + std::size_t(x)) * 4];
+            if (texel[3] != 0) continue;
+            for (int d = 0; d < 4; ++d) {
+                int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
+                if (nx < 0 || ny < 0 || nx >= k_size || ny >= k_size) continue;
+                const std::uint8_t* n = &texture.rgba[(std::size_t(ny) * k_size + std::size_t(nx)) * 4];
+                if (n[3] == 0) continue;
+                std::copy(n, n + 3, texel);
+                break;
+            }
+        }
+    texture.rgba = std::move(grown);
+    return texture;
+}
+
+// A tree of leaf cards: a trunk and branches (grow_branch's tubes, bark), then square cards carrying
+// the leaf texture around the twigs, stem end at the twig, turned every way. Material 0 is the bark
+// (opaque), material 1 the leaves (mask at 0.5, double-sided, white: the colour is the texture's).
+static void make_tree(Mesh& mesh, const GenerateOptions& options)
+{
+    RandomStream random{options.seed};
+    const std::size_t target = options.target_triangles;
+    const int max_depth = target >= 6000 ? 4 : (target >= 1200 ? 3 : (target >= 200 ? 2 : 1));
+    std::vector<Twig> twigs;
+    grow_branch(mesh, random, twigs, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, 0.07f, 0, max_depth);
+    const std::size_t bark_vertices = mesh.positions.size(), bark_triangles = mesh.indices.size() / 3;
+    std::size_t cards = std::max<std::size_t>(1, (target > bark_triangles ? target - bark_triangles : 2) / 2);
+    const float card_size = 0.36f * std::pow(0.72f, float(max_depth - 2)) * std::max(0.6f, std::sqrt(600.0f / float(cards)));
+    const glm::vec4 white(1.0f);
+    for (std::size_t k = 0; k < cards; ++k) {
+        const Twig& twig = twigs[k % twigs.size()];
+        glm::vec3 base = glm::mix(twig.base, twig.tip, random.range(0.3f, 1.0f)) + random.direction() * random.range(0.0f, 0.05f);
+        glm::vec3 along = glm::normalize(twig.tip - twig.base);
+        glm::vec3 up = glm::normalize(0.5f * along + random.direction() + glm::vec3(0.0f, 0.3f, 0.0f));
+        glm::vec3 across = perpendicular_to(up);
+        float roll = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
+        across = std::cos(roll) * across + std::sin(roll) * glm::cross(up, across);
+        glm::vec3 normal = glm::cross(across, up);
+        float size = card_size * random.range(0.8f, 1.2f);
+        auto first = std::uint32_t(mesh.positions.size());
+        const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (const glm::vec2& c : corners) {
+            add_vertex(mesh, base + size * ((c.x - 0.5f) * across + c.y * up), normal, white);
+            mesh.uvs.push_back(c);
+        }
+        mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+    }
+    mesh.uvs.insert(mesh.uvs.begin(), bark_vertices, glm::vec2(0.0f));
+    fit_into_sphere(mesh, options.radius);
+    mesh.textures.push_back(make_leaf_texture());
+    Material bark, leaves;
+    bark.name = "bark";
+    bark.base_color = glm::vec4(0.36f, 0.25f, 0.15f, 1.0f);
+    leaves.name = "leaves";
+    leaves.base_color = white;
+    leaves.base_color_texture = 0;
+    leaves.alpha_mode = AlphaMode::mask;
+    leaves.alpha_cutoff = 0.5f;
+    leaves.double_sided = true;
+    mesh.materials = {bark, leaves};
+    mesh.face_materials.assign(mesh.triangle_count(), 1u);
+    std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
+}
+
 static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
 {
     RandomStream random{options.seed};
@@ -409,6 +509,7 @@ Result<Mesh> generate_mesh(const GenerateOptions& options)
     case GeneratedShape::noisy_sphere: make_noisy_sphere(mesh, options); break;
     case GeneratedShape::shrub: make_shrub(mesh, options); break;
     case GeneratedShape::fur_ball: make_fur_ball(mesh, options); break;
+    case GeneratedShape::tree: make_tree(mesh, options); return mesh; // its own materials
     }
     // one material whose colour is folded into every vertex colour (see Material in mesh.h)
     Material material;

@@ -15,6 +15,7 @@
 #include <standin/mesh.h>
 
 #include <assimp/DefaultIOSystem.h>
+#include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -537,6 +538,8 @@ private:
     bool has_usable_normals(const aiMesh& source) const;
     MaterialUse use_material(const aiMesh& source);
     int use_texture(const aiMaterial& material, unsigned* uv_channel);
+    int use_opacity_texture(const aiMaterial& material, int base_texture);
+    void convert_alpha(const aiMaterial& material, const aiMesh& source, MaterialUse& use, Material& converted);
     void remove_unused_vertices();
     Status check_extent() const;
 
@@ -619,10 +622,84 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
     converted.name = material.GetName().C_Str();
     converted.base_color = use.factor;
     converted.base_color_texture = use.texture;
+    convert_alpha(material, source, use, converted);
     mesh_.materials.push_back(converted);
     if (texture >= 0 && !textured)
         report_.warnings.push_back(path_ + ": mesh '" + source.mName.C_Str() + "' has a texture but no UVs; using the material colour");
     return use;
+}
+
+// Alpha (issue #14). glTF says how alpha shows (alphaMode, alphaCutoff) and whether back faces
+// show (doubleSided, through AI_MATKEY_TWOSIDED); other formats only carry an opacity (OBJ d, a
+// uniform transparency: blend) or an opacity map (OBJ map_d: leaf cut-outs, mask at 0.5). The
+// opacity map is merged into the base-colour texture's alpha (a new texture), so everything after
+// import finds colour and coverage in one lookup.
+void SceneConverter::convert_alpha(const aiMaterial& material, const aiMesh& source, MaterialUse& use, Material& converted)
+{
+    aiString mode;
+    bool gltf = material.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS;
+    if (gltf) {
+        std::string name = mode.C_Str();
+        converted.alpha_mode = name == "MASK" ? AlphaMode::mask : name == "BLEND" ? AlphaMode::blend : AlphaMode::opaque;
+        float cutoff = 0.5f;
+        if (material.Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff) == AI_SUCCESS && std::isfinite(cutoff))
+            converted.alpha_cutoff = std::clamp(cutoff, 0.0f, 1.0f);
+    } else {
+        float opacity = 1.0f;
+        if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 1.0f) converted.alpha_mode = AlphaMode::blend;
+        if (material.GetTextureCount(aiTextureType_OPACITY) > 0) {
+            int merged = use_opacity_texture(material, use.texture);
+            if (merged >= 0 && source.HasTextureCoords(use.uv_channel)) {
+                use.texture = converted.base_color_texture = merged;
+                converted.alpha_mode = AlphaMode::mask;
+            }
+        }
+    }
+    int two_sided = 1;
+    if (material.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) converted.double_sided = two_sided != 0;
+    if (converted.alpha_mode == AlphaMode::blend)
+        report_.warnings.push_back(path_ + ": material '" + converted.name +
+                                   "' blends (alpha); drawn alpha-tested at 0.5, as every stand-in keeps binary coverage");
+}
+
+// The base-colour texture (white where there is none) with the opacity map's alpha, or its red
+// channel when the map is grey (map_d is a scalar map; PNGs of it are often grey without alpha).
+int SceneConverter::use_opacity_texture(const aiMaterial& material, int base_texture)
+{
+    aiString reference;
+    if (material.GetTexture(aiTextureType_OPACITY, 0, &reference) != AI_SUCCESS) return -1;
+    std::string key = std::string("\x01opacity:") + std::to_string(base_texture) + ":" + reference.C_Str();
+    auto [it, inserted] = textures_.try_emplace(key, -1);
+    if (!inserted) return it->second;
+    Result<Texture> opacity = load_texture(scene_, reference.C_Str(), model_directory_);
+    if (!opacity) {
+        report_.warnings.push_back(path_ + ": " + opacity.status().message() + "; the material is opaque");
+        return -1;
+    }
+    Texture merged;
+    if (base_texture >= 0) {
+        merged = mesh_.textures[std::size_t(base_texture)];
+    } else {
+        merged.width = opacity->width;
+        merged.height = opacity->height;
+        merged.rgba.assign(std::size_t(merged.width) * std::size_t(merged.height) * 4, 255);
+    }
+    merged.name += std::string(merged.name.empty() ? "" : "+") + reference.C_Str();
+    std::size_t pixels = std::size_t(opacity->width) * std::size_t(opacity->height);
+    bool has_alpha = false;
+    for (std::size_t i = 0; i < pixels && !has_alpha; ++i) has_alpha = opacity->rgba[4 * i + 3] != 255;
+    for (int y = 0; y < merged.height; ++y)
+        for (int x = 0; x < merged.width; ++x) {
+            // nearest texel of the opacity map at this texel's centre (the two may differ in size)
+            int ox = std::min(opacity->width - 1, int((double(x) + 0.5) * opacity->width / merged.width));
+            int oy = std::min(opacity->height - 1, int((double(y) + 0.5) * opacity->height / merged.height));
+            const std::uint8_t* o = &opacity->rgba[(std::size_t(oy) * std::size_t(opacity->width) + std::size_t(ox)) * 4];
+            std::uint8_t& a = merged.rgba[(std::size_t(y) * std::size_t(merged.width) + std::size_t(x)) * 4 + 3];
+            a = std::uint8_t((int(a) * int(has_alpha ? o[3] : o[0]) + 127) / 255);
+        }
+    it->second = int(mesh_.textures.size());
+    mesh_.textures.push_back(std::move(merged));
+    return it->second;
 }
 
 bool SceneConverter::has_usable_normals(const aiMesh& source) const

@@ -1,7 +1,14 @@
 // The ground-truth renderer: the original mesh, drawn per pixel with the shared lighting include.
 // Steps: sort triangles by material so each material is one instanced draw; upload positions,
 // normals, colours and UVs; per frame bind the frame block and draw each material range with its
-// texture (or none).
+// texture (or none), its alpha test and its face culling.
+// Alpha (issue #14): mask (and blend, drawn as mask) materials discard fragments whose alpha is
+// under the cutoff. The test reads the texture's full-resolution level at the fragment's UV (a
+// point sample of the cut-out), whatever mip level the colour comes from: averaged alpha in the
+// coarse mips of a cut-out is no coverage (a disc's mip 1 x 1 holds pi/4 everywhere, which passes
+// 0.5: distant leaves would fatten into cards), while a point sample per pixel covers each pixel
+// with the probability of its area being covered, so distant foliage keeps its area on average.
+// Single-sided materials (glTF doubleSided false) cull back faces; the rest draw both sides.
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "gpu/mesh_buffers.h"
@@ -23,6 +30,8 @@ namespace {
 struct MaterialRange {
     std::uint32_t first_index = 0, index_count = 0;
     int texture = -1;            // index into MeshRenderer::textures_
+    float alpha_cutoff = 0.0f;   // alpha_test_cutoff(material): 0 tests nothing
+    bool double_sided = true;
 };
 
 class MeshRenderer final : public Renderer {
@@ -37,6 +46,7 @@ private:
     std::vector<MaterialRange> ranges_;
     gpu::FrameResources frame_;
     GLint has_texture_location_ = -1;
+    GLint alpha_cutoff_location_ = -1;
 };
 
 // Indices reordered so that each material's triangles are contiguous (stable: original order kept
@@ -57,6 +67,8 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
             range.first_index = std::uint32_t(indices.size());
             const Material& m = mesh.materials[material];
             range.texture = mesh.has_texture_coordinates() ? m.base_color_texture : -1;
+            range.alpha_cutoff = alpha_test_cutoff(m);
+            range.double_sided = m.double_sided;
             ranges.push_back(range);
         }
         for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[3 * t + k]);
@@ -88,6 +100,7 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
     if (!program) return program.status();
     renderer->program_ = std::move(*program);
     renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
+    renderer->alpha_cutoff_location_ = renderer->program_.uniform("alpha_cutoff");
 
     std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
     renderer->buffers_ = gpu::MeshBuffers::upload(mesh, indices);
@@ -106,6 +119,14 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
     for (const MaterialRange& range : ranges_) {
         bool textured = range.texture >= 0 && range.texture < int(textures_.size());
         glUniform1i(has_texture_location_, textured ? 1 : 0);
+        glUniform1f(alpha_cutoff_location_, range.alpha_cutoff);
+        if (range.double_sided) {
+            glDisable(GL_CULL_FACE);
+        } else {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(GL_CCW);
+        }
         if (textured) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
         glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(std::uintptr_t(range.first_index) * sizeof(std::uint32_t)),
@@ -113,6 +134,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
         stats.draw_calls += 1;
         stats.primitives += std::uint64_t(range.index_count / 3) * frame_.instance_count();
     }
+    glDisable(GL_CULL_FACE);
     glBindVertexArray(0);
     return stats;
 }

@@ -11,6 +11,9 @@ layout(binding = BINDING_FIRST_RENDERER_TEXTURE) uniform sampler2D albedo_textur
 // Albedo = vertex colour (material colour folded in at import) x texture where the material has
 // one: the same rule as Mesh::albedo_at, which bakers sample per texel.
 uniform int has_texture;
+// Alpha test (issue #14): fragments whose alpha is under this are cut out; 0 for opaque materials.
+// The alpha is read from the texture's level 0 (mesh_renderer.cpp says why).
+uniform float alpha_cutoff;
 
 layout(location = 0) out vec4 out_color;
 
@@ -18,6 +21,10 @@ void main()
 {
     vec4 albedo = v_color;
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
+    if (alpha_cutoff > 0.0) {
+        float alpha = v_color.a * (has_texture != 0 ? textureLod(albedo_texture, v_uv, 0.0).a : 1.0);
+        if (alpha < alpha_cutoff) discard;
+    }
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
     out_color = vec4(shade_at(albedo.rgb, v_normal_world, to_eye, v_position_world), 1.0);

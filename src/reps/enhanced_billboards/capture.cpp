@@ -30,6 +30,10 @@
 // - seams: a one-texel rim of the front-most surface around the captured texels is written and
 //   marked covered, where its depth continues that of the captured neighbour, so that billboards
 //   meeting at a seam overlap by a texel instead of leaving a crack.
+// - alpha (issue #14): a face of a mask or blend material exists only at the texel centres that
+//   pass its alpha test (Mesh::covered_at): cut-out texels are neither put in the item buffer nor
+//   tested, so leaf cards become their leaves (holes where the texture is cut) and do not hide what
+//   their holes show. A sub-texel face's centroid splat is not tested (it stands for a texel).
 #include "reps/enhanced_billboards/capture.h"
 
 #include <tbb/parallel_for.h>
@@ -276,7 +280,11 @@ void fill_items(const Mesh& mesh, const Sets& sets, Grid& grid)
         auto put = [&](int i, int j, float depth) {
             atomic_min(grid.items[std::size_t(j) * grid.width + i], (std::uint64_t(grid.key_depth(depth)) << 32) | f);
         };
-        int covered = rasterize(c, [&](int i, int j, const float* wt) { put(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]); });
+        const bool alpha_tested = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
+        int covered = rasterize(c, [&](int i, int j, const float* wt) {
+            if (alpha_tested && !mesh.covered_at(f, wt[1], wt[2])) return;
+            put(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]);
+        });
         if (covered == 0) {
             int i, j;
             float depth;
@@ -322,7 +330,11 @@ std::vector<Visibility> test_visibility(const Mesh& mesh, const Sets& sets, cons
             if (grid.depth_of_key(key) < depth - tolerance) vis.add_occluder(winner);
             return winner;
         };
-        int covered = rasterize(c, [&](int i, int j, const float* wt) { test(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]); });
+        const bool alpha_tested = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
+        int covered = rasterize(c, [&](int i, int j, const float* wt) {
+            if (alpha_tested && !mesh.covered_at(f, wt[1], wt[2])) return;
+            test(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]);
+        });
         if (covered == 0) {
             int i, j;
             float depth;

@@ -6,7 +6,8 @@
 //  2. albedo: the ground-truth renderer under a light that is pure ambient (1, no diffuse), so the
 //     shaded colour is the albedo, coverage from alpha;
 //  3. normals: the same renderer drawing a copy of the mesh whose vertex colours are its normals
-//     encoded n * 0.5 + 0.5 (interpolated as the renderer interpolates normals), textures dropped;
+//     encoded n * 0.5 + 0.5 (interpolated as the renderer interpolates normals), textures kept for
+//     their alpha only (RGB white), so alpha-tested cut-outs are cut out of the normals too;
 //  4. range: the depth buffer of the geometry mesh (the colour mesh unless a degraded one is given),
 //     turned into heights along the direction.
 #include "reps/microfacets/capture.h"
@@ -27,10 +28,21 @@ Mesh normals_as_colors(const Mesh& mesh)
     copy.positions = mesh.positions;
     copy.normals = mesh.normals;
     copy.indices = mesh.indices;
-    copy.face_materials.assign(mesh.triangle_count(), 0u);
-    copy.materials.resize(1);
     copy.colors.reserve(mesh.normals.size());
-    for (const glm::vec3& n : mesh.normals) copy.colors.push_back(glm::vec4(glm::normalize(n) * 0.5f + 0.5f, 1.0f));
+    for (std::size_t v = 0; v < mesh.normals.size(); ++v)
+        copy.colors.push_back(glm::vec4(glm::normalize(mesh.normals[v]) * 0.5f + 0.5f, mesh.colors[v].w));
+    if (!mesh.has_alpha_test()) {
+        copy.face_materials.assign(mesh.triangle_count(), 0u);
+        copy.materials.resize(1);
+        return copy;
+    }
+    // alpha-tested materials (issue #14): the same materials and UVs, textures whitened
+    copy.face_materials = mesh.face_materials;
+    copy.materials = mesh.materials;
+    copy.uvs = mesh.uvs;
+    copy.textures = mesh.textures;
+    for (Texture& texture : copy.textures)
+        for (std::size_t i = 0; i < texture.rgba.size(); i += 4) texture.rgba[i] = texture.rgba[i + 1] = texture.rgba[i + 2] = 255;
     return copy;
 }
 

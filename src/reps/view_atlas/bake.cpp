@@ -26,7 +26,9 @@ namespace standin::view_atlas {
 
 namespace {
 
-// The surface normals of the mesh, world space, as the capture's second image.
+// The surface normals of the mesh, world space, as the capture's second image. Alpha-tested
+// materials (issue #14) are drawn with the ground truth's alpha test (the same cutoff, level 0 of
+// the texture), so the normals behind a leaf's cut-out are those of what the colour shows there.
 class NormalRenderer final : public Renderer {
 public:
     static Result<std::unique_ptr<NormalRenderer>> create(const Mesh& mesh)
@@ -36,7 +38,36 @@ public:
             gpu::Program::create({"reference/shaders/mesh.vert", "reps/view_atlas/shaders/capture_normal.frag"});
         if (!program) return program.status();
         r->program_ = std::move(*program);
-        r->mesh_ = gpu::MeshBuffers::upload(mesh);
+        r->has_texture_location_ = r->program_.uniform("has_texture");
+        r->alpha_cutoff_location_ = r->program_.uniform("alpha_cutoff");
+        // one range per material, triangles in their original order within it
+        std::vector<std::uint32_t> indices;
+        indices.reserve(mesh.indices.size());
+        for (std::uint32_t m = 0; m < mesh.materials.size(); ++m) {
+            Range range;
+            range.first = std::uint32_t(indices.size());
+            for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+                if (mesh.face_materials[t] == m) indices.insert(indices.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
+            range.count = std::uint32_t(indices.size()) - range.first;
+            const Material& material = mesh.materials[m];
+            range.cutoff = alpha_test_cutoff(material);
+            range.double_sided = material.double_sided;
+            if (range.cutoff > 0.0f && material.base_color_texture >= 0 && mesh.has_texture_coordinates()) {
+                const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
+                range.texture = int(r->textures_.size());
+                gpu::Texture handle = gpu::make_texture_2d(GL_RGBA8, texture.width, texture.height, 1);
+                glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+                glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                                    texture.rgba.data());
+                glTextureParameteri(handle.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+                glTextureParameteri(handle.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+                glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+                glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+                r->textures_.push_back(std::move(handle));
+            }
+            if (range.count > 0) r->ranges_.push_back(range);
+        }
+        r->mesh_ = gpu::MeshBuffers::upload(mesh, indices);
         return r;
     }
     DrawStats draw(const DrawParams& params) override
@@ -45,16 +76,41 @@ public:
         program_.use();
         mesh_.bind();
         glEnable(GL_DEPTH_TEST);
+        DrawStats stats;
+        for (const Range& range : ranges_) {
+            glUniform1i(has_texture_location_, range.texture >= 0 ? 1 : 0);
+            glUniform1f(alpha_cutoff_location_, range.cutoff);
+            if (range.texture >= 0) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
+            if (range.double_sided) {
+                glDisable(GL_CULL_FACE);
+            } else {
+                glEnable(GL_CULL_FACE);
+                glCullFace(GL_BACK);
+                glFrontFace(GL_CCW);
+            }
+            glDrawElements(GL_TRIANGLES, GLsizei(range.count), GL_UNSIGNED_INT,
+                           reinterpret_cast<const void*>(std::uintptr_t(range.first) * sizeof(std::uint32_t)));
+            stats.draw_calls += 1;
+            stats.primitives += range.count / 3;
+        }
         glDisable(GL_CULL_FACE);
-        glDrawElements(GL_TRIANGLES, mesh_.index_count(), GL_UNSIGNED_INT, nullptr);
         glBindVertexArray(0);
-        return {1, std::uint64_t(mesh_.index_count() / 3)};
+        return stats;
     }
 
 private:
+    struct Range {
+        std::uint32_t first = 0, count = 0;
+        int texture = -1; // into textures_: only alpha-tested materials need theirs
+        float cutoff = 0.0f;
+        bool double_sided = true;
+    };
     gpu::Program program_;
     gpu::MeshBuffers mesh_;
+    std::vector<gpu::Texture> textures_;
+    std::vector<Range> ranges_;
     gpu::FrameResources frame_;
+    GLint has_texture_location_ = -1, alpha_cutoff_location_ = -1;
 };
 
 // The capture camera of a direction: the protocols' orbit camera at distance 1 (so that the view's

