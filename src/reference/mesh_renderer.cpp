@@ -1,7 +1,7 @@
 // The ground-truth renderer: the original mesh, drawn per pixel with the shared lighting include.
 // Steps: sort triangles by material so each material is one instanced draw; upload positions,
 // normals, colours and UVs; per frame bind the frame block and draw each material range with its
-// texture (or none).
+// texture (or none) and its PBR factors and maps (issue #14).
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "gpu/mesh_buffers.h"
@@ -23,6 +23,10 @@ namespace {
 struct MaterialRange {
     std::uint32_t first_index = 0, index_count = 0;
     int texture = -1;            // index into MeshRenderer::textures_
+    // the material's PBR inputs (mesh.frag); maps are MeshRenderer::textures_ indices, -1 for none
+    glm::vec4 pbr_factors{0.0f, 1.0f, 1.0f, 1.0f}; // metallic, roughness, occlusion strength, normal scale
+    glm::vec3 emissive{0.0f};
+    int maps[4] = {-1, -1, -1, -1};                 // metallic-roughness, occlusion, emissive, normal
 };
 
 class MeshRenderer final : public Renderer {
@@ -31,13 +35,25 @@ public:
     DrawStats draw(const DrawParams& params) override;
 
 private:
+    void bind_pbr(const MaterialRange& range);
+
     gpu::Program program_;
     gpu::MeshBuffers buffers_;
     std::vector<gpu::Texture> textures_;
     std::vector<MaterialRange> ranges_;
     gpu::FrameResources frame_;
     GLint has_texture_location_ = -1;
+    GLint pbr_factors_location_ = -1, emissive_factor_location_ = -1, pbr_maps_location_ = -1;
 };
+
+void set_pbr(const Mesh& mesh, const Material& m, MaterialRange& range)
+{
+    range.pbr_factors = {m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
+    range.emissive = m.emissive;
+    if (!mesh.has_texture_coordinates()) return;
+    const int maps[4] = {m.metallic_roughness_texture, m.occlusion_texture, m.emissive_texture, m.normal_texture};
+    std::copy(maps, maps + 4, range.maps);
+}
 
 // Indices reordered so that each material's triangles are contiguous (stable: original order kept
 // within a material, so the result does not depend on anything but the mesh).
@@ -57,6 +73,7 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
             range.first_index = std::uint32_t(indices.size());
             const Material& m = mesh.materials[material];
             range.texture = mesh.has_texture_coordinates() ? m.base_color_texture : -1;
+            set_pbr(mesh, m, range);
             ranges.push_back(range);
         }
         for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[3 * t + k]);
@@ -88,11 +105,27 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
     if (!program) return program.status();
     renderer->program_ = std::move(*program);
     renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
+    renderer->pbr_factors_location_ = renderer->program_.uniform("pbr_factors");
+    renderer->emissive_factor_location_ = renderer->program_.uniform("emissive_factor");
+    renderer->pbr_maps_location_ = renderer->program_.uniform("pbr_maps");
 
     std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
     renderer->buffers_ = gpu::MeshBuffers::upload(mesh, indices);
     for (const Texture& texture : mesh.textures) renderer->textures_.push_back(upload_texture(texture));
     return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+void MeshRenderer::bind_pbr(const MaterialRange& range)
+{
+    glUniform4fv(pbr_factors_location_, 1, &range.pbr_factors.x);
+    glUniform3fv(emissive_factor_location_, 1, &range.emissive.x);
+    GLint has[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+        if (range.maps[k] < 0 || range.maps[k] >= int(textures_.size())) continue;
+        has[k] = 1;
+        glBindTextureUnit(GLuint(BINDING_FIRST_RENDERER_TEXTURE + 1 + k), textures_[std::size_t(range.maps[k])].get());
+    }
+    glUniform4iv(pbr_maps_location_, 1, has);
 }
 
 DrawStats MeshRenderer::draw(const DrawParams& params)
@@ -107,6 +140,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
         bool textured = range.texture >= 0 && range.texture < int(textures_.size());
         glUniform1i(has_texture_location_, textured ? 1 : 0);
         if (textured) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
+        bind_pbr(range);
         glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(std::uintptr_t(range.first_index) * sizeof(std::uint32_t)),
                                 GLsizei(frame_.instance_count()));
