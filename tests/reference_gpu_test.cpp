@@ -92,6 +92,7 @@ TEST(ReferenceRenderer, LambertIntensityAtSphereCentre)
         light.direction_to_light_world = to_light;
         light.ambient = 0.15f;
         light.diffuse = 0.85f;
+        light.shading = ShadingModel::lambert_blinn_phong; // the GGX model: pbr_gpu_test.cpp
         auto image = render_offscreen(**renderer, camera, light, size, size);
         ASSERT_TRUE(image.is_ok());
         // The centre pixel sees the point of the sphere whose normal is +Z.

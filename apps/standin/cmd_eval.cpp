@@ -29,6 +29,7 @@ struct EvalArgs {
     std::size_t samples = 100000;
     DeclaredOptions options;
     ShadowArgs shadows;
+    std::string shading = "ggx";
 };
 
 // A stand-in to evaluate: a package's renderer, or a mesh's (then also its surface).
@@ -74,6 +75,7 @@ static std::string command_line(const EvalArgs& args)
     // every option that changes a figure, so the JSON says how to reproduce it
     line += args.options.command_line();
     if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
+    if (args.shading != "ggx") line += " --shading " + args.shading;
     line += " --frames " + std::to_string(args.frames);
     if (!args.json.empty()) line += " --json " + args.json;
     if (!args.report.empty()) line += " --report " + args.report;
@@ -143,6 +145,7 @@ static int run_eval(EvalArgs& args)
     options.timed_frames = args.frames;
     options.shadows = args.shadows.enabled;
     options.shadow_resolution = args.shadows.resolution;
+    options.shading = args.shading == "lambert" ? ShadingModel::lambert_blinn_phong : ShadingModel::ggx;
     Result<EvalResult> result =
         evaluate(**truth, *subject->renderer, mesh->bounding_sphere(), *protocol, options, stderr_progress(), sink);
     if (!result) return fail(result.status());
@@ -158,6 +161,7 @@ static int run_eval(EvalArgs& args)
                                {"package", args.standin},
                                {"representation", subject->representation},
                                {"shadows", args.shadows.enabled},
+                               {"shading", args.shading},
                                {"command", command_line(args)}};
     nlohmann::json json = eval_to_json(*result, identity);
     if (!args.json.empty())
@@ -196,6 +200,11 @@ CommandRun add_eval_command(CLI::App& root)
     command->add_option("--samples", args->samples, "Mesh stand-ins: surface samples for the distance")
         ->capture_default_str();
     add_shadow_options(*command, args->shadows);
+    command->add_option("--shading", args->shading,
+                        "Shading model of truth and stand-in: ggx (glTF metallic-roughness, the default) or lambert "
+                        "(Lambert + ambient, standin's model before issue #14)")
+        ->check(CLI::IsMember({"ggx", "lambert"}))
+        ->capture_default_str();
     args->options.add_to(*command, OptionKind::render);
     return [args] { return run_eval(*args); };
 }

@@ -39,14 +39,27 @@ Camera orbit_camera(const BoundingSphere& sphere, const OrbitView& view, float a
 Camera look_at_camera(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fov_y_degrees, float aspect,
                       float near_plane, float far_plane);
 
-// One directional light; shading is Lambert diffuse plus ambient with optional Blinn-Phong
-// specular, computed by the shared include src/gpu/shaders/common/lighting.glsl.
+// How surfaces reflect light (src/gpu/shaders/common/lighting.glsl). ggx: glTF 2.0's metallic-
+// roughness BRDF (GGX distribution, height-correlated Smith visibility, Schlick Fresnel, Lambert
+// diffuse) under the directional light plus a uniform white environment of radiance `ambient`.
+// lambert_blinn_phong: standin's model before issue #14 (Lambert + ambient + optional Blinn-Phong
+// with `specular` and `shininess`); it ignores metallic, roughness, occlusion and emission, and under
+// a pure ambient light (ambient 1, diffuse 0) returns the albedo, which bakers capture with it.
+// capture_orm and capture_emission are bakers' capture modes: renderers write the surface's
+// occlusion, roughness, metallic (linear, in r, g, b) or its emission (sRGB-encoded, clamped to 1)
+// instead of a colour; renderers of stand-ins without PBR maps write the defaults (1, 1, 0; black).
+enum class ShadingModel { ggx, lambert_blinn_phong, capture_orm, capture_emission };
+
+// One directional light; shading is computed by the shared include
+// src/gpu/shaders/common/lighting.glsl. `diffuse` scales the light so that a white Lambert surface
+// facing it reflects `diffuse` (its irradiance is pi x diffuse).
 struct Light {
     glm::vec3 direction_to_light_world{0.0f, 0.0f, 1.0f}; // unit
     float ambient = 0.2f;
     float diffuse = 0.8f;
     float specular = 0.0f;
     float shininess = 32.0f;
+    ShadingModel shading = ShadingModel::ggx;
 };
 
 // The default light of standin's protocols: from above-left of the camera, so that both the front

@@ -140,6 +140,9 @@ struct EvalOptions {
     // map, from the same light, fitted to the model's bounding sphere. Timed frames leave them out.
     bool shadows = false;
     int shadow_resolution = 2048;
+    // The shading model of truth and stand-in alike (issue #14): lambert_blinn_phong reproduces
+    // figures measured before the GGX model became the default.
+    ShadingModel shading = ShadingModel::ggx;
 };
 
 struct ViewResult {

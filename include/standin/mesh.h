@@ -45,6 +45,36 @@ struct Material {
     // Whether back faces show. True unless the file says otherwise (glTF doubleSided: false):
     // formats without the notion keep what standin always drew, both sides.
     bool double_sided = true;
+
+    // glTF 2.0 metallic-roughness (issue #14), shaded by the GGX/Smith + Lambert model of
+    // src/gpu/shaders/common/lighting.glsl. The defaults, a fully rough dielectric without emission,
+    // are what formats without PBR materials get: the closest GGX comes to standin's old Lambert look.
+    float metallic = 0.0f;            // [0,1]
+    float roughness = 1.0f;           // perceptual roughness in [0,1] (GGX alpha = roughness^2)
+    glm::vec3 emissive{0.0f};         // linear RGB, emissive factor x strength (may exceed 1)
+    float occlusion_strength = 1.0f;  // [0,1]: how much of the occlusion map applies
+    float normal_scale = 1.0f;        // scales the normal map's tangent-space x and y
+    // Mesh::textures indices, -1 for none; all read at Mesh::uvs (the same UV set as base colour)
+    int metallic_roughness_texture = -1; // linear: G roughness, B metallic (multiply the factors)
+    int occlusion_texture = -1;          // linear: R occlusion
+    int emissive_texture = -1;           // sRGB-encoded: multiplies emissive
+    int normal_texture = -1;             // tangent-space normal map (glTF: +y up in UV space, v down)
+
+    // Whether anything here differs from the defaults (what a stand-in must bake to relight it).
+    bool has_pbr() const
+    {
+        return metallic != 0.0f || roughness != 1.0f || emissive != glm::vec3(0.0f) || metallic_roughness_texture >= 0 ||
+               occlusion_texture >= 0 || emissive_texture >= 0 || normal_texture >= 0;
+    }
+};
+
+// The PBR inputs of a surface point besides albedo (Mesh::pbr_at): what stand-ins bake as their
+// ORM (occlusion, roughness, metallic) and emission maps.
+struct PbrSample {
+    float occlusion = 1.0f;   // 1 = unoccluded
+    float roughness = 1.0f;   // perceptual
+    float metallic = 0.0f;
+    glm::vec3 emissive{0.0f}; // linear RGB
 };
 
 // The alpha below which a point of `material` is cut out: 0 (nothing cut) for opaque, the cutoff
@@ -104,6 +134,15 @@ struct Mesh {
     bool covered_at(std::size_t triangle, float b1, float b2) const;
     // Whether any material cuts anything out (mask or blend) or hides back faces.
     bool has_alpha_test() const;
+    // Occlusion, roughness, metallic and emission at a point of a triangle: the material's factors
+    // times its maps at the interpolated UV (occlusion: 1 + strength x (map - 1), as glTF has it).
+    PbrSample pbr_at(std::size_t triangle, float b1, float b2) const;
+    // The shading normal at a point of a triangle: the interpolated vertex normal, bent by the
+    // material's normal map in the triangle's tangent frame (from its UVs) when it has one. Unit.
+    glm::vec3 shading_normal_at(std::size_t triangle, float b1, float b2) const;
+    // Whether any material has PBR inputs beyond the defaults (Material::has_pbr): the bakers store
+    // ORM and emission maps only then, so packages of other models are unchanged.
+    bool has_pbr_materials() const;
 };
 
 // What import found worth telling the user. Nothing in here is fatal.

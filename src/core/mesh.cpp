@@ -113,6 +113,71 @@ bool Mesh::has_alpha_test() const
                        [](const Material& m) { return alpha_test_cutoff(m) > 0.0f || !m.double_sided; });
 }
 
+PbrSample Mesh::pbr_at(std::size_t triangle, float b1, float b2) const
+{
+    assert(triangle < triangle_count());
+    const Material& material = materials[face_materials[triangle]];
+    PbrSample sample;
+    sample.roughness = material.roughness;
+    sample.metallic = material.metallic;
+    sample.emissive = material.emissive;
+    if (!has_texture_coordinates()) return sample;
+    std::uint32_t i0 = indices[triangle * 3 + 0], i1 = indices[triangle * 3 + 1], i2 = indices[triangle * 3 + 2];
+    glm::vec2 uv = (1.0f - b1 - b2) * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
+    auto map = [&](int texture) { return textures[std::size_t(texture)].sample(uv); };
+    if (material.metallic_roughness_texture >= 0) {
+        glm::vec4 mr = map(material.metallic_roughness_texture);
+        sample.roughness *= mr.y;
+        sample.metallic *= mr.z;
+    }
+    if (material.occlusion_texture >= 0)
+        sample.occlusion = 1.0f + material.occlusion_strength * (map(material.occlusion_texture).x - 1.0f);
+    if (material.emissive_texture >= 0) {
+        // the texture holds sRGB-encoded values; the factor is linear
+        glm::vec3 c = glm::vec3(map(material.emissive_texture));
+        glm::vec3 linear = glm::mix(c / 12.92f, glm::pow((c + 0.055f) / 1.055f, glm::vec3(2.4f)),
+                                    glm::vec3(glm::greaterThan(c, glm::vec3(0.04045f))));
+        sample.emissive *= linear;
+    }
+    return sample;
+}
+
+glm::vec3 Mesh::shading_normal_at(std::size_t triangle, float b1, float b2) const
+{
+    assert(triangle < triangle_count());
+    std::uint32_t i0 = indices[triangle * 3 + 0], i1 = indices[triangle * 3 + 1], i2 = indices[triangle * 3 + 2];
+    float b0 = 1.0f - b1 - b2;
+    glm::vec3 n = b0 * normals[i0] + b1 * normals[i1] + b2 * normals[i2];
+    n = glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f);
+    const Material& material = materials[face_materials[triangle]];
+    if (material.normal_texture < 0 || !has_texture_coordinates()) return n;
+    // the triangle's tangent frame from its UV gradients (what a per-pixel cotangent frame gives the
+    // truth renderer; Schüler 2006), made orthogonal to the interpolated normal
+    glm::vec3 e1 = positions[i1] - positions[i0], e2 = positions[i2] - positions[i0];
+    glm::vec2 d1 = uvs[i1] - uvs[i0], d2 = uvs[i2] - uvs[i0];
+    float det = d1.x * d2.y - d2.x * d1.y;
+    if (std::abs(det) < 1e-20f) return n;
+    glm::vec3 t = (e1 * d2.y - e2 * d1.y) / det, b = (e2 * d1.x - e1 * d2.x) / det;
+    t -= n * glm::dot(n, t);
+    b -= n * glm::dot(n, b);
+    if (glm::dot(t, t) < 1e-30f || glm::dot(b, b) < 1e-30f) return n;
+    glm::vec2 uv = b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
+    glm::vec3 m = glm::vec3(textures[std::size_t(material.normal_texture)].sample(uv)) * 2.0f - 1.0f;
+    m.x *= material.normal_scale;
+    m.y *= material.normal_scale;
+    // a normal map's +y points up its image; Mesh::uvs have v growing up the image (row 0 at v = 0),
+    // so +y is along dP/dv
+    glm::vec3 bent = m.x * glm::normalize(t) + m.y * glm::normalize(b) + m.z * n;
+    return glm::dot(bent, bent) > 0.0f ? glm::normalize(bent) : n;
+}
+
+bool Mesh::has_pbr_materials() const
+{
+    for (const Material& material : materials)
+        if (material.has_pbr()) return true;
+    return false;
+}
+
 std::vector<glm::vec4> vertex_albedo(const Mesh& mesh)
 {
     std::vector<glm::vec4> albedo = mesh.colors;
@@ -204,6 +269,16 @@ static Status check_materials(const Mesh& mesh, const std::string& what)
         if (t >= 0 && mesh.uvs.empty()) return invalid(what, field + " has a texture but the mesh has no uvs");
         if (!std::isfinite(material.alpha_cutoff) || material.alpha_cutoff < 0.0f || material.alpha_cutoff > 1.0f)
             return invalid(what, field + ".alpha_cutoff = " + std::to_string(material.alpha_cutoff) + " is outside [0, 1]");
+        std::pair<const char*, int> maps[] = {{"metallic_roughness_texture", material.metallic_roughness_texture},
+                                              {"occlusion_texture", material.occlusion_texture},
+                                              {"emissive_texture", material.emissive_texture},
+                                              {"normal_texture", material.normal_texture}};
+        for (auto [name, index] : maps)
+            if (index < -1 || index >= int(mesh.textures.size()))
+                return invalid(what, field + "." + name + " = " + std::to_string(index) + " is out of range");
+        if (!std::isfinite(material.metallic) || !std::isfinite(material.roughness) || !is_finite(material.emissive) ||
+            !std::isfinite(material.occlusion_strength) || !std::isfinite(material.normal_scale))
+            return invalid(what, field + " has a non-finite PBR factor");
     }
     for (std::size_t t = 0; t < mesh.textures.size(); ++t) {
         const Texture& texture = mesh.textures[t];

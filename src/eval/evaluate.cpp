@@ -105,6 +105,7 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
         // the same camera and light for both
         Camera camera = orbit_camera(sphere, view.orbit, float(view.width) / float(view.height));
         Light light = default_light(camera);
+        light.shading = options.shading;
         ShadowOptions shadows;
         shadows.enabled = options.shadows;
         shadows.scene = sphere;

@@ -4,6 +4,17 @@
 
 namespace standin::gpu {
 
+int shading_model_code(ShadingModel model)
+{
+    switch (model) {
+    case ShadingModel::ggx: return SHADING_GGX;
+    case ShadingModel::lambert_blinn_phong: return SHADING_LAMBERT_BLINN_PHONG;
+    case ShadingModel::capture_orm: return SHADING_CAPTURE_ORM;
+    case ShadingModel::capture_emission: return SHADING_CAPTURE_EMISSION;
+    }
+    return SHADING_GGX;
+}
+
 FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport,
                                   const ShadowMap* shadow_map)
 {
@@ -16,11 +27,12 @@ FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm:
     u.light_to_world = glm::vec4(glm::normalize(light.direction_to_light_world), 0.0f);
     u.light_terms = glm::vec4(light.ambient, light.diffuse, light.specular, light.shininess);
     u.viewport_size = glm::vec4(float(viewport.x), float(viewport.y), 1.0f / float(viewport.x), 1.0f / float(viewport.y));
+    u.shadow_bias.y = float(shading_model_code(light.shading));
     if (shadow_map) {
         u.shadow_from_world = shadow_map->shadow_from_world();
         u.shadow_terms = glm::vec4(1.0f, 1.0f / float(shadow_map->resolution()), shadow_map->texel_world(),
                                    shadow_map->depth_per_world());
-        u.shadow_bias = glm::vec4(shadow_map->bias_world(), 0.0f, 0.0f, 0.0f);
+        u.shadow_bias.x = shadow_map->bias_world();
     }
     return u;
 }

@@ -4,6 +4,7 @@
 
 #include "gpu/gl.h"
 #include "gpu/shaders/common/bindings.h"
+#include "gpu/shaders/common/shading_model.h"
 
 #include <standin/render.h>
 
@@ -22,9 +23,12 @@ struct FrameUniforms {
     glm::vec4 viewport_size;  // w, h, 1/w, 1/h
     glm::mat4 shadow_from_world{1.0f}; // world -> shadow map u, v, depth (ShadowMap)
     glm::vec4 shadow_terms{0.0f};      // on (1) or off (0), 1/resolution, texel_world, depth_per_world
-    glm::vec4 shadow_bias{0.0f};       // bias_world, unused x 3
+    glm::vec4 shadow_bias{0.0f};       // bias_world, shading model (shading_model.h), unused x 2
 };
 static_assert(sizeof(FrameUniforms) == 4 * 64 + 7 * 16, "std140 layout of FrameBlock");
+
+// The shading_model.h code of a model (FrameUniforms::shadow_bias.y).
+int shading_model_code(ShadingModel model);
 
 // shadow_map may be null (no shadows)
 FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport,

@@ -4,7 +4,8 @@
 // they are computed here, smooth within the crease angle and split across it. assimp's own
 // GenSmoothNormals is not used: it needs unindexed ("verbose") input, which glTF and PLY are not.
 // Base colour comes from the base-colour or diffuse texture (decoded with stb_image, embedded or
-// next to the model), vertex colours and the material colour; see Material in mesh.h.
+// next to the model), vertex colours and the material colour; see Material in mesh.h. glTF
+// metallic-roughness factors and maps (occlusion, emissive, normal) fill Material's PBR fields.
 // PLY is read by our own reader (read_ply.h says why) and handed to the same conversion.
 // assimp never prints: no DefaultLogger is created, so it logs to its NullLogger.
 #include "io/check_gltf.h"
@@ -520,6 +521,7 @@ struct MaterialUse {
     glm::vec4 factor{0.8f};   // multiplied into every vertex colour
     int texture = -1;         // Mesh::textures index, -1 for none
     unsigned uv_channel = 0;
+    bool pbr_maps = false;    // a PBR map (metallic-roughness, occlusion, emissive, normal) reads the UVs
 };
 
 class SceneConverter {
@@ -540,6 +542,8 @@ private:
     int use_texture(const aiMaterial& material, unsigned* uv_channel);
     int use_opacity_texture(const aiMaterial& material, int base_texture);
     void convert_alpha(const aiMaterial& material, const aiMesh& source, MaterialUse& use, Material& converted);
+    int use_map(const aiMaterial& material, aiTextureType type, unsigned* uv_channel);
+    bool read_pbr(const aiMaterial& material, const aiMesh& source, unsigned uv_channel, Material& converted);
     void remove_unused_vertices();
     Status check_extent() const;
 
@@ -576,28 +580,96 @@ static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colo
     return {color.r, color.g, color.b, color.a};
 }
 
+static bool has_pbr_map(const aiMaterial& material)
+{
+    for (aiTextureType type : {aiTextureType_UNKNOWN, aiTextureType_METALNESS, aiTextureType_DIFFUSE_ROUGHNESS,
+                               aiTextureType_LIGHTMAP, aiTextureType_AMBIENT_OCCLUSION, aiTextureType_EMISSIVE,
+                               aiTextureType_EMISSION_COLOR, aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA})
+        if (material.GetTextureCount(type) > 0) return true;
+    return false;
+}
+
 int SceneConverter::use_texture(const aiMaterial& material, unsigned* uv_channel)
 {
-    for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}) {
-        if (material.GetTextureCount(type) == 0) continue;
-        aiString reference;
-        unsigned channel = 0;
-        if (material.GetTexture(type, 0, &reference, nullptr, &channel) != AI_SUCCESS) continue;
-        *uv_channel = channel;
-        std::string key = reference.C_Str();
-        auto [it, inserted] = textures_.try_emplace(key, -1);
-        if (inserted) {
-            Result<Texture> texture = load_texture(scene_, key, model_directory_);
-            if (texture) {
-                it->second = int(mesh_.textures.size());
-                mesh_.textures.push_back(std::move(*texture));
-            } else {
-                report_.warnings.push_back(path_ + ": " + texture.status().message() + "; using the material colour");
-            }
-        }
-        return it->second;
-    }
+    for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE})
+        if (material.GetTextureCount(type) > 0) return use_map(material, type, uv_channel);
     return -1;
+}
+
+// The first texture of `type`, loaded once per reference; -1 when there is none or it failed to load
+// (a warning). *uv_channel is set to its UV set.
+int SceneConverter::use_map(const aiMaterial& material, aiTextureType type, unsigned* uv_channel)
+{
+    if (material.GetTextureCount(type) == 0) return -1;
+    aiString reference;
+    unsigned channel = 0;
+    if (material.GetTexture(type, 0, &reference, nullptr, &channel) != AI_SUCCESS) return -1;
+    *uv_channel = channel;
+    std::string key = reference.C_Str();
+    auto [it, inserted] = textures_.try_emplace(key, -1);
+    if (inserted) {
+        Result<Texture> texture = load_texture(scene_, key, model_directory_);
+        if (texture) {
+            it->second = int(mesh_.textures.size());
+            mesh_.textures.push_back(std::move(*texture));
+        } else {
+            report_.warnings.push_back(path_ + ": " + texture.status().message() + "; using the material's factor");
+        }
+    }
+    return it->second;
+}
+
+// glTF 2.0 metallic-roughness (issue #14) as assimp 5.2 hands it over: factors as material keys, the
+// metallic-roughness map as aiTextureType_UNKNOWN (or METALNESS / DIFFUSE_ROUGHNESS from other
+// importers), occlusion as LIGHTMAP (or AMBIENT_OCCLUSION), emissive and normal maps. Materials
+// without these keep Material's defaults (a rough dielectric: the old look). Maps must read the UV
+// set `uv_channel` of the base colour (Mesh has one UV set); others are dropped with a warning.
+// Returns whether a map reads the UVs.
+bool SceneConverter::read_pbr(const aiMaterial& material, const aiMesh& source, unsigned uv_channel, Material& converted)
+{
+    float factor = 0.0f;
+    if (material.Get(AI_MATKEY_METALLIC_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor))
+        converted.metallic = std::clamp(factor, 0.0f, 1.0f);
+    if (material.Get(AI_MATKEY_ROUGHNESS_FACTOR, factor) == AI_SUCCESS && std::isfinite(factor))
+        converted.roughness = std::clamp(factor, 0.0f, 1.0f);
+    aiColor3D emissive(0.0f, 0.0f, 0.0f);
+    if (material.Get(AI_MATKEY_COLOR_EMISSIVE, emissive) == AI_SUCCESS) {
+        float strength = 1.0f;
+        if (material.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) != AI_SUCCESS || !std::isfinite(strength)) strength = 1.0f;
+        glm::vec3 e = glm::vec3(emissive.r, emissive.g, emissive.b) * strength;
+        if (is_finite(e)) converted.emissive = glm::max(e, glm::vec3(0.0f));
+    }
+
+    bool has_uvs = source.HasTextureCoords(uv_channel);
+    auto map = [&](std::initializer_list<aiTextureType> types, const char* what) {
+        for (aiTextureType type : types) {
+            unsigned channel = 0;
+            int texture = use_map(material, type, &channel);
+            if (texture < 0) continue;
+            if (channel != uv_channel || !source.HasTextureCoords(channel) || !has_uvs) {
+                report_.warnings.push_back(path_ + ": mesh '" + source.mName.C_Str() + "' " + what +
+                                           " map reads another UV set than its base colour (or none); ignoring it");
+                return -1;
+            }
+            return texture;
+        }
+        return -1;
+    };
+    converted.metallic_roughness_texture =
+        map({aiTextureType_UNKNOWN, aiTextureType_METALNESS, aiTextureType_DIFFUSE_ROUGHNESS}, "metallic-roughness");
+    converted.occlusion_texture = map({aiTextureType_LIGHTMAP, aiTextureType_AMBIENT_OCCLUSION}, "occlusion");
+    converted.emissive_texture = map({aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}, "emissive");
+    converted.normal_texture = map({aiTextureType_NORMALS, aiTextureType_NORMAL_CAMERA}, "normal");
+    if (converted.occlusion_texture >= 0 &&
+        material.Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), factor) == AI_SUCCESS && std::isfinite(factor))
+        converted.occlusion_strength = std::clamp(factor, 0.0f, 1.0f);
+    if (converted.normal_texture >= 0 &&
+        material.Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), factor) == AI_SUCCESS && std::isfinite(factor))
+        converted.normal_scale = factor;
+    // an emissive map multiplies the factor, which glTF defaults to black
+    if (converted.emissive_texture >= 0 && converted.emissive == glm::vec3(0.0f)) converted.emissive_texture = -1;
+    return converted.metallic_roughness_texture >= 0 || converted.occlusion_texture >= 0 ||
+           converted.emissive_texture >= 0 || converted.normal_texture >= 0;
 }
 
 MaterialUse SceneConverter::use_material(const aiMesh& source)
@@ -609,7 +681,9 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
     int texture = use_texture(material, &uv_channel);
     bool textured = texture >= 0 && source.HasTextureCoords(uv_channel);
     bool colored = source.HasVertexColors(0);
-    unsigned variant = (textured ? 1u : 0u) | (colored ? 2u : 0u);
+    // (and whether its PBR maps have UVs to read)
+    bool mapped = source.HasTextureCoords(uv_channel) && has_pbr_map(material);
+    unsigned variant = (textured ? 1u : 0u) | (colored ? 2u : 0u) | (mapped ? 4u : 0u);
     auto [it, inserted] = materials_.try_emplace({source.mMaterialIndex, variant});
     if (!inserted) return it->second;
 
@@ -623,6 +697,7 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
     converted.base_color = use.factor;
     converted.base_color_texture = use.texture;
     convert_alpha(material, source, use, converted);
+    use.pbr_maps = read_pbr(material, source, uv_channel, converted);
     mesh_.materials.push_back(converted);
     if (texture >= 0 && !textured)
         report_.warnings.push_back(path_ + ": mesh '" + source.mName.C_Str() + "' has a texture but no UVs; using the material colour");
@@ -794,7 +869,7 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         }
         mesh_.colors.push_back(color);
         glm::vec2 uv(0.0f);
-        if (material.texture >= 0) uv = {source.mTextureCoords[material.uv_channel][v].x, source.mTextureCoords[material.uv_channel][v].y};
+        if (material.texture >= 0 || material.pbr_maps) uv = {source.mTextureCoords[material.uv_channel][v].x, source.mTextureCoords[material.uv_channel][v].y};
         mesh_.uvs.push_back(uv);
     }
     STANDIN_RETURN_IF_ERROR(add_triangles(source, first_vertex, material.index, mirrored));
@@ -838,7 +913,10 @@ Status SceneConverter::convert()
     remove_unused_vertices();
     STANDIN_RETURN_IF_ERROR(check_extent());
     bool any_texture = std::any_of(mesh_.materials.begin(), mesh_.materials.end(),
-                                   [](const Material& m) { return m.base_color_texture >= 0; });
+                                   [](const Material& m) {
+                                       return m.base_color_texture >= 0 || m.metallic_roughness_texture >= 0 ||
+                                              m.occlusion_texture >= 0 || m.emissive_texture >= 0 || m.normal_texture >= 0;
+                                   });
     if (!any_texture) mesh_.uvs.clear();
     return validate_mesh(mesh_, path_);
 }

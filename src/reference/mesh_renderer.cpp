@@ -1,7 +1,7 @@
 // The ground-truth renderer: the original mesh, drawn per pixel with the shared lighting include.
 // Steps: sort triangles by material so each material is one instanced draw; upload positions,
 // normals, colours and UVs; per frame bind the frame block and draw each material range with its
-// texture (or none), its alpha test and its face culling.
+// texture (or none), its PBR factors and maps (issue #14), its alpha test and its face culling.
 // Alpha (issue #14): mask (and blend, drawn as mask) materials discard fragments whose alpha is
 // under the cutoff. The test reads the texture's full-resolution level at the fragment's UV (a
 // point sample of the cut-out), whatever mip level the colour comes from: averaged alpha in the
@@ -32,6 +32,10 @@ struct MaterialRange {
     int texture = -1;            // index into MeshRenderer::textures_
     float alpha_cutoff = 0.0f;   // alpha_test_cutoff(material): 0 tests nothing
     bool double_sided = true;
+    // the material's PBR inputs (mesh.frag); maps are MeshRenderer::textures_ indices, -1 for none
+    glm::vec4 pbr_factors{0.0f, 1.0f, 1.0f, 1.0f}; // metallic, roughness, occlusion strength, normal scale
+    glm::vec3 emissive{0.0f};
+    int maps[4] = {-1, -1, -1, -1};                 // metallic-roughness, occlusion, emissive, normal
 };
 
 class MeshRenderer final : public Renderer {
@@ -40,6 +44,8 @@ public:
     DrawStats draw(const DrawParams& params) override;
 
 private:
+    void bind_pbr(const MaterialRange& range);
+
     gpu::Program program_;
     gpu::MeshBuffers buffers_;
     std::vector<gpu::Texture> textures_;
@@ -47,7 +53,17 @@ private:
     gpu::FrameResources frame_;
     GLint has_texture_location_ = -1;
     GLint alpha_cutoff_location_ = -1;
+    GLint pbr_factors_location_ = -1, emissive_factor_location_ = -1, pbr_maps_location_ = -1;
 };
+
+void set_pbr(const Mesh& mesh, const Material& m, MaterialRange& range)
+{
+    range.pbr_factors = {m.metallic, m.roughness, m.occlusion_strength, m.normal_scale};
+    range.emissive = m.emissive;
+    if (!mesh.has_texture_coordinates()) return;
+    const int maps[4] = {m.metallic_roughness_texture, m.occlusion_texture, m.emissive_texture, m.normal_texture};
+    std::copy(maps, maps + 4, range.maps);
+}
 
 // Indices reordered so that each material's triangles are contiguous (stable: original order kept
 // within a material, so the result does not depend on anything but the mesh).
@@ -69,6 +85,7 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
             range.texture = mesh.has_texture_coordinates() ? m.base_color_texture : -1;
             range.alpha_cutoff = alpha_test_cutoff(m);
             range.double_sided = m.double_sided;
+            set_pbr(mesh, m, range);
             ranges.push_back(range);
         }
         for (int k = 0; k < 3; ++k) indices.push_back(mesh.indices[3 * t + k]);
@@ -101,11 +118,27 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
     renderer->program_ = std::move(*program);
     renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
     renderer->alpha_cutoff_location_ = renderer->program_.uniform("alpha_cutoff");
+    renderer->pbr_factors_location_ = renderer->program_.uniform("pbr_factors");
+    renderer->emissive_factor_location_ = renderer->program_.uniform("emissive_factor");
+    renderer->pbr_maps_location_ = renderer->program_.uniform("pbr_maps");
 
     std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
     renderer->buffers_ = gpu::MeshBuffers::upload(mesh, indices);
     for (const Texture& texture : mesh.textures) renderer->textures_.push_back(upload_texture(texture));
     return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+void MeshRenderer::bind_pbr(const MaterialRange& range)
+{
+    glUniform4fv(pbr_factors_location_, 1, &range.pbr_factors.x);
+    glUniform3fv(emissive_factor_location_, 1, &range.emissive.x);
+    GLint has[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+        if (range.maps[k] < 0 || range.maps[k] >= int(textures_.size())) continue;
+        has[k] = 1;
+        glBindTextureUnit(GLuint(BINDING_FIRST_RENDERER_TEXTURE + 1 + k), textures_[std::size_t(range.maps[k])].get());
+    }
+    glUniform4iv(pbr_maps_location_, 1, has);
 }
 
 DrawStats MeshRenderer::draw(const DrawParams& params)
@@ -128,6 +161,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
             glFrontFace(GL_CCW);
         }
         if (textured) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
+        bind_pbr(range);
         glDrawElementsInstanced(GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
                                 reinterpret_cast<const void*>(std::uintptr_t(range.first_index) * sizeof(std::uint32_t)),
                                 GLsizei(frame_.instance_count()));

@@ -15,6 +15,34 @@ uniform int has_texture;
 // The alpha is read from the texture's level 0 (mesh_renderer.cpp says why).
 uniform float alpha_cutoff;
 
+// glTF metallic-roughness inputs of the material being drawn (issue #14): factors times maps, as
+// Mesh::pbr_at and Mesh::shading_normal_at compute them for the bakers.
+layout(binding = BINDING_FIRST_RENDERER_TEXTURE + 1) uniform sampler2D metallic_roughness_texture; // G rough, B metal
+layout(binding = BINDING_FIRST_RENDERER_TEXTURE + 2) uniform sampler2D occlusion_texture;          // R
+layout(binding = BINDING_FIRST_RENDERER_TEXTURE + 3) uniform sampler2D emissive_texture;           // sRGB
+layout(binding = BINDING_FIRST_RENDERER_TEXTURE + 4) uniform sampler2D normal_texture;             // tangent space
+uniform vec4 pbr_factors = vec4(0.0, 1.0, 1.0, 1.0); // metallic, roughness, occlusion strength, normal scale
+uniform vec3 emissive_factor = vec3(0.0);             // linear
+uniform ivec4 pbr_maps = ivec4(0);                    // has: metallic-roughness, occlusion, emissive, normal map
+
+// The normal bent by the normal map in the cotangent frame of the UVs at this pixel (Schüler 2006,
+// "Normal mapping without precomputed tangents"): no tangent attribute needed.
+vec3 mapped_normal(vec3 n, vec3 position_world, vec2 uv)
+{
+    n = normalize(n);
+    vec3 dp1 = dFdx(position_world), dp2 = dFdy(position_world);
+    vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
+    vec3 dp2_perp = cross(dp2, n), dp1_perp = cross(n, dp1);
+    vec3 t = dp2_perp * duv1.x + dp1_perp * duv2.x;
+    vec3 b = dp2_perp * duv1.y + dp1_perp * duv2.y;
+    float scale = max(dot(t, t), dot(b, b));
+    if (!(scale > 0.0)) return n;
+    vec3 m = texture(normal_texture, uv).xyz * 2.0 - 1.0;
+    m.xy *= pbr_factors.w;
+    vec3 bent = mat3(t * inversesqrt(scale), b * inversesqrt(scale), n) * m;
+    return dot(bent, bent) > 0.0 ? normalize(bent) : n;
+}
+
 layout(location = 0) out vec4 out_color;
 
 void main()
@@ -27,5 +55,11 @@ void main()
     }
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
-    out_color = vec4(shade_at(albedo.rgb, v_normal_world, to_eye, v_position_world), 1.0);
+    vec3 orm = vec3(1.0, pbr_factors.y, pbr_factors.x);
+    if (pbr_maps.x != 0) orm.yz *= texture(metallic_roughness_texture, v_uv).gb;
+    if (pbr_maps.y != 0) orm.x = 1.0 + pbr_factors.z * (texture(occlusion_texture, v_uv).r - 1.0);
+    vec3 emissive = emissive_factor;
+    if (pbr_maps.z != 0) emissive *= srgb_to_linear(texture(emissive_texture, v_uv).rgb);
+    vec3 normal_world = pbr_maps.w != 0 ? mapped_normal(v_normal_world, v_position_world, v_uv) : v_normal_world;
+    out_color = vec4(shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, v_position_world), 1.0);
 }

@@ -31,7 +31,27 @@ struct SurfaceImage {
     // RGB: shading normal, world space, n * 0.5 + 0.5 (encode_normal); A: depth (encode_depth).
     // Packages that store fewer bits hold the quantised value, expanded to 16 in memory.
     ImageRGBA16 normal_depth;
+    // PBR maps (issue #14), both empty unless the model has PBR materials (Mesh::has_pbr_materials):
+    // orm: occlusion, perceptual roughness, metallic (linear), coverage; emission: the emitted
+    // colour, sRGB-encoded and clamped to [0, 1], coverage. Renderers use Material's defaults
+    // (1, 1, 0; black) where they are empty.
+    ImageRGBA8 orm, emission;
 };
+
+// One texel of the PBR maps from a surface sample (write_pbr_texel) and the default one.
+inline void write_pbr_texel(ImageRGBA8& orm, ImageRGBA8& emission, int x, int y, float occlusion, float roughness,
+                            float metallic, glm::vec3 emissive_linear)
+{
+    auto unorm8 = [](float v) { return std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    std::uint8_t* o = orm.at(x, y);
+    o[0] = unorm8(occlusion), o[1] = unorm8(roughness), o[2] = unorm8(metallic), o[3] = 255;
+    std::uint8_t* e = emission.at(x, y);
+    for (int c = 0; c < 3; ++c) {
+        float v = std::clamp(emissive_linear[c], 0.0f, 1.0f);
+        e[c] = unorm8(v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f);
+    }
+    e[3] = 255;
+}
 
 // The one depth encoding: d in [0, 1] of the depth range, as a 16-bit code.
 constexpr float k_depth_codes = 65535.0f;

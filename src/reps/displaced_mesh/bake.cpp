@@ -149,6 +149,18 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
         package->shading_normals[i] = encode_normal(sampled->normal[i]);
         package->albedo[i] = pack_rgba8(sampled->albedo[i]);
     }
+    if (!sampled->pbr.empty()) {
+        package->orm.resize(sampled->pbr.size());
+        package->emission.resize(sampled->pbr.size());
+        for (std::size_t i = 0; i < sampled->pbr.size(); ++i) {
+            const PbrSample& s = sampled->pbr[i];
+            package->orm[i] = pack_rgba8(glm::vec4(s.occlusion, s.roughness, s.metallic, 1.0f));
+            glm::vec3 e = glm::clamp(s.emissive, 0.0f, 1.0f);
+            glm::vec3 encoded = glm::mix(e * 12.92f, 1.055f * glm::pow(e, glm::vec3(1.0f / 2.4f)) - 0.055f,
+                                         glm::vec3(glm::greaterThan(e, glm::vec3(0.0031308f))));
+            package->emission[i] = pack_rgba8(glm::vec4(encoded, 1.0f));
+        }
+    }
     return package;
 }
 

@@ -74,6 +74,9 @@ public:
     // finest level only, face-major: octahedral unit normal (two snorm16) and RGBA8 albedo (sRGB)
     std::vector<std::uint32_t> shading_normals;
     std::vector<std::uint32_t> albedo;
+    // PBR packages only (issue #14), else empty: RGBA8 occlusion, roughness, metallic (linear), 255;
+    // RGBA8 emission (sRGB, clamped to 1), 255
+    std::vector<std::uint32_t> orm, emission;
     std::vector<float> face_error; // ∆_f per face, world units
     SamplingStats sampling;
 };

@@ -29,6 +29,8 @@ const char* const k_elevation_file = "elevation.bin";
 const char* const k_face_error_file = "face_error.bin";
 const char* const k_normal_file = "normal.bin";
 const char* const k_albedo_file = "albedo.bin";
+const char* const k_orm_file = "orm.bin";           // PBR packages only
+const char* const k_emission_file = "emission.bin"; // PBR packages only
 
 template <typename T>
 Status write_array(const std::string& directory, const std::string& name, const std::vector<T>& values, nlohmann::json& files)
@@ -119,6 +121,10 @@ Status write(const Package& base, const std::string& directory)
     STANDIN_RETURN_IF_ERROR(write_array(directory, k_face_error_file, p.face_error, files));
     STANDIN_RETURN_IF_ERROR(write_array(directory, k_normal_file, p.shading_normals, files));
     STANDIN_RETURN_IF_ERROR(write_array(directory, k_albedo_file, p.albedo, files));
+    if (!p.orm.empty()) {
+        STANDIN_RETURN_IF_ERROR(write_array(directory, k_orm_file, p.orm, files));
+        STANDIN_RETURN_IF_ERROR(write_array(directory, k_emission_file, p.emission, files));
+    }
 
     const ControlStats& c = p.control;
     const SamplingStats& s = p.sampling;
@@ -140,6 +146,10 @@ Status write(const Package& base, const std::string& directory)
                       {"sampled_to_original_mean", s.sampled_to_original_mean}, {"sampled_to_original_max", s.sampled_to_original_max}}},
         {"files", files},
     });
+    if (!p.orm.empty()) {
+        manifest["orm"] = {{"file", k_orm_file}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
+        manifest["emission"] = {{"file", k_emission_file}, {"encoding", "rgba8-srgb"}};
+    }
     return manifest_io::write_manifest(directory, manifest, 1);
 }
 
@@ -188,6 +198,11 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         p->shading_normals = read_array<std::uint32_t>(in, directory, files,
                                                        in.string(in.member(manifest, "shading_normal", ""), "file", "shading_normal."), finest);
         p->albedo = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "albedo", ""), "file", "albedo."), finest);
+        if (manifest.contains("orm") || manifest.contains("emission")) {
+            p->orm = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "orm", ""), "file", "orm."), finest);
+            p->emission = read_array<std::uint32_t>(in, directory, files,
+                                                    in.string(in.member(manifest, "emission", ""), "file", "emission."), finest);
+        }
         const nlohmann::json& sampling = in.member(manifest, "sampling", "");
         SamplingStats& s = p->sampling;
         s.rays = std::size_t(in.integer(sampling, "rays", "sampling.", 0, INT64_MAX));

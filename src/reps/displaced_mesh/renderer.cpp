@@ -107,6 +107,7 @@ private:
 
     gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
     gpu::Query primitives_query_;
+    gpu::Buffer pbr_; // PBR packages only (issue #14)
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
     gpu::Buffer lists_[2];
     std::uint64_t list_capacity_ = 0, final_capacity_ = 0, scan_capacity_ = 0;
@@ -190,6 +191,11 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     std::vector<glm::uvec2> shading(package.shading_normals.size());
     for (std::size_t i = 0; i < shading.size(); ++i) shading[i] = {package.shading_normals[i], package.albedo[i]};
     shading_ = gpu::make_buffer(shading);
+    if (!package.orm.empty()) {
+        std::vector<glm::uvec2> pbr(package.orm.size());
+        for (std::size_t i = 0; i < pbr.size(); ++i) pbr[i] = {package.orm[i], package.emission[i]};
+        pbr_ = gpu::make_buffer(pbr);
+    }
     refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);
     std::vector<std::uint32_t> zero(DM_STATE_UINTS, 0u);
     state_ = gpu::make_buffer(zero, GL_DYNAMIC_STORAGE_BIT);
@@ -254,6 +260,7 @@ void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_ELEVATIONS_SSBO, elevations_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_STATE_SSBO, state_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_PBR_SSBO, pbr_ ? pbr_.get() : 0u);
 }
 
 void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
@@ -326,6 +333,7 @@ DrawStats Impl::draw(const DrawParams& params)
 
     // draw the final list
     glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(draw_.id(), draw_.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
@@ -344,6 +352,7 @@ DrawStats Impl::draw(const DrawParams& params)
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
     glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(patches_.id(), patches_.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

@@ -34,6 +34,7 @@ struct Sample {
     float elevation = 0.0f;
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
     glm::vec4 albedo{0.8f, 0.8f, 0.8f, 1.0f};
+    PbrSample pbr;
     bool missed = false;
 };
 
@@ -72,6 +73,12 @@ Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& p
     glm::vec3 n = b0 * original.normals[t[0]] + hit.b1 * original.normals[t[1]] + hit.b2 * original.normals[t[2]];
     s.normal = unit_direction(n);
     s.albedo = original.albedo_at(hit.triangle, hit.b1, hit.b2);
+    // PBR inputs (issue #14), and the normal bent by a normal map
+    const Material& material = original.materials[original.face_materials[hit.triangle]];
+    if (material.has_pbr()) {
+        s.pbr = original.pbr_at(hit.triangle, hit.b1, hit.b2);
+        if (material.normal_texture >= 0) s.normal = unit_direction(original.shading_normal_at(hit.triangle, hit.b1, hit.b2));
+    }
     return s;
 }
 
@@ -178,6 +185,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     out.elevation.assign(faces * per_face, 0.0f);
     out.normal.assign(faces * per_face, glm::vec3(0.0f));
     out.albedo.assign(faces * per_face, glm::vec4(0.0f));
+    if (original.has_pbr_materials()) out.pbr.assign(faces * per_face, PbrSample{});
     std::vector<std::uint8_t> missed(faces * per_face, 0);
     auto shared_sample = [&](std::uint32_t f, VertexKind kind, int which, int along) -> const Sample& {
         if (kind == VertexKind::corner) return corners[control.indices[3 * std::size_t(f) + std::size_t(which)]];
@@ -198,6 +206,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                                : shared_sample(f, kind, which, along);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
                 out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
+                if (!out.pbr.empty()) out.pbr[at] = s.pbr;
                 missed[at] = kind == VertexKind::interior && s.missed;
             }
     });

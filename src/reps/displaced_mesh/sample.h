@@ -43,6 +43,7 @@ struct SampledSurface {
     std::vector<float> elevation;      // signed, along the unit interpolated normal
     std::vector<glm::vec3> normal;     // unit shading normal of the original where the ray met it
     std::vector<glm::vec4> albedo;     // sRGB-encoded albedo there (Mesh::albedo_at)
+    std::vector<PbrSample> pbr;        // its PBR inputs (Mesh::pbr_at); empty unless Mesh::has_pbr_materials()
     std::size_t rays = 0;              // rays cast
     std::size_t misses = 0;            // vertices whose rays met nothing within range (closest point used)
 };

@@ -484,6 +484,9 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
     std::vector<float> depth(n, 0.0f);
     std::vector<glm::vec3> normal(n, glm::vec3(0.0f));
     std::vector<glm::vec4> albedo(n, glm::vec4(0.0f));
+    // PBR inputs (issue #14) only for models that have them: other packages stay as they were
+    const bool pbr = mesh.has_pbr_materials();
+    std::vector<PbrSample> surface(pbr ? n : 0);
     parallel_over(n, [&](std::size_t k) {
         int i = lo_i + int(k % board.width), j = lo_j + int(k / board.width);
         std::size_t t = std::size_t(j) * width + i;
@@ -498,6 +501,10 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
         float length = glm::length(sum);
         normal[k] = length > 0.0f ? sum / length : glm::vec3(-grid.w);
         albedo[k] = mesh.albedo_at(f, wt[1], wt[2]);
+        if (pbr) {
+            surface[k] = mesh.pbr_at(f, wt[1], wt[2]);
+            if (mesh.materials[mesh.face_materials[f]].normal_texture >= 0) normal[k] = mesh.shading_normal_at(f, wt[1], wt[2]);
+        }
     });
     float front = std::numeric_limits<float>::max(), back = std::numeric_limits<float>::lowest();
     for (std::size_t k = 0; k < n; ++k)
@@ -515,6 +522,7 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
                              grid.v * (double(grid.y0 + lo_j) * grid.texel) + grid.w * double(front));
     board.color = ImageRGBA8(board.width, board.height);
     board.normal_depth = ImageRGBA16(board.width, board.height);
+    if (pbr) board.orm = ImageRGBA8(board.width, board.height), board.emission = ImageRGBA8(board.width, board.height);
     auto unorm8 = [](float x) { return std::uint8_t(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f)); };
     for (int y = 0; y < board.height; ++y)
         for (int x = 0; x < board.width; ++x) {
@@ -525,6 +533,10 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
             std::uint16_t* nd = board.normal_depth.at(x, y);
             for (int a = 0; a < 3; ++a) nd[a] = reps::encode_normal(normal[k][a]);
             nd[3] = reps::encode_depth((depth[k] - front) / board.depth_range);
+            if (pbr) {
+                const PbrSample& s = surface[k];
+                reps::write_pbr_texel(board.orm, board.emission, x, y, s.occlusion, s.roughness, s.metallic, s.emissive);
+            }
         }
     return board;
 }

@@ -48,6 +48,13 @@ Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& fi
     std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
     b.color = manifest_io::read_image8(in, files, color, b.width, b.height);
     b.normal_depth = manifest_io::read_image16(in, files, normal_depth, b.width, b.height, depth_bits);
+    // PBR maps (issue #14): both or neither; absent in packages of models without PBR materials
+    if (entry.contains("orm") || entry.contains("emission")) {
+        std::string orm = in.string(in.member(entry, "orm", where), "file", where + "orm.");
+        std::string emission = in.string(in.member(entry, "emission", where), "file", where + "emission.");
+        b.orm = manifest_io::read_image8(in, files, orm, b.width, b.height);
+        b.emission = manifest_io::read_image8(in, files, emission, b.width, b.height);
+    }
     return b;
 }
 
@@ -82,6 +89,13 @@ Status write(const Package& base, const std::string& directory)
                             {"channels", "normal.xyz * 0.5 + 0.5 (world), depth"}}},
                           {"captured_faces", b.captured_faces},
                           {"captured_area", b.captured_area}});
+        if (!b.orm.empty()) {
+            std::string orm = billboard_file(k, "orm"), emission = billboard_file(k, "emission");
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.orm, directory, orm, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.emission, directory, emission, files));
+            boards.back()["orm"] = {{"file", orm}, {"bits", 8}, {"channels", "occlusion, roughness, metallic (linear), coverage"}};
+            boards.back()["emission"] = {{"file", emission}, {"bits", 8}, {"channels", "emission.rgb (sRGB), coverage"}};
+        }
     }
     nlohmann::json coarse = nullptr;
     if (package.coarse_mesh.triangle_count() > 0) {

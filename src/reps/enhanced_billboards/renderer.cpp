@@ -109,7 +109,7 @@ struct BoxLineVertex {
 
 struct ProgramLocations {
     GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
-          mark_pixels = -1;
+          mark_pixels = -1, has_pbr_maps = -1;
 };
 
 class BillboardRenderer final : public Renderer {
@@ -137,6 +137,7 @@ private:
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_;
+    gpu::Texture orm_maps_, emission_maps_; // only for packages with PBR maps (issue #14)
     gpu::Buffer billboards_, tiles_, draw_list_;
     gpu::Counters counters_{COUNTER_COUNT};
     // proxies: tiles [0, fine_count_), then one whole-billboard box per billboard
@@ -193,7 +194,8 @@ Status check_billboard(const Billboard& b, std::size_t index)
     std::string name = "enhanced billboards: billboard " + std::to_string(index);
     if (b.width < 1 || b.height < 1) return error(StatusCode::bad_data, name + ": empty");
     if (b.color.width != b.width || b.color.height != b.height || b.normal_depth.width != b.width ||
-        b.normal_depth.height != b.height)
+        b.normal_depth.height != b.height || (!b.orm.empty() && (b.orm.width != b.width || b.orm.height != b.height)) ||
+        (!b.emission.empty() && (b.emission.width != b.width || b.emission.height != b.height)))
         return error(StatusCode::bad_data, name + ": image sizes differ from width x height");
     if (!(b.texel_size > 0.0f) || !(b.depth_range > 0.0f))
         return error(StatusCode::bad_data, name + ": texel_size and depth_range must be positive");
@@ -214,6 +216,7 @@ Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
     at.seed_steps = program->uniform("seed_steps");
     at.seed_hit_range = program->uniform("seed_hit_range");
     at.debug_view = program->uniform("debug_view");
+    at.has_pbr_maps = program->uniform("has_pbr_maps");
     at.counting = program->uniform("counting");
     at.mark_pixels = program->uniform("mark_pixels");
     return program;
@@ -296,6 +299,12 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     surface_maps_ = make_texture_array(GL_RGBA16UI, width, height, layers, 1);
     minmax_maps_ = make_texture_array(GL_RG16UI, std::max(1, width / 2), std::max(1, height / 2), layers,
                                       std::max(1, levels));
+    bool pbr = std::all_of(package.billboards.begin(), package.billboards.end(),
+                           [](const Billboard& b) { return !b.orm.empty() && !b.emission.empty(); });
+    if (pbr && layers > 0) {
+        orm_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
+        emission_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
+    }
 
     LinkSettings links;
     links.depth_bits = package.settings.depth_bits;
@@ -315,6 +324,12 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                             b.color.pixels.data());
         glTextureSubImage3D(normal_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_SHORT,
                             b.normal_depth.pixels.data());
+        if (orm_maps_) {
+            glTextureSubImage3D(orm_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                b.orm.pixels.data());
+            glTextureSubImage3D(emission_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                b.emission.pixels.data());
+        }
         HeightFieldAcceleration acc = build_acceleration(b, width, height, levels, links);
         covered_box(acc, b, g);
         gpu_billboards.push_back(g);
@@ -441,6 +456,7 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     glProgramUniform1i(id, at.seed_steps, seed_steps_);
     glProgramUniform1f(id, at.seed_hit_range, seed_hit_range_);
     glProgramUniform1i(id, at.debug_view, debug_view_);
+    glProgramUniform1i(id, at.has_pbr_maps, orm_maps_ ? 1 : 0);
     glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
     glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
 }
@@ -570,6 +586,8 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindTextureUnit(BINDING_NORMAL_MAPS, normal_maps_.get());
         glBindTextureUnit(BINDING_SURFACE_MAPS, surface_maps_.get());
         glBindTextureUnit(BINDING_MINMAX_MAPS, minmax_maps_.get());
+        glBindTextureUnit(BINDING_ORM_MAPS, orm_maps_ ? orm_maps_.get() : 0u);
+        glBindTextureUnit(BINDING_EMISSION_MAPS, emission_maps_ ? emission_maps_.get() : 0u);
         glBindVertexArray(empty_vertex_array_.get());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);

@@ -90,8 +90,8 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     const glm::mat4& m = camera.view_from_world; // rows 0 and 1: camera right and up
     out.axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
     out.axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
-    // pure ambient: the renderer's shading returns the albedo
-    const Light albedo_light{out.direction, 1.0f, 0.0f, 0.0f, 1.0f};
+    // pure ambient under the Lambert model: the renderer's shading returns the albedo
+    const Light albedo_light{out.direction, 1.0f, 0.0f, 0.0f, 1.0f, ShadingModel::lambert_blinn_phong};
 
     // one pass per image into the same target, reading back only what each pass gives
     DrawParams params;

@@ -224,7 +224,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         view.axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
         view.axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
         Light light = default_light(camera);
-        if (normals) light = Light{light.direction_to_light_world, 1.0f, 0.0f, 0.0f, 1.0f}; // albedo
+        if (normals) // albedo: pure ambient under the Lambert model
+            light = Light{light.direction_to_light_world, 1.0f, 0.0f, 0.0f, 1.0f, ShadingModel::lambert_blinn_phong};
         Result<RenderedImage> color = render_offscreen(**truth, camera, light, s.resolution, s.resolution);
         if (!color) return color.status();
         RenderedImage normal;

@@ -1,5 +1,6 @@
 // Per-frame uniforms shared by every renderer; layout mirrors standin::gpu::FrameUniforms.
 #include "gpu/shaders/common/bindings.h"
+#include "gpu/shaders/common/shading_model.h"
 
 layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock {
     mat4 clip_from_world;
@@ -13,7 +14,8 @@ layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock {
     mat4 shadow_from_world; // world -> shadow map u, v, window depth (lighting.glsl)
     vec4 shadow_terms;      // x: 1 with a shadow map, else 0; y: 1/resolution; z: world units per
                             // texel; w: window-depth units per world unit along the light
-    vec4 shadow_bias;       // x: constant depth bias, world units; yzw: unused
+    vec4 shadow_bias;       // x: constant depth bias, world units; y: shading model
+                            // (shading_model.h); zw: unused
 } frame;
 
 layout(std430, binding = BINDING_INSTANCES_SSBO) readonly buffer InstanceBlock {

@@ -20,6 +20,7 @@
 #define DM_SCAN_SSBO (BINDING_FIRST_RENDERER_SSBO + 7)       // per element of the current list: decision, local prefix sums
 #define DM_GROUPS_SSBO (BINDING_FIRST_RENDERER_SSBO + 8)     // per workgroup: sums, then their exclusive prefix
 #define DM_STATE_SSBO (BINDING_FIRST_RENDERER_SSBO + 9)      // refinement state and indirect arguments (DM_STATE_*)
+#define DM_PBR_SSBO (BINDING_FIRST_RENDERER_SSBO + 10)       // uvec2 per finest sample: RGBA8 ORM, RGBA8 emission (PBR packages)
 
 // the renderer's own counters (gpu/counters.h), after the shared ones
 #define DM_COUNTER_ERROR_SUM (COUNTER_SHARED_COUNT + 0) // over fragments, the distance to the finest surface, 1/DM_ERROR_UNITS px

@@ -10,6 +10,8 @@
 #include "reps/displaced_mesh/shaders/displaced.glsl"
 
 layout(std430, binding = DM_SHADING_SSBO) readonly buffer ShadingBlock { uvec2 shading[]; };
+layout(std430, binding = DM_PBR_SSBO) readonly buffer PbrBlock { uvec2 pbr_samples[]; }; // only when has_pbr_maps
+uniform int has_pbr_maps; // the package has ORM and emission (issue #14); otherwise Material's defaults
 
 layout(early_fragment_tests) in; // counters count the fragments that pass the depth test
 
@@ -106,7 +108,18 @@ void main()
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);
-    vec3 color = shade_at(albedo.rgb, normal_world, to_eye, v_position_world);
+    vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);
+    if (has_pbr_maps != 0) {
+        vec4 orm_sum = vec4(0.0), emission_sum = vec4(0.0);
+        for (int k = 0; k < 3; ++k) {
+            uvec2 s = pbr_samples[index[k]];
+            orm_sum += weight[k] * unpackUnorm4x8(s.x);
+            emission_sum += weight[k] * unpackUnorm4x8(s.y);
+        }
+        orm = orm_sum.rgb;
+        emissive = srgb_to_linear(emission_sum.rgb);
+    }
+    vec3 color = shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, v_position_world);
 
     uint debug_view = refine.options.w;
     bool want_error = debug_view == DEBUG_VIEW_ERROR || counting != 0;

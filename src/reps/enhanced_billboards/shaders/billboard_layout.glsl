@@ -15,6 +15,8 @@
 #define BINDING_NORMAL_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 1)  // normal + depth
 #define BINDING_SURFACE_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 2) // depth, min, max, link flags (acceleration.h)
 #define BINDING_MINMAX_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 3)  // the min/max pyramid above level 0
+#define BINDING_ORM_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 4)      // occlusion, roughness, metallic (PBR packages)
+#define BINDING_EMISSION_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 5) // emission, sRGB (PBR packages)
 
 // image unit of the per-pixel flags the coarse mesh reads (r32ui)
 #define IMAGE_PIXEL_FLAGS (BINDING_FIRST_RENDERER_IMAGE + 0)

@@ -31,6 +31,9 @@ layout(binding = BINDING_COLOR_MAPS) uniform sampler2DArray color_maps;
 layout(binding = BINDING_NORMAL_MAPS) uniform sampler2DArray normal_maps;
 layout(binding = BINDING_SURFACE_MAPS) uniform usampler2DArray surface_maps; // depth, min, max, flags
 layout(binding = BINDING_MINMAX_MAPS) uniform usampler2DArray minmax_maps;   // level k: cells of 2^(k+1)
+layout(binding = BINDING_ORM_MAPS) uniform sampler2DArray orm_maps;           // only when has_pbr_maps
+layout(binding = BINDING_EMISSION_MAPS) uniform sampler2DArray emission_maps;
+uniform int has_pbr_maps; // the package has PBR maps (issue #14); otherwise Material's defaults
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 
@@ -252,7 +255,12 @@ void main()
     finish(!back, back);
     imageAtomicMin(pixel_depth, ivec2(gl_FragCoord.xy),
                    (floatBitsToUint(depth) & ~PIXEL_DEPTH_BACK) | (back ? PIXEL_DEPTH_BACK : 0u));
-    vec3 color = shade_at(albedo.rgb, normal_world, to_eye, p_world);
+    vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);
+    if (has_pbr_maps != 0) {
+        orm = texelFetch(orm_maps, ivec3(texel, layer), 0).rgb;
+        emissive = srgb_to_linear(texelFetch(emission_maps, ivec3(texel, layer), 0).rgb);
+    }
+    vec3 color = shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, p_world);
     if (debug_view == DEBUG_VIEW_PARTS) color = billboard_color(billboard);
     if (debug_view == DEBUG_VIEW_DEPTH) color = vec3(1.0 - clamp(p_box.z, 0.0, 1.0));
     if (debug_view == DEBUG_VIEW_NORMAL) color = normal_world * 0.5 + 0.5;

@@ -1,0 +1,179 @@
+// PBR materials on the GPU (issue #14): the truth renderer reads the glTF factors and maps, its GGX
+// shading agrees with the CPU model that the white-furnace tests integrate (core/shading.h), models
+// without PBR materials look almost as under the old Lambert model, and enhanced billboards, which
+// bake ORM and emission maps, relight metals and rough surfaces like the truth.
+#include "core/shading.h"
+#include "pbr_fixture.h"
+#include "test_support.h"
+
+#include <standin/camera.h>
+#include <standin/eval.h>
+#include <standin/mesh.h>
+#include <standin/render.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace standin {
+namespace {
+
+Mesh import_pbr_spheres(const std::string& name)
+{
+    std::string path = test::write_pbr_spheres_gltf(test::fresh_directory(name), 3000);
+    EXPECT_FALSE(path.empty());
+    Result<Mesh> mesh = import_mesh(path);
+    EXPECT_TRUE(mesh.is_ok()) << mesh.status().message();
+    return mesh ? std::move(*mesh) : Mesh{};
+}
+
+// The pixel (top row first) a world point projects to.
+glm::ivec2 pixel_of(const Camera& camera, glm::vec3 p, int width, int height)
+{
+    glm::vec4 clip = camera.clip_from_world() * glm::vec4(p, 1.0f);
+    glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    return {int((ndc.x * 0.5f + 0.5f) * float(width)), int((0.5f - ndc.y * 0.5f) * float(height))};
+}
+
+Camera front_camera(const Mesh& mesh, float aspect, float azimuth = 0.0f, float elevation = 0.0f)
+{
+    OrbitView view;
+    view.azimuth_degrees = azimuth;
+    view.elevation_degrees = elevation;
+    return orbit_camera(mesh.bounding_sphere(), view, aspect);
+}
+
+TEST(PbrTruth, CapturesTheMaterialInputsOfEachSphere)
+{
+    test::gpu_context();
+    Mesh mesh = import_pbr_spheres("pbr_truth_capture");
+    ASSERT_EQ(mesh.materials.size(), 4u);
+    auto renderer = make_mesh_renderer(mesh);
+    ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
+    const int width = 480, height = 160;
+    Camera camera = front_camera(mesh, float(width) / height);
+    Light light = default_light(camera);
+    light.shading = ShadingModel::capture_orm;
+    auto orm = render_offscreen(**renderer, camera, light, width, height);
+    ASSERT_TRUE(orm.is_ok()) << orm.status().message();
+    light.shading = ShadingModel::capture_emission;
+    auto emission = render_offscreen(**renderer, camera, light, width, height);
+    ASSERT_TRUE(emission.is_ok());
+
+    const float centres[4] = {-3.75f, -1.25f, 1.25f, 3.75f};
+    const float roughness[3] = {0.3f, 0.2f, 0.8f}, metallic[3] = {1.0f, 0.0f, 1.0f};
+    for (int k = 0; k < 3; ++k) {
+        glm::ivec2 p = pixel_of(camera, {centres[k], 0.0f, 1.0f}, width, height);
+        const std::uint8_t* o = orm->color.at(p.x, p.y);
+        EXPECT_NEAR(o[0], 255, 1) << "sphere " << k;
+        EXPECT_NEAR(o[1], roughness[k] * 255.0f, 1.5) << "sphere " << k;
+        EXPECT_NEAR(o[2], metallic[k] * 255.0f, 1.5) << "sphere " << k;
+        EXPECT_EQ(emission->color.at(p.x, p.y)[2], 0) << "sphere " << k;
+    }
+    // the mapped sphere: smooth metal and emitting near the top, occluded rough dielectric near the bottom
+    glm::ivec2 top = pixel_of(camera, {centres[3], 0.9f, 0.43f}, width, height);
+    glm::ivec2 bottom = pixel_of(camera, {centres[3], -0.9f, 0.43f}, width, height);
+    EXPECT_NEAR(orm->color.at(top.x, top.y)[1], 40, 3);
+    EXPECT_NEAR(orm->color.at(top.x, top.y)[2], 255, 3);
+    EXPECT_NEAR(orm->color.at(bottom.x, bottom.y)[0], 90, 3);
+    EXPECT_NEAR(orm->color.at(bottom.x, bottom.y)[1], 230, 3);
+    EXPECT_NEAR(orm->color.at(bottom.x, bottom.y)[2], 0, 3);
+    EXPECT_GT(emission->color.at(top.x, top.y)[2], 240);
+    EXPECT_EQ(emission->color.at(bottom.x, bottom.y)[2], 0);
+}
+
+TEST(PbrTruth, GgxAgreesWithTheCpuModelAtTheSphereCentre)
+{
+    test::gpu_context();
+    GenerateOptions options;
+    options.target_triangles = 40000;
+    options.color = glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+    Result<Mesh> sphere = generate_mesh(options);
+    ASSERT_TRUE(sphere.is_ok());
+    const int size = 201;
+    Camera camera = front_camera(*sphere, 1.0f);
+    struct Case {
+        float metallic, roughness;
+    };
+    for (Case c : {Case{0.0f, 1.0f}, Case{1.0f, 0.5f}, Case{0.0f, 0.3f}, Case{1.0f, 0.9f}}) {
+        sphere->materials[0].metallic = c.metallic;
+        sphere->materials[0].roughness = c.roughness;
+        auto renderer = make_mesh_renderer(*sphere);
+        ASSERT_TRUE(renderer.is_ok());
+        for (glm::vec3 to_light : {glm::vec3(0, 0, 1), glm::normalize(glm::vec3(0.5f, 0.3f, 1.0f)), glm::vec3(1, 0, 0)}) {
+            Light light;
+            light.direction_to_light_world = to_light;
+            auto image = render_offscreen(**renderer, camera, light, size, size);
+            ASSERT_TRUE(image.is_ok());
+            // the centre pixel sees the point whose normal is +z, from +z
+            double base = std::pow((0.8 + 0.055) / 1.055, 2.4);
+            glm::vec3 linear = shade_linear({glm::vec3(float(base)), c.roughness, c.metallic}, {0, 0, 1}, to_light,
+                                            glm::normalize(camera.eye_world - glm::vec3(0, 0, 1)), light.ambient, light.diffuse);
+            double v = std::clamp(double(linear.x), 0.0, 1.0);
+            double expected = (v <= 0.0031308 ? v * 12.92 : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055) * 255.0;
+            EXPECT_NEAR(image->color.at(size / 2, size / 2)[0], expected, 2.5)
+                << "metallic " << c.metallic << " roughness " << c.roughness << " light " << to_light.x << "," << to_light.z;
+        }
+    }
+}
+
+TEST(PbrTruth, ModelsWithoutPbrMaterialsLookAsBefore)
+{
+    // the default material (rough dielectric) under GGX against the old Lambert model on the bunny
+    test::gpu_context();
+    Result<Mesh> bunny = import_mesh(test::source_dir() + "/data/bunny.ply");
+    ASSERT_TRUE(bunny.is_ok());
+    auto renderer = make_mesh_renderer(*bunny);
+    ASSERT_TRUE(renderer.is_ok());
+    for (float azimuth : {0.0f, 120.0f, 240.0f}) {
+        Camera camera = front_camera(*bunny, 1.0f, azimuth, 20.0f);
+        Light light = default_light(camera);
+        auto now = render_offscreen(**renderer, camera, light, 256, 256);
+        light.shading = ShadingModel::lambert_blinn_phong;
+        auto before = render_offscreen(**renderer, camera, light, 256, 256);
+        ASSERT_TRUE(now.is_ok() && before.is_ok());
+        ImageMetrics m = compare_images(before->color, now->color);
+        EXPECT_LT(m.de2000_mean, 1.0) << "azimuth " << azimuth;
+        EXPECT_EQ(m.hole_pixels + m.spill_pixels, 0u);
+    }
+}
+
+TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
+{
+    test::gpu_context();
+    Mesh mesh = import_pbr_spheres("pbr_billboards");
+    std::unique_ptr<Package> package = test::bake(mesh, "enhanced-billboards", {});
+    ASSERT_TRUE(package);
+    auto truth = make_mesh_renderer(mesh);
+    ASSERT_TRUE(truth.is_ok());
+    const Representation* rep = find_representation("enhanced-billboards");
+    ASSERT_NE(rep, nullptr);
+    auto standin = rep->make_renderer(*package, {});
+    ASSERT_TRUE(standin.is_ok()) << standin.status().message();
+    // the same package without its PBR maps: what the stand-in showed before issue #14
+    Mesh plain = mesh;
+    for (Material& m : plain.materials) m = Material{m.name, m.base_color, m.base_color_texture};
+    std::unique_ptr<Package> plain_package = test::bake(plain, "enhanced-billboards", {});
+    ASSERT_TRUE(plain_package);
+    auto plain_standin = rep->make_renderer(*plain_package, {});
+    ASSERT_TRUE(plain_standin.is_ok());
+
+    const int width = 480, height = 200;
+    double with_maps = 0.0, without_maps = 0.0;
+    const float azimuths[3] = {0.0f, 35.0f, -50.0f};
+    for (float azimuth : azimuths) {
+        Camera camera = front_camera(mesh, float(width) / height, azimuth, 15.0f);
+        Light light = default_light(camera);
+        auto t = render_offscreen(**truth, camera, light, width, height);
+        auto s = render_offscreen(**standin, camera, light, width, height);
+        auto p = render_offscreen(**plain_standin, camera, light, width, height);
+        ASSERT_TRUE(t.is_ok() && s.is_ok() && p.is_ok());
+        with_maps += compare_images(t->color, s->color).de2000_mean / 3.0;
+        without_maps += compare_images(t->color, p->color).de2000_mean / 3.0;
+    }
+    EXPECT_LT(with_maps, 2.0) << "mean CIEDE2000, billboards with ORM + emission maps";
+    EXPECT_LT(with_maps, 0.5 * without_maps) << "without the maps: " << without_maps;
+}
+
+} // namespace
+} // namespace standin
