@@ -23,8 +23,9 @@ struct FrameUniforms {
     glm::mat4 shadow_from_world{1.0f}; // world -> shadow map u, v, depth (ShadowMap)
     glm::vec4 shadow_terms{0.0f};      // on (1) or off (0), 1/resolution, texel_world, depth_per_world
     glm::vec4 shadow_bias{0.0f};       // bias_world, unused x 3
+    glm::vec4 fade{0.0f};              // DrawParams::fade: amount, incoming (1) or outgoing (0), unused x 2
 };
-static_assert(sizeof(FrameUniforms) == 4 * 64 + 7 * 16, "std140 layout of FrameBlock");
+static_assert(sizeof(FrameUniforms) == 4 * 64 + 8 * 16, "std140 layout of FrameBlock");
 
 // shadow_map may be null (no shadows)
 FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm::ivec2 viewport,

@@ -1,5 +1,6 @@
 #version 450 core
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 
 in vec3 v_position_world;
@@ -16,6 +17,7 @@ layout(location = 0) out vec4 out_color;
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     vec4 albedo = v_color;
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz

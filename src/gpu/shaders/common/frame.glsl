@@ -14,6 +14,7 @@ layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock {
     vec4 shadow_terms;      // x: 1 with a shadow map, else 0; y: 1/resolution; z: world units per
                             // texel; w: window-depth units per world unit along the light
     vec4 shadow_bias;       // x: constant depth bias, world units; yzw: unused
+    vec4 fade;              // x: cross-fade amount in [0, 1]; y: 1 incoming, 0 outgoing (fade.glsl)
 } frame;
 
 layout(std430, binding = BINDING_INSTANCES_SSBO) readonly buffer InstanceBlock {

@@ -8,6 +8,7 @@
 // written is the stored surface point's (the view with the largest weight), so stand-ins composite,
 // cast and receive shadows like the mesh.
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/microfacets/shaders/microfacets.glsl"
@@ -31,6 +32,7 @@ layout(depth_greater) out float gl_FragDepth;
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     vec3 p = v_position;
     // colour is read at the texel hit, unfiltered even where a pixel spans several texels: the mesh
     // it stands in for is point-sampled too, and averaging leaf-sized detail over the pixel's

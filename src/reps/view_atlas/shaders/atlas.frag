@@ -11,6 +11,7 @@
 // Filtering never bleeds the background: pages hold colour premultiplied by coverage, are mip-mapped
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/common/shaders/height_field.glsl"
@@ -346,6 +347,7 @@ vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     mat4 world_from_object = instances.world_from_object[v_instance];
     mat4 object_from_world = inverse(world_from_object);
     vec3 origin_world, direction_world;
