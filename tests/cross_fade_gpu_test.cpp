@@ -101,8 +101,9 @@ bool empty(const RenderedImage& image)
 // defaults; made on first use and kept for the process (ctest runs each test in its own).
 Renderer& renderer(const std::string& name)
 {
-    static std::map<std::string, std::unique_ptr<Renderer>> made;
-    static std::vector<std::unique_ptr<Package>> packages; // renderers may refer to them
+    // never destroyed: renderers free GL objects, and the context goes first at exit
+    static auto& made = *new std::map<std::string, std::unique_ptr<Renderer>>;
+    static auto& packages = *new std::vector<std::unique_ptr<Package>>; // renderers may refer to them
     std::unique_ptr<Renderer>& r = made[name];
     if (r) return *r;
     test::gpu_context();
@@ -228,7 +229,7 @@ TEST(CrossFade, BetweenTwoStandInsShowsOnePerPixel)
 
 TEST(CrossFade, ShadowMapDrawnThroughACrossFadeHasNoHoles)
 {
-    Renderer& mesh = *renderer("mesh");
+    Renderer& mesh = renderer("mesh");
     Camera camera = test_camera();
     ShadowOptions shadows;
     shadows.enabled = true;
@@ -253,7 +254,7 @@ TEST(CrossFade, TransitionAmountOverADistanceBand)
     EXPECT_EQ(transition_amount(2.9f, 3.0f, 3.0f), 0.0f); // a hard switch
     EXPECT_EQ(transition_amount(3.0f, 3.0f, 3.0f), 1.0f);
     EXPECT_EQ(transition_amount(std::nanf(""), 2.0f, 4.0f), 0.0f);
-    CrossFade fade(*renderer("mesh"), *renderer("mesh"));
+    CrossFade fade(renderer("mesh"), renderer("mesh"));
     fade.set_amount(std::nanf(""));
     EXPECT_EQ(fade.amount(), 0.0f);
     fade.set_amount(7.0f);

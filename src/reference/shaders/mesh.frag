@@ -17,9 +17,11 @@ layout(location = 0) out vec4 out_color;
 
 void main()
 {
-    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     vec4 albedo = v_color;
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
+    // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
+    // need the whole 2x2 quad alive
+    if (fade_discards()) discard;
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
     out_color = vec4(shade_at(albedo.rgb, v_normal_world, to_eye, v_position_world), 1.0);

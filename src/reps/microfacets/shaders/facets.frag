@@ -32,13 +32,15 @@ layout(depth_greater) out float gl_FragDepth;
 
 void main()
 {
-    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     vec3 p = v_position;
     // colour is read at the texel hit, unfiltered even where a pixel spans several texels: the mesh
     // it stands in for is point-sampled too, and averaging leaf-sized detail over the pixel's
     // footprint measured worse (shrub, thesis protocol: Luv 11.6 filtered, 9.8 point-sampled)
     const float color_level = 0.0;
     float edge = max(abs(v_corner.x), abs(v_corner.y)), edge_width = fwidth(edge);
+    // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
+    // need the whole 2x2 quad alive
+    if (fade_discards()) discard;
     float w = voxel_size(v_level);
 
     vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;

@@ -347,7 +347,6 @@ vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
 
 void main()
 {
-    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     mat4 world_from_object = instances.world_from_object[v_instance];
     mat4 object_from_world = inverse(world_from_object);
     vec3 origin_world, direction_world;
@@ -359,6 +358,7 @@ void main()
         ViewData view = views.items[v_views.x];
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
+        if (fade_discards()) discard; // after the derivatives, as below
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : 2u;
         count_this_fragment();
@@ -379,6 +379,9 @@ void main()
     vec3 on_plane = o + t_plane * d - atlas_center;
     vec2 plane_texel = capture_from_plane(vec2(dot(on_plane, first.axis_u.xyz), dot(on_plane, first.axis_v.xyz)));
     float lod = log2(max(max(length(dFdx(plane_texel)), length(dFdy(plane_texel))), 1e-8));
+    // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
+    // need the whole 2x2 quad alive
+    if (fade_discards()) discard;
 
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
     float t_sum = 0.0, t_weight = 0.0;
