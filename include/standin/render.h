@@ -48,6 +48,17 @@ struct DrawParams {
     // multiplies the light's direct term by the fraction of the map's taps that see the light.
     // Null: no shadows, and shading is exactly what it is without this field.
     const ShadowMap* shadow_map = nullptr;
+    // A screen-door cross-fade (issue #14): every pixel has a fixed threshold t in (0, 1) from an
+    // 8x8 ordered-dither matrix (gpu/shaders/common/fade.glsl); an outgoing draw keeps the pixels
+    // with t >= amount, an incoming one those with t < amount. Two renderers drawn into one frame
+    // at the same amount, one outgoing and one incoming, cover each pixel exactly once (coverage in
+    // steps of 1/64); dropped fragments write neither colour nor depth, so depth stays true and
+    // shadow maps drawn the same way fade too. The default (amount 0, outgoing) draws exactly what
+    // a draw without a fade draws. CrossFade below draws such a pair.
+    struct Fade {
+        float amount = 0.0f; // [0, 1]; outside clamped, NaN taken as 0
+        bool incoming = false;
+    } fade;
 };
 
 struct DrawStats {
@@ -66,6 +77,32 @@ public:
     virtual void set_counting(bool) {}
     virtual std::uint64_t read_counter(Counter) { return 0; }
 };
+
+// A level-of-detail transition (issue #14): `from` and `to` drawn into the same frame with
+// complementary screen-door masks (DrawParams::fade), so switching representation over a band of
+// distances changes 1/64 of the pixels at a time instead of all at once. At amount 0 it is exactly
+// `from`, at 1 exactly `to` (the other is not drawn). The fade of the params it is given is
+// replaced, not composed. Drawn into a shadow map (ShadowMap::render), the shadow fades too.
+// Counters are the sum of both. Both renderers must outlive it.
+class CrossFade : public Renderer {
+public:
+    CrossFade(Renderer& from, Renderer& to) : from_(&from), to_(&to) {}
+    void set_amount(float amount); // clamped to [0, 1]; NaN taken as 0
+    float amount() const { return amount_; }
+    DrawStats draw(const DrawParams& params) override;
+    void set_counting(bool on) override;
+    std::uint64_t read_counter(Counter counter) override;
+
+private:
+    Renderer* from_;
+    Renderer* to_;
+    float amount_ = 0.0f;
+};
+
+// The fade amount over a distance band: 0 at or below `near`, 1 at or above `far`, linear between
+// (coverage changes evenly with distance). near == far is a hard switch at that distance (1 from
+// `far` on). Distances in any unit, as long as the band uses the same.
+float transition_amount(float distance, float near, float far);
 
 // Dynamic shadows of the one directional light (issue #6, Saraiva et al. §7): a depth map of the scene
 // seen from the light, drawn by the same renderers with their true depth (the mesh, the billboards'

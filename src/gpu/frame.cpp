@@ -40,6 +40,8 @@ FrameUniforms make_frame_uniforms(const Camera& camera, const Light& light, glm:
 void FrameResources::bind(const DrawParams& params)
 {
     FrameUniforms uniforms = make_frame_uniforms(params.camera, params.light, params.viewport, params.shadow_map);
+    float amount = params.fade.amount > 0.0f ? std::min(params.fade.amount, 1.0f) : 0.0f; // NaN: no fade
+    uniforms.fade = glm::vec4(amount, params.fade.incoming ? 1.0f : 0.0f, 0.0f, 0.0f);
     if (!frame_buffer_) frame_buffer_ = make_buffer(nullptr, sizeof(FrameUniforms), GL_DYNAMIC_STORAGE_BIT);
     glNamedBufferSubData(frame_buffer_.get(), 0, sizeof uniforms, &uniforms);
 

@@ -24,8 +24,9 @@ struct FrameUniforms {
     glm::mat4 shadow_from_world{1.0f}; // world -> shadow map u, v, depth (ShadowMap)
     glm::vec4 shadow_terms{0.0f};      // on (1) or off (0), 1/resolution, texel_world, depth_per_world
     glm::vec4 shadow_bias{0.0f};       // bias_world, shading model (shading_model.h), unused x 2
+    glm::vec4 fade{0.0f};              // DrawParams::fade: amount, incoming (1) or outgoing (0), unused x 2
 };
-static_assert(sizeof(FrameUniforms) == 4 * 64 + 7 * 16, "std140 layout of FrameBlock");
+static_assert(sizeof(FrameUniforms) == 4 * 64 + 8 * 16, "std140 layout of FrameBlock");
 
 // The shading_model.h code of a model (FrameUniforms::shadow_bias.y).
 int shading_model_code(ShadingModel model);

@@ -1,5 +1,6 @@
 #version 450 core
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 
 in vec3 v_position_world;
@@ -49,9 +50,12 @@ void main()
 {
     vec4 albedo = v_color;
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
+    // the alpha test and a cross-fade's other renderer drop the pixel only after every derivative
+    // below (implicit texture derivatives, the normal map's frame), which need the 2x2 quad alive
+    bool cut_out = false;
     if (alpha_cutoff > 0.0) {
         float alpha = v_color.a * (has_texture != 0 ? textureLod(albedo_texture, v_uv, 0.0).a : 1.0);
-        if (alpha < alpha_cutoff) discard;
+        cut_out = alpha < alpha_cutoff;
     }
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
@@ -61,5 +65,6 @@ void main()
     vec3 emissive = emissive_factor;
     if (pbr_maps.z != 0) emissive *= srgb_to_linear(texture(emissive_texture, v_uv).rgb);
     vec3 normal_world = pbr_maps.w != 0 ? mapped_normal(v_normal_world, v_position_world, v_uv) : v_normal_world;
+    if (cut_out || fade_discards()) discard;
     out_color = vec4(shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, v_position_world), 1.0);
 }

@@ -106,6 +106,9 @@ private:
     DrawStats draw_patches(std::uint32_t instances);
 
     gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
+    // the same with depth tested after the fragment stage, for cross-faded draws (draw.frag)
+    gpu::Program draw_faded_, patches_faded_;
+    bool faded_ = false; // this draw is part of a cross-fade (DrawParams::fade)
     gpu::Query primitives_query_;
     gpu::Buffer pbr_; // PBR packages only (issue #14)
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
@@ -144,12 +147,22 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     Result<gpu::Program> draw = gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"});
     if (!draw) return draw.status();
     draw_ = std::move(*draw);
+    Result<gpu::Program> draw_faded = gpu::Program::create(
+        {"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"}, {{"DM_FADED", "1"}});
+    if (!draw_faded) return draw_faded.status();
+    draw_faded_ = std::move(*draw_faded);
     if (settings.subdivision == "tess") {
         Result<gpu::Program> patches = gpu::Program::create(
             {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
              "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"});
         if (!patches) return patches.status();
         patches_ = std::move(*patches);
+        Result<gpu::Program> patches_faded = gpu::Program::create(
+            {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
+             "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"},
+            {{"DM_FADED", "1"}});
+        if (!patches_faded) return patches_faded.status();
+        patches_faded_ = std::move(*patches_faded);
         primitives_query_ = gpu::make_query(GL_PRIMITIVES_GENERATED);
     } else if (settings.subdivision != "leb") {
         return error(StatusCode::invalid_argument, "--subdivision: must be leb or tess, not '" + settings.subdivision + "'");
@@ -313,6 +326,7 @@ std::vector<std::uint32_t> Impl::read_state()
 DrawStats Impl::draw(const DrawParams& params)
 {
     frame_.bind(params);
+    faded_ = params.fade.incoming || params.fade.amount > 0.0f;
     std::uint32_t instances = std::uint32_t(frame_.instance_count());
     if (settings_.subdivision == "tess") {
         upload_block(params, instances);
@@ -332,13 +346,14 @@ DrawStats Impl::draw(const DrawParams& params)
                         state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    glProgramUniform1i(draw_.id(), draw_.uniform("counting"), counters_->counting() ? 1 : 0);
-    glProgramUniform1i(draw_.id(), draw_.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
+    const gpu::Program& draw_program = faded_ ? draw_faded_ : draw_;
+    glProgramUniform1i(draw_program.id(), draw_program.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    draw_.use();
+    draw_program.use();
     glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(DM_STATE_DRAW * sizeof(std::uint32_t))));
     glBindVertexArray(0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
@@ -351,13 +366,14 @@ DrawStats Impl::draw(const DrawParams& params)
 // tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
-    glProgramUniform1i(patches_.id(), patches_.uniform("counting"), counters_->counting() ? 1 : 0);
-    glProgramUniform1i(patches_.id(), patches_.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
+    const gpu::Program& patches = faded_ ? patches_faded_ : patches_;
+    glProgramUniform1i(patches.id(), patches.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glPatchParameteri(GL_PATCH_VERTICES, 3);
-    patches_.use();
+    patches.use();
     glBeginQuery(GL_PRIMITIVES_GENERATED, primitives_query_.get());
     glDrawArraysInstanced(GL_PATCHES, 0, GLsizei(3 * face_count_), GLsizei(instances));
     glEndQuery(GL_PRIMITIVES_GENERATED);

@@ -16,6 +16,7 @@ layout(std140, binding = BINDING_FRAME_UBO) uniform FrameBlock {
                             // texel; w: window-depth units per world unit along the light
     vec4 shadow_bias;       // x: constant depth bias, world units; y: shading model
                             // (shading_model.h); zw: unused
+    vec4 fade;              // x: cross-fade amount in [0, 1]; y: 1 incoming, 0 outgoing (fade.glsl)
 } frame;
 
 layout(std430, binding = BINDING_INSTANCES_SSBO) readonly buffer InstanceBlock {

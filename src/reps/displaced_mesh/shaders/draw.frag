@@ -5,6 +5,7 @@
 // the frame's shadows. True depth: the triangles are real geometry. Debug views: control faces,
 // bisection depth, and the distance to the finest surface in pixels (the paper's Fig. 11c).
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/displaced_mesh/shaders/displaced.glsl"
@@ -13,7 +14,13 @@ layout(std430, binding = DM_SHADING_SSBO) readonly buffer ShadingBlock { uvec2 s
 layout(std430, binding = DM_PBR_SSBO) readonly buffer PbrBlock { uvec2 pbr_samples[]; }; // only when has_pbr_maps
 uniform int has_pbr_maps; // the package has ORM and emission (issue #14); otherwise Material's defaults
 
-layout(early_fragment_tests) in; // counters count the fragments that pass the depth test
+// Counters count the fragments that pass the depth test. Early tests write depth before the shader
+// runs, so a fragment a cross-fade drops would still write depth: the renderer draws faded frames
+// with a variant compiled with DM_FADED, where depth is tested after the shader (and the counters
+// then also count fragments that fail the test).
+#ifndef DM_FADED
+layout(early_fragment_tests) in;
+#endif
 
 uniform int counting; // 1: add this fragment, its reads and its error to the counters
 
@@ -94,6 +101,7 @@ float error_pixels(mat4 world_from_object)
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     uint index[3];
     float weight[3];
     finest_triangle(index, weight);

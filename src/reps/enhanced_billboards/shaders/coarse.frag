@@ -4,6 +4,7 @@
 // and never where the nearest billboard hit is a front one: so it fills holes but neither covers a
 // billboard hit nor grows the silhouette.
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
@@ -20,6 +21,7 @@ layout(location = 0) out vec4 out_color;
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     uint flags = imageLoad(pixel_flags, ivec2(gl_FragCoord.xy)).r;
     uint nearest = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
     bool front_hit = uintBitsToFloat(nearest & ~PIXEL_DEPTH_BACK) < 1.0 && (nearest & PIXEL_DEPTH_BACK) == 0u;

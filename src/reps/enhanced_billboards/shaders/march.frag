@@ -17,6 +17,7 @@
 layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than the box face
 #endif
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/common/shaders/height_field.glsl"
@@ -179,6 +180,7 @@ void finish(bool hit, bool near)
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     TileData tile = tiles.items[v_tile];
     int billboard = tile.info.x, top_level = tile.info.y;
     BillboardData data = billboards.items[billboard];

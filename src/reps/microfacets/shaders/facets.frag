@@ -8,6 +8,7 @@
 // written is the stored surface point's (the view with the largest weight), so stand-ins composite,
 // cast and receive shadows like the mesh.
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/microfacets/shaders/microfacets.glsl"
@@ -37,6 +38,9 @@ void main()
     // footprint measured worse (shrub, thesis protocol: Luv 11.6 filtered, 9.8 point-sampled)
     const float color_level = 0.0;
     float edge = max(abs(v_corner.x), abs(v_corner.y)), edge_width = fwidth(edge);
+    // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
+    // need the whole 2x2 quad alive
+    if (fade_discards()) discard;
     float w = voxel_size(v_level);
 
     vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;

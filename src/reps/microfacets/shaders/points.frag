@@ -2,6 +2,7 @@
 // Microfacets as points: the facet's one colour, lit from its stored normal, at its stored
 // surface's depth (points.vert).
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/microfacets/shaders/microfacets_layout.glsl"
@@ -22,6 +23,7 @@ layout(depth_greater) out float gl_FragDepth;
 
 void main()
 {
+    if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     if (counting != 0) count_fragment(v_fetches);
     float depth = max(window_depth(v_surface_world), gl_FragCoord.z);
     gl_FragDepth = depth;

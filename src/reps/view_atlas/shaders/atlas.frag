@@ -11,6 +11,7 @@
 // Filtering never bleeds the background: pages hold colour premultiplied by coverage, are mip-mapped
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
+#include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/common/shaders/height_field.glsl"
@@ -372,6 +373,7 @@ void main()
         ViewData view = views.items[v_views.x];
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
+        if (fade_discards()) discard; // after the derivatives, as below
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : 2u;
         count_this_fragment();
@@ -392,6 +394,9 @@ void main()
     vec3 on_plane = o + t_plane * d - atlas_center;
     vec2 plane_texel = capture_from_plane(vec2(dot(on_plane, first.axis_u.xyz), dot(on_plane, first.axis_v.xyz)));
     float lod = log2(max(max(length(dFdx(plane_texel)), length(dFdy(plane_texel))), 1e-8));
+    // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
+    // need the whole 2x2 quad alive
+    if (fade_discards()) discard;
 
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
     float t_sum = 0.0, t_weight = 0.0;
