@@ -1,8 +1,9 @@
-// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball) up to
+// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball, assembly) up to
 // millions of faces.
 #include "commands.h"
 #include "common.h"
 
+#include <standin/assembly.h>
 #include <standin/mesh.h>
 
 #include <cstdio>
@@ -25,13 +26,18 @@ static int run_generate(const GenerateArgs& args)
     static const std::map<std::string, GeneratedShape> shapes = {
         {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere},
         {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball}};
-    GenerateOptions options;
-    options.shape = shapes.at(args.shape);
-    options.target_triangles = args.triangles;
-    options.radius = args.radius;
-    options.noise_amplitude = args.noise;
-    options.seed = args.seed;
-    Result<Mesh> mesh = generate_mesh(options);
+    Result<Mesh> mesh = Mesh{};
+    if (args.shape == "assembly") {
+        mesh = generate_assembly(args.triangles, args.radius);
+    } else {
+        GenerateOptions options;
+        options.shape = shapes.at(args.shape);
+        options.target_triangles = args.triangles;
+        options.radius = args.radius;
+        options.noise_amplitude = args.noise;
+        options.seed = args.seed;
+        mesh = generate_mesh(options);
+    }
     if (!mesh) return fail(mesh.status());
     if (args.output.size() < 4 || args.output.substr(args.output.size() - 4) != ".ply")
         return fail(args.output + ": generate writes PLY, name the output *.ply");
@@ -47,10 +53,10 @@ CommandRun add_generate_command(CLI::App& root)
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
         "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a sphere with a noisy radius, a shrub "
-                    "(branches and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
+                    "(branches and leaf cards), a fur ball (hair ribbons) or a mechanical assembly (59 nested parts) of a chosen triangle count (for tests and scale "
                     "benchmarks up to millions of faces)");
-    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball")
-        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball"}))
+    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | assembly")
+        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "assembly"}))
         ->required();
     command->add_option("-o,--output", args->output, "Output file (.ply)")->required();
     command->add_option("-t,--triangles", args->triangles, "Approximate triangle count")->capture_default_str();
