@@ -20,7 +20,7 @@
 // shader stops every ray at the nearest front hit already found at its pixel, so boxes behind the
 // visible surface cost a few instructions, not a march. Instances whose tiles would be small on
 // screen (and the "seed" march) draw one box per billboard instead, and the march stops at pyramid
-// nodes no wider than a pixel (level of detail: far instances in a crowd walk a few nodes, not
+// nodes no wider than half a pixel (level of detail: far instances in a crowd walk a few nodes, not
 // texels).
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
@@ -90,11 +90,13 @@ constexpr int k_max_pyramid_levels = 6;
 constexpr int k_tile_level = 4;
 // instances whose tiles would cover fewer pixels across than this draw one box per billboard
 constexpr float k_min_tile_pixels = 6.0f;
-// Instances smaller than this on screen (bounding-sphere radius in pixels) get no coarse mesh: their
-// seam holes are narrower than a pixel, and in crowds the coarse mesh (10% of the faces per
-// instance) would cost more than all the billboards together (1000 copies of a 235k-face model on
-// llvmpipe: 1.8 s with it, 0.17 s without).
-constexpr float k_min_coarse_radius_pixels = 16.0f;
+// Instances smaller than this on screen (bounding-sphere radius in pixels) get no coarse mesh: a
+// hole cannot show on them. Without the coarse mesh the exact march leaves about 0.02% of the
+// covered pixels as holes (noisy sphere, thesis protocol), so an instance of radius r px expects
+// 0.0002 * pi * r^2 hole pixels: under one pixel below r = 40 px. In crowds the coarse mesh (10% of
+// the faces per instance) costs more than all the billboards together (1000 copies of a 235k-face
+// model on llvmpipe: 13.3 s with it at r >= 16 px, 2.8 s without).
+constexpr float k_min_coarse_radius_pixels = 32.0f;
 
 // What the CPU needs of a proxy box to sort and choose boxes each frame.
 struct ProxyInfo {
