@@ -1,8 +1,9 @@
-// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball, tree) up to
-// millions of faces; PLY, or glTF (what the tree's textured, alpha-masked leaves need).
+// standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball, tree,
+// assembly) up to millions of faces; PLY, or glTF (what the tree's textured, alpha-masked leaves need).
 #include "commands.h"
 #include "common.h"
 
+#include <standin/assembly.h>
 #include <standin/mesh.h>
 
 #include <cstdio>
@@ -26,13 +27,18 @@ static int run_generate(const GenerateArgs& args)
         {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere},
         {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball},
         {"tree", GeneratedShape::tree}};
-    GenerateOptions options;
-    options.shape = shapes.at(args.shape);
-    options.target_triangles = args.triangles;
-    options.radius = args.radius;
-    options.noise_amplitude = args.noise;
-    options.seed = args.seed;
-    Result<Mesh> mesh = generate_mesh(options);
+    Result<Mesh> mesh = Mesh{};
+    if (args.shape == "assembly") {
+        mesh = generate_assembly(args.triangles, args.radius);
+    } else {
+        GenerateOptions options;
+        options.shape = shapes.at(args.shape);
+        options.target_triangles = args.triangles;
+        options.radius = args.radius;
+        options.noise_amplitude = args.noise;
+        options.seed = args.seed;
+        mesh = generate_mesh(options);
+    }
     if (!mesh) return fail(mesh.status());
     auto ends_with = [&](const std::string& tail) {
         return args.output.size() > tail.size() && args.output.compare(args.output.size() - tail.size(), tail.size(), tail) == 0;
@@ -52,11 +58,11 @@ CommandRun add_generate_command(CLI::App& root)
 {
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
-        "generate", "Write a procedural test mesh as PLY: a sphere, a torus, a sphere with a noisy radius, a shrub "
-                    "(branches and leaf cards) or a fur ball (hair ribbons) of a chosen triangle count (for tests and scale "
+        "generate", "Write a procedural test mesh as PLY or glTF: a sphere, a torus, a sphere with a noisy radius, a shrub "
+                    "(branches and leaf cards), a fur ball (hair ribbons), a tree (alpha-masked leaf cards; write .gltf) or a mechanical assembly (59 nested parts) of a chosen triangle count (for tests and scale "
                     "benchmarks up to millions of faces)");
-    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | tree")
-        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "tree"}))
+    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | tree | assembly")
+        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "tree", "assembly"}))
         ->required();
     command->add_option("-o,--output", args->output, "Output file (.ply, or .gltf: the textures embedded)")->required();
     command->add_option("-t,--triangles", args->triangles, "Approximate triangle count")->capture_default_str();

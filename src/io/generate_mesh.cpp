@@ -1,9 +1,10 @@
-// Procedural meshes for tests and scale benchmarks: a sphere, a torus, a noisy sphere, a shrub and a
-// fur ball of about a requested number of triangles, bit-for-bit deterministic so that tests can
+// Procedural meshes for tests and scale benchmarks: a sphere, a torus, a noisy sphere, a shrub, a
+// fur ball and a mechanical assembly (59 nested parts and thin shells) of about a requested number of triangles, bit-for-bit deterministic so that tests can
 // compare results.
 // The sphere is a cube-sphere with the equal-angle warp (tan of the angle along each cube face,
 // as in equi-angular cubemaps): triangles vary in area by less than 1.5x, where a UV sphere
 // piles slivers at the poles and an icosphere only comes in powers of four.
+#include <standin/assembly.h>
 #include <standin/mesh.h>
 
 #include <tbb/parallel_for.h>
@@ -497,6 +498,165 @@ static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
         }
     }
     fit_into_sphere(mesh, options.radius);
+}
+
+// A closed cylinder from a to b: `sides` around, `rings` along, flat caps (fans), outward normals.
+static void add_cylinder(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
+{
+    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
+    auto first = std::uint32_t(mesh.positions.size());
+    for (int r = 0; r <= rings; ++r) {
+        glm::vec3 centre = glm::mix(a, b, float(r) / float(rings));
+        for (int k = 0; k < sides; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+            glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+            add_vertex(mesh, centre + radius * out, out, color);
+        }
+    }
+    for (int r = 0; r < rings; ++r) {
+        for (int k = 0; k < sides; ++k) {
+            std::uint32_t a0 = first + std::uint32_t(r * sides + k), a1 = first + std::uint32_t(r * sides + (k + 1) % sides);
+            std::uint32_t b0 = a0 + std::uint32_t(sides), b1 = a1 + std::uint32_t(sides);
+            mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
+        }
+    }
+    for (int end = 0; end < 2; ++end) {
+        glm::vec3 centre = end == 0 ? a : b, normal = end == 0 ? -axis : axis;
+        auto hub = std::uint32_t(mesh.positions.size());
+        add_vertex(mesh, centre, normal, color);
+        for (int k = 0; k < sides; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+            add_vertex(mesh, centre + radius * (std::cos(angle) * u + std::sin(angle) * v), normal, color);
+        }
+        for (int k = 0; k < sides; ++k) {
+            std::uint32_t p0 = hub + 1 + std::uint32_t(k), p1 = hub + 1 + std::uint32_t((k + 1) % sides);
+            if (end == 0) mesh.indices.insert(mesh.indices.end(), {hub, p1, p0});
+            else mesh.indices.insert(mesh.indices.end(), {hub, p0, p1});
+        }
+    }
+}
+
+// A thin-walled tube from a to b (a hollow part: outer wall, inner wall facing the axis, annular
+// ends), open at both ends so that what it holds shows only through them.
+static void add_shell(Mesh& mesh, glm::vec3 a, glm::vec3 b, float outer, float inner, int sides, int rings, glm::vec4 color)
+{
+    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
+    for (int wall = 0; wall < 2; ++wall) {
+        float radius = wall == 0 ? outer : inner, sign = wall == 0 ? 1.0f : -1.0f;
+        auto first = std::uint32_t(mesh.positions.size());
+        for (int r = 0; r <= rings; ++r) {
+            glm::vec3 centre = glm::mix(a, b, float(r) / float(rings));
+            for (int k = 0; k < sides; ++k) {
+                float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+                glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+                add_vertex(mesh, centre + radius * out, sign * out, color);
+            }
+        }
+        for (int r = 0; r < rings; ++r) {
+            for (int k = 0; k < sides; ++k) {
+                std::uint32_t a0 = first + std::uint32_t(r * sides + k), a1 = first + std::uint32_t(r * sides + (k + 1) % sides);
+                std::uint32_t b0 = a0 + std::uint32_t(sides), b1 = a1 + std::uint32_t(sides);
+                if (wall == 0) mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
+                else mesh.indices.insert(mesh.indices.end(), {a0, b1, a1, a0, b0, b1});
+            }
+        }
+    }
+    for (int end = 0; end < 2; ++end) {
+        glm::vec3 centre = end == 0 ? a : b, normal = end == 0 ? -axis : axis;
+        auto first = std::uint32_t(mesh.positions.size());
+        for (int k = 0; k < sides; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+            glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+            add_vertex(mesh, centre + outer * out, normal, color);
+            add_vertex(mesh, centre + inner * out, normal, color);
+        }
+        for (int k = 0; k < sides; ++k) {
+            std::uint32_t o0 = first + 2 * std::uint32_t(k), i0 = o0 + 1;
+            std::uint32_t o1 = first + 2 * std::uint32_t((k + 1) % sides), i1 = o1 + 1;
+            if (end == 0) mesh.indices.insert(mesh.indices.end(), {o0, i1, o1, o0, i0, i1});
+            else mesh.indices.insert(mesh.indices.end(), {o0, o1, i1, o0, i1, i0});
+        }
+    }
+}
+
+// An axis-aligned box, four vertices per face (flat normals).
+static void add_box(Mesh& mesh, glm::vec3 lo, glm::vec3 hi, glm::vec4 color)
+{
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int side = 0; side < 2; ++side) {
+            glm::vec3 normal(0.0f);
+            normal[axis] = side == 0 ? -1.0f : 1.0f;
+            int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            auto first = std::uint32_t(mesh.positions.size());
+            for (int c = 0; c < 4; ++c) {
+                glm::vec3 p;
+                p[axis] = side == 0 ? lo[axis] : hi[axis];
+                p[a1] = (c & 1) ? hi[a1] : lo[a1];
+                p[a2] = (c & 2) ? hi[a2] : lo[a2];
+                add_vertex(mesh, p, normal, color);
+            }
+            // corners 0 (lo, lo), 1 (hi, lo), 3 (hi, hi), 2 (lo, hi) are counter-clockwise about +axis
+            if (side == 1) mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 3, first, first + 3, first + 2});
+            else mesh.indices.insert(mesh.indices.end(), {first, first + 3, first + 1, first, first + 2, first + 3});
+        }
+    }
+}
+
+// A mechanical assembly of 59 parts: a thin-walled casing open at both ends holding six liners
+// (thin shells) with a piston each, rods, wrist pins, a crankshaft and a camshaft; two annular
+// flanges with twelve bolts each, four feet and two pulleys. Nested parts, thin shells and many
+// small parts, the case where image-based stand-ins lose surface. `detail` sets the tessellation.
+static void build_assembly(Mesh& mesh, int detail)
+{
+    const glm::vec4 steel(0.62f, 0.64f, 0.68f, 1.0f), dark(0.25f, 0.26f, 0.3f, 1.0f), brass(0.78f, 0.6f, 0.25f, 1.0f),
+        red(0.7f, 0.18f, 0.15f, 1.0f), blue(0.2f, 0.35f, 0.7f, 1.0f), green(0.25f, 0.55f, 0.3f, 1.0f);
+    int big = std::max(8, 4 * detail), small = std::max(6, detail), rings = std::max(1, detail);
+    add_shell(mesh, {-1.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, 0.6f, 0.57f, big, 2 * rings, blue); // casing
+    add_cylinder(mesh, {-1.25f, 0.0f, 0.0f}, {1.25f, 0.0f, 0.0f}, 0.06f, small, 2 * rings, steel); // crankshaft
+    add_cylinder(mesh, {-1.1f, 0.42f, 0.0f}, {1.1f, 0.42f, 0.0f}, 0.03f, small, 2 * rings, steel); // camshaft
+    for (int c = 0; c < 6; ++c) {
+        float x = -0.75f + 0.3f * float(c), phase = float(c % 3) * 0.05f;
+        add_shell(mesh, {x, -0.15f, 0.0f}, {x, 0.5f, 0.0f}, 0.11f, 0.1f, 2 * small, rings, green); // liner
+        add_cylinder(mesh, {x, 0.12f + phase, 0.0f}, {x, 0.3f + phase, 0.0f}, 0.095f, 2 * small, rings, dark); // piston
+        add_box(mesh, {x - 0.02f, 0.0f, -0.025f}, {x + 0.02f, 0.18f + phase, 0.025f}, steel); // rod
+        add_cylinder(mesh, {x - 0.08f, 0.18f + phase, 0.0f}, {x + 0.08f, 0.18f + phase, 0.0f}, 0.015f, small, 1, brass); // pin
+    }
+    for (int side = 0; side < 2; ++side) {
+        float x = side == 0 ? -1.0f : 1.0f, out = side == 0 ? -0.03f : 0.03f;
+        add_shell(mesh, {x, 0.0f, 0.0f}, {x + out, 0.0f, 0.0f}, 0.72f, 0.45f, big, 1, red); // flange
+        for (int k = 0; k < 12; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * (float(k) + 0.5f) / 12.0f;
+            glm::vec3 p(x + out, 0.66f * std::cos(angle), 0.66f * std::sin(angle));
+            add_cylinder(mesh, p, p + glm::vec3(2.0f * out, 0.0f, 0.0f), 0.025f, small, 1, brass); // bolt
+        }
+        add_cylinder(mesh, {x + 4.0f * out, 0.0f, 0.0f}, {x + 6.0f * out, 0.0f, 0.0f}, 0.25f, big, rings, dark); // pulley
+    }
+    for (int foot = 0; foot < 4; ++foot) {
+        float x = foot < 2 ? -0.7f : 0.5f, z = foot % 2 == 0 ? -0.45f : 0.25f;
+        add_box(mesh, {x, -0.75f, z}, {x + 0.2f, -0.55f, z + 0.2f}, steel);
+    }
+}
+
+Result<Mesh> generate_assembly(std::size_t target_triangles, float radius)
+{
+    GenerateOptions options;
+    options.target_triangles = target_triangles;
+    options.radius = radius;
+    STANDIN_RETURN_IF_ERROR(check_options(options));
+    // the triangle count grows with detail squared: measure once, then scale
+    Mesh probe;
+    build_assembly(probe, 8);
+    double per_detail2 = double(probe.triangle_count()) / 64.0;
+    int detail = std::max(1, int(std::lround(std::sqrt(double(target_triangles) / per_detail2))));
+    Mesh mesh;
+    build_assembly(mesh, detail);
+    fit_into_sphere(mesh, radius);
+    Material material;
+    material.name = "generated";
+    material.base_color = options.color;
+    mesh.materials.push_back(material);
+    mesh.face_materials.assign(mesh.triangle_count(), 0u);
+    return mesh;
 }
 
 Result<Mesh> generate_mesh(const GenerateOptions& options)

@@ -133,6 +133,61 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
     return acc;
 }
 
+// The sheared box of a tile (TileBox::slope): a least-squares plane through the texels' depths at
+// their centres (doubles, fixed order: deterministic), then the offsets that hold every column from
+// its min to its max over its whole square (the plane is linear: its extremes over a square are at
+// the corners). A flat tile gets slope 0 and the plain box.
+static void fit_tile_plane(const HeightFieldAcceleration& acc, TileBox& box)
+{
+    double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+    for (int j = box.texel_min.y; j < box.texel_max.y; ++j) {
+        for (int i = box.texel_min.x; i < box.texel_max.x; ++i) {
+            const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+            if (!(texel.flags & k_texel_covered)) continue;
+            // centred on the box so the normal equations stay well conditioned
+            double x = i + 0.5 - box.texel_min.x, y = j + 0.5 - box.texel_min.y, z = texel.depth / double(HF_DEPTH_CODES);
+            n += 1;
+            sx += x;
+            sy += y;
+            sz += z;
+            sxx += x * x;
+            sxy += x * y;
+            syy += y * y;
+            sxz += x * z;
+            syz += y * z;
+        }
+    }
+    glm::dvec2 slope(0.0);
+    double cxx = sxx - sx * sx / n, cxy = sxy - sx * sy / n, cyy = syy - sy * sy / n;
+    double cxz = sxz - sx * sz / n, cyz = syz - sy * sz / n;
+    double det = cxx * cyy - cxy * cxy;
+    if (n >= 3 && det > 1e-9 * std::max(1.0, cxx * cyy)) slope = glm::dvec2(cyy * cxz - cxy * cyz, cxx * cyz - cxy * cxz) / det;
+    box.slope = glm::vec2(slope);
+    glm::dvec2 s(box.slope); // the plane the renderer evaluates, in the precision it has
+    double lo = 1e30, hi = -1e30;
+    double plain_lo = box.depth_min / double(HF_DEPTH_CODES), plain_hi = box.depth_max / double(HF_DEPTH_CODES);
+    for (int j = box.texel_min.y; j < box.texel_max.y; ++j) {
+        for (int i = box.texel_min.x; i < box.texel_max.x; ++i) {
+            const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+            if (!(texel.flags & k_texel_covered)) continue;
+            double z_min = texel.min / double(HF_DEPTH_CODES), z_max = texel.max / double(HF_DEPTH_CODES);
+            for (int c = 0; c < 4; ++c) {
+                double plane = s.x * double(i + (c & 1)) + s.y * double(j + (c >> 1));
+                lo = std::min(lo, z_min - plane);
+                hi = std::max(hi, z_max - plane);
+            }
+        }
+    }
+    if (hi - lo >= plain_hi - plain_lo) {
+        // two surfaces at different depths tilt the fit: the plain box is tighter
+        box.slope = glm::vec2(0.0f);
+        lo = plain_lo;
+        hi = plain_hi;
+    }
+    box.offset_min = float(lo);
+    box.offset_max = float(hi);
+}
+
 std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size)
 {
     assert(tile_size > 0 && (tile_size & (tile_size - 1)) == 0);
@@ -155,7 +210,9 @@ std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_si
                     box.depth_max = std::max(box.depth_max, texel.max);
                 }
             }
-            if (occupied) tiles.push_back(box);
+            if (!occupied) continue;
+            fit_tile_plane(acc, box);
+            tiles.push_back(box);
         }
     }
     return tiles;

@@ -54,9 +54,16 @@ HeightFieldAcceleration build_acceleration(const Billboard& billboard, int padde
 // of one tile_size x tile_size tile, and the depth range (16-bit codes) of those texels and of the
 // walls to their linked neighbours (SurfaceTexel::min / max). A ray that meets the height field
 // inside the tile meets this box first.
+// The box is also sheared to follow the surface: `slope` is a plane z = slope.x * x + slope.y * y
+// (box space: x, y in texels, z in [0, 1] of the depth range) fitted to the texels' depths, and
+// [offset_min, offset_max] holds z - plane over every point of every covered texel's column from its
+// min to its max, so a ray enters a steep or tilted tile next to its surface instead of at the top
+// of a box as deep as the tile's whole depth change.
 struct TileBox {
     glm::ivec2 texel_min{0}, texel_max{0};
     std::uint16_t depth_min = 65535, depth_max = 0;
+    glm::vec2 slope{0.0f};
+    float offset_min = 0.0f, offset_max = 0.0f;
 };
 
 // The boxes of the tiles of `acc` that hold covered texels, row by row (empty tiles have none), so

@@ -430,8 +430,16 @@ TEST(BillboardRenderer, TileProxiesHoldExactlyTheCoveredTexelsAndTheirWalls)
                 hi = glm::max(hi, glm::ivec2(i + 1, j + 1));
                 dmin = std::min(dmin, texel.min);
                 dmax = std::max(dmax, texel.max);
+                // the sheared box holds the column over its whole square
+                for (int c = 0; c < 4; ++c) {
+                    float plane = t.slope.x * float(i + (c & 1)) + t.slope.y * float(j + (c >> 1));
+                    EXPECT_GE(reps::decode_depth(texel.min) - plane, t.offset_min - 1e-5f);
+                    EXPECT_LE(reps::decode_depth(texel.max) - plane, t.offset_max + 1e-5f);
+                }
             }
         }
+        // following the surface: never deeper than the plain box
+        EXPECT_LE(t.offset_max - t.offset_min, reps::decode_depth(t.depth_max) - reps::decode_depth(t.depth_min) + 1e-5f);
         EXPECT_EQ(lo, t.texel_min);
         EXPECT_EQ(hi, t.texel_max);
         EXPECT_EQ(dmin, t.depth_min);

@@ -15,16 +15,28 @@ layout(std430, binding = BINDING_BILLBOARDS_SSBO) readonly buffer BillboardBlock
     BillboardData items[];
 } billboards;
 
-// One proxy box: a tile of a billboard (or a whole billboard), in that billboard's box space.
+// One proxy box: a tile of a billboard (or a whole billboard), in that billboard's box space,
+// sheared to follow the surface: a point (x, y, z) is inside when xy is in the texel rectangle and
+// z - (slope.x * x + slope.y * y) is in the offset range (acceleration.h, TileBox).
 struct TileData {
-    vec4 box_min;  // xy: texel rectangle, z: depth range, of the covered texels and their walls
-    vec4 box_max;
-    ivec4 info;    // billboard, highest pyramid level the march climbs to, unused, unused
+    vec4 box_min;  // xy: texel rectangle, z: offset range, of the covered texels and their walls; w: slope.x
+    vec4 box_max;  // w: slope.y
+    ivec4 info;    // billboard, highest pyramid level the march climbs to, 1 for a whole billboard's box, unused
 };
 
 layout(std430, binding = BINDING_TILES_SSBO) readonly buffer TileBlock {
     TileData items[];
 } tiles;
+
+// box space of a billboard to the sheared space of one of its tiles (z measured from the tile's plane)
+vec3 tile_from_box(TileData tile, vec3 p)
+{
+    return vec3(p.xy, p.z - tile.box_min.w * p.x - tile.box_max.w * p.y);
+}
+vec3 tile_from_box_direction(TileData tile, vec3 d)
+{
+    return vec3(d.xy, d.z - tile.box_min.w * d.x - tile.box_max.w * d.y);
+}
 
 // The colour of billboard `index` in the debug views "billboard" and "boxes".
 vec3 billboard_color(int index) { return index_color(index); }

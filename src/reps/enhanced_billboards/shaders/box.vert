@@ -39,7 +39,9 @@ void main()
     int vertex = gl_VertexID % 3;
     if (determinant(mat3(world_from_box)) < 0.0 && vertex != 0) vertex = 3 - vertex;
     int corner = k_corners[gl_VertexID - gl_VertexID % 3 + vertex];
-    vec4 world = world_from_box * vec4(box_min + corner_position(corner) * box_size, 1.0);
+    vec3 p = box_min + corner_position(corner) * box_size;
+    p.z += box.box_min.w * p.x + box.box_max.w * p.y; // the tile's shear (TileData)
+    vec4 world = world_from_box * vec4(p, 1.0);
 
     v_tile = tile;
     v_instance = instance;
