@@ -7,6 +7,8 @@ find_package(embree 3 REQUIRED)
 find_package(meshoptimizer REQUIRED)
 find_package(TBB REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+# zlib (Debian zlib1g-dev, already needed by libpng): supercompression of KTX2 package images
+find_package(ZLIB REQUIRED)
 foreach(module EPOXY:epoxy EGL:egl STB:stb PNG:libpng LCMS2:lcms2)
   string(REPLACE ":" ";" pair ${module})
   list(GET pair 0 prefix)

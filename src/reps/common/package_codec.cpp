@@ -4,9 +4,12 @@
 
 #include <standin/files.h>
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <new>
 #include <utility>
 #include <filesystem>
 
@@ -285,10 +288,10 @@ Status write_image(const ImageRGBA16& image, const std::string& directory, const
     return record_file(directory, name, files);
 }
 
-nlohmann::json manifest_header(const Package& package, const Options& parameters)
+nlohmann::json manifest_header(const Package& package, const Options& parameters, int version)
 {
     return {{"format", k_package_format},
-            {"version", k_package_format_version},
+            {"version", version},
             {"representation", package.representation()},
             {"source", source_json(package.source)},
             {"bake", settings_json(parameters)},
@@ -338,6 +341,215 @@ ImageRGBA16 read_image16(const Reader& in, const nlohmann::json& files, const st
     ImageRGBA16 wide(image->width, image->height);
     for (std::size_t k = 0; k < image->pixels.size(); ++k) wide.pixels[k] = std::uint16_t(image->pixels[k] * 257);
     return wide;
+}
+
+// ------------------------------------------------------------------------------------------------
+// KTX2 (Khronos, "KTX File Format Specification 2.0"): the 80-byte header, the level index (level 0
+// first), the data format descriptor (one basic block), no key/value data, no supercompression
+// global data, then the levels smallest first, each zlib-compressed (supercompressionScheme 3, so
+// no alignment padding). The DFD follows the Khronos Data Format 1.3 tables for BC1A..BC5 and R16.
+
+namespace {
+
+constexpr unsigned char k_ktx2_identifier[12] = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, '\r', '\n', 0x1A, '\n'};
+constexpr std::uint32_t k_ktx2_zlib = 3;
+constexpr std::size_t k_ktx2_header = 80, k_ktx2_level_entry = 24;
+
+bool is_block_format(BlockFormat f) { return f == BlockFormat::bc3_srgb || f == BlockFormat::bc4 || f == BlockFormat::bc5; }
+
+void put32(std::string& out, std::uint32_t v)
+{
+    for (int k = 0; k < 4; ++k) out.push_back(char((v >> (8 * k)) & 0xff));
+}
+void put64(std::string& out, std::uint64_t v)
+{
+    for (int k = 0; k < 8; ++k) out.push_back(char((v >> (8 * k)) & 0xff));
+}
+std::uint64_t get(std::string_view bytes, std::size_t at, int width)
+{
+    std::uint64_t v = 0;
+    for (int k = 0; k < width; ++k) v |= std::uint64_t(static_cast<unsigned char>(bytes[at + std::size_t(k)])) << (8 * k);
+    return v;
+}
+
+// The data format descriptor: dfdTotalSize, then one basic descriptor block.
+std::string ktx2_dfd(BlockFormat format)
+{
+    struct Sample {
+        std::uint32_t bit_offset, bit_length, channel, upper;
+    };
+    std::uint32_t model = 1, transfer = 1, bytes = 0; // KHR_DF_MODEL_RGBSDA, linear
+    std::vector<Sample> samples;
+    switch (format) {
+    case BlockFormat::bc3_srgb:
+        model = 130, transfer = 2, bytes = 16; // KHR_DF_MODEL_BC3, sRGB
+        samples = {{0, 63, 15, 0xffffffffu}, {64, 63, 0, 0xffffffffu}}; // alpha block, then colour block
+        break;
+    case BlockFormat::bc4: model = 131, bytes = 8, samples = {{0, 63, 0, 0xffffffffu}}; break;
+    case BlockFormat::bc5: model = 132, bytes = 16, samples = {{0, 63, 0, 0xffffffffu}, {64, 63, 1, 0xffffffffu}}; break;
+    case BlockFormat::r16: bytes = 2, samples = {{0, 15, 0, 65535}}; break;
+    case BlockFormat::r8: bytes = 1, samples = {{0, 7, 0, 255}}; break;
+    }
+    const std::uint32_t block = 24 + 16 * std::uint32_t(samples.size());
+    std::string out;
+    put32(out, 4 + block);
+    put32(out, 0);                         // vendorId 0 (Khronos), descriptorType 0 (basic)
+    put32(out, 2u | (block << 16));        // versionNumber 2 (Data Format 1.3), descriptorBlockSize
+    put32(out, model | (1u << 8) | (transfer << 16)); // colour primaries BT.709, flags 0 (straight alpha)
+    put32(out, is_block_format(format) ? 0x00000303u : 0u); // texel block 4x4 (dimensions minus one)
+    put32(out, 0);                         // bytesPlane0..3: 0, the levels are supercompressed
+    put32(out, 0);                         // bytesPlane4..7
+    (void)bytes;                           // (uncompressed block bytes: level_bytes())
+    for (const Sample& s : samples) {
+        put32(out, s.bit_offset | (s.bit_length << 16) | (s.channel << 24));
+        put32(out, 0); // sample position 0
+        put32(out, 0); // sampleLower
+        put32(out, s.upper);
+    }
+    return out;
+}
+
+} // namespace
+
+const char* block_format_name(BlockFormat format)
+{
+    switch (format) {
+    case BlockFormat::bc3_srgb: return "BC3_SRGB";
+    case BlockFormat::bc4: return "BC4";
+    case BlockFormat::bc5: return "BC5";
+    case BlockFormat::r16: return "R16";
+    case BlockFormat::r8: return "R8";
+    }
+    return "?";
+}
+
+std::uint64_t level_bytes(BlockFormat format, int width, int height)
+{
+    const std::uint64_t w = std::uint64_t(std::max(width, 0)), h = std::uint64_t(std::max(height, 0));
+    switch (format) {
+    case BlockFormat::bc3_srgb:
+    case BlockFormat::bc5: return ((w + 3) / 4) * ((h + 3) / 4) * 16;
+    case BlockFormat::bc4: return ((w + 3) / 4) * ((h + 3) / 4) * 8;
+    case BlockFormat::r16: return w * h * 2;
+    case BlockFormat::r8: return w * h;
+    }
+    return 0;
+}
+
+std::string encode_ktx2(const BlockImage& image)
+{
+    const std::size_t levels = image.levels.size();
+    std::vector<std::string> packed(levels);
+    for (std::size_t m = 0; m < levels; ++m) {
+        const std::vector<std::uint8_t>& level = image.levels[m];
+        uLongf size = compressBound(uLong(level.size()));
+        packed[m].resize(size);
+        if (compress2(reinterpret_cast<Bytef*>(packed[m].data()), &size, level.data(), uLong(level.size()), 9) != Z_OK)
+            throw std::bad_alloc(); // zlib fails only without memory
+        packed[m].resize(size);
+    }
+    const std::string dfd = ktx2_dfd(image.format);
+    const std::size_t dfd_offset = k_ktx2_header + levels * k_ktx2_level_entry;
+    std::string out(reinterpret_cast<const char*>(k_ktx2_identifier), sizeof k_ktx2_identifier);
+    put32(out, std::uint32_t(image.format));
+    put32(out, image.format == BlockFormat::r16 ? 2u : 1u); // typeSize
+    put32(out, std::uint32_t(image.width));
+    put32(out, std::uint32_t(image.height));
+    put32(out, 0); // pixelDepth
+    put32(out, 0); // layerCount
+    put32(out, 1); // faceCount
+    put32(out, std::uint32_t(levels));
+    put32(out, k_ktx2_zlib);
+    put32(out, std::uint32_t(dfd_offset));
+    put32(out, std::uint32_t(dfd.size()));
+    put32(out, 0); // no key/value data
+    put32(out, 0);
+    put64(out, 0); // no supercompression global data
+    put64(out, 0);
+    // levels are stored smallest first after the DFD
+    std::vector<std::uint64_t> offsets(levels);
+    std::uint64_t at = dfd_offset + dfd.size();
+    for (std::size_t m = levels; m-- > 0;) offsets[m] = at, at += packed[m].size();
+    for (std::size_t m = 0; m < levels; ++m) {
+        put64(out, offsets[m]);
+        put64(out, packed[m].size());
+        put64(out, image.levels[m].size());
+    }
+    out += dfd;
+    for (std::size_t m = levels; m-- > 0;) out += packed[m];
+    return out;
+}
+
+Result<BlockImage> decode_ktx2(std::string_view bytes, const std::string& path, BlockFormat format, int width, int height,
+                               int levels)
+{
+    auto bad = [&](const std::string& problem) { return error(StatusCode::bad_data, quoted(path) + ": " + problem); };
+    if (bytes.size() < k_ktx2_header || bytes.compare(0, sizeof k_ktx2_identifier,
+                                                      std::string_view(reinterpret_cast<const char*>(k_ktx2_identifier),
+                                                                       sizeof k_ktx2_identifier)) != 0)
+        return bad("not a KTX2 file (truncated or wrong identifier)");
+    auto field = [&](std::size_t at) { return std::uint32_t(get(bytes, at, 4)); };
+    if (field(12) != std::uint32_t(format))
+        return bad("holds VkFormat " + std::to_string(field(12)) + ", the manifest says " + block_format_name(format) + " (" +
+                   std::to_string(std::uint32_t(format)) + ")");
+    if (field(20) != std::uint32_t(width) || field(24) != std::uint32_t(height))
+        return bad("is " + std::to_string(field(20)) + "x" + std::to_string(field(24)) + ", the manifest says " +
+                   std::to_string(width) + "x" + std::to_string(height));
+    if (field(28) != 0 || field(32) != 0 || field(36) != 1) return bad("is not a single 2D image (depth, layers or faces)");
+    if (field(40) != std::uint32_t(levels))
+        return bad("has " + std::to_string(field(40)) + " mip levels, the manifest says " + std::to_string(levels));
+    const std::uint32_t scheme = field(44);
+    if (scheme != 0 && scheme != k_ktx2_zlib)
+        return bad("supercompression scheme " + std::to_string(scheme) + " is not read (only none and zlib)");
+    if (bytes.size() < k_ktx2_header + std::size_t(levels) * k_ktx2_level_entry) return bad("truncated level index");
+    BlockImage image;
+    image.format = format, image.width = width, image.height = height;
+    std::uint64_t total = 0;
+    for (int m = 0; m < levels; ++m) {
+        const int w = std::max(width >> m, 1), h = std::max(height >> m, 1);
+        const std::uint64_t expected = level_bytes(format, w, h);
+        total += expected;
+        if (expected == 0 || total > k_max_level_bytes * 2)
+            return bad("level " + std::to_string(m) + " is too large (" + std::to_string(expected) + " bytes)");
+        const std::size_t entry = k_ktx2_header + std::size_t(m) * k_ktx2_level_entry;
+        const std::uint64_t offset = get(bytes, entry, 8), length = get(bytes, entry + 8, 8), raw = get(bytes, entry + 16, 8);
+        if (offset > bytes.size() || length > bytes.size() - offset)
+            return bad("level " + std::to_string(m) + " reaches beyond the end of the file (truncated)");
+        if (raw != expected)
+            return bad("level " + std::to_string(m) + " holds " + std::to_string(raw) + " bytes, " + block_format_name(format) +
+                       " of " + std::to_string(w) + "x" + std::to_string(h) + " needs " + std::to_string(expected));
+        std::vector<std::uint8_t> level(expected);
+        const auto* source = reinterpret_cast<const Bytef*>(bytes.data() + offset);
+        if (scheme == 0) {
+            if (length != expected) return bad("level " + std::to_string(m) + " has the wrong length");
+            std::copy_n(source, expected, level.data());
+        } else {
+            uLongf size = uLongf(expected);
+            if (uncompress(level.data(), &size, source, uLong(length)) != Z_OK || size != expected)
+                return bad("level " + std::to_string(m) + " does not inflate to its " + std::to_string(expected) +
+                           " bytes (damaged)");
+        }
+        image.levels.push_back(std::move(level));
+    }
+    return image;
+}
+
+Status write_blocks(const BlockImage& image, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / name).string(), encode_ktx2(image)));
+    return record_file(directory, name, files);
+}
+
+BlockImage read_blocks(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
+                       int width, int height, int levels)
+{
+    check_file(in, in.directory(), files, name);
+    std::string path = (fs::path(in.directory()) / name).string();
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) throw BadField{bytes.status().message()};
+    Result<BlockImage> image = decode_ktx2(*bytes, path, format, width, height, levels);
+    if (!image) throw BadField{image.status().message()};
+    return std::move(*image);
 }
 
 } // namespace standin::manifest_io

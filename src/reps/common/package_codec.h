@@ -21,6 +21,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace standin::manifest_io {
@@ -42,7 +43,9 @@ Status write_image(const ImageRGBA16& image, const std::string& directory, const
 // What every manifest starts with: "format", "version", "representation", "source" and the "bake"
 // block of the parameters the package was baked with (settings_json). The codec adds its own keys
 // and "files", then calls write_manifest.
-nlohmann::json manifest_header(const Package& package, const Options& parameters);
+// `version`: 1 for packages of PNG maps only (older standins read them), k_package_format_version
+// when the package holds compressed images (KTX2, below).
+nlohmann::json manifest_header(const Package& package, const Options& parameters, int version = 1);
 // Writes manifest.json (last: a package directory is complete once it is there), with `indent`.
 Status write_manifest(const std::string& directory, const nlohmann::json& manifest, int indent);
 
@@ -111,5 +114,44 @@ void check_file(const Reader& in, const std::string& directory, const nlohmann::
 ImageRGBA8 read_image8(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height);
 ImageRGBA16 read_image16(const Reader& in, const nlohmann::json& files, const std::string& name, int width, int height,
                          int bits);
+
+// ------------------------------------------------------------------------------------------------
+// Compressed images (docs/FORMAT.md, "Compressed images"): one image, its mip levels included, as a
+// KTX2 file (Khronos KTX 2.0) whose levels are zlib-supercompressed (supercompressionScheme 3) blocks
+// of one GPU format, so a renderer can upload them as they are. Only the formats below are written
+// or read; anything else in a package is refused.
+enum class BlockFormat : std::uint32_t {
+    bc3_srgb = 138, // VK_FORMAT_BC3_SRGB_BLOCK: colour (sRGB) + coverage, 16 bytes per 4x4 block
+    bc4 = 139,      // VK_FORMAT_BC4_UNORM_BLOCK: one channel, 8 bytes per block
+    bc5 = 141,      // VK_FORMAT_BC5_UNORM_BLOCK: two channels (octahedral normals), 16 bytes per block
+    r16 = 70,       // VK_FORMAT_R16_UNORM: one exact 16-bit channel (depth), 2 bytes per texel
+    r8 = 9,         // VK_FORMAT_R8_UNORM: one exact 8-bit channel, 1 byte per texel
+};
+const char* block_format_name(BlockFormat format); // "BC3_SRGB", "BC4", "BC5", "R16", "R8"
+
+struct BlockImage {
+    BlockFormat format = BlockFormat::bc3_srgb;
+    int width = 0, height = 0;                      // level 0, texels
+    std::vector<std::vector<std::uint8_t>> levels;  // level 0 first, each of level_bytes()
+};
+
+// Bytes of one level of width x height texels (whole 4x4 blocks for BC formats).
+std::uint64_t level_bytes(BlockFormat format, int width, int height);
+// Largest uncompressed level a package may hold (1 GiB: a 32768² BC3 level).
+constexpr std::uint64_t k_max_level_bytes = 1ull << 30;
+
+// The KTX2 file of an image (deterministic: fixed header, zlib level 9).
+std::string encode_ktx2(const BlockImage& image);
+// Parses a KTX2 file of `bytes`, refusing (one line naming `path`) anything but an image of `format`,
+// width x height and `levels` levels, with every level's offsets inside the file and every level
+// inflating to exactly level_bytes(). Never allocates more than the expected levels' size.
+Result<BlockImage> decode_ktx2(std::string_view bytes, const std::string& path, BlockFormat format, int width,
+                               int height, int levels);
+
+// Writes an image as NAME (a .ktx2) into `directory` and records it in `files`.
+Status write_blocks(const BlockImage& image, const std::string& directory, const std::string& name, nlohmann::json& files);
+// A listed KTX2 of the package, checked (check_file) and parsed as decode_ktx2 does.
+BlockImage read_blocks(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
+                       int width, int height, int levels);
 
 } // namespace standin::manifest_io

@@ -47,6 +47,7 @@ struct BakeSettings {
     float min_coverage = 0.0f;   // billboards capturing less than this fraction of area are dropped
     int depth_bits = 16;
     float coarse_ratio = 0.1f;
+    std::string compression = "bc"; // "bc": KTX2 block-compressed maps; "none": PNG (package.cpp)
 };
 
 class EnhancedBillboardsPackage final : public Package {

@@ -1,16 +1,26 @@
-// Enhanced-billboards packages on disk (docs/FORMAT.md): manifest.json, two PNG images per
-// billboard (colour + coverage, normal + depth; the seed's two-image layout, 000 §3.1) and the
-// coarse mesh as PLY. Writing is deterministic (no timings, sorted keys, fixed PNG and PLY
+// Enhanced-billboards packages on disk (docs/FORMAT.md): manifest.json, the maps of every billboard
+// and the coarse mesh as PLY. Maps: with --compression none two PNG images per billboard (colour +
+// coverage, normal + depth; the seed's two-image layout, 000 §3.1); with bc (format version 2)
+// three KTX2 files: BC3 colour + coverage (coverage is 0 or 255, which BC3's alpha keeps exactly),
+// BC5 octahedral normals fitted over covered texels only, and depth exact (R16, or R8 at
+// --depth-bits 8) under zlib. Depth is not block-compressed: BC4's 8-bit end points would undo
+// the 16-bit depth the exact march needs (docs/RESULTS.md, "Compressed packages"). Reading decodes
+// the blocks into the same in-memory images as PNG packages (no recompression). Writing is deterministic (no timings, sorted keys, fixed PNG and PLY
 // encoders); reading validates every field and every file, and refuses what it does not
 // understand with a status naming the file and the field.
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/common/package_cast.h"
 #include "reps/common/package_codec.h"
+#include "reps/common/block_compress.h"
+#include "reps/common/surface_image.h"
+
+#include <squish.h>
 
 #include <standin/files.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 namespace standin::billboards {
@@ -26,6 +36,86 @@ ImageRGBA8 to_8_bits(const ImageRGBA16& image)
     ImageRGBA8 out(image.width, image.height);
     for (std::size_t k = 0; k < image.pixels.size(); ++k) out.pixels[k] = std::uint8_t((image.pixels[k] + 128) / 257);
     return out;
+}
+
+std::string compressed_file(std::size_t index, const char* map)
+{
+    char name[64];
+    std::snprintf(name, sizeof name, "billboard_%03zu_%s.ktx2", index, map);
+    return name;
+}
+
+constexpr int k_color_flags = squish::kDxt5 | squish::kColourIterativeClusterFit | squish::kWeightColourByAlpha;
+
+// The three compressed maps of a billboard (see the file comment).
+Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, const std::string& directory,
+                        nlohmann::json& files, nlohmann::json& entry)
+{
+    using manifest_io::BlockFormat;
+    const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);
+    manifest_io::BlockImage color{BlockFormat::bc3_srgb, b.width, b.height, {}};
+    color.levels.push_back(reps::compress_blocks(b.color.pixels.data(), b.width, b.height, nullptr, k_color_flags));
+    std::vector<std::uint8_t> octahedral(texels * 4, 0), covered(texels, 0);
+    manifest_io::BlockImage depth{depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, {}};
+    std::vector<std::uint8_t> depths(texels * (depth_bits == 8 ? 1 : 2));
+    for (std::size_t k = 0; k < texels; ++k) {
+        covered[k] = b.color.pixels[k * 4 + 3] >= 128;
+        const std::uint16_t* nd = &b.normal_depth.pixels[k * 4];
+        glm::vec2 e = covered[k] ? reps::octahedral_encode(reps::decode_normal(nd)) : glm::vec2(0.5f);
+        octahedral[k * 4 + 0] = std::uint8_t(std::lround(std::clamp(e.x, 0.0f, 1.0f) * 255.0f));
+        octahedral[k * 4 + 1] = std::uint8_t(std::lround(std::clamp(e.y, 0.0f, 1.0f) * 255.0f));
+        if (depth_bits == 8) {
+            depths[k] = std::uint8_t((nd[3] + 128) / 257);
+        } else {
+            depths[2 * k] = std::uint8_t(nd[3] & 0xff);
+            depths[2 * k + 1] = std::uint8_t(nd[3] >> 8);
+        }
+    }
+    manifest_io::BlockImage normal{BlockFormat::bc5, b.width, b.height, {}};
+    normal.levels.push_back(reps::compress_blocks(octahedral.data(), b.width, b.height, covered.data(), squish::kBc5));
+    depth.levels.push_back(std::move(depths));
+    const std::string names[3] = {compressed_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(color, directory, names[0], files));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, names[1], files));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, names[2], files));
+    entry["color"] = {{"file", names[0]}, {"format", "BC3_SRGB"}, {"channels", "albedo.rgb (sRGB), coverage"}};
+    entry["normal"] = {{"file", names[1]}, {"format", "BC5"}, {"channels", "octahedral world normal (x, y) * 0.5 + 0.5"}};
+    entry["depth"] = {{"file", names[2]}, {"format", depth_bits == 8 ? "R8" : "R16"}, {"bits", depth_bits}};
+    return Status::ok();
+}
+
+// Decodes the compressed maps into the in-memory images PNG packages give (uncovered texels 0).
+void read_compressed(const manifest_io::Reader& in, const nlohmann::json& files, const nlohmann::json& entry,
+                     const std::string& where, int depth_bits, Billboard& b)
+{
+    using manifest_io::BlockFormat;
+    auto map_file = [&](const char* map, const char* format) {
+        const nlohmann::json& m = in.member(entry, map, where);
+        in.choice(m, "format", where + map + ".", {format});
+        return in.string(m, "file", where + map + ".");
+    };
+    std::string color_name = map_file("color", "BC3_SRGB"), normal_name = map_file("normal", "BC5"),
+                depth_name = map_file("depth", depth_bits == 8 ? "R8" : "R16");
+    manifest_io::BlockImage color = manifest_io::read_blocks(in, files, color_name, BlockFormat::bc3_srgb, b.width, b.height, 1);
+    manifest_io::BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, b.width, b.height, 1);
+    manifest_io::BlockImage depth = manifest_io::read_blocks(
+        in, files, depth_name, depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, 1);
+    b.color = ImageRGBA8(b.width, b.height);
+    b.color.pixels = reps::decompress_blocks(color.levels[0].data(), b.width, b.height, squish::kDxt5);
+    std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), b.width, b.height, squish::kBc5);
+    b.normal_depth = ImageRGBA16(b.width, b.height);
+    const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);
+    for (std::size_t k = 0; k < texels; ++k) {
+        if (b.color.pixels[k * 4 + 3] < 128) {
+            std::fill_n(&b.color.pixels[k * 4], 4, std::uint8_t(0));
+            continue;
+        }
+        glm::vec3 n = reps::octahedral_decode(glm::vec2(octahedral[k * 4], octahedral[k * 4 + 1]) / 255.0f);
+        std::uint16_t* nd = &b.normal_depth.pixels[k * 4];
+        for (int a = 0; a < 3; ++a) nd[a] = reps::encode_normal(n[a]);
+        nd[3] = depth_bits == 8 ? std::uint16_t(depth.levels[0][k] * 257)
+                                : std::uint16_t(depth.levels[0][2 * k] | (depth.levels[0][2 * k + 1] << 8));
+    }
 }
 
 Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& files, const nlohmann::json& entry,
@@ -44,6 +134,10 @@ Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& fi
     b.height = int(in.integer(entry, "height", where, 1, 1 << 15));
     b.captured_faces = std::size_t(in.integer(entry, "captured_faces", where, 0, INT64_MAX));
     b.captured_area = in.number(entry, "captured_area", where, 0.0, 1e300);
+    if (entry.contains("normal")) {
+        read_compressed(in, files, entry, where, depth_bits, b);
+        return b;
+    }
     std::string color = in.string(in.member(entry, "color", where), "file", where + "color.");
     std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
     b.color = manifest_io::read_image8(in, files, color, b.width, b.height);
@@ -65,15 +159,10 @@ Status write(const Package& base, const std::string& directory)
     const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json boards = nlohmann::json::array();
+    const bool compressed = package.settings.compression == "bc";
     for (std::size_t k = 0; k < package.billboards.size(); ++k) {
         const Billboard& b = package.billboards[k];
-        std::string color = billboard_file(k, "color"), normal_depth = billboard_file(k, "normal_depth");
-        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, color, files));
-        if (package.settings.depth_bits == 8)
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(to_8_bits(b.normal_depth), directory, normal_depth, files));
-        else
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.normal_depth, directory, normal_depth, files));
-        boards.push_back({{"origin", manifest_io::vec3_json(b.origin)},
+        nlohmann::json entry = {{"origin", manifest_io::vec3_json(b.origin)},
                           {"axis_u", manifest_io::vec3_json(b.axis_u)},
                           {"axis_v", manifest_io::vec3_json(b.axis_v)},
                           {"direction", manifest_io::vec3_json(b.direction)},
@@ -82,20 +171,30 @@ Status write(const Package& base, const std::string& directory)
                           {"depth_range", b.depth_range},
                           {"width", b.width},
                           {"height", b.height},
-                          {"color", {{"file", color}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}}},
-                          {"normal_depth",
-                           {{"file", normal_depth},
-                            {"bits", package.settings.depth_bits},
-                            {"channels", "normal.xyz * 0.5 + 0.5 (world), depth"}}},
                           {"captured_faces", b.captured_faces},
-                          {"captured_area", b.captured_area}});
+                          {"captured_area", b.captured_area}};
+        if (compressed) {
+            STANDIN_RETURN_IF_ERROR(write_compressed(b, k, package.settings.depth_bits, directory, files, entry));
+        } else {
+            std::string color = billboard_file(k, "color"), normal_depth = billboard_file(k, "normal_depth");
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, color, files));
+            if (package.settings.depth_bits == 8)
+                STANDIN_RETURN_IF_ERROR(manifest_io::write_image(to_8_bits(b.normal_depth), directory, normal_depth, files));
+            else
+                STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.normal_depth, directory, normal_depth, files));
+            entry["color"] = {{"file", color}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}};
+            entry["normal_depth"] = {{"file", normal_depth},
+                                     {"bits", package.settings.depth_bits},
+                                     {"channels", "normal.xyz * 0.5 + 0.5 (world), depth"}};
+        }
         if (!b.orm.empty()) {
             std::string orm = billboard_file(k, "orm"), emission = billboard_file(k, "emission");
             STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.orm, directory, orm, files));
             STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.emission, directory, emission, files));
-            boards.back()["orm"] = {{"file", orm}, {"bits", 8}, {"channels", "occlusion, roughness, metallic (linear), coverage"}};
-            boards.back()["emission"] = {{"file", emission}, {"bits", 8}, {"channels", "emission.rgb (sRGB), coverage"}};
+            entry["orm"] = {{"file", orm}, {"bits", 8}, {"channels", "occlusion, roughness, metallic (linear), coverage"}};
+            entry["emission"] = {{"file", emission}, {"bits", 8}, {"channels", "emission.rgb (sRGB), coverage"}};
         }
+        boards.push_back(std::move(entry));
     }
     nlohmann::json coarse = nullptr;
     if (package.coarse_mesh.triangle_count() > 0) {
@@ -109,7 +208,8 @@ Status write(const Package& base, const std::string& directory)
     for (const auto& [reason, what] : package.left)
         left[reason] = {{"faces", what.faces}, {"area", what.area}, {"area_fraction", package.area_total > 0 ? what.area / package.area_total : 0.0}};
 
-    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
+    nlohmann::json manifest =
+        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version : 1);
     manifest["faces_total"] = package.faces_total;
     manifest["area_total"] = package.area_total;
     manifest["area_captured"] = package.area_captured;
@@ -127,7 +227,15 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
         auto package = std::make_unique<EnhancedBillboardsPackage>();
         package->source = manifest_io::read_source(in, manifest);
-        package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        // packages from before --compression hold PNG maps
+        nlohmann::json patched;
+        const nlohmann::json* settings = &manifest;
+        if (manifest.contains("bake") && manifest["bake"].is_object() && !manifest["bake"].contains("compression")) {
+            patched = manifest;
+            patched["bake"]["compression"] = "none";
+            settings = &patched;
+        }
+        package->parameters = manifest_io::read_settings(in, *settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         int depth_bits = package->settings.depth_bits;
         if (depth_bits != 8 && depth_bits != 16) in.fail("bake.depth_bits", "must be 8 or 16");

@@ -1,6 +1,7 @@
 // Enhanced-billboards packages on disk: round trip, byte-identical writes, refusal of damaged
 // packages with errors naming the file and field, and the `standin bake` / `standin info` commands.
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/surface_image.h"
 
 #include "../../../tests/test_support.h"
 
@@ -27,6 +28,7 @@ std::unique_ptr<EnhancedBillboardsPackage> baked_sphere(const std::map<std::stri
     EXPECT_TRUE(mesh);
     Result<SourceInfo> source = describe_source("", *mesh);
     OptionValues parameters;
+    parameters.set("compression", "none"); // exact round trips; BcPackagesRoundTrip tests "bc"
     for (const auto& [k, v] : options) parameters.set(k, v);
     Result<std::unique_ptr<Package>> result = bake_package(registration(), *mesh, *source, parameters);
     EXPECT_TRUE(result) << result.status().message();
@@ -86,6 +88,43 @@ TEST(BillboardPackage, RoundTripKeepsEverything)
     for (const char* key : {"representation", "billboards", "faces_total", "area_captured_fraction", "area_left_fraction", "package_bytes"})
         EXPECT_TRUE(summary.contains(key)) << key;
     EXPECT_EQ(summary["representation"], "enhanced-billboards");
+}
+
+// --compression bc: KTX2 maps, coverage and depth exact, normals within BC5's error, smaller.
+TEST(BillboardPackage, BcPackagesRoundTrip)
+{
+    for (const char* bits : {"16", "8"}) {
+        auto plain = baked_sphere({{"depth-bits", bits}});
+        auto baked = baked_sphere({{"compression", "bc"}, {"depth-bits", bits}});
+        std::string base = test::fresh_directory(std::string("billboard_bc") + bits);
+        ASSERT_TRUE(write_package(*baked, base + "/bc.standin"));
+        ASSERT_TRUE(write_package(*plain, base + "/png.standin"));
+        EXPECT_TRUE(fs::exists(base + "/bc.standin/billboard_000_normal.ktx2"));
+        EXPECT_FALSE(fs::exists(base + "/bc.standin/billboard_000_color.png"));
+        EXPECT_EQ(read_manifest(base + "/bc.standin")["version"], 2);
+        EXPECT_EQ(read_manifest(base + "/png.standin")["version"], 1); // older standins still read PNG packages
+        Result<std::unique_ptr<Package>> read = read_package(base + "/bc.standin");
+        ASSERT_TRUE(read) << read.status().message();
+        const auto& p = static_cast<const EnhancedBillboardsPackage&>(**read);
+        EXPECT_LT(p.package_bytes, (*read_package(base + "/png.standin"))->package_bytes);
+        ASSERT_EQ(p.billboards.size(), baked->billboards.size());
+        float worst_normal = 0.0f;
+        int worst_color = 0;
+        for (std::size_t k = 0; k < p.billboards.size(); ++k) {
+            const Billboard &a = p.billboards[k], &b = baked->billboards[k];
+            for (std::size_t t = 0; t < a.color.pixels.size() / 4; ++t) {
+                ASSERT_EQ(a.color.pixels[t * 4 + 3], b.color.pixels[t * 4 + 3]) << "coverage, texel " << t;
+                if (b.color.pixels[t * 4 + 3] == 0) continue;
+                ASSERT_EQ(a.normal_depth.pixels[t * 4 + 3], b.normal_depth.pixels[t * 4 + 3]) << "depth, texel " << t;
+                for (int c = 0; c < 3; ++c)
+                    worst_color = std::max(worst_color, std::abs(int(a.color.pixels[t * 4 + c]) - int(b.color.pixels[t * 4 + c])));
+                glm::vec3 na = reps::decode_normal(&a.normal_depth.pixels[t * 4]), nb = glm::normalize(reps::decode_normal(&b.normal_depth.pixels[t * 4]));
+                worst_normal = std::max(worst_normal, glm::degrees(std::acos(std::min(glm::dot(glm::normalize(na), nb), 1.0f))));
+            }
+        }
+        EXPECT_LT(worst_normal, 12.0f) << bits;
+        EXPECT_LT(worst_color, 24) << bits;
+    }
 }
 
 TEST(BillboardPackage, EightBitPackagesRoundTrip)

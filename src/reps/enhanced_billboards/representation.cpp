@@ -36,6 +36,9 @@ std::vector<OptionSpec> bake_options()
                       "Stop when the next billboard would capture less than this fraction of the surface"),
         integer_option("depth-bits", 16, 8, 16,
                        "Depth precision: 16, or 8 (the paper: the alpha channel of an 8-bit image)"),
+        choice_option("compression", "bc", {"bc", "none"},
+                      "Maps in the package: bc (BC3 colour, BC5 octahedral normals, zlib-packed 16-bit depth, in "
+                      "KTX2 files) or none (PNG, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
                       "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
     };
@@ -110,6 +113,7 @@ BakeSettings settings_from(const Options& parameters)
     s.min_coverage = parameters.number("min-coverage");
     s.depth_bits = parameters.integer("depth-bits");
     s.coarse_ratio = parameters.number("coarse-ratio");
+    s.compression = parameters.choice("compression");
     return s;
 }
 

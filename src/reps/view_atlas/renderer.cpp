@@ -480,6 +480,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1i(id, renderer->program_.uniform("view_count"), int(package.views.size()));
     glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
     glProgramUniform1i(id, renderer->program_.uniform("style"), style);
+    glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);

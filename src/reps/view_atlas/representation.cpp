@@ -38,6 +38,9 @@ std::vector<OptionSpec> render_options()
         choice_option("style", "corrected", {"corrected", "octahedral-baseline", "seed"},
                       "corrected: 3 views blended, each intersected per pixel with its depth; octahedral-baseline: "
                       "3 views, one parallax step (impostor bakers); seed: the nearest view, no correction"),
+        number_option("seed-below", "8", 0.0, 1.0e6,
+                      "Corrected style, level of detail: an instance whose bounding sphere is under this many "
+                      "pixels in radius is drawn as the seed's nearest view (one quad, no walk; 0: never)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),

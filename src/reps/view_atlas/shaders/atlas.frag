@@ -20,6 +20,7 @@
 flat in ivec3 v_views;
 flat in vec3 v_weights;
 flat in int v_instance;
+flat in int v_lod_seed; // atlas.vert: a corrected-style instance drawn as the seed's quad
 in vec2 v_atlas_texel;
 
 #ifndef ATLAS_ARRAYS
@@ -369,7 +370,7 @@ void main()
     vec3 o = (object_from_world * vec4(origin_world, 1.0)).xyz;
     vec3 d = normalize(mat3(object_from_world) * direction_world);
 
-    if (style == STYLE_SEED) {
+    if (style == STYLE_SEED || v_lod_seed != 0) {
         ViewData view = views.items[v_views.x];
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));

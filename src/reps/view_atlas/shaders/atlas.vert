@@ -4,14 +4,32 @@
 // Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
 // Corrected: the cut-out hull below (36 vertices). The fragment stage casts the rays; with the eye
 // inside the proxy, the whole screen.
+// Level of detail (beyond the paper, for crowds): a corrected-style instance whose bounding sphere
+// projects to fewer than seed_below_pixels pixels of radius is drawn as the seed's quad (its first 6
+// vertices, the other 30 collapsed) and shaded as the seed (v_lod_seed): at that size the walk's
+// parallax is below a pixel or two, and its hull and walk cost most of a crowd's frame.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 uniform int style;
+uniform float seed_below_pixels; // corrected style: radius in pixels under which the seed's quad is drawn
+
+// Radius in pixels of the instance's bounding sphere (largest axis scale), measured along the
+// camera's up vector so that orthographic and perspective cameras are treated alike.
+float sphere_pixels(mat4 world_from_object)
+{
+    vec3 c = (world_from_object * vec4(atlas_center, 1.0)).xyz;
+    float scale = max(length(world_from_object[0].xyz), max(length(world_from_object[1].xyz), length(world_from_object[2].xyz)));
+    vec3 up = vec3(frame.view_from_world[0][1], frame.view_from_world[1][1], frame.view_from_world[2][1]);
+    vec4 a = frame.clip_from_world * vec4(c, 1.0), b = frame.clip_from_world * vec4(c + up * (atlas_radius * scale), 1.0);
+    if (a.w <= 0.0 || b.w <= 0.0) return 1e9; // behind the eye or around it: never simplified
+    return length(b.xy / b.w - a.xy / a.w) * 0.5 * frame.viewport_size.y;
+}
 
 flat out ivec3 v_views;
 flat out vec3 v_weights;
 flat out int v_instance;
+flat out int v_lod_seed; // 1: drawn and shaded as the seed's nearest view (level of detail)
 out vec2 v_atlas_texel; // seed: atlas texel position (level 0) on the nearest view's page
 
 void main()
@@ -23,8 +41,16 @@ void main()
                                          : normalize(eye_object - atlas_center);
     vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
     v_instance = gl_InstanceID;
+    v_lod_seed = 0;
+    bool lod_seed = style == STYLE_CORRECTED && seed_below_pixels > 0.0 && sphere_pixels(world_from_object) < seed_below_pixels;
+    if (lod_seed) {
+        v_lod_seed = 1;
+        const int strip_corner[6] = int[6](0, 1, 3, 0, 3, 2); // the strip's quad as two triangles
+        int c = strip_corner[min(gl_VertexID, 5)];
+        corner = vec2(c & 1, (c >> 1) & 1);
+    }
 
-    if (style == STYLE_SEED) {
+    if (style == STYLE_SEED || lod_seed) {
         int k = nearest_view(e);
         ViewData view = views.items[k];
         v_views = ivec3(k, 0, 0);
@@ -34,7 +60,8 @@ void main()
         mat3 turn = rotation_between(view.direction.xyz, e);
         vec3 p = atlas_center + turn * (plane.x * view.axis_u.xyz + plane.y * view.axis_v.xyz);
         v_atlas_texel = vec2(view.atlas.yz) + corner * vec2(view.crop.zw);
-        gl_Position = frame.clip_from_world * (world_from_object * vec4(p, 1.0));
+        gl_Position = lod_seed && gl_VertexID >= 6 ? vec4(2.0, 2.0, 2.0, 1.0)
+                                                   : frame.clip_from_world * (world_from_object * vec4(p, 1.0));
         return;
     }
 

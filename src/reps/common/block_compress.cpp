@@ -1,0 +1,74 @@
+// Block compression for packages: libsquish per 4x4 block, octahedral normals. See block_compress.h
+// (sources cited there). Departure: masked texels (outside the coverage) are left out of a block's
+// fit, as the renderers weight texels by coverage; libsquish's own CompressImage cannot mask.
+#include "reps/common/block_compress.h"
+
+#include <squish.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace standin::reps {
+
+namespace {
+
+int block_bytes(int flags) { return (flags & (squish::kDxt1 | squish::kBc4)) != 0 ? 8 : 16; }
+
+} // namespace
+
+std::vector<std::uint8_t> compress_blocks(const std::uint8_t* rgba, int width, int height, const std::uint8_t* mask,
+                                          int squish_flags)
+{
+    const int bw = (width + 3) / 4, bh = (height + 3) / 4, bytes = block_bytes(squish_flags);
+    std::vector<std::uint8_t> out(std::size_t(bw) * std::size_t(bh) * std::size_t(bytes));
+    tbb::parallel_for(0, bh, [&](int by) {
+        for (int bx = 0; bx < bw; ++bx) {
+            std::uint8_t texels[16 * 4] = {};
+            int inside = 0, counted = 0;
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    const int x = bx * 4 + i, y = by * 4 + j, k = j * 4 + i;
+                    if (x >= width || y >= height) continue;
+                    const std::size_t at = std::size_t(y) * std::size_t(width) + std::size_t(x);
+                    std::copy_n(rgba + at * 4, 4, texels + k * 4);
+                    inside |= 1 << k;
+                    if (!mask || mask[at]) counted |= 1 << k;
+                }
+            squish::CompressMasked(texels, counted ? counted : inside,
+                                   out.data() + (std::size_t(by) * std::size_t(bw) + std::size_t(bx)) * std::size_t(bytes),
+                                   squish_flags);
+        }
+    });
+    return out;
+}
+
+std::vector<std::uint8_t> decompress_blocks(const std::uint8_t* blocks, int width, int height, int squish_flags)
+{
+    std::vector<std::uint8_t> rgba(std::size_t(width) * std::size_t(height) * 4);
+    squish::DecompressImage(rgba.data(), width, height, blocks, squish_flags);
+    return rgba;
+}
+
+glm::vec2 octahedral_encode(glm::vec3 n)
+{
+    const float l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+    if (!(l1 > 0.0f)) return glm::vec2(0.5f, 0.5f);
+    n /= l1;
+    glm::vec2 e(n.x, n.y);
+    if (n.z < 0.0f)
+        e = glm::vec2((1.0f - std::abs(n.y)) * (n.x >= 0.0f ? 1.0f : -1.0f), (1.0f - std::abs(n.x)) * (n.y >= 0.0f ? 1.0f : -1.0f));
+    return e * 0.5f + 0.5f;
+}
+
+glm::vec3 octahedral_decode(glm::vec2 e)
+{
+    const glm::vec2 f = e * 2.0f - 1.0f;
+    glm::vec3 n(f.x, f.y, 1.0f - std::abs(f.x) - std::abs(f.y));
+    const float t = std::max(-n.z, 0.0f);
+    n.x += n.x >= 0.0f ? -t : t;
+    n.y += n.y >= 0.0f ? -t : t;
+    return glm::normalize(n);
+}
+
+} // namespace standin::reps

@@ -1,0 +1,148 @@
+// Compressed package images: the KTX2 container round trip and its refusal of hostile files
+// (truncated, wrong format, sizes, levels, huge dimensions, damaged zlib data: one line, no crash,
+// no huge allocation), BC blocks independent of the thread count, octahedral normals' precision.
+#include "reps/common/block_compress.h"
+#include "reps/common/package_codec.h"
+
+#include <gtest/gtest.h>
+#include <squish.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <random>
+
+namespace standin {
+namespace {
+
+using manifest_io::BlockFormat;
+using manifest_io::BlockImage;
+
+BlockImage sample_image(BlockFormat format, int width, int height, int levels)
+{
+    BlockImage image{format, width, height, {}};
+    std::mt19937 random(7);
+    for (int m = 0; m < levels; ++m) {
+        std::vector<std::uint8_t> level(manifest_io::level_bytes(format, std::max(width >> m, 1), std::max(height >> m, 1)));
+        for (std::size_t k = 0; k < level.size(); ++k) level[k] = std::uint8_t(k % 7 == 0 ? random() : k / 64);
+        image.levels.push_back(level);
+    }
+    return image;
+}
+
+void put32(std::string& bytes, std::size_t at, std::uint32_t v)
+{
+    for (int k = 0; k < 4; ++k) bytes[at + std::size_t(k)] = char((v >> (8 * k)) & 0xff);
+}
+
+void expect_refused(const std::string& bytes, BlockFormat format, int width, int height, int levels, const std::string& needle)
+{
+    Result<BlockImage> read = manifest_io::decode_ktx2(bytes, "x.ktx2", format, width, height, levels);
+    ASSERT_FALSE(read) << needle;
+    EXPECT_EQ(read.status().code(), StatusCode::bad_data);
+    EXPECT_NE(read.status().message().find("x.ktx2"), std::string::npos) << read.status().message();
+    EXPECT_NE(read.status().message().find(needle), std::string::npos) << read.status().message();
+    EXPECT_EQ(read.status().message().find('\n'), std::string::npos);
+}
+
+TEST(Ktx2, RoundTripsEveryFormatWithLevels)
+{
+    for (BlockFormat format : {BlockFormat::bc3_srgb, BlockFormat::bc4, BlockFormat::bc5, BlockFormat::r16, BlockFormat::r8}) {
+        BlockImage image = sample_image(format, 37, 20, 3);
+        std::string bytes = manifest_io::encode_ktx2(image);
+        EXPECT_EQ(bytes, manifest_io::encode_ktx2(image)); // deterministic
+        EXPECT_EQ(bytes.substr(1, 6), "KTX 20");
+        Result<BlockImage> read = manifest_io::decode_ktx2(bytes, "x.ktx2", format, 37, 20, 3);
+        ASSERT_TRUE(read) << read.status().message();
+        EXPECT_EQ(read->levels, image.levels) << manifest_io::block_format_name(format);
+    }
+    EXPECT_EQ(manifest_io::level_bytes(BlockFormat::bc3_srgb, 5, 4), 32u);
+    EXPECT_EQ(manifest_io::level_bytes(BlockFormat::bc4, 4, 4), 8u);
+    EXPECT_EQ(manifest_io::level_bytes(BlockFormat::r16, 3, 2), 12u);
+}
+
+TEST(Ktx2, HostileFilesAreRefusedOnOneLine)
+{
+    const std::string good = manifest_io::encode_ktx2(sample_image(BlockFormat::bc5, 64, 32, 2));
+    // every truncation, including inside the header and the level index
+    for (std::size_t size = 0; size < good.size(); size += (size < 200 ? 1 : 97)) {
+        Result<BlockImage> read = manifest_io::decode_ktx2(good.substr(0, size), "x.ktx2", BlockFormat::bc5, 64, 32, 2);
+        EXPECT_FALSE(read) << size;
+    }
+    expect_refused("not a ktx file at all, but long enough to hold a header..........................", BlockFormat::bc5, 64,
+                   32, 2, "not a KTX2 file");
+    expect_refused(good, BlockFormat::bc3_srgb, 64, 32, 2, "VkFormat 141");
+    expect_refused(good, BlockFormat::bc5, 64, 64, 2, "is 64x32, the manifest says 64x64");
+    expect_refused(good, BlockFormat::bc5, 64, 32, 3, "has 2 mip levels");
+    std::string layered = good;
+    put32(layered, 32, 4);
+    expect_refused(layered, BlockFormat::bc5, 64, 32, 2, "single 2D image");
+    std::string scheme = good;
+    put32(scheme, 44, 2); // zstd: not read
+    expect_refused(scheme, BlockFormat::bc5, 64, 32, 2, "supercompression scheme 2");
+    std::string beyond = good;
+    put32(beyond, 80, 0xfffffff0u); // level 0's offset
+    expect_refused(beyond, BlockFormat::bc5, 64, 32, 2, "beyond the end");
+    std::string wrong_raw = good;
+    put32(wrong_raw, 96, 100); // level 0's uncompressed length
+    expect_refused(wrong_raw, BlockFormat::bc5, 64, 32, 2, "needs 2048");
+    std::string damaged = good;
+    damaged[damaged.size() - 5] = char(damaged[damaged.size() - 5] ^ 0x55); // inside level 0's zlib stream
+    expect_refused(damaged, BlockFormat::bc5, 64, 32, 2, "does not inflate");
+    // a manifest claiming huge dimensions with a header to match: refused before any allocation
+    std::string huge = good;
+    put32(huge, 20, 1u << 20);
+    put32(huge, 24, 1u << 20);
+    expect_refused(huge, BlockFormat::bc5, 1 << 20, 1 << 20, 2, "too large");
+}
+
+TEST(BlockCompress, OutputDoesNotDependOnTheThreadCount)
+{
+    const int width = 67, height = 45;
+    std::vector<std::uint8_t> rgba(std::size_t(width) * height * 4), mask(std::size_t(width) * height);
+    std::mt19937 random(3);
+    for (std::size_t k = 0; k < rgba.size(); ++k) rgba[k] = std::uint8_t(random());
+    for (std::size_t k = 0; k < mask.size(); ++k) mask[k] = std::uint8_t(k % 3 != 0);
+    std::vector<std::uint8_t> results[2][2];
+    for (int threads : {1, 2})
+        tbb::task_arena(threads).execute([&] {
+            results[threads - 1][0] = reps::compress_blocks(rgba.data(), width, height, mask.data(), squish::kBc5);
+            results[threads - 1][1] = reps::compress_blocks(rgba.data(), width, height, nullptr,
+                                                            squish::kDxt5 | squish::kColourIterativeClusterFit);
+        });
+    EXPECT_EQ(results[0][0], results[1][0]);
+    EXPECT_EQ(results[0][1], results[1][1]);
+    EXPECT_EQ(results[0][0].size(), manifest_io::level_bytes(BlockFormat::bc5, width, height));
+}
+
+TEST(BlockCompress, Bc3KeepsBinaryCoverageExactly)
+{
+    const int width = 13, height = 9;
+    std::vector<std::uint8_t> rgba(std::size_t(width) * height * 4);
+    for (std::size_t k = 0; k < rgba.size() / 4; ++k) {
+        rgba[k * 4] = std::uint8_t(k * 3), rgba[k * 4 + 1] = 90, rgba[k * 4 + 2] = std::uint8_t(200 - k);
+        rgba[k * 4 + 3] = (k * 7) % 5 < 2 ? 0 : 255;
+    }
+    std::vector<std::uint8_t> blocks = reps::compress_blocks(rgba.data(), width, height, nullptr, squish::kDxt5);
+    std::vector<std::uint8_t> back = reps::decompress_blocks(blocks.data(), width, height, squish::kDxt5);
+    for (std::size_t k = 0; k < rgba.size() / 4; ++k) EXPECT_EQ(back[k * 4 + 3], rgba[k * 4 + 3]) << k;
+}
+
+TEST(Octahedral, EightBitCodesKeepNormalsWithinAFewTenthsOfADegree)
+{
+    std::mt19937 random(11);
+    std::normal_distribution<float> gauss;
+    float worst = 0.0f;
+    for (int k = 0; k < 20000; ++k) {
+        glm::vec3 n = glm::normalize(glm::vec3(gauss(random), gauss(random), gauss(random)));
+        glm::vec2 e = reps::octahedral_encode(n);
+        glm::vec2 q = glm::round(e * 255.0f) / 255.0f;
+        glm::vec3 back = reps::octahedral_decode(q);
+        worst = std::max(worst, std::acos(std::min(glm::dot(n, back), 1.0f)));
+        EXPECT_NEAR(glm::length(back), 1.0f, 1e-5f);
+    }
+    EXPECT_LT(glm::degrees(worst), 0.9f);
+    EXPECT_NEAR(glm::dot(reps::octahedral_decode(reps::octahedral_encode({0, 0, -1})), glm::vec3(0, 0, -1)), 1.0f, 1e-6f);
+}
+
+} // namespace
+} // namespace standin
