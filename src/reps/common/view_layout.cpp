@@ -72,7 +72,7 @@ std::vector<glm::vec3> icosahedral(int subdivisions)
     return directions;
 }
 
-glm::vec3 octahedral_decode(glm::vec2 e) // e in [-1, 1]^2, +Y up
+glm::vec3 octahedral_direction(glm::vec2 e) // e in [-1, 1]^2, +Y up
 {
     glm::vec3 n(e.x, 1.0f - std::abs(e.x) - std::abs(e.y), e.y);
     if (n.y < 0.0f) {
@@ -83,7 +83,7 @@ glm::vec3 octahedral_decode(glm::vec2 e) // e in [-1, 1]^2, +Y up
     return glm::normalize(n);
 }
 
-glm::vec3 hemi_octahedral_decode(glm::vec2 e) // the square turned 45 degrees onto the upper diamond
+glm::vec3 hemi_octahedral_direction(glm::vec2 e) // the square turned 45 degrees onto the upper diamond
 {
     float a = 0.5f * (e.x + e.y), b = 0.5f * (e.y - e.x);
     return glm::normalize(glm::vec3(a, 1.0f - std::abs(a) - std::abs(b), b));
@@ -98,7 +98,7 @@ std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivis
     for (int j = 0; j < frames; ++j) {
         for (int i = 0; i < frames; ++i) {
             glm::vec2 e((float(i) + 0.5f) / float(frames) * 2.0f - 1.0f, (float(j) + 0.5f) / float(frames) * 2.0f - 1.0f);
-            directions.push_back(layout == "octahedral" ? octahedral_decode(e) : hemi_octahedral_decode(e));
+            directions.push_back(layout == "octahedral" ? octahedral_direction(e) : hemi_octahedral_direction(e));
         }
     }
     return directions;
@@ -106,7 +106,7 @@ std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivis
 
 glm::vec3 grid_decode(const std::string& layout, float ex, float ey)
 {
-    return layout == "hemi-octahedral" ? hemi_octahedral_decode({ex, ey}) : octahedral_decode({ex, ey});
+    return layout == "hemi-octahedral" ? hemi_octahedral_direction({ex, ey}) : octahedral_direction({ex, ey});
 }
 
 void grid_encode(const std::string& layout, glm::vec3 d, float& ex, float& ey)
@@ -115,7 +115,7 @@ void grid_encode(const std::string& layout, glm::vec3 d, float& ex, float& ey)
     float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     glm::vec3 p = l1 > 0.0f ? d / l1 : glm::vec3(0.0f, 1.0f, 0.0f);
     if (layout == "hemi-octahedral") {
-        // the inverse of hemi_octahedral_decode: (a, b) = (p.x, p.z) turned back by 45 degrees
+        // the inverse of hemi_octahedral_direction: (a, b) = (p.x, p.z) turned back by 45 degrees
         ex = p.x - p.z;
         ey = p.x + p.z;
         return;

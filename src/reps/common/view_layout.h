@@ -39,7 +39,7 @@ std::vector<glm::vec3> layout_directions(const std::string& layout, int subdivis
 // The (hemi-)octahedral grids as impostor shaders address them (docs/FORMAT.md, "Grid atlas").
 // Frame (i, j), column i and row j of a frames x frames grid, is view j * frames + i of
 // layout_directions; its centre has octahedral coordinates e = ((i + 0.5, j + 0.5) / frames) * 2 - 1.
-// octahedral_decode / _encode map e in [-1, 1]^2 to a unit direction and back (+Y up; e.y runs
+// octahedral_direction (view_layout.cpp) and grid_encode map e in [-1, 1]^2 to a unit direction and back (+Y up; e.y runs
 // along +Z); hemi-octahedral ones cover the upper hemisphere (directions below it encode as their
 // projection onto the horizon).
 glm::vec3 grid_decode(const std::string& layout, float ex, float ey);
