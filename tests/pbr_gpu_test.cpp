@@ -146,16 +146,14 @@ TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
     ASSERT_TRUE(package);
     auto truth = make_mesh_renderer(mesh);
     ASSERT_TRUE(truth.is_ok());
-    const Representation* rep = find_representation("enhanced-billboards");
-    ASSERT_NE(rep, nullptr);
-    auto standin = rep->make_renderer(*package, {});
+    auto standin = make_package_renderer(*package, {});
     ASSERT_TRUE(standin.is_ok()) << standin.status().message();
     // the same package without its PBR maps: what the stand-in showed before issue #14
     Mesh plain = mesh;
     for (Material& m : plain.materials) m = Material{m.name, m.base_color, m.base_color_texture};
     std::unique_ptr<Package> plain_package = test::bake(plain, "enhanced-billboards", {});
     ASSERT_TRUE(plain_package);
-    auto plain_standin = rep->make_renderer(*plain_package, {});
+    auto plain_standin = make_package_renderer(*plain_package, {});
     ASSERT_TRUE(plain_standin.is_ok());
 
     const int width = 480, height = 200;
