@@ -1,7 +1,7 @@
 // PBR materials on the GPU (issue #14): the truth renderer reads the glTF factors and maps, its GGX
 // shading agrees with the CPU model that the white-furnace tests integrate (core/shading.h), models
-// without PBR materials look almost as under the old Lambert model, and enhanced billboards, which
-// bake ORM and emission maps, relight metals and rough surfaces like the truth.
+// without PBR materials look almost as under the old Lambert model, and enhanced billboards and the
+// displaced mesh, which bake ORM and emission, relight metals and rough surfaces like the truth.
 #include "core/shading.h"
 #include "pbr_fixture.h"
 #include "test_support.h"
@@ -138,24 +138,24 @@ TEST(PbrTruth, ModelsWithoutPbrMaterialsLookAsBefore)
     }
 }
 
-TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
+// Mean CIEDE2000 over three views of the truth against a stand-in baked with and without the PBR
+// maps (the latter from the same model with its materials reset to the defaults).
+void expect_relit_like_the_truth(const std::string& representation, const std::string& name)
 {
     test::gpu_context();
-    Mesh mesh = import_pbr_spheres("pbr_billboards");
-    std::unique_ptr<Package> package = test::bake(mesh, "enhanced-billboards", {});
+    Mesh mesh = import_pbr_spheres(name);
+    std::unique_ptr<Package> package = test::bake(mesh, representation, {});
     ASSERT_TRUE(package);
     auto truth = make_mesh_renderer(mesh);
     ASSERT_TRUE(truth.is_ok());
-    const Representation* rep = find_representation("enhanced-billboards");
-    ASSERT_NE(rep, nullptr);
-    auto standin = rep->make_renderer(*package, {});
+    auto standin = make_package_renderer(*package, {});
     ASSERT_TRUE(standin.is_ok()) << standin.status().message();
-    // the same package without its PBR maps: what the stand-in showed before issue #14
+    // the same stand-in without its PBR maps: what it showed before issue #14
     Mesh plain = mesh;
     for (Material& m : plain.materials) m = Material{m.name, m.base_color, m.base_color_texture};
-    std::unique_ptr<Package> plain_package = test::bake(plain, "enhanced-billboards", {});
+    std::unique_ptr<Package> plain_package = test::bake(plain, representation, {});
     ASSERT_TRUE(plain_package);
-    auto plain_standin = rep->make_renderer(*plain_package, {});
+    auto plain_standin = make_package_renderer(*plain_package, {});
     ASSERT_TRUE(plain_standin.is_ok());
 
     const int width = 480, height = 200;
@@ -171,8 +171,18 @@ TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
         with_maps += compare_images(t->color, s->color).de2000_mean / 3.0;
         without_maps += compare_images(t->color, p->color).de2000_mean / 3.0;
     }
-    EXPECT_LT(with_maps, 2.0) << "mean CIEDE2000, billboards with ORM + emission maps";
-    EXPECT_LT(with_maps, 0.5 * without_maps) << "without the maps: " << without_maps;
+    EXPECT_LT(with_maps, 2.0) << representation << ": mean CIEDE2000 with ORM + emission maps";
+    EXPECT_LT(with_maps, 0.5 * without_maps) << representation << ": without the maps " << without_maps;
+}
+
+TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
+{
+    expect_relit_like_the_truth("enhanced-billboards", "pbr_billboards");
+}
+
+TEST(PbrStandins, DisplacedMeshRelightsMetalsAndRoughSurfacesLikeTheTruth)
+{
+    expect_relit_like_the_truth("displaced-mesh", "pbr_displaced");
 }
 
 } // namespace

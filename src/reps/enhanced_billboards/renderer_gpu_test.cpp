@@ -250,7 +250,11 @@ TEST(BillboardRenderer, DepthCompositesWithACrossingPlane)
 
     for (float azimuth : {0.0f, 40.0f}) {
         Camera camera = orbit(azimuth, 15, 4.0f, k_width, k_height);
-        auto image = render_offscreen(both, camera, default_light(camera), k_width, k_height);
+        // Lambert: the test tells the surfaces apart by colour, and GGX adds a white specular
+        // term that gives the pure red plane some green
+        Light light = default_light(camera);
+        light.shading = ShadingModel::lambert_blinn_phong;
+        auto image = render_offscreen(both, camera, light, k_width, k_height);
         ASSERT_TRUE(image.is_ok());
         std::size_t checked = 0, wrong = 0;
         for (int y = 0; y < k_height; ++y) {
