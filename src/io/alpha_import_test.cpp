@@ -114,7 +114,9 @@ TEST(Alpha, GltfRoundTripKeepsAlphaModeCutoffDoubleSidedAndTheTexture)
             const Material& m = imported->materials[0];
             EXPECT_EQ(m.alpha_mode, mode);
             EXPECT_EQ(m.double_sided, double_sided);
-            if (mode == AlphaMode::mask) EXPECT_NEAR(m.alpha_cutoff, 0.3f, 1e-6f);
+            if (mode == AlphaMode::mask) {
+                EXPECT_NEAR(m.alpha_cutoff, 0.3f, 1e-6f);
+            }
             bool warned = std::any_of(report.warnings.begin(), report.warnings.end(),
                                       [](const std::string& w) { return w.find("blends") != std::string::npos; });
             EXPECT_EQ(warned, mode == AlphaMode::blend);
