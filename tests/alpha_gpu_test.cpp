@@ -67,7 +67,7 @@ std::size_t covered_pixels_of(const ImageRGBA8& image)
 }
 
 // Pixels the truth covers, the quad seen square-on from +z (azimuth 0) or from behind (180).
-std::size_t truth_pixels(const Mesh& mesh, float azimuth, int size = 400)
+std::size_t alpha_truth_pixels(const Mesh& mesh, float azimuth, int size = 400)
 {
     test::gpu_context();
     auto renderer = make_mesh_renderer(mesh);
@@ -84,26 +84,26 @@ std::size_t truth_pixels(const Mesh& mesh, float azimuth, int size = 400)
 
 TEST(AlphaTruth, MaskCutsADiscOfTheAnalyticAreaAndTheCutoffMovesIt)
 {
-    double quad = double(truth_pixels(alpha_quad(AlphaMode::opaque, 0.5f, true), 0.0f));
+    double quad = double(alpha_truth_pixels(alpha_quad(AlphaMode::opaque, 0.5f, true), 0.0f));
     ASSERT_GT(quad, 10000.0);
     for (float cutoff : {0.25f, 0.5f, 0.75f}) {
         double expected = std::numbers::pi * (1.0 - cutoff) * (1.0 - cutoff) / 4.0;
-        double measured = double(truth_pixels(alpha_quad(AlphaMode::mask, cutoff, true), 0.0f)) / quad;
+        double measured = double(alpha_truth_pixels(alpha_quad(AlphaMode::mask, cutoff, true), 0.0f)) / quad;
         EXPECT_NEAR(measured, expected, 0.01) << "cutoff " << cutoff;
     }
     // blend: drawn as mask at 0.5 (the documented method), whatever the cutoff field says
-    EXPECT_EQ(truth_pixels(alpha_quad(AlphaMode::blend, 0.9f, true), 0.0f),
-              truth_pixels(alpha_quad(AlphaMode::mask, 0.5f, true), 0.0f));
+    EXPECT_EQ(alpha_truth_pixels(alpha_quad(AlphaMode::blend, 0.9f, true), 0.0f),
+              alpha_truth_pixels(alpha_quad(AlphaMode::mask, 0.5f, true), 0.0f));
 }
 
 TEST(AlphaTruth, SingleSidedMaterialsHideTheirBackFaces)
 {
     Mesh single = alpha_quad(AlphaMode::opaque, 0.5f, false), both = alpha_quad(AlphaMode::opaque, 0.5f, true);
-    std::size_t front = truth_pixels(single, 0.0f);
+    std::size_t front = alpha_truth_pixels(single, 0.0f);
     EXPECT_GT(front, 10000u);
-    EXPECT_EQ(truth_pixels(single, 180.0f), 0u);
-    EXPECT_EQ(truth_pixels(both, 180.0f), front);
-    EXPECT_EQ(truth_pixels(both, 0.0f), front);
+    EXPECT_EQ(alpha_truth_pixels(single, 180.0f), 0u);
+    EXPECT_EQ(alpha_truth_pixels(both, 180.0f), front);
+    EXPECT_EQ(alpha_truth_pixels(both, 0.0f), front);
 }
 
 // Each stand-in on the generated tree, against the truth: IoU and Luv at distance 1 (4 views of
@@ -185,11 +185,15 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
     EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
 }
 
+// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.962, Luv 13.1, coverage 0.978
+// / 0.982; view atlas 0.960, 8.09, 1.017 / 1.008. Luv is far over the 3 for every stand-in:
+// leaf edges a pixel off compare leaf against background (docs/RESULTS.md "Alpha-masked foliage").
+// Microfacets (IoU 0.959, Luv 7.37, coverage 0.991 / 0.986) take 250 s here with their default
+// 80 captures of 512^2, over ctest's limit on a loaded machine, and the displaced mesh keeps cards
+// (docs/failure_cases.md): both are measured by bench/foliage_results.sh instead.
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
-                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.0, 100.0, 1.0},
-                                           FoliageCase{"view-atlas", 0.0, 100.0, 1.0},
-                                           FoliageCase{"microfacets", 0.0, 100.0, 1.0},
-                                           FoliageCase{"displaced-mesh", 0.0, 100.0, 1.0}),
+                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.94, 16.0, 0.06},
+                                           FoliageCase{"view-atlas", 0.94, 10.0, 0.06}),
                          [](const ::testing::TestParamInfo<FoliageCase>& info) {
                              std::string name = info.param.representation;
                              std::replace(name.begin(), name.end(), '-', '_');

@@ -191,7 +191,8 @@ CommandRun add_eval_command(CLI::App& root)
     for (const std::string& p : protocol_names()) names += (names.empty() ? "" : " | ") + p;
     command->add_option("--protocol", args->protocol,
                         names + ": quick = 4 views at 320x240; thesis = Vichitvejpaisal 2005 appendix A (14 views x "
-                                "3 resolutions); saraiva = Saraiva et al. §3 (14 views x 8 distances x 3 fovs)")
+                                "3 resolutions); saraiva = Saraiva et al. §3 (14 views x 8 distances x 3 fovs); "
+                                "foliage = 14 views x distances 1, 4, 8 (alpha-masked leaves)")
         ->capture_default_str();
     command->add_option("--json", args->json, "Write every figure as JSON to this file");
     command->add_option("--report", args->report,
