@@ -15,6 +15,23 @@ namespace {
 
 int block_bytes(int flags) { return (flags & (squish::kDxt1 | squish::kBc4)) != 0 ? 8 : 16; }
 
+// One BC4 block (the DXT5 alpha block layout) into channel `channel` of 16 RGBA texels. Debian's
+// libsquish 1.15 compresses BC4/BC5 but does not decode them.
+void decode_bc4(const std::uint8_t* block, std::uint8_t* rgba, int channel)
+{
+    const int a0 = block[0], a1 = block[1];
+    int values[8] = {a0, a1};
+    if (a0 > a1) {
+        for (int k = 1; k < 7; ++k) values[k + 1] = ((7 - k) * a0 + k * a1 + 3) / 7;
+    } else {
+        for (int k = 1; k < 5; ++k) values[k + 1] = ((5 - k) * a0 + k * a1 + 2) / 5;
+        values[6] = 0, values[7] = 255;
+    }
+    std::uint64_t bits = 0;
+    for (int k = 0; k < 6; ++k) bits |= std::uint64_t(block[2 + k]) << (8 * k);
+    for (int t = 0; t < 16; ++t) rgba[t * 4 + channel] = std::uint8_t(values[(bits >> (3 * t)) & 7]);
+}
+
 } // namespace
 
 std::vector<std::uint8_t> compress_blocks(const std::uint8_t* rgba, int width, int height, const std::uint8_t* mask,
@@ -46,7 +63,25 @@ std::vector<std::uint8_t> compress_blocks(const std::uint8_t* rgba, int width, i
 std::vector<std::uint8_t> decompress_blocks(const std::uint8_t* blocks, int width, int height, int squish_flags)
 {
     std::vector<std::uint8_t> rgba(std::size_t(width) * std::size_t(height) * 4);
-    squish::DecompressImage(rgba.data(), width, height, blocks, squish_flags);
+    if ((squish_flags & (squish::kBc4 | squish::kBc5)) == 0) {
+        squish::DecompressImage(rgba.data(), width, height, blocks, squish_flags);
+        return rgba;
+    }
+    const int bw = (width + 3) / 4, bh = (height + 3) / 4, bytes = block_bytes(squish_flags);
+    for (int by = 0; by < bh; ++by)
+        for (int bx = 0; bx < bw; ++bx) {
+            const std::uint8_t* block = blocks + (std::size_t(by) * std::size_t(bw) + std::size_t(bx)) * std::size_t(bytes);
+            std::uint8_t texels[16 * 4] = {};
+            for (int t = 0; t < 16; ++t) texels[t * 4 + 3] = 255;
+            decode_bc4(block, texels, 0);
+            if (bytes == 16) decode_bc4(block + 8, texels, 1);
+            for (int j = 0; j < 4; ++j)
+                for (int i = 0; i < 4; ++i) {
+                    const int x = bx * 4 + i, y = by * 4 + j;
+                    if (x < width && y < height)
+                        std::copy_n(texels + (j * 4 + i) * 4, 4, &rgba[(std::size_t(y) * std::size_t(width) + std::size_t(x)) * 4]);
+                }
+        }
     return rgba;
 }
 

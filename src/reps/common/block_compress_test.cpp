@@ -127,7 +127,24 @@ TEST(BlockCompress, Bc3KeepsBinaryCoverageExactly)
     for (std::size_t k = 0; k < rgba.size() / 4; ++k) EXPECT_EQ(back[k * 4 + 3], rgba[k * 4 + 3]) << k;
 }
 
-TEST(Octahedral, EightBitCodesKeepNormalsWithinAFewTenthsOfADegree)
+TEST(BlockCompress, Bc5DecodesToTheEncodedChannels)
+{
+    const int width = 10, height = 7;
+    std::vector<std::uint8_t> rgba(std::size_t(width) * height * 4);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            std::uint8_t* t = &rgba[(std::size_t(y) * width + x) * 4];
+            t[0] = std::uint8_t(20 + 9 * x), t[1] = std::uint8_t(240 - 11 * y), t[2] = 7, t[3] = 255;
+        }
+    std::vector<std::uint8_t> blocks = reps::compress_blocks(rgba.data(), width, height, nullptr, squish::kBc5);
+    std::vector<std::uint8_t> back = reps::decompress_blocks(blocks.data(), width, height, squish::kBc5);
+    for (std::size_t k = 0; k < rgba.size() / 4; ++k) {
+        EXPECT_NEAR(back[k * 4], rgba[k * 4], 3) << k;
+        EXPECT_NEAR(back[k * 4 + 1], rgba[k * 4 + 1], 3) << k;
+    }
+}
+
+TEST(Octahedral, EightBitCodesKeepNormalsWithinADegree)
 {
     std::mt19937 random(11);
     std::normal_distribution<float> gauss;
@@ -140,7 +157,7 @@ TEST(Octahedral, EightBitCodesKeepNormalsWithinAFewTenthsOfADegree)
         worst = std::max(worst, std::acos(std::min(glm::dot(n, back), 1.0f)));
         EXPECT_NEAR(glm::length(back), 1.0f, 1e-5f);
     }
-    EXPECT_LT(glm::degrees(worst), 0.9f);
+    EXPECT_LT(glm::degrees(worst), 1.0f);
     EXPECT_NEAR(glm::dot(reps::octahedral_decode(reps::octahedral_encode({0, 0, -1})), glm::vec3(0, 0, -1)), 1.0f, 1e-6f);
 }
 

@@ -45,16 +45,12 @@ std::string compressed_file(std::size_t index, const char* map)
     return name;
 }
 
-constexpr int k_color_flags = squish::kDxt5 | squish::kColourIterativeClusterFit | squish::kWeightColourByAlpha;
-
 // The three compressed maps of a billboard (see the file comment).
 Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, const std::string& directory,
                         nlohmann::json& files, nlohmann::json& entry)
 {
     using manifest_io::BlockFormat;
     const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);
-    manifest_io::BlockImage color{BlockFormat::bc3_srgb, b.width, b.height, {}};
-    color.levels.push_back(reps::compress_blocks(b.color.pixels.data(), b.width, b.height, nullptr, k_color_flags));
     std::vector<std::uint8_t> octahedral(texels * 4, 0), covered(texels, 0);
     manifest_io::BlockImage depth{depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, {}};
     std::vector<std::uint8_t> depths(texels * (depth_bits == 8 ? 1 : 2));
@@ -74,11 +70,11 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
     manifest_io::BlockImage normal{BlockFormat::bc5, b.width, b.height, {}};
     normal.levels.push_back(reps::compress_blocks(octahedral.data(), b.width, b.height, covered.data(), squish::kBc5));
     depth.levels.push_back(std::move(depths));
-    const std::string names[3] = {compressed_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
-    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(color, directory, names[0], files));
+    const std::string names[3] = {billboard_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, names[0], files));
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, names[1], files));
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, names[2], files));
-    entry["color"] = {{"file", names[0]}, {"format", "BC3_SRGB"}, {"channels", "albedo.rgb (sRGB), coverage"}};
+    entry["color"] = {{"file", names[0]}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}};
     entry["normal"] = {{"file", names[1]}, {"format", "BC5"}, {"channels", "octahedral world normal (x, y) * 0.5 + 0.5"}};
     entry["depth"] = {{"file", names[2]}, {"format", depth_bits == 8 ? "R8" : "R16"}, {"bits", depth_bits}};
     return Status::ok();
@@ -94,14 +90,20 @@ void read_compressed(const manifest_io::Reader& in, const nlohmann::json& files,
         in.choice(m, "format", where + map + ".", {format});
         return in.string(m, "file", where + map + ".");
     };
-    std::string color_name = map_file("color", "BC3_SRGB"), normal_name = map_file("normal", "BC5"),
-                depth_name = map_file("depth", depth_bits == 8 ? "R8" : "R16");
-    manifest_io::BlockImage color = manifest_io::read_blocks(in, files, color_name, BlockFormat::bc3_srgb, b.width, b.height, 1);
+    std::string normal_name = map_file("normal", "BC5"), depth_name = map_file("depth", depth_bits == 8 ? "R8" : "R16");
     manifest_io::BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, b.width, b.height, 1);
     manifest_io::BlockImage depth = manifest_io::read_blocks(
         in, files, depth_name, depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, 1);
-    b.color = ImageRGBA8(b.width, b.height);
-    b.color.pixels = reps::decompress_blocks(color.levels[0].data(), b.width, b.height, squish::kDxt5);
+    const nlohmann::json& color_entry = in.member(entry, "color", where);
+    const std::string color_name = in.string(color_entry, "file", where + "color.");
+    if (color_entry.contains("format")) { // BC3 colour: read, not written by this version (see the file comment)
+        in.choice(color_entry, "format", where + "color.", {"BC3_SRGB"});
+        manifest_io::BlockImage color = manifest_io::read_blocks(in, files, color_name, BlockFormat::bc3_srgb, b.width, b.height, 1);
+        b.color = ImageRGBA8(b.width, b.height);
+        b.color.pixels = reps::decompress_blocks(color.levels[0].data(), b.width, b.height, squish::kDxt5);
+    } else {
+        b.color = manifest_io::read_image8(in, files, color_name, b.width, b.height);
+    }
     std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), b.width, b.height, squish::kBc5);
     b.normal_depth = ImageRGBA16(b.width, b.height);
     const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);

@@ -100,13 +100,13 @@ TEST(BillboardPackage, BcPackagesRoundTrip)
         ASSERT_TRUE(write_package(*baked, base + "/bc.standin"));
         ASSERT_TRUE(write_package(*plain, base + "/png.standin"));
         EXPECT_TRUE(fs::exists(base + "/bc.standin/billboard_000_normal.ktx2"));
-        EXPECT_FALSE(fs::exists(base + "/bc.standin/billboard_000_color.png"));
+        EXPECT_FALSE(fs::exists(base + "/bc.standin/billboard_000_normal_depth.png"));
         EXPECT_EQ(read_manifest(base + "/bc.standin")["version"], 2);
         EXPECT_EQ(read_manifest(base + "/png.standin")["version"], 1); // older standins still read PNG packages
         Result<std::unique_ptr<Package>> read = read_package(base + "/bc.standin");
         ASSERT_TRUE(read) << read.status().message();
         const auto& p = static_cast<const EnhancedBillboardsPackage&>(**read);
-        EXPECT_LT(p.package_bytes, (*read_package(base + "/png.standin"))->package_bytes);
+        // (sizes: docs/RESULTS.md "Compressed packages"; at 4k faces bc is not always smaller)
         ASSERT_EQ(p.billboards.size(), baked->billboards.size());
         float worst_normal = 0.0f;
         int worst_color = 0;
@@ -123,7 +123,7 @@ TEST(BillboardPackage, BcPackagesRoundTrip)
             }
         }
         EXPECT_LT(worst_normal, 12.0f) << bits;
-        EXPECT_LT(worst_color, 24) << bits;
+        EXPECT_EQ(worst_color, 0) << bits; // colour stays PNG
     }
 }
 
@@ -144,7 +144,8 @@ TEST(BillboardPackage, EightBitPackagesRoundTrip)
 TEST(BillboardPackage, WritesAreByteIdenticalAcrossThreadCounts)
 {
     std::string base = test::fresh_directory("billboard_identical");
-    auto a = baked_sphere();
+    auto a = baked_sphere({{"compression", "bc"}}); // the default, as bake_package below
+
     ASSERT_TRUE(write_package(*a, base + "/a.standin"));
     std::map<std::string, std::string> first = directory_bytes(base + "/a.standin");
     for (int threads : {1, 2}) {
