@@ -9,8 +9,11 @@
 
 #include <glm/glm.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -53,8 +56,9 @@ void grid_dilate(ImageRGBA8& image, std::vector<std::uint8_t>& filled, int frame
     for (int pass = 0; pass < k_grid_dilation_passes; ++pass) {
         ImageRGBA8 before = image;
         std::vector<std::uint8_t> was = filled;
-        bool changed = false;
-        for (int y = 0; y < size; ++y) {
+        std::atomic<bool> changed = false;
+        // rows are independent within a pass (reads from the previous pass only): deterministic
+        tbb::parallel_for(0, size, [&](int y) {
             for (int x = 0; x < size; ++x) {
                 if (was[std::size_t(y) * size + x]) continue;
                 int sum[3] = {0, 0, 0}, count = 0;
@@ -76,7 +80,7 @@ void grid_dilate(ImageRGBA8& image, std::vector<std::uint8_t>& filled, int frame
                 filled[std::size_t(y) * size + x] = 1;
                 changed = true;
             }
-        }
+        });
         if (!changed) break;
     }
 }
@@ -107,7 +111,8 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
         double t = (double(x) + (double(a) + 0.5) / box) * frames / size - frame;
         pixel = std::clamp(int(std::floor(t * res)), 0, res - 1);
     };
-    for (int y = 0; y < size; ++y) {
+    // every texel reads the pages and writes only itself: rows in parallel, deterministic
+    tbb::parallel_for(0, size, [&](int y) {
         for (int x = 0; x < size; ++x) {
             float rgb[3] = {0, 0, 0}, depth = 0.0f;
             glm::vec3 normal(0.0f);
@@ -153,7 +158,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                 nd[3] = grid_unorm8(depth / float(covered));
             }
         }
-    }
+    });
     if (with_normals) {
         std::vector<std::uint8_t> mask = filled;
         grid_dilate(atlas.normal_depth, mask, frames, true);

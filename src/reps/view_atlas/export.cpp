@@ -33,7 +33,8 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     const std::string name = quoted(package.directory.empty() ? std::string("package") : package.directory);
     if (s.layout != "octahedral" && s.layout != "hemi-octahedral")
         return error(StatusCode::unsupported, name + ": a grid atlas needs a view atlas baked with --layout octahedral "
-                                                     "or hemi-octahedral (this one is " + s.layout + ")");
+                                                     "or hemi-octahedral (this one is " + s.layout +
+                                                     "; e.g. standin bake MODEL -r view-atlas --layout octahedral --frames 16)");
     const int frames = options.integer("frames");
     if (frames != 0 && frames != s.frames)
         return error(StatusCode::invalid_argument, "--frames " + std::to_string(frames) + ": " + name + " was baked with " +
