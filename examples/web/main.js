@@ -40,6 +40,8 @@ window.standin = { ready: false, error: null, info: {} };
 // ambient 0.2, diffuse 0.8
 const k_light_view = new THREE.Vector3(-0.4, 0.6, 1.0).normalize();
 const k_light_terms = new THREE.Vector2(0.2, 0.8);
+// the albedo standin gives a model without colours or materials (src/io/import_mesh.cpp): 0.8, sRGB
+const k_unauthored = new THREE.Color().setRGB(0.8, 0.8, 0.8, THREE.SRGBColorSpace);
 
 async function fetch_text(url) {
     const response = await fetch(url);
@@ -68,10 +70,18 @@ async function load_model(url) {
     if (ext === 'ply') {
         const geometry = await new PLYLoader().loadAsync(url);
         if (!geometry.getAttribute('normal')) geometry.computeVertexNormals();
-        const material = new THREE.MeshBasicMaterial({ vertexColors: !!geometry.getAttribute('color') });
+        const colored = !!geometry.getAttribute('color');
+        const material = new THREE.MeshBasicMaterial({ vertexColors: colored });
+        if (!colored) material.color.copy(k_unauthored);
         return { object: new THREE.Mesh(geometry, material) };
     }
-    if (ext === 'obj') return { object: await new OBJLoader().loadAsync(url) };
+    if (ext === 'obj') {
+        const object = await new OBJLoader().loadAsync(url);
+        object.traverse((node) => {
+            if (node.isMesh && !node.geometry.getAttribute('color') && !node.material.map) node.material.color.copy(k_unauthored);
+        });
+        return { object };
+    }
     throw new Error(`${url}: the viewer reads .glb, .gltf, .ply and .obj models`);
 }
 
