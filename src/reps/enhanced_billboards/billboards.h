@@ -22,6 +22,10 @@ namespace standin::billboards {
 struct Billboard : reps::SurfaceImage {
     std::size_t captured_faces = 0;
     double captured_area = 0.0;    // world units squared of source surface rasterised here
+    // The BC5 blocks of the normals as read from a compressed package, written back as they are:
+    // re-encoding the decoded normals would not give the same blocks (the contract's write, read,
+    // write round trip is byte-identical). Empty for baked billboards.
+    std::vector<std::uint8_t> normal_bc5;
 };
 
 // Why surface was left out of every billboard (manifest "left"): fractions of total area.

@@ -68,7 +68,9 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
         }
     }
     manifest_io::BlockImage normal{BlockFormat::bc5, b.width, b.height, {}};
-    normal.levels.push_back(reps::compress_blocks(octahedral.data(), b.width, b.height, covered.data(), squish::kBc5));
+    normal.levels.push_back(!b.normal_bc5.empty()
+                                ? b.normal_bc5
+                                : reps::compress_blocks(octahedral.data(), b.width, b.height, covered.data(), squish::kBc5));
     depth.levels.push_back(std::move(depths));
     const std::string names[3] = {billboard_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
     STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, names[0], files));
@@ -105,6 +107,7 @@ void read_compressed(const manifest_io::Reader& in, const nlohmann::json& files,
         b.color = manifest_io::read_image8(in, files, color_name, b.width, b.height);
     }
     std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), b.width, b.height, squish::kBc5);
+    b.normal_bc5 = std::move(normal.levels[0]);
     b.normal_depth = ImageRGBA16(b.width, b.height);
     const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);
     for (std::size_t k = 0; k < texels; ++k) {
