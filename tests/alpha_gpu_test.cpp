@@ -23,42 +23,6 @@
 namespace standin {
 namespace {
 
-Texture radial_alpha_texture_gpu(int size = 256)
-{
-    Texture texture;
-    texture.name = "disc";
-    texture.width = texture.height = size;
-    texture.rgba.resize(std::size_t(size) * size * 4);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
-            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
-            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
-            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
-        }
-    return texture;
-}
-
-Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
-{
-    Mesh mesh;
-    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
-    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
-    mesh.colors.assign(4, glm::vec4(1.0f));
-    mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
-    mesh.indices = {0, 1, 2, 0, 2, 3};
-    mesh.face_materials = {0, 0};
-    mesh.textures.push_back(radial_alpha_texture_gpu());
-    Material material;
-    material.base_color_texture = 0;
-    material.base_color = glm::vec4(1.0f);
-    material.alpha_mode = mode;
-    material.alpha_cutoff = cutoff;
-    material.double_sided = double_sided;
-    mesh.materials.push_back(material);
-    return mesh;
-}
-
 std::size_t covered_pixels_of(const ImageRGBA8& image)
 {
     std::size_t n = 0;
@@ -84,21 +48,21 @@ std::size_t alpha_truth_pixels(const Mesh& mesh, float azimuth, int size = 400)
 
 TEST(AlphaTruth, MaskCutsADiscOfTheAnalyticAreaAndTheCutoffMovesIt)
 {
-    double quad = double(alpha_truth_pixels(alpha_quad(AlphaMode::opaque, 0.5f, true), 0.0f));
+    double quad = double(alpha_truth_pixels(test::alpha_quad(AlphaMode::opaque, 0.5f, true), 0.0f));
     ASSERT_GT(quad, 10000.0);
     for (float cutoff : {0.25f, 0.5f, 0.75f}) {
         double expected = std::numbers::pi * (1.0 - cutoff) * (1.0 - cutoff) / 4.0;
-        double measured = double(alpha_truth_pixels(alpha_quad(AlphaMode::mask, cutoff, true), 0.0f)) / quad;
+        double measured = double(alpha_truth_pixels(test::alpha_quad(AlphaMode::mask, cutoff, true), 0.0f)) / quad;
         EXPECT_NEAR(measured, expected, 0.01) << "cutoff " << cutoff;
     }
     // blend: drawn as mask at 0.5 (the documented method), whatever the cutoff field says
-    EXPECT_EQ(alpha_truth_pixels(alpha_quad(AlphaMode::blend, 0.9f, true), 0.0f),
-              alpha_truth_pixels(alpha_quad(AlphaMode::mask, 0.5f, true), 0.0f));
+    EXPECT_EQ(alpha_truth_pixels(test::alpha_quad(AlphaMode::blend, 0.9f, true), 0.0f),
+              alpha_truth_pixels(test::alpha_quad(AlphaMode::mask, 0.5f, true), 0.0f));
 }
 
 TEST(AlphaTruth, SingleSidedMaterialsHideTheirBackFaces)
 {
-    Mesh single = alpha_quad(AlphaMode::opaque, 0.5f, false), both = alpha_quad(AlphaMode::opaque, 0.5f, true);
+    Mesh single = test::alpha_quad(AlphaMode::opaque, 0.5f, false), both = test::alpha_quad(AlphaMode::opaque, 0.5f, true);
     std::size_t front = alpha_truth_pixels(single, 0.0f);
     EXPECT_GT(front, 10000u);
     EXPECT_EQ(alpha_truth_pixels(single, 180.0f), 0u);

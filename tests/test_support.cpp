@@ -5,6 +5,7 @@
 #include <standin/files.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -100,6 +101,39 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
     Result<std::unique_ptr<Package>> package = bake_package(*r, mesh, source, parameters, {}, 1);
     EXPECT_TRUE(package.is_ok()) << package.status().message();
     return package.is_ok() ? std::move(*package) : nullptr;
+}
+
+Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
+{
+    const int size = 256;
+    Texture texture;
+    texture.name = "disc";
+    texture.width = texture.height = size;
+    texture.rgba.resize(std::size_t(size) * size * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
+            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
+            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
+            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
+        }
+    Mesh mesh;
+    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
+    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+    mesh.colors.assign(4, glm::vec4(1.0f));
+    mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.face_materials = {0, 0};
+    mesh.textures.push_back(std::move(texture));
+    Material material;
+    material.name = "leaf";
+    material.base_color = glm::vec4(1.0f);
+    material.base_color_texture = 0;
+    material.alpha_mode = mode;
+    material.alpha_cutoff = cutoff;
+    material.double_sided = double_sided;
+    mesh.materials.push_back(material);
+    return mesh;
 }
 
 } // namespace standin::test

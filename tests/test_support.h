@@ -44,4 +44,10 @@ GpuContext& gpu_context();
 std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
                               const std::vector<std::pair<std::string, std::string>>& values);
 
+// A unit quad in the z = 0 plane facing +z (counter-clockwise seen from +z), UVs over [0, 1]^2, one
+// material "leaf" of `mode`, `cutoff` and sides, textured with a green square whose alpha falls
+// linearly from 1 at the centre to 0 at radius 0.5 of the side: cutoff c keeps the disc of radius
+// 0.5 (1 - c), area pi (1 - c)^2 / 4 of the quad (issue #14's alpha tests, CPU and GPU).
+Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided);
+
 } // namespace standin::test

@@ -4,6 +4,8 @@
 #include <standin/image.h>
 #include <standin/mesh.h>
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,47 +26,6 @@ std::string alpha_test_dir(const std::string& name)
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir.string();
-}
-
-// A square texture whose alpha falls linearly from 1 at the centre to 0 at radius 0.5 (of the
-// square's side) and stays 0 beyond: cutoff c keeps the disc of radius 0.5 (1 - c), area
-// pi (1 - c)^2 / 4 of the square. Green, so colour tells it from the background.
-Texture radial_alpha_texture(int size = 256)
-{
-    Texture texture;
-    texture.name = "disc";
-    texture.width = texture.height = size;
-    texture.rgba.resize(std::size_t(size) * size * 4);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
-            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
-            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
-            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
-        }
-    return texture;
-}
-
-// A unit quad in the z = 0 plane facing +z (counter-clockwise seen from +z), UVs over [0, 1]^2.
-Mesh textured_quad(AlphaMode mode, float cutoff, bool double_sided)
-{
-    Mesh mesh;
-    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
-    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
-    mesh.colors.assign(4, glm::vec4(1.0f));
-    mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
-    mesh.indices = {0, 1, 2, 0, 2, 3};
-    mesh.face_materials = {0, 0};
-    mesh.textures.push_back(radial_alpha_texture());
-    Material material;
-    material.name = "leaf";
-    material.base_color = glm::vec4(1.0f);
-    material.base_color_texture = 0;
-    material.alpha_mode = mode;
-    material.alpha_cutoff = cutoff;
-    material.double_sided = double_sided;
-    mesh.materials.push_back(material);
-    return mesh;
 }
 
 // The fraction of a fine grid of points of the quad that pass the alpha test.
@@ -89,14 +50,14 @@ TEST(Alpha, MaskCutoffCutsADiscOfTheAnalyticArea)
 {
     for (float cutoff : {0.25f, 0.5f, 0.75f}) {
         double expected = std::numbers::pi * (1.0 - cutoff) * (1.0 - cutoff) / 4.0;
-        EXPECT_NEAR(covered_fraction(textured_quad(AlphaMode::mask, cutoff, true)), expected, 0.01) << "cutoff " << cutoff;
+        EXPECT_NEAR(covered_fraction(test::alpha_quad(AlphaMode::mask, cutoff, true)), expected, 0.01) << "cutoff " << cutoff;
     }
-    EXPECT_DOUBLE_EQ(covered_fraction(textured_quad(AlphaMode::opaque, 0.5f, true)), 1.0);
+    EXPECT_DOUBLE_EQ(covered_fraction(test::alpha_quad(AlphaMode::opaque, 0.5f, true)), 1.0);
     // blend is drawn as mask at 0.5, whatever the cutoff field holds
-    EXPECT_NEAR(covered_fraction(textured_quad(AlphaMode::blend, 0.9f, true)), std::numbers::pi / 16.0, 0.01);
-    EXPECT_FALSE(textured_quad(AlphaMode::opaque, 0.5f, true).has_alpha_test());
-    EXPECT_TRUE(textured_quad(AlphaMode::mask, 0.5f, true).has_alpha_test());
-    EXPECT_TRUE(textured_quad(AlphaMode::opaque, 0.5f, false).has_alpha_test());
+    EXPECT_NEAR(covered_fraction(test::alpha_quad(AlphaMode::blend, 0.9f, true)), std::numbers::pi / 16.0, 0.01);
+    EXPECT_FALSE(test::alpha_quad(AlphaMode::opaque, 0.5f, true).has_alpha_test());
+    EXPECT_TRUE(test::alpha_quad(AlphaMode::mask, 0.5f, true).has_alpha_test());
+    EXPECT_TRUE(test::alpha_quad(AlphaMode::opaque, 0.5f, false).has_alpha_test());
 }
 
 TEST(Alpha, GltfRoundTripKeepsAlphaModeCutoffDoubleSidedAndTheTexture)
@@ -104,7 +65,7 @@ TEST(Alpha, GltfRoundTripKeepsAlphaModeCutoffDoubleSidedAndTheTexture)
     std::string dir = alpha_test_dir("gltf");
     for (AlphaMode mode : {AlphaMode::opaque, AlphaMode::mask, AlphaMode::blend})
         for (bool double_sided : {false, true}) {
-            Mesh quad = textured_quad(mode, 0.3f, double_sided);
+            Mesh quad = test::alpha_quad(mode, 0.3f, double_sided);
             std::string path = dir + "/quad.gltf";
             ASSERT_TRUE(write_gltf(quad, path).is_ok());
             ImportReport report;
