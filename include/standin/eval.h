@@ -1,6 +1,6 @@
 // Evaluation: how faithful (image and geometric error against the ground truth) and how fast
 // (GPU frame time) a stand-in is. The protocols are the papers' own: Vichitvejpaisal 2005 ch. 4 and appendix A
-// ("thesis"), Saraiva et al. §3 ("saraiva"), and a small "quick" one. docs/EVAL.md documents every
+// ("thesis"), Saraiva et al. §3 ("saraiva"), a small "quick" one and "foliage" (leaf coverage by distance). docs/EVAL.md documents every
 // figure, the JSON and the CSV schema.
 #pragma once
 
@@ -35,7 +35,7 @@ struct EvalView {
 };
 
 struct Protocol {
-    std::string name;        // "thesis", "saraiva", "quick"
+    std::string name;        // "thesis", "saraiva", "quick", "foliage"
     std::string description; // one line, names the seed section it follows
     std::vector<EvalView> views;
 };
@@ -50,6 +50,8 @@ std::vector<std::string> protocol_names();
 // thesis: 14 directions x distance 1 x fov 40 x {800x600, 400x300, 200x150} (42 views).
 // saraiva: 14 directions x distance 2^-1..2^6 x fov {40, 60, 90} at 512x512 (336 views).
 // quick: 4 directions (azimuth 0/90/180/270 at elevation 30, 0, -30, 90) at 320x240, fov 40, distance 1.
+// foliage: the 14 directions at distances 1, 4 and 8, fov 40, 800x600 (issue #14: does alpha-tested
+// foliage keep its area in the distance).
 // invalid_argument naming the unknown protocol and the known ones.
 Result<Protocol> make_protocol(const std::string& name);
 
