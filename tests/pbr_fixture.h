@@ -17,26 +17,12 @@
 
 #include <cmath>
 #include <cstring>
+#include "test_support.h"
+
 #include <sstream>
 #include <string>
 
 namespace standin::test {
-
-inline std::string pbr_fixture_base64(const std::string& bytes)
-{
-    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        std::uint32_t chunk = std::uint32_t(std::uint8_t(bytes[i])) << 16;
-        if (i + 1 < bytes.size()) chunk |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
-        if (i + 2 < bytes.size()) chunk |= std::uint8_t(bytes[i + 2]);
-        out += alphabet[(chunk >> 18) & 63];
-        out += alphabet[(chunk >> 12) & 63];
-        out += i + 1 < bytes.size() ? alphabet[(chunk >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? alphabet[chunk & 63] : '=';
-    }
-    return out;
-}
 
 // A 4 x 16 map whose rows are `top` in the top half (or quarter) of the image and `bottom` below;
 // glTF puts v = 0 at the image's top row.
@@ -107,7 +93,7 @@ inline std::string write_pbr_spheres_gltf(const std::string& dir, std::size_t tr
          << R"("images": [{"uri": "pbr_mr.png"}, {"uri": "pbr_occlusion.png"}, {"uri": "pbr_emissive.png"}],)"
          << R"("textures": [{"source": 0}, {"source": 1}, {"source": 2}],)"
          << R"("buffers": [{"byteLength": )" << bytes.size() << R"(, "uri": "data:application/octet-stream;base64,)"
-         << pbr_fixture_base64(bytes) << R"("}],)"
+         << base64(bytes) << R"("}],)"
          << R"("bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": )" << n * 12 << "},"
          << R"({"buffer": 0, "byteOffset": )" << n * 12 << R"(, "byteLength": )" << n * 12 << "},"
          << R"({"buffer": 0, "byteOffset": )" << uv_offset << R"(, "byteLength": )" << n * 8 << "},"

@@ -103,6 +103,22 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
     return package.is_ok() ? std::move(*package) : nullptr;
 }
 
+std::string base64(const std::string& bytes)
+{
+    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        std::uint32_t chunk = std::uint32_t(std::uint8_t(bytes[i])) << 16;
+        if (i + 1 < bytes.size()) chunk |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
+        if (i + 2 < bytes.size()) chunk |= std::uint8_t(bytes[i + 2]);
+        out += alphabet[(chunk >> 18) & 63];
+        out += alphabet[(chunk >> 12) & 63];
+        out += i + 1 < bytes.size() ? alphabet[(chunk >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? alphabet[chunk & 63] : '=';
+    }
+    return out;
+}
+
 Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
 {
     const int size = 256;

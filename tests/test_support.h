@@ -44,6 +44,9 @@ GpuContext& gpu_context();
 std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
                               const std::vector<std::pair<std::string, std::string>>& values);
 
+// Standard base64 (RFC 4648, padded): the data URIs of glTF fixtures tests write.
+std::string base64(const std::string& bytes);
+
 // A unit quad in the z = 0 plane facing +z (counter-clockwise seen from +z), UVs over [0, 1]^2, one
 // material "leaf" of `mode`, `cutoff` and sides, textured with a green square whose alpha falls
 // linearly from 1 at the centre to 0 at radius 0.5 of the side: cutoff c keeps the disc of radius

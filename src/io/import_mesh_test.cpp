@@ -76,22 +76,6 @@ glm::vec3 geometric_normal(const Mesh& mesh, std::size_t t)
     return glm::normalize(glm::cross(corner(mesh, t, 1) - corner(mesh, t, 0), corner(mesh, t, 2) - corner(mesh, t, 0)));
 }
 
-std::string base64(const std::string& bytes)
-{
-    static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        std::uint32_t chunk = std::uint32_t(std::uint8_t(bytes[i])) << 16;
-        if (i + 1 < bytes.size()) chunk |= std::uint32_t(std::uint8_t(bytes[i + 1])) << 8;
-        if (i + 2 < bytes.size()) chunk |= std::uint8_t(bytes[i + 2]);
-        out += alphabet[(chunk >> 18) & 63];
-        out += alphabet[(chunk >> 12) & 63];
-        out += i + 1 < bytes.size() ? alphabet[(chunk >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? alphabet[chunk & 63] : '=';
-    }
-    return out;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Round trips and formats
 
@@ -341,7 +325,7 @@ std::string triangle_gltf(const std::array<float, 9>& positions, const std::arra
   "scenes": [{"nodes": )" + scene_nodes + R"(}],
   "nodes": )" + nodes + R"(,
   "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]}],
-  "buffers": [{"byteLength": 72, "uri": "data:application/octet-stream;base64,)" + base64(bytes) + R"("}],
+  "buffers": [{"byteLength": 72, "uri": "data:application/octet-stream;base64,)" + test::base64(bytes) + R"("}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}],
   "accessors": [
     {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": )" + list(lo) + R"(, "max": )" + list(hi) + R"(},
