@@ -166,7 +166,7 @@ Status bake_one(const BatchArgs& args, const std::string& model, const std::stri
                 std::optional<std::unique_ptr<GpuContext>>& context, nlohmann::json& entry)
 {
     auto start = std::chrono::steady_clock::now();
-    Result<Mesh> mesh = import_mesh(model);
+    Result<Mesh> mesh = import_mesh(model, nullptr, k_isolated_import);
     if (!mesh) return mesh.status();
     Result<SourceInfo> source = describe_source(model, *mesh);
     if (!source) return source.status();

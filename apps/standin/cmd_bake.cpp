@@ -56,7 +56,7 @@ static int run_bake(const BakeArgs& args)
     if (Status s = check_output_is_not_input(output, {args.input}); !s) return fail(s);
 
     auto start = std::chrono::steady_clock::now();
-    Result<Mesh> mesh = import_mesh(args.input);
+    Result<Mesh> mesh = import_mesh(args.input, nullptr, k_isolated_import);
     if (!mesh) return fail(mesh.status());
     Result<SourceInfo> source = describe_source(args.input, *mesh);
     if (!source) return fail(source.status());

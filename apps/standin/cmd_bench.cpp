@@ -124,7 +124,7 @@ static int run_bench(BenchArgs& args)
     if (args.crowd > 1000000) return fail("--crowd: at most 1000000 instances");
 
     // the model and the context
-    Result<Mesh> mesh = import_mesh(args.model);
+    Result<Mesh> mesh = import_mesh(args.model, nullptr, k_isolated_import);
     if (!mesh) return fail(mesh.status());
     Result<SourceInfo> source = describe_source(args.model, *mesh);
     if (!source) return fail(source.status());

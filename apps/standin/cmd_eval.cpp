@@ -59,7 +59,7 @@ static Result<Subject> load_subject(const EvalArgs& args)
         return subject;
     }
     STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, {}));
-    Result<Mesh> mesh = import_mesh(args.standin);
+    Result<Mesh> mesh = import_mesh(args.standin, nullptr, k_isolated_import);
     if (!mesh) return mesh.status();
     subject.mesh = std::move(*mesh);
     subject.representation = "mesh";
@@ -113,7 +113,7 @@ static int run_eval(EvalArgs& args)
     if (!protocol) return fail(protocol.status());
 
     // load the truth and the stand-in
-    Result<Mesh> mesh = import_mesh(args.model);
+    Result<Mesh> mesh = import_mesh(args.model, nullptr, k_isolated_import);
     if (!mesh) return fail(mesh.status());
     Result<std::unique_ptr<GpuContext>> context = create_headless_context();
     if (!context) return fail(context.status());

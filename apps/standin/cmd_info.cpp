@@ -60,7 +60,7 @@ static int run_info(const InfoArgs& args)
     std::error_code ec;
     if (std::filesystem::is_directory(args.path, ec)) return run_package_info(args);
     ImportReport report;
-    Result<Mesh> mesh = import_mesh(args.path, &report);
+    Result<Mesh> mesh = import_mesh(args.path, &report, k_isolated_import);
     if (!mesh) return fail(mesh.status());
     nlohmann::json info = model_info_json(*mesh, report);
     if (args.json) {

@@ -59,7 +59,7 @@ static int run_render(RenderArgs& args)
         sphere = bounding_sphere_of((*package)->source.bounds);
     } else {
         if (Status s = check_render_options_apply(options, {}); !s) return fail(s);
-        Result<Mesh> mesh = import_mesh(args.input);
+        Result<Mesh> mesh = import_mesh(args.input, nullptr, k_isolated_import);
         if (!mesh) return fail(mesh.status());
         Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*mesh);
         if (!made) return fail(made.status());

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <standin/camera.h>
+#include <standin/mesh.h>
 #include <standin/progress.h>
 #include <standin/render.h>
 #include <standin/status.h>
@@ -14,6 +15,10 @@ namespace standin::cli {
 
 constexpr int k_exit_ok = 0;
 constexpr int k_exit_failure = 2; // bad input, bad options, or a failure we can name
+
+// Every model the command line reads is parsed in a child process: a crash inside assimp on one
+// damaged file becomes that file's error (and a batch goes on with the rest).
+inline const ImportOptions k_isolated_import{.isolate_parser = true};
 
 // Prints "standin: MESSAGE" on stderr and returns the failure exit code.
 int fail(const Status& status);

@@ -22,7 +22,7 @@ static std::string base_name(const std::string& path)
 
 static Result<Subject> load_model(const std::string& path)
 {
-    Result<Mesh> mesh = import_mesh(path);
+    Result<Mesh> mesh = import_mesh(path, nullptr, ImportOptions{.isolate_parser = true});
     if (!mesh) return mesh.status();
     Subject subject;
     subject.path = path;

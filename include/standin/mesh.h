@@ -157,6 +157,10 @@ struct ImportReport {
 struct ImportOptions {
     // Crease angle used when the file has no normals: smooth within it, split across it.
     float crease_angle_degrees = 80.0f;
+    // Parse in a child process (POSIX fork) so that a crash inside the third-party parser (assimp)
+    // comes back as a bad_data error naming the file instead of ending the program. The command
+    // line and the viewer set it; a batch of thousands of assets must not stop at one bad file.
+    bool isolate_parser = false;
 };
 
 // Reads any format assimp reads (OBJ, STL, OFF, glTF/GLB, COLLADA, FBX, ...; PLY with a reader of

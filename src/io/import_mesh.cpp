@@ -1001,6 +1001,8 @@ static Result<Mesh> import_checked(const std::string& path, ImportReport& r, con
     return converter.take_mesh();
 }
 
+Result<Mesh> import_mesh_isolated(const std::string& path, ImportReport& report, const ImportOptions& options);
+
 Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const ImportOptions& options)
 {
     ImportReport local_report;
@@ -1008,6 +1010,7 @@ Result<Mesh> import_mesh(const std::string& path, ImportReport* report, const Im
     r = ImportReport{};
     r.source_path = path;
     r.format = lower_extension(path);
+    if (options.isolate_parser) return import_mesh_isolated(path, r, options); // import_isolated.cpp
     try {
         return import_checked(path, r, options);
     } catch (const std::bad_alloc&) {
