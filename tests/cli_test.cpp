@@ -5,6 +5,8 @@
 #include <standin/image.h>
 
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -74,6 +76,20 @@ TEST(Cli, BadModelsAreRefusedWithOneLineNamingTheFile)
             EXPECT_NE(result.err.find(c.expected_in_message), std::string::npos) << c.name << ": " << result.err;
             EXPECT_FALSE(fs::exists(output)) << c.name;
         }
+    }
+
+    // a file that crashes the third-party parser (src/io/import_isolated_test.cpp says which and why)
+    std::string crash = test::source_dir() + "/tests/data/assimp_base64_padding_crash.fbx";
+    std::string output = dir + "/out_crash.png";
+    for (const std::string& command : {"info " + crash, "render " + crash + " -o " + output}) {
+        test::CommandResult result = test::run_cli(command);
+        EXPECT_EQ(result.exit_code, 2) << command << ": " << result.err;
+        EXPECT_NE(result.err.find("assimp_base64_padding_crash.fbx: the model importer"), std::string::npos) << result.err;
+        // under the sanitizer lane (STANDIN_CLI set) the crash comes with AddressSanitizer's report
+        if (!std::getenv("STANDIN_CLI")) {
+            EXPECT_EQ(line_count(result.err), 1) << result.err;
+        }
+        EXPECT_FALSE(fs::exists(output));
     }
 }
 
