@@ -1,0 +1,155 @@
+// The compact coarse-mesh file: a round trip keeps every triangle (positions within half a 16-bit
+// step of the bounding box, colours to 8 bits, winding kept), writes the same bytes twice, is far
+// smaller than the PLY, and damaged files (truncated, wrong counts, indices out of range, bad
+// boxes) are refused with one line naming the file.
+#include "reps/common/coarse_mesh.h"
+
+#include <standin/files.h>
+
+#include <gtest/gtest.h>
+#include <meshoptimizer.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <limits>
+#include <map>
+
+namespace standin::reps {
+namespace {
+
+Mesh sphere_coarse_mesh()
+{
+    GenerateOptions generate;
+    generate.shape = GeneratedShape::noisy_sphere;
+    generate.target_triangles = 20000;
+    Result<Mesh> mesh = generate_mesh(generate);
+    EXPECT_TRUE(mesh);
+    return make_coarse_mesh(*mesh, 0.1f);
+}
+
+// Every triangle as its three corners, quantised to `step`, rotated to start at the smallest corner
+// (the index codec may rotate a triangle, never flip it), sorted.
+using Corners = std::array<std::array<long, 3>, 3>;
+std::vector<Corners> triangle_keys(const Mesh& mesh, glm::vec3 lo, glm::vec3 step)
+{
+    std::vector<Corners> keys;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        Corners c;
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a)
+                c[k][a] = std::lround((mesh.positions[mesh.indices[t * 3 + k]][a] - lo[a]) / step[a]);
+        int first = int(std::min_element(c.begin(), c.end()) - c.begin());
+        std::rotate(c.begin(), c.begin() + first, c.end());
+        keys.push_back(c);
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
+{
+    Mesh mesh = sphere_coarse_mesh();
+    ASSERT_GT(mesh.triangle_count(), 1000u);
+    std::string bytes = encode_coarse_mesh(mesh);
+    EXPECT_EQ(encode_coarse_mesh(mesh), bytes) << "deterministic";
+    Result<Mesh> read = decode_coarse_mesh(bytes, "c.meshopt", mesh.triangle_count(), mesh.vertex_count());
+    ASSERT_TRUE(read) << read.status().message();
+    ASSERT_EQ(read->triangle_count(), mesh.triangle_count());
+    ASSERT_EQ(read->vertex_count(), mesh.vertex_count());
+    ASSERT_EQ(read->normals.size(), read->vertex_count());
+
+    Bounds b = mesh.bounds();
+    glm::vec3 step = (b.max - b.min) / 65535.0f;
+    EXPECT_EQ(triangle_keys(*read, b.min, step), triangle_keys(mesh, b.min, step));
+    // each decoded vertex lies within half a step of a source vertex with the same 8-bit colour
+    // (checked through the triangles: the same corner keys, so compare colours per key)
+    std::map<std::array<long, 3>, glm::vec4> colour;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        std::array<long, 3> key;
+        for (int a = 0; a < 3; ++a) key[a] = std::lround((mesh.positions[v][a] - b.min[a]) / step[a]);
+        colour[key] = glm::round(mesh.colors[v] * 255.0f) / 255.0f;
+    }
+    for (std::size_t v = 0; v < read->vertex_count(); ++v) {
+        std::array<long, 3> key;
+        for (int a = 0; a < 3; ++a) key[a] = std::lround((read->positions[v][a] - b.min[a]) / step[a]);
+        ASSERT_TRUE(colour.count(key));
+        EXPECT_EQ(read->colors[v], colour[key]);
+    }
+    // normals are not stored: the smooth normals of the decoded positions, as make_coarse_mesh's
+    Mesh recomputed = *read;
+    compute_smooth_normals(recomputed);
+    EXPECT_EQ(recomputed.normals, read->normals);
+
+    // the PLY of the same mesh: 6 floats and 4 bytes a vertex, 13 bytes a triangle
+    std::size_t ply = mesh.vertex_count() * 28 + mesh.triangle_count() * 13;
+    EXPECT_LT(bytes.size() * 4, ply) << bytes.size() << " bytes against " << ply;
+}
+
+void put_u32(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(&s[at], &v, 4); }
+
+void expect_refused(const std::string& bytes, std::uint64_t triangles, std::uint64_t vertices, const std::string& needle)
+{
+    Result<Mesh> read = decode_coarse_mesh(bytes, "damaged.meshopt", triangles, vertices);
+    ASSERT_FALSE(read) << needle;
+    EXPECT_EQ(read.status().code(), StatusCode::bad_data);
+    const std::string& message = read.status().message();
+    EXPECT_NE(message.find("damaged.meshopt"), std::string::npos) << message;
+    EXPECT_NE(message.find(needle), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(CoarseMeshFile, DamagedFilesAreRefused)
+{
+    Mesh mesh = sphere_coarse_mesh();
+    const std::uint64_t t = mesh.triangle_count(), v = mesh.vertex_count();
+    const std::string good = encode_coarse_mesh(mesh);
+    ASSERT_TRUE(decode_coarse_mesh(good, "good.meshopt", t, v));
+
+    expect_refused("", t, v, "not a compact coarse mesh");
+    expect_refused(good.substr(0, 40), t, v, "not a compact coarse mesh");
+    expect_refused(good.substr(0, good.size() - 1), t, v, "truncated");
+    expect_refused(good, t + 1, v, "the manifest says");
+    std::string layout = good;
+    put_u32(layout, 8, 7);
+    expect_refused(layout, t, v, "layout 7");
+    std::string counts = good; // file and manifest agree, but the streams were coded for fewer
+    put_u32(counts, 12, 0x7fffffffu);
+    put_u32(counts, 16, 0x7fffffffu);
+    Result<Mesh> huge = decode_coarse_mesh(counts, "damaged.meshopt", 0x7fffffffu, 0x7fffffffu);
+    ASSERT_FALSE(huge);
+    EXPECT_NE(huge.status().message().find("damaged.meshopt"), std::string::npos) << huge.status().message();
+    std::string box = good;
+    float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&box[32], &nan, 4);
+    expect_refused(box, t, v, "bounding box");
+    std::string flipped = good; // zlib's checksum catches a changed byte of the stream
+    flipped[good.size() / 2] = char(flipped[good.size() / 2] ^ 0x55);
+    expect_refused(flipped, t, v, "damaged");
+    std::string streams = good; // stream lengths that do not add up to what the zlib data inflates to
+    put_u32(streams, 44, 1);
+    expect_refused(streams, t, v, "does not inflate");
+
+    // well-formed streams whose triangle names a vertex beyond the count
+    const std::uint32_t indices[6] = {0, 1, 2, 2, 1, 3};
+    std::uint8_t vertices[3 * 12] = {};
+    std::vector<std::uint8_t> coded(meshopt_encodeVertexBufferBound(3, 12) + meshopt_encodeIndexBufferBound(6, 4));
+    std::size_t vb = meshopt_encodeVertexBuffer(coded.data(), coded.size(), vertices, 3, 12);
+    std::size_t ib = meshopt_encodeIndexBuffer(coded.data() + vb, coded.size() - vb, indices, 6);
+    coded.resize(vb + ib);
+    uLongf packed_size = compressBound(uLong(coded.size()));
+    std::string packed(packed_size, '\0');
+    ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, coded.data(), uLong(coded.size()), 9), Z_OK);
+    packed.resize(packed_size);
+    std::string file = good.substr(0, 56);
+    put_u32(file, 12, 3);
+    put_u32(file, 16, 2);
+    put_u32(file, 44, std::uint32_t(vb));
+    put_u32(file, 48, std::uint32_t(ib));
+    put_u32(file, 52, std::uint32_t(packed.size()));
+    expect_refused(file + packed, 2, 3, "names vertex 3 of 3");
+}
+
+} // namespace
+} // namespace standin::reps
