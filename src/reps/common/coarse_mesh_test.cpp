@@ -19,7 +19,7 @@
 namespace standin::reps {
 namespace {
 
-Mesh sphere_coarse_mesh()
+Mesh coarse_of_noisy_sphere()
 {
     GenerateOptions generate;
     generate.shape = GeneratedShape::noisy_sphere;
@@ -29,17 +29,28 @@ Mesh sphere_coarse_mesh()
     return make_coarse_mesh(*mesh, 0.1f);
 }
 
-// Every triangle as its three corners, quantised to `step`, rotated to start at the smallest corner
-// (the index codec may rotate a triangle, never flip it), sorted.
-using Corners = std::array<std::array<long, 3>, 3>;
-std::vector<Corners> triangle_keys(const Mesh& mesh, glm::vec3 lo, glm::vec3 step)
+// A position's grid cell: for the source the encoder's rounding of (p - lo) / extent * 65535, for a
+// decoded position (lo + q * extent / 65535) the nearest q.
+std::array<long, 3> grid_cell(glm::vec3 p, const Bounds& box, bool decoded)
 {
-    std::vector<Corners> keys;
+    std::array<long, 3> cell;
+    for (int a = 0; a < 3; ++a) {
+        float extent = box.max[a] - box.min[a];
+        cell[a] = decoded ? std::lround((p[a] - box.min[a]) / (extent / 65535.0f))
+                          : std::lround(std::clamp((p[a] - box.min[a]) / extent, 0.0f, 1.0f) * 65535.0f);
+    }
+    return cell;
+}
+
+// Every triangle as its three corners' cells, rotated to start at the smallest corner (the index
+// codec may rotate a triangle, never flip it), sorted.
+using CoarseCorners = std::array<std::array<long, 3>, 3>;
+std::vector<CoarseCorners> coarse_triangle_keys(const Mesh& mesh, const Bounds& box, bool decoded)
+{
+    std::vector<CoarseCorners> keys;
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
-        Corners c;
-        for (int k = 0; k < 3; ++k)
-            for (int a = 0; a < 3; ++a)
-                c[k][a] = std::lround((mesh.positions[mesh.indices[t * 3 + k]][a] - lo[a]) / step[a]);
+        CoarseCorners c;
+        for (int k = 0; k < 3; ++k) c[k] = grid_cell(mesh.positions[mesh.indices[t * 3 + k]], box, decoded);
         int first = int(std::min_element(c.begin(), c.end()) - c.begin());
         std::rotate(c.begin(), c.begin() + first, c.end());
         keys.push_back(c);
@@ -50,7 +61,7 @@ std::vector<Corners> triangle_keys(const Mesh& mesh, glm::vec3 lo, glm::vec3 ste
 
 TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
 {
-    Mesh mesh = sphere_coarse_mesh();
+    Mesh mesh = coarse_of_noisy_sphere();
     ASSERT_GT(mesh.triangle_count(), 1000u);
     std::string bytes = encode_coarse_mesh(mesh);
     EXPECT_EQ(encode_coarse_mesh(mesh), bytes) << "deterministic";
@@ -61,21 +72,15 @@ TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
     ASSERT_EQ(read->normals.size(), read->vertex_count());
 
     Bounds b = mesh.bounds();
-    glm::vec3 step = (b.max - b.min) / 65535.0f;
-    EXPECT_EQ(triangle_keys(*read, b.min, step), triangle_keys(mesh, b.min, step));
-    // each decoded vertex lies within half a step of a source vertex with the same 8-bit colour
-    // (checked through the triangles: the same corner keys, so compare colours per key)
+    EXPECT_EQ(coarse_triangle_keys(*read, b, true), coarse_triangle_keys(mesh, b, false));
+    // every decoded vertex sits in its source vertex's cell, with its colour to 8 bits
     std::map<std::array<long, 3>, glm::vec4> colour;
-    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-        std::array<long, 3> key;
-        for (int a = 0; a < 3; ++a) key[a] = std::lround((mesh.positions[v][a] - b.min[a]) / step[a]);
-        colour[key] = glm::round(mesh.colors[v] * 255.0f) / 255.0f;
-    }
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        colour[grid_cell(mesh.positions[v], b, false)] = glm::round(mesh.colors[v] * 255.0f) / 255.0f;
     for (std::size_t v = 0; v < read->vertex_count(); ++v) {
-        std::array<long, 3> key;
-        for (int a = 0; a < 3; ++a) key[a] = std::lround((read->positions[v][a] - b.min[a]) / step[a]);
-        ASSERT_TRUE(colour.count(key));
-        EXPECT_EQ(read->colors[v], colour[key]);
+        auto cell = grid_cell(read->positions[v], b, true);
+        ASSERT_TRUE(colour.count(cell)) << v;
+        EXPECT_EQ(read->colors[v], colour[cell]);
     }
     // normals are not stored: the smooth normals of the decoded positions, as make_coarse_mesh's
     Mesh recomputed = *read;
@@ -87,9 +92,9 @@ TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
     EXPECT_LT(bytes.size() * 4, ply) << bytes.size() << " bytes against " << ply;
 }
 
-void put_u32(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(&s[at], &v, 4); }
+void put_header_u32(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(&s[at], &v, 4); }
 
-void expect_refused(const std::string& bytes, std::uint64_t triangles, std::uint64_t vertices, const std::string& needle)
+void expect_coarse_refused(const std::string& bytes, std::uint64_t triangles, std::uint64_t vertices, const std::string& needle)
 {
     Result<Mesh> read = decode_coarse_mesh(bytes, "damaged.meshopt", triangles, vertices);
     ASSERT_FALSE(read) << needle;
@@ -102,34 +107,34 @@ void expect_refused(const std::string& bytes, std::uint64_t triangles, std::uint
 
 TEST(CoarseMeshFile, DamagedFilesAreRefused)
 {
-    Mesh mesh = sphere_coarse_mesh();
+    Mesh mesh = coarse_of_noisy_sphere();
     const std::uint64_t t = mesh.triangle_count(), v = mesh.vertex_count();
     const std::string good = encode_coarse_mesh(mesh);
     ASSERT_TRUE(decode_coarse_mesh(good, "good.meshopt", t, v));
 
-    expect_refused("", t, v, "not a compact coarse mesh");
-    expect_refused(good.substr(0, 40), t, v, "not a compact coarse mesh");
-    expect_refused(good.substr(0, good.size() - 1), t, v, "truncated");
-    expect_refused(good, t + 1, v, "the manifest says");
+    expect_coarse_refused("", t, v, "not a compact coarse mesh");
+    expect_coarse_refused(good.substr(0, 40), t, v, "not a compact coarse mesh");
+    expect_coarse_refused(good.substr(0, good.size() - 1), t, v, "truncated");
+    expect_coarse_refused(good, t + 1, v, "the manifest says");
     std::string layout = good;
-    put_u32(layout, 8, 7);
-    expect_refused(layout, t, v, "layout 7");
+    put_header_u32(layout, 8, 7);
+    expect_coarse_refused(layout, t, v, "layout 7");
     std::string counts = good; // file and manifest agree, but the streams were coded for fewer
-    put_u32(counts, 12, 0x7fffffffu);
-    put_u32(counts, 16, 0x7fffffffu);
+    put_header_u32(counts, 12, 0x7fffffffu);
+    put_header_u32(counts, 16, 0x7fffffffu);
     Result<Mesh> huge = decode_coarse_mesh(counts, "damaged.meshopt", 0x7fffffffu, 0x7fffffffu);
     ASSERT_FALSE(huge);
     EXPECT_NE(huge.status().message().find("damaged.meshopt"), std::string::npos) << huge.status().message();
     std::string box = good;
     float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(&box[32], &nan, 4);
-    expect_refused(box, t, v, "bounding box");
+    expect_coarse_refused(box, t, v, "bounding box");
     std::string flipped = good; // zlib's checksum catches a changed byte of the stream
     flipped[good.size() / 2] = char(flipped[good.size() / 2] ^ 0x55);
-    expect_refused(flipped, t, v, "damaged");
+    expect_coarse_refused(flipped, t, v, "damaged");
     std::string streams = good; // stream lengths that do not add up to what the zlib data inflates to
-    put_u32(streams, 44, 1);
-    expect_refused(streams, t, v, "does not inflate");
+    put_header_u32(streams, 44, 1);
+    expect_coarse_refused(streams, t, v, "does not inflate");
 
     // well-formed streams whose triangle names a vertex beyond the count
     const std::uint32_t indices[6] = {0, 1, 2, 2, 1, 3};
@@ -143,12 +148,12 @@ TEST(CoarseMeshFile, DamagedFilesAreRefused)
     ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, coded.data(), uLong(coded.size()), 9), Z_OK);
     packed.resize(packed_size);
     std::string file = good.substr(0, 56);
-    put_u32(file, 12, 3);
-    put_u32(file, 16, 2);
-    put_u32(file, 44, std::uint32_t(vb));
-    put_u32(file, 48, std::uint32_t(ib));
-    put_u32(file, 52, std::uint32_t(packed.size()));
-    expect_refused(file + packed, 2, 3, "names vertex 3 of 3");
+    put_header_u32(file, 12, 3);
+    put_header_u32(file, 16, 2);
+    put_header_u32(file, 44, std::uint32_t(vb));
+    put_header_u32(file, 48, std::uint32_t(ib));
+    put_header_u32(file, 52, std::uint32_t(packed.size()));
+    expect_coarse_refused(file + packed, 2, 3, "names vertex 3 of 3");
 }
 
 } // namespace
