@@ -280,7 +280,8 @@ const HostileCase k_refused[] = {
     {"bake -o over the package holding the model",
      [](const std::string& d) {
          std::string p = copy_package(d, "holder.standin");
-         return std::pair{"bake " + p + "/coarse.ply -o " + p, std::string("holder.standin")};
+         write_bytes(p + "/model.obj", k_triangle_obj); // (a bc package's coarse mesh is no model file)
+         return std::pair{"bake " + p + "/model.obj -o " + p, std::string("holder.standin")};
      }},
     {"eval --samples -1",
      [](const std::string& d) {

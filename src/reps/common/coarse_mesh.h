@@ -4,6 +4,11 @@
 #pragma once
 
 #include <standin/mesh.h>
+#include <standin/status.h>
+
+#include <cstdint>
+#include <string>
+#include <string_view>
 
 namespace standin::reps {
 
@@ -16,5 +21,20 @@ Mesh make_coarse_mesh(const Mesh& mesh, float ratio);
 // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one triangle,
 // which fills no hole at all.
 constexpr std::size_t k_min_coarse_triangles = 256;
+
+// ------------------------------------------------------------------------------------------------
+// The compact coarse-mesh file of compressed packages (docs/FORMAT.md, "Compact coarse mesh"):
+// positions quantised to 16 bits per axis over the mesh's bounding box, 8-bit colours, no normals
+// (smooth normals are recomputed on decode, as make_coarse_mesh computes them), vertices and
+// triangles reordered for the vertex cache and fetch, then meshoptimizer's vertex and index codecs
+// under zlib. Deterministic. Colours are Mesh::colors (the coarse mesh's one material is white).
+std::string encode_coarse_mesh(const Mesh& mesh);
+
+// Decodes a file of `bytes` (named `path` in refusals, one line each): the header, the counts
+// (against `triangles` and `vertices`, the manifest's, and the triangle and memory budgets), the
+// streams' sizes and codecs, every index below the vertex count. The mesh has one white material
+// and smooth normals.
+Result<Mesh> decode_coarse_mesh(std::string_view bytes, const std::string& path, std::uint64_t triangles,
+                                std::uint64_t vertices);
 
 } // namespace standin::reps

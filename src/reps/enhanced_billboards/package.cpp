@@ -1,5 +1,5 @@
 // Enhanced-billboards packages on disk (docs/FORMAT.md): manifest.json, the maps of every billboard
-// and the coarse mesh as PLY. Maps: with --compression none two PNG images per billboard (colour +
+// and the coarse mesh (PLY; with bc the compact meshoptimizer-coded file of reps/common/coarse_mesh.h). Maps: with --compression none two PNG images per billboard (colour +
 // coverage, normal + depth; the seed's two-image layout, 000 §3.1); with bc (format version 2)
 // three KTX2 files: BC3 colour + coverage (coverage is 0 or 255, which BC3's alpha keeps exactly),
 // BC5 octahedral normals fitted over covered texels only, and depth exact (R16, or R8 at
@@ -12,6 +12,7 @@
 #include "reps/common/package_cast.h"
 #include "reps/common/package_codec.h"
 #include "reps/common/block_compress.h"
+#include "reps/common/coarse_mesh.h"
 #include "reps/common/surface_image.h"
 
 #include <squish.h>
@@ -203,11 +204,19 @@ Status write(const Package& base, const std::string& directory)
     }
     nlohmann::json coarse = nullptr;
     if (package.coarse_mesh.triangle_count() > 0) {
-        STANDIN_RETURN_IF_ERROR(write_ply(package.coarse_mesh, (fs::path(directory) / "coarse.ply").string()));
-        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, "coarse.ply", files));
-        coarse = {{"file", "coarse.ply"},
+        // compressed packages: the compact coarse mesh (reps/common/coarse_mesh.h); PNG packages
+        // keep the PLY that format version 1 readers know
+        const std::string name = compressed ? "coarse.meshopt" : "coarse.ply";
+        const std::string path = (fs::path(directory) / name).string();
+        if (compressed)
+            STANDIN_RETURN_IF_ERROR(write_file_atomic(path, reps::encode_coarse_mesh(package.coarse_mesh)));
+        else
+            STANDIN_RETURN_IF_ERROR(write_ply(package.coarse_mesh, path));
+        STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, name, files));
+        coarse = {{"file", name},
                   {"triangles", package.coarse_mesh.triangle_count()},
                   {"vertices", package.coarse_mesh.vertex_count()}};
+        if (compressed) coarse["format"] = "meshopt-q16";
     }
     nlohmann::json left = nlohmann::json::object();
     for (const auto& [reason, what] : package.left)
@@ -265,7 +274,18 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!coarse.is_null()) {
             std::string name = in.string(coarse, "file", "coarse_mesh.");
             manifest_io::check_file(in, directory, files, name);
-            Result<Mesh> mesh = import_mesh((fs::path(directory) / name).string());
+            const std::string path = (fs::path(directory) / name).string();
+            Result<Mesh> mesh = error(StatusCode::bad_data, "");
+            if (coarse.contains("format")) { // the compact coarse mesh (packages of --compression bc)
+                in.choice(coarse, "format", "coarse_mesh.", {"meshopt-q16"});
+                auto triangles = std::uint64_t(in.integer(coarse, "triangles", "coarse_mesh.", 1, UINT32_MAX));
+                auto vertices = std::uint64_t(in.integer(coarse, "vertices", "coarse_mesh.", 1, UINT32_MAX));
+                Result<std::string> bytes = read_file(path);
+                if (!bytes) throw manifest_io::BadField{bytes.status().message()};
+                mesh = reps::decode_coarse_mesh(*bytes, path, triangles, vertices);
+            } else {
+                mesh = import_mesh(path);
+            }
             if (!mesh) throw manifest_io::BadField{mesh.status().message()};
             package->coarse_mesh = std::move(*mesh);
         }

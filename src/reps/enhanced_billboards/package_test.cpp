@@ -127,6 +127,49 @@ TEST(BillboardPackage, BcPackagesRoundTrip)
     }
 }
 
+// --compression bc stores the coarse mesh compactly (coarse.meshopt); none keeps coarse.ply, which
+// format version 1 readers know. A damaged compact file is refused naming it, even when the
+// manifest's hash was updated to match.
+TEST(BillboardPackage, BcPackagesKeepACompactCoarseMesh)
+{
+    auto plain = baked_sphere();
+    auto baked = baked_sphere({{"compression", "bc"}});
+    ASSERT_GT(baked->coarse_mesh.triangle_count(), 0u);
+    std::string base = test::fresh_directory("billboard_compact_coarse");
+    ASSERT_TRUE(write_package(*baked, base + "/bc.standin"));
+    ASSERT_TRUE(write_package(*plain, base + "/png.standin"));
+    EXPECT_TRUE(fs::exists(base + "/png.standin/coarse.ply"));
+    EXPECT_FALSE(fs::exists(base + "/bc.standin/coarse.ply"));
+    const std::uint64_t compact = fs::file_size(base + "/bc.standin/coarse.meshopt");
+    EXPECT_LT(compact * 4, fs::file_size(base + "/png.standin/coarse.ply"));
+    EXPECT_EQ(read_manifest(base + "/bc.standin")["coarse_mesh"]["format"], "meshopt-q16");
+    Result<std::unique_ptr<Package>> read = read_package(base + "/bc.standin");
+    ASSERT_TRUE(read) << read.status().message();
+    const Mesh& coarse = static_cast<const EnhancedBillboardsPackage&>(**read).coarse_mesh;
+    EXPECT_EQ(coarse.triangle_count(), baked->coarse_mesh.triangle_count());
+    EXPECT_EQ(coarse.vertex_count(), baked->coarse_mesh.vertex_count());
+    EXPECT_EQ(coarse.bounds().min, baked->coarse_mesh.bounds().min); // the box's low corner is exact
+    EXPECT_LT(glm::length(coarse.bounds().max - baked->coarse_mesh.bounds().max),
+              1e-5f * baked->coarse_mesh.bounds().diagonal());
+
+    std::string damaged = base + "/damaged.standin";
+    ASSERT_TRUE(write_package(*baked, damaged));
+    std::string bytes = *read_file(damaged + "/coarse.meshopt");
+    bytes = bytes.substr(0, bytes.size() - 10);
+    ASSERT_TRUE(write_file_atomic(damaged + "/coarse.meshopt", bytes));
+    nlohmann::json manifest = read_manifest(damaged);
+    manifest["files"]["coarse.meshopt"] = {{"bytes", bytes.size()}, {"fnv1a64", hex64(hash_bytes(bytes))}};
+    write_manifest(damaged, manifest);
+    expect_refused(damaged, "coarse.meshopt: has");
+
+    std::string format = base + "/format.standin";
+    ASSERT_TRUE(write_package(*baked, format));
+    manifest = read_manifest(format);
+    manifest["coarse_mesh"]["format"] = "draco";
+    write_manifest(format, manifest);
+    expect_refused(format, "coarse_mesh.format");
+}
+
 TEST(BillboardPackage, EightBitPackagesRoundTrip)
 {
     auto baked = baked_sphere({{"depth-bits", "8"}});

@@ -1,0 +1,160 @@
+// The compact coarse-mesh file: a round trip keeps every triangle (positions within half a 16-bit
+// step of the bounding box, colours to 8 bits, winding kept), writes the same bytes twice, is far
+// smaller than the PLY, and damaged files (truncated, wrong counts, indices out of range, bad
+// boxes) are refused with one line naming the file.
+#include "reps/common/coarse_mesh.h"
+
+#include <standin/files.h>
+
+#include <gtest/gtest.h>
+#include <meshoptimizer.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <limits>
+#include <map>
+
+namespace standin::reps {
+namespace {
+
+Mesh coarse_of_noisy_sphere()
+{
+    GenerateOptions generate;
+    generate.shape = GeneratedShape::noisy_sphere;
+    generate.target_triangles = 20000;
+    Result<Mesh> mesh = generate_mesh(generate);
+    EXPECT_TRUE(mesh);
+    return make_coarse_mesh(*mesh, 0.1f);
+}
+
+// A position's grid cell: for the source the encoder's rounding of (p - lo) / extent * 65535, for a
+// decoded position (lo + q * extent / 65535) the nearest q.
+std::array<long, 3> grid_cell(glm::vec3 p, const Bounds& box, bool decoded)
+{
+    std::array<long, 3> cell;
+    for (int a = 0; a < 3; ++a) {
+        float extent = box.max[a] - box.min[a];
+        cell[a] = decoded ? std::lround((p[a] - box.min[a]) / (extent / 65535.0f))
+                          : std::lround(std::clamp((p[a] - box.min[a]) / extent, 0.0f, 1.0f) * 65535.0f);
+    }
+    return cell;
+}
+
+// Every triangle as its three corners' cells, rotated to start at the smallest corner (the index
+// codec may rotate a triangle, never flip it), sorted.
+using CoarseCorners = std::array<std::array<long, 3>, 3>;
+std::vector<CoarseCorners> coarse_triangle_keys(const Mesh& mesh, const Bounds& box, bool decoded)
+{
+    std::vector<CoarseCorners> keys;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+        CoarseCorners c;
+        for (int k = 0; k < 3; ++k) c[k] = grid_cell(mesh.positions[mesh.indices[t * 3 + k]], box, decoded);
+        int first = int(std::min_element(c.begin(), c.end()) - c.begin());
+        std::rotate(c.begin(), c.begin() + first, c.end());
+        keys.push_back(c);
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
+{
+    Mesh mesh = coarse_of_noisy_sphere();
+    ASSERT_GT(mesh.triangle_count(), 1000u);
+    std::string bytes = encode_coarse_mesh(mesh);
+    EXPECT_EQ(encode_coarse_mesh(mesh), bytes) << "deterministic";
+    Result<Mesh> read = decode_coarse_mesh(bytes, "c.meshopt", mesh.triangle_count(), mesh.vertex_count());
+    ASSERT_TRUE(read) << read.status().message();
+    ASSERT_EQ(read->triangle_count(), mesh.triangle_count());
+    ASSERT_EQ(read->vertex_count(), mesh.vertex_count());
+    ASSERT_EQ(read->normals.size(), read->vertex_count());
+
+    Bounds b = mesh.bounds();
+    EXPECT_EQ(coarse_triangle_keys(*read, b, true), coarse_triangle_keys(mesh, b, false));
+    // every decoded vertex sits in its source vertex's cell, with its colour to 8 bits
+    std::map<std::array<long, 3>, glm::vec4> colour;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        colour[grid_cell(mesh.positions[v], b, false)] = glm::round(mesh.colors[v] * 255.0f) / 255.0f;
+    for (std::size_t v = 0; v < read->vertex_count(); ++v) {
+        auto cell = grid_cell(read->positions[v], b, true);
+        ASSERT_TRUE(colour.count(cell)) << v;
+        EXPECT_EQ(read->colors[v], colour[cell]);
+    }
+    // normals are not stored: the smooth normals of the decoded positions, as make_coarse_mesh's
+    Mesh recomputed = *read;
+    compute_smooth_normals(recomputed);
+    EXPECT_EQ(recomputed.normals, read->normals);
+
+    // the PLY of the same mesh: 6 floats and 4 bytes a vertex, 13 bytes a triangle
+    std::size_t ply = mesh.vertex_count() * 28 + mesh.triangle_count() * 13;
+    EXPECT_LT(bytes.size() * 4, ply) << bytes.size() << " bytes against " << ply;
+}
+
+void put_header_u32(std::string& s, std::size_t at, std::uint32_t v) { std::memcpy(&s[at], &v, 4); }
+
+void expect_coarse_refused(const std::string& bytes, std::uint64_t triangles, std::uint64_t vertices, const std::string& needle)
+{
+    Result<Mesh> read = decode_coarse_mesh(bytes, "damaged.meshopt", triangles, vertices);
+    ASSERT_FALSE(read) << needle;
+    EXPECT_EQ(read.status().code(), StatusCode::bad_data);
+    const std::string& message = read.status().message();
+    EXPECT_NE(message.find("damaged.meshopt"), std::string::npos) << message;
+    EXPECT_NE(message.find(needle), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
+TEST(CoarseMeshFile, DamagedFilesAreRefused)
+{
+    Mesh mesh = coarse_of_noisy_sphere();
+    const std::uint64_t t = mesh.triangle_count(), v = mesh.vertex_count();
+    const std::string good = encode_coarse_mesh(mesh);
+    ASSERT_TRUE(decode_coarse_mesh(good, "good.meshopt", t, v));
+
+    expect_coarse_refused("", t, v, "not a compact coarse mesh");
+    expect_coarse_refused(good.substr(0, 40), t, v, "not a compact coarse mesh");
+    expect_coarse_refused(good.substr(0, good.size() - 1), t, v, "truncated");
+    expect_coarse_refused(good, t + 1, v, "the manifest says");
+    std::string layout = good;
+    put_header_u32(layout, 8, 7);
+    expect_coarse_refused(layout, t, v, "layout 7");
+    std::string counts = good; // file and manifest agree, but the streams were coded for fewer
+    put_header_u32(counts, 12, 0x7fffffffu);
+    put_header_u32(counts, 16, 0x7fffffffu);
+    Result<Mesh> huge = decode_coarse_mesh(counts, "damaged.meshopt", 0x7fffffffu, 0x7fffffffu);
+    ASSERT_FALSE(huge);
+    EXPECT_NE(huge.status().message().find("damaged.meshopt"), std::string::npos) << huge.status().message();
+    std::string box = good;
+    float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(&box[32], &nan, 4);
+    expect_coarse_refused(box, t, v, "bounding box");
+    std::string flipped = good; // zlib's checksum catches a changed byte of the stream
+    flipped[good.size() / 2] = char(flipped[good.size() / 2] ^ 0x55);
+    expect_coarse_refused(flipped, t, v, "damaged");
+    std::string streams = good; // stream lengths that do not add up to what the zlib data inflates to
+    put_header_u32(streams, 44, 1);
+    expect_coarse_refused(streams, t, v, "does not inflate");
+
+    // well-formed streams whose triangle names a vertex beyond the count
+    const std::uint32_t indices[6] = {0, 1, 2, 2, 1, 3};
+    std::uint8_t vertices[3 * 12] = {};
+    std::vector<std::uint8_t> coded(meshopt_encodeVertexBufferBound(3, 12) + meshopt_encodeIndexBufferBound(6, 4));
+    std::size_t vb = meshopt_encodeVertexBuffer(coded.data(), coded.size(), vertices, 3, 12);
+    std::size_t ib = meshopt_encodeIndexBuffer(coded.data() + vb, coded.size() - vb, indices, 6);
+    coded.resize(vb + ib);
+    uLongf packed_size = compressBound(uLong(coded.size()));
+    std::string packed(packed_size, '\0');
+    ASSERT_EQ(compress2(reinterpret_cast<Bytef*>(packed.data()), &packed_size, coded.data(), uLong(coded.size()), 9), Z_OK);
+    packed.resize(packed_size);
+    std::string file = good.substr(0, 56);
+    put_header_u32(file, 12, 3);
+    put_header_u32(file, 16, 2);
+    put_header_u32(file, 44, std::uint32_t(vb));
+    put_header_u32(file, 48, std::uint32_t(ib));
+    put_header_u32(file, 52, std::uint32_t(packed.size()));
+    expect_coarse_refused(file + packed, 2, 3, "names vertex 3 of 3");
+}
+
+} // namespace
+} // namespace standin::reps
