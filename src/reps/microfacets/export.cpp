@@ -150,12 +150,12 @@ std::vector<OptionSpec> export_options()
 {
     return {
         integer_option("level", -1, -1, k_max_grid_level,
-                       "microfacets: the octree level exported as voxel faces (-1: chosen by --pixels, else the finest baked)"),
+                       "The octree level exported as voxel faces (-1: chosen by --pixels, else the finest baked)"),
         integer_option("pixels", 0, 0, 65536,
-                       "microfacets: the screen size, pixels, the bounding sphere's diameter spans: the coarsest level whose "
-                       "voxels span at most 4 pixels there (1 with --snap false; 0: not used)"),
+                       "The screen size, pixels, the bounding sphere's diameter spans: the coarsest level whose "
+                       "voxels span at most 4 pixels there (1 with --no-snap; 0: not used)"),
         flag_option("snap", true,
-                    "microfacets: move each voxel corner onto the captured surface (the mean surface point its faces' "
+                    "Move each voxel corner onto the captured surface (the mean surface point its faces' "
                     "texels hit), so the silhouette follows the surface instead of standing up to a voxel proud of it"),
     };
 }
