@@ -254,7 +254,9 @@ TEST(Export, MicrofacetsExportAClosedVoxelSurface)
         // colours in range, and the captured normals face out of their faces
         std::size_t outward = 0;
         for (std::size_t f = 0; f < m.positions.size(); f += 4) {
-            glm::vec3 face_normal = glm::normalize(glm::cross(m.positions[f + 1] - m.positions[f], m.positions[f + 2] - m.positions[f]));
+            // the face's first triangle, as wound (counter-clockwise from outside)
+            const std::uint32_t* t = &m.indices[f / 4 * 6];
+            glm::vec3 face_normal = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
             outward += glm::dot(face_normal, m.normals[f]) > 0.0f;
             for (int c = 0; c < 4; ++c) {
                 EXPECT_GE(m.colors[f][c], 0.0f);
