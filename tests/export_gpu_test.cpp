@@ -11,8 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
+#include <map>
 
 namespace standin {
 namespace {
@@ -181,16 +183,120 @@ TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)
     EXPECT_LE(coarse, 1u);
 }
 
-TEST(Export, MicrofacetsAreRefusedInOneLine)
+// Every directed edge of a triangle mesh (vertices welded by exact position) is matched by one in
+// the opposite direction: the surface is closed and consistently wound (non-manifold edges, where
+// voxels touch along an edge, are used twice in each direction).
+bool closed_surface(const ExportMesh& mesh)
+{
+    std::map<std::array<std::uint32_t, 3>, std::uint32_t> welded;
+    std::vector<std::uint32_t> id(mesh.positions.size());
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        std::array<std::uint32_t, 3> bits;
+        std::memcpy(bits.data(), &mesh.positions[i], sizeof bits);
+        id[i] = welded.try_emplace(bits, std::uint32_t(welded.size())).first->second;
+    }
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+        for (int k = 0; k < 3; ++k) ++edges[{id[mesh.indices[t + k]], id[mesh.indices[t + (k + 1) % 3]]}];
+    for (const auto& [edge, count] : edges) {
+        auto reverse = edges.find({edge.second, edge.first});
+        if (reverse == edges.end() || reverse->second != count) return false;
+    }
+    return !edges.empty();
+}
+
+TEST(Export, MicrofacetsExportAClosedVoxelSurface)
 {
     Mesh mesh = export_torus();
-    auto package = bake_small(mesh, "microfacets", {});
+    auto package = bake_small(mesh, "microfacets", {{"level", "6"}, {"min-level", "3"}, {"subdivisions", "0"},
+                                                    {"resolution", "128"}, {"page-size", "1024"}});
     ASSERT_TRUE(package);
     std::string dir = test::fresh_directory("export_microfacets");
-    Status s = export_package(*package, {}, dir + "/m.glb");
-    EXPECT_EQ(s.code(), StatusCode::unsupported);
-    EXPECT_EQ(s.message().find('\n'), std::string::npos);
-    EXPECT_FALSE(std::filesystem::exists(dir + "/m.glb"));
+    const Bounds& b = package->source.bounds;
+    std::size_t previous_triangles = 0;
+    // unsnapped (the voxels' own faces) and snapped (corners moved onto the captured surface)
+    for (int level = 3; level <= 6; ++level)
+    for (bool snap : {false, true}) {
+        OptionValues options;
+        options.set("level", std::to_string(level));
+        options.set("snap", snap ? "true" : "false");
+        ExportScene scene;
+        std::string path = dir + "/level" + std::to_string(level) + (snap ? "s" : "") + ".glb";
+        ParsedGlb glb = export_and_parse(*package, options, path, 0.6f, &scene);
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        const ExportMesh& m = scene.meshes[0];
+        const auto& extras = glb.json["nodes"][1]["extras"]["standin"];
+        EXPECT_EQ(extras["role"], "mesh");
+        EXPECT_EQ(extras["level"], level);
+        EXPECT_TRUE(closed_surface(m)) << "level " << level << " snap " << snap;
+        // two triangles per exposed face, and about four times the faces per level (the surface's
+        // area over a voxel face's, which shrinks 4x)
+        std::size_t triangles = m.indices.size() / 3;
+        EXPECT_EQ(triangles, 2 * extras["faces"].get<std::size_t>());
+        if (previous_triangles > 0 && !snap) {
+            EXPECT_GT(double(triangles), 2.5 * double(previous_triangles)) << "level " << level;
+            EXPECT_LT(double(triangles), 6.0 * double(previous_triangles)) << "level " << level;
+        }
+        if (!snap) previous_triangles = triangles;
+        // the voxels enclose the model and stand at most one voxel beyond its box; snapped, the
+        // box is the model's within a voxel
+        float voxel = extras["voxel_size"].get<float>();
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        for (const glm::vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+        for (int k = 0; k < 3; ++k) {
+            if (!snap) {
+                EXPECT_LE(lo[k], b.min[k] + 1e-5f) << "level " << level;
+                EXPECT_GE(hi[k], b.max[k] - 1e-5f) << "level " << level;
+            }
+            EXPECT_NEAR(lo[k], b.min[k], 1.001f * voxel) << "level " << level << " snap " << snap;
+            EXPECT_NEAR(hi[k], b.max[k], 1.001f * voxel) << "level " << level << " snap " << snap;
+        }
+        // colours in range, and the captured normals face out of their faces
+        std::size_t outward = 0;
+        for (std::size_t f = 0; f < m.positions.size(); f += 4) {
+            // the face's first triangle, as wound (counter-clockwise from outside)
+            const std::uint32_t* t = &m.indices[f / 4 * 6];
+            glm::vec3 face_normal = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+            outward += glm::dot(face_normal, m.normals[f]) > 0.0f;
+            for (int c = 0; c < 4; ++c) {
+                EXPECT_GE(m.colors[f][c], 0.0f);
+                EXPECT_LE(m.colors[f][c], 1.0f);
+            }
+        }
+        EXPECT_GT(double(outward), (snap ? 0.8 : 0.9) * double(m.positions.size() / 4)) << "level " << level << " snap " << snap;
+        EXPECT_TRUE(glb.json["meshes"][0]["primitives"][0]["attributes"].contains("COLOR_0"));
+        EXPECT_TRUE(glb.json["meshes"][0]["primitives"][0]["attributes"].contains("NORMAL"));
+    }
+    // the same package exports the same bytes
+    OptionValues six;
+    six.set("level", "6");
+    ASSERT_TRUE(export_package(*package, six, dir + "/again.glb"));
+    EXPECT_EQ(*read_file(dir + "/level6s.glb"), *read_file(dir + "/again.glb"));
+    // --pixels: a small screen takes a coarse level, a large one the finest
+    auto level_at = [&](int pixels) {
+        OptionValues options;
+        options.set("pixels", std::to_string(pixels));
+        ExportScene scene;
+        EXPECT_TRUE(export_package(*package, options, dir + "/pixels.glb", &scene));
+        return scene.meshes.empty() ? -1 : scene.meshes[0].extras["standin"]["level"].get<int>();
+    };
+    const int small = level_at(16), medium = level_at(128);
+    EXPECT_GE(small, 3);
+    EXPECT_LT(small, medium);
+    EXPECT_EQ(level_at(60000), 6);
+    // bad input: one line, nothing written
+    for (auto [option, value] : {std::pair{"level", "8"}, std::pair{"level", "2"}, std::pair{"level", "99"}, std::pair{"pixels", "-3"}}) {
+        OptionValues bad;
+        bad.set(option, value);
+        Status s = export_package(*package, bad, dir + "/bad.glb");
+        EXPECT_EQ(s.code(), StatusCode::invalid_argument) << option << " " << value;
+        EXPECT_EQ(s.message().find('\n'), std::string::npos);
+    }
+    OptionValues both;
+    both.set("level", "5");
+    both.set("pixels", "500");
+    EXPECT_EQ(export_package(*package, both, dir + "/bad.glb").code(), StatusCode::invalid_argument);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/bad.glb"));
 }
 
 } // namespace

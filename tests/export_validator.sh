@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Bakes small packages of every representation from the bundled models (data/), exports them with
 # `standin export` and runs the Khronos glTF validator (npm gltf-validator, pinned in
-# tools/gltf/package-lock.json) on every .glb, failing on any error. Microfacets must be refused in
-# one line with exit status 2. Exits 77 (ctest SKIP_RETURN_CODE) when npm or the package cannot be
-# installed, so that an offline machine skips rather than fails.
+# tools/gltf/package-lock.json) on every .glb, failing on any error. A microfacets export at a
+# level the package lacks must be refused in one line with exit status 2. Exits 77 (ctest
+# SKIP_RETURN_CODE) when npm or the package cannot be installed, so that an offline machine skips
+# rather than fails.
 # Usage: export_validator.sh STANDIN SOURCE_DIR WORK_DIR
 set -euo pipefail
 standin=$1
@@ -58,14 +59,17 @@ export_glb bunny_billboards
 bake box_billboards box_textured.glb -r enhanced-billboards --resolution 64
 export_glb box_billboards
 
-# microfacets are not exported yet: one line, exit 2, no file
 bake teapot_microfacets teapot.ply -r microfacets
+export_glb teapot_microfacets
+"$standin" export "$out/teapot_microfacets.standin" -o "$out/teapot_microfacets_coarse.glb" --pixels 64
+
+# bad input: a level the package does not hold is one line, exit 2, no file
 set +e
-"$standin" export "$out/teapot_microfacets.standin" -o "$out/teapot_microfacets.glb" 2>"$out/micro.err"
+"$standin" export "$out/teapot_microfacets.standin" -o "$out/bad_level.glb" --level 9 2>"$out/micro.err"
 status=$?
 set -e
-if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/micro.err")" -ne 1 ] || [ -e "$out/teapot_microfacets.glb" ]; then
-    echo "FAIL: exporting microfacets should fail with one line and exit 2 (got $status):"
+if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/micro.err")" -ne 1 ] || [ -e "$out/bad_level.glb" ]; then
+    echo "FAIL: exporting microfacets at a level the package lacks should fail with one line and exit 2 (got $status):"
     cat "$out/micro.err"
     exit 1
 fi

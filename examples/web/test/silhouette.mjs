@@ -61,6 +61,8 @@ const k_cases = [
       export: ['--atlas-size', '2048'] },
     { name: 'displaced-mesh', model: 'data/bunny.ply', bake: ['-r', 'displaced-mesh'], export: [] },
     { name: 'enhanced-billboards', model: 'data/bunny.ply', bake: ['-r', 'enhanced-billboards'], export: [] },
+    // the finest baked level (7: 128^3) as a plain voxel-face mesh
+    { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
 ];
 
 function skip(message) {

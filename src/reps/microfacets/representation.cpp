@@ -5,6 +5,7 @@
 // are one option away: --layout circle --frames 36 (its turntable), --depth-bits 8, --views 1
 // --clip seed --coverage any (its nearest view clipped by eq. 1), --level N (its fixed levels).
 #include "reps/common/package_cast.h"
+#include "reps/microfacets/export.h"
 #include "reps/microfacets/microfacets.h"
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
@@ -146,7 +147,9 @@ Representation registration()
             .write = write,
             .read = read,
             .make_renderer = make_renderer,
-            .summarise = summarise};
+            .summarise = summarise,
+            .export_options = export_options(),
+            .export_scene = export_scene};
 }
 
 } // namespace standin::microfacets
