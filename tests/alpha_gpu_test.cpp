@@ -177,7 +177,9 @@ TEST(AlphaDisplacedMesh, CutOutsShowWhatIsBehindAndKeepTheirArea)
     std::printf("[alpha displaced] front: truth green %zu red %zu, stand-in green %zu red %zu\n", t.green, t.red, s.green, s.red);
     ASSERT_GT(t.green, 5000u);
     ASSERT_GT(t.red, 3u * t.green);
-    EXPECT_NEAR(double(s.green) / double(t.green), 1.0, 0.06);
+    // measured on llvmpipe: green 0.958 of the truth's (the disc's contour runs through a pattern of
+    // 16 steps per card side), red 1.010; without cut-outs green would be 5x and red none
+    EXPECT_NEAR(double(s.green) / double(t.green), 1.0, 0.08);
     EXPECT_NEAR(double(s.red) / double(t.red), 1.0, 0.03);
 
     // the leaf alone, as the foliage protocol measures it: IoU near, coverage far
@@ -186,9 +188,10 @@ TEST(AlphaDisplacedMesh, CutOutsShowWhatIsBehindAndKeepTheirArea)
     ASSERT_TRUE(leaf_package);
     FoliageFigures f = foliage_figures(leaf, *leaf_package);
     std::printf("[alpha displaced] leaf: IoU %.4f, Luv %.3f, coverage d4 %.3f, d8 %.3f\n", f.iou, f.luv, f.coverage4, f.coverage8);
-    EXPECT_GE(f.iou, 0.9);
-    EXPECT_NEAR(f.coverage4, 1.0, 0.1);
-    EXPECT_NEAR(f.coverage8, 1.0, 0.1);
+    // measured: IoU 0.921 (the contour again, on a card that fills the view), coverage 0.993 / 0.976
+    EXPECT_GE(f.iou, 0.88);
+    EXPECT_NEAR(f.coverage4, 1.0, 0.06);
+    EXPECT_NEAR(f.coverage8, 1.0, 0.06);
 }
 
 const Mesh& foliage_tree()
@@ -231,7 +234,7 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
 // Microfacets (IoU 0.959, Luv 7.37, coverage 0.991 / 0.986) take 250 s here with their default
 // 80 captures of 512^2, over ctest's limit on a loaded machine: measured by
 // bench/foliage_results.sh instead. Displaced mesh (its leaf cards kept whole, with coverage):
-// DM_MEASURED.
+// IoU 0.980, Luv 8.19, coverage 0.997 / 0.999 (23 s on the loaded 2-core machine).
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
                          ::testing::Values(FoliageCase{"enhanced-billboards", 0.94, 16.0, 0.06},
                                            FoliageCase{"view-atlas", 0.94, 10.0, 0.06},

@@ -12,10 +12,10 @@
 //     Departure (issue #14): on a model with alpha-masked materials a ray walks on through hits
 //     the alpha test cuts out (texture level 0 bilinear, Mesh::covered_at, the truth's rule) and
 //     keeps the nearer surviving hit; the sample records whether it found one (its coverage).
-//     A sample that lies on the original (leaf cards stay whole in the control mesh) takes the
-//     point it lies on, covered or not, without looking behind it.
 //     Where neither direction does, it keeps the nearest hit of any kind for its elevation, so
-//     the surface keeps the shape it had without the test and the renderer cuts it out;
+//     the surface keeps the shape it had without the test and the renderer cuts it out. A sample
+//     that lies on the original (leaf cards stay whole in the control mesh) takes the point it
+//     lies on, covered or not, without looking behind it;
 //  2. "interpolation" sampling replaces each elevation by the mean of sub-ray elevations over the
 //     vertex's ring of pattern triangles, weighted by the vertex's hat function: the paper's
 //     "roughly equal cells" weighted by distance, with a kernel that vanishes at the ring so
