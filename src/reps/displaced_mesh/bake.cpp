@@ -6,12 +6,14 @@
 //  1. the settings (declared in representation.cpp); the target control-face count is the
 //     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
 //     paper's 0.4% and 0.1%);
-//  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp);
+//  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
+//     alpha-masked materials keeps its leaf cards whole in it (issue #14);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
 //  4. quantise the elevations (16 bits over the package's range) and use the decoded values from
 //     here on, so what is measured is what is drawn;
 //  5. rebuild Ms and measure ∆_f and d against the original;
-//  6. encode shading normals (octahedral) and albedo (RGBA8).
+//  6. encode shading normals (octahedral) and albedo (RGBA8); for models with alpha-masked
+//     materials, the samples' coverage (issue #14: sample.cpp sees through cut-outs).
 // Deterministic for any thread count: the decimator is sequential; everything else writes fixed
 // slots from TBB loops.
 #include "reps/displaced_mesh/control_mesh.h"
@@ -98,6 +100,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     ControlMeshOptions simplify;
     simplify.target_faces = target_faces(mesh.triangle_count(), settings);
     simplify.cone_angle_degrees = settings.cone_angle;
+    simplify.keep_cutout_faces = has_cutouts(mesh);
     Result<ControlMesh> control = build_control_mesh(mesh, simplify);
     if (!control) return control.status();
     package->positions = std::move(control->positions);
@@ -148,6 +151,10 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     for (std::size_t i = 0; i < sampled->normal.size(); ++i) {
         package->shading_normals[i] = encode_normal(sampled->normal[i]);
         package->albedo[i] = pack_rgba8(sampled->albedo[i]);
+    }
+    if (!sampled->coverage.empty()) {
+        package->coverage.resize(sampled->coverage.size());
+        for (std::size_t i = 0; i < sampled->coverage.size(); ++i) package->coverage[i] = sampled->coverage[i] ? 255 : 0;
     }
     if (!sampled->pbr.empty()) {
         package->orm.resize(sampled->pbr.size());

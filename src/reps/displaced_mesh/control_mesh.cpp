@@ -3,7 +3,10 @@
 // (x~y~-monotone patches, the normal-cone validity rule) and §4 (Garland & Heckbert 1997 quadrics).
 //
 // Steps:
-//  1. weld vertices by exact position and drop faces that collapse to an edge;
+//  1. weld vertices by exact position and drop faces that collapse to an edge; with
+//     keep_cutout_faces, lock the vertices of faces of alpha-masked materials (departure, issue
+//     #14: leaf cards are the surface the cut-outs live on, and a card collapsed to one triangle
+//     loses half its leaves; the rest of the model is simplified as before);
 //  2. find boundary and non-manifold edges (vertices on non-manifold edges never move);
 //  3. one quadric per vertex: area-weighted face planes plus a perpendicular plane per boundary
 //     edge (Garland & Heckbert 1997);
@@ -196,10 +199,13 @@ void Simplifier::weld(const Mesh& mesh)
         remap[i] = it->second;
     }
     faces_.reserve(mesh.indices.size());
+    std::vector<std::uint32_t> cutout_vertices;
     for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
         std::uint32_t a = remap[mesh.indices[3 * t]], b = remap[mesh.indices[3 * t + 1]], c = remap[mesh.indices[3 * t + 2]];
         if (a == b || b == c || a == c) continue;
         faces_.insert(faces_.end(), {a, b, c});
+        if (options_.keep_cutout_faces && alpha_test_cutoff(mesh.materials[mesh.face_materials[t]]) > 0.0f)
+            cutout_vertices.insert(cutout_vertices.end(), {a, b, c});
     }
     std::size_t face_count = faces_.size() / 3;
     face_alive_.assign(face_count, true);
@@ -213,6 +219,7 @@ void Simplifier::weld(const Mesh& mesh)
     locked_.assign(positions_.size(), false);
     boundary_.assign(positions_.size(), false);
     waiting_.assign(positions_.size(), false);
+    for (std::uint32_t v : cutout_vertices) locked_[v] = true;
 }
 
 // Boundary edges (one face) get quadric planes; vertices of non-manifold edges (three or more

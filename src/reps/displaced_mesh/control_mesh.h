@@ -49,6 +49,10 @@ public:
 struct ControlMeshOptions {
     std::size_t target_faces = 1000;  // stop at (or just under) this many faces
     float cone_angle_degrees = 90.0f;  // a collapse may not make any cone's half-angle reach this
+    // Issue #14: faces of alpha-masked materials (leaf cards) keep their vertices, so every card
+    // stays whole in the control mesh and its displacement samples lie on it; collapsing a card
+    // to one triangle would cut away the half of its leaves no coverage can bring back.
+    bool keep_cutout_faces = false;
     // Called after every executed collapse; for tests (slow). May be empty.
     std::function<void(const CollapseView&)> observer;
 };

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <set>
+#include <vector>
 
 namespace standin::displaced_mesh {
 namespace {
@@ -114,6 +115,50 @@ TEST(DisplacedMeshControl, DeterministicAndRefusesBadOptions)
     options.target_faces = 10;
     options.cone_angle_degrees = 0.0f;
     EXPECT_EQ(build_control_mesh(mesh, options).status().code(), StatusCode::invalid_argument);
+}
+
+// Issue #14: with keep_cutout_faces every face of an alpha-masked material (the generated tree's
+// leaf cards) survives as it was, corners and all; without, the simplifier halves the cards.
+TEST(DisplacedMeshControl, KeepCutoutFacesKeepsEveryLeafCardWhole)
+{
+    GenerateOptions generate;
+    generate.shape = GeneratedShape::tree;
+    generate.target_triangles = 2000;
+    generate.seed = 3;
+    Result<Mesh> tree = generate_mesh(generate);
+    ASSERT_TRUE(tree.is_ok());
+    auto key = [](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+        std::vector<float> k{a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+        return k;
+    };
+    auto leaf_faces_kept = [&](const ControlMesh& control) {
+        std::set<std::vector<float>> faces;
+        for (std::size_t f = 0; f < control.face_count(); ++f) {
+            glm::vec3 p[3];
+            for (int k = 0; k < 3; ++k) p[k] = control.positions[control.indices[3 * f + std::size_t(k)]] + glm::vec3(0.0f);
+            // any rotation of the corners
+            for (int r = 0; r < 3; ++r) faces.insert(key(p[r], p[(r + 1) % 3], p[(r + 2) % 3]));
+        }
+        std::size_t leaves = 0, kept = 0;
+        for (std::size_t t = 0; t < tree->triangle_count(); ++t) {
+            if (alpha_test_cutoff(tree->materials[tree->face_materials[t]]) <= 0.0f) continue;
+            ++leaves;
+            const std::uint32_t* i = &tree->indices[3 * t];
+            kept += faces.count(key(tree->positions[i[0]] + glm::vec3(0.0f), tree->positions[i[1]] + glm::vec3(0.0f),
+                                    tree->positions[i[2]] + glm::vec3(0.0f)));
+        }
+        EXPECT_GT(leaves, 500u);
+        return double(kept) / double(leaves);
+    };
+    ControlMeshOptions options;
+    options.target_faces = 256;
+    Result<ControlMesh> plain = build_control_mesh(*tree, options);
+    options.keep_cutout_faces = true;
+    Result<ControlMesh> kept = build_control_mesh(*tree, options);
+    ASSERT_TRUE(plain.is_ok() && kept.is_ok());
+    EXPECT_EQ(leaf_faces_kept(*kept), 1.0);
+    EXPECT_LT(leaf_faces_kept(*plain), 0.6);
+    EXPECT_GT(kept->face_count(), plain->face_count());
 }
 
 } // namespace

@@ -77,6 +77,10 @@ public:
     // PBR packages only (issue #14), else empty: RGBA8 occlusion, roughness, metallic (linear), 255;
     // RGBA8 emission (sRGB, clamped to 1), 255
     std::vector<std::uint32_t> orm, emission;
+    // Packages of models with alpha-masked materials only (issue #14), else empty: per finest
+    // sample, 255 where its ray met a point that survives the alpha test, 0 where it saw only
+    // cut-outs or nothing. The renderer interpolates it like the albedo and discards below 1/2.
+    std::vector<std::uint8_t> coverage;
     std::vector<float> face_error; // ∆_f per face, world units
     SamplingStats sampling;
 };

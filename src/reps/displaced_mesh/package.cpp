@@ -1,7 +1,7 @@
 // Displaced-mesh packages on disk (docs/FORMAT.md, "Displaced control mesh"): manifest.json, the
 // control mesh as PLY, and little-endian arrays: elevations of every level (uint16 codes over the
 // package's range, or float32), ∆_f per face (float32), and at the finest level octahedral shading
-// normals and RGBA8 albedo. Writing is deterministic; reading checks every field, size and hash and
+// normals and RGBA8 albedo (and coverage, uint8, for models with alpha-masked materials). Writing is deterministic; reading checks every field, size and hash and
 // that the control mesh is the one the manifest describes, and refuses with a status naming file
 // and field.
 #include "reps/displaced_mesh/displaced_mesh.h"
@@ -31,6 +31,7 @@ const char* const k_normal_file = "normal.bin";
 const char* const k_albedo_file = "albedo.bin";
 const char* const k_orm_file = "orm.bin";           // PBR packages only
 const char* const k_emission_file = "emission.bin"; // PBR packages only
+const char* const k_coverage_file = "coverage.bin"; // alpha-masked models only (issue #14)
 
 template <typename T>
 Status write_array(const std::string& directory, const std::string& name, const std::vector<T>& values, nlohmann::json& files)
@@ -125,6 +126,7 @@ Status write(const Package& base, const std::string& directory)
         STANDIN_RETURN_IF_ERROR(write_array(directory, k_orm_file, p.orm, files));
         STANDIN_RETURN_IF_ERROR(write_array(directory, k_emission_file, p.emission, files));
     }
+    if (!p.coverage.empty()) STANDIN_RETURN_IF_ERROR(write_array(directory, k_coverage_file, p.coverage, files));
 
     const ControlStats& c = p.control;
     const SamplingStats& s = p.sampling;
@@ -150,6 +152,8 @@ Status write(const Package& base, const std::string& directory)
         manifest["orm"] = {{"file", k_orm_file}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
         manifest["emission"] = {{"file", k_emission_file}, {"encoding", "rgba8-srgb"}};
     }
+    if (!p.coverage.empty())
+        manifest["coverage"] = {{"file", k_coverage_file}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
     return manifest_io::write_manifest(directory, manifest, 1);
 }
 
@@ -203,6 +207,9 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             p->emission = read_array<std::uint32_t>(in, directory, files,
                                                     in.string(in.member(manifest, "emission", ""), "file", "emission."), finest);
         }
+        if (manifest.contains("coverage"))
+            p->coverage = read_array<std::uint8_t>(in, directory, files,
+                                                   in.string(in.member(manifest, "coverage", ""), "file", "coverage."), finest);
         const nlohmann::json& sampling = in.member(manifest, "sampling", "");
         SamplingStats& s = p->sampling;
         s.rays = std::size_t(in.integer(sampling, "rays", "sampling.", 0, INT64_MAX));

@@ -71,6 +71,39 @@ TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
               dynamic_cast<const DisplacedMeshPackage&>(**floats).elevations);
 }
 
+// Issue #14: a model with alpha-masked materials gets coverage (the disc the alpha test keeps of
+// the quad, and nothing of its cut-out corners), written as coverage.bin and read back; a model
+// without gets neither the array nor the file, so its package is what it was before.
+TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
+{
+    std::string dir = test::fresh_directory("displaced_coverage");
+    std::unique_ptr<Package> masked = test::bake(test::alpha_quad(AlphaMode::mask, 0.5f, true), "displaced-mesh", {{"degree", "9"}});
+    ASSERT_TRUE(masked);
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(*masked);
+    ASSERT_EQ(p.coverage.size(), p.face_count() * p.layout().finest_samples);
+    std::size_t covered = 0;
+    for (std::uint8_t c : p.coverage) {
+        EXPECT_TRUE(c == 0 || c == 255);
+        covered += c == 255;
+    }
+    // the kept disc is pi / 16 of the quad; the samples on the pattern see about as much
+    double share = double(covered) / double(p.coverage.size());
+    EXPECT_GT(share, 0.10);
+    EXPECT_LT(share, 0.32);
+    ASSERT_TRUE(write_package(*masked, dir + "/masked.standin").is_ok());
+    EXPECT_TRUE(fs::exists(dir + "/masked.standin/coverage.bin"));
+    Result<std::unique_ptr<Package>> back = read_package(dir + "/masked.standin");
+    ASSERT_TRUE(back.is_ok()) << back.status().message();
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(**back).coverage, p.coverage);
+
+    std::unique_ptr<Package> opaque = test::bake(test::alpha_quad(AlphaMode::opaque, 0.5f, true), "displaced-mesh", {{"degree", "9"}});
+    ASSERT_TRUE(opaque);
+    EXPECT_TRUE(dynamic_cast<const DisplacedMeshPackage&>(*opaque).coverage.empty());
+    ASSERT_TRUE(write_package(*opaque, dir + "/opaque.standin").is_ok());
+    EXPECT_FALSE(fs::exists(dir + "/opaque.standin/coverage.bin"));
+    EXPECT_EQ(file_text(dir + "/opaque.standin/manifest.json").find("coverage"), std::string::npos);
+}
+
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
 {
     Mesh mesh = small_sphere();

@@ -51,14 +51,14 @@ Result<std::unique_ptr<RayScene>> RayScene::create(const std::vector<glm::vec3>&
     return out;
 }
 
-SurfacePoint RayScene::intersect(glm::vec3 origin, glm::vec3 direction, float t_max) const
+SurfacePoint RayScene::intersect(glm::vec3 origin, glm::vec3 direction, float t_max, float t_min) const
 {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit query{};
     query.ray.org_x = origin.x, query.ray.org_y = origin.y, query.ray.org_z = origin.z;
     query.ray.dir_x = direction.x, query.ray.dir_y = direction.y, query.ray.dir_z = direction.z;
-    query.ray.tnear = 0.0f;
+    query.ray.tnear = t_min;
     query.ray.tfar = t_max;
     query.ray.mask = 0xffffffffu;
     query.hit.geomID = RTC_INVALID_GEOMETRY_ID;

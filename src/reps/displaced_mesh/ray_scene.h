@@ -31,8 +31,9 @@ public:
                                                     const std::vector<std::uint32_t>& indices);
     ~RayScene();
 
-    // The first hit along origin + t * direction, t in [0, t_max].
-    SurfacePoint intersect(glm::vec3 origin, glm::vec3 direction, float t_max) const;
+    // The first hit along origin + t * direction, t in [t_min, t_max] (t_min: to walk on past a
+    // hit that an alpha test cuts out).
+    SurfacePoint intersect(glm::vec3 origin, glm::vec3 direction, float t_max, float t_min = 0.0f) const;
     // The closest point of the mesh to `point` within `radius` (infinite: anywhere).
     SurfacePoint closest(glm::vec3 point, float radius) const;
 

@@ -11,7 +11,8 @@
 //  4. read back the counts; if a list overflowed, grow the lists and run 2-3 again (the result
 //     never depends on when that happened);
 //  5. draw the final list with glDrawArraysIndirect, vertices pulled from it (shaders/draw.vert),
-//     shaded by shaders/draw.frag.
+//     shaded by shaders/draw.frag; packages with coverage (alpha-masked models, issue #14) draw
+//     with depth tested after the fragment stage so that discarded cut-outs write no depth.
 // The "tess" subdivision draws each visible control face as a GL patch instead, tessellated to
 // power-of-two levels from edge-only data (a baseline to compare with).
 #include "reps/displaced_mesh/renderer.h"
@@ -109,6 +110,9 @@ private:
     // the same with depth tested after the fragment stage, for cross-faded draws (draw.frag)
     gpu::Program draw_faded_, patches_faded_;
     bool faded_ = false; // this draw is part of a cross-fade (DrawParams::fade)
+    // the package stores coverage (issue #14): every draw discards cut-outs, so every draw tests
+    // depth after the fragment stage (the faded programs), or the holes would still write depth
+    bool cutouts_ = false;
     gpu::Query primitives_query_;
     gpu::Buffer pbr_; // PBR packages only (issue #14)
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
@@ -202,7 +206,14 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     faces_ = gpu::make_buffer(faces);
     elevations_ = gpu::make_buffer(package.elevations);
     std::vector<glm::uvec2> shading(package.shading_normals.size());
-    for (std::size_t i = 0; i < shading.size(); ++i) shading[i] = {package.shading_normals[i], package.albedo[i]};
+    // with coverage, it takes the albedo's alpha byte (which the shading never reads): one fetch
+    // gives colour and coverage, interpolated alike
+    cutouts_ = !package.coverage.empty();
+    for (std::size_t i = 0; i < shading.size(); ++i) {
+        std::uint32_t albedo = package.albedo[i];
+        if (cutouts_) albedo = (albedo & 0x00ffffffu) | (std::uint32_t(package.coverage[i]) << 24);
+        shading[i] = {package.shading_normals[i], albedo};
+    }
     shading_ = gpu::make_buffer(shading);
     if (!package.orm.empty()) {
         std::vector<glm::uvec2> pbr(package.orm.size());
@@ -346,8 +357,9 @@ DrawStats Impl::draw(const DrawParams& params)
                         state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    const gpu::Program& draw_program = faded_ ? draw_faded_ : draw_;
+    const gpu::Program& draw_program = faded_ || cutouts_ ? draw_faded_ : draw_;
     glProgramUniform1i(draw_program.id(), draw_program.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(draw_program.id(), draw_program.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
@@ -366,8 +378,9 @@ DrawStats Impl::draw(const DrawParams& params)
 // tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
-    const gpu::Program& patches = faded_ ? patches_faded_ : patches_;
+    const gpu::Program& patches = faded_ || cutouts_ ? patches_faded_ : patches_;
     glProgramUniform1i(patches.id(), patches.uniform("counting"), counters_->counting() ? 1 : 0);
+    glProgramUniform1i(patches.id(), patches.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);

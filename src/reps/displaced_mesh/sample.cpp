@@ -8,7 +8,14 @@
 //     of Eq. 1, a ray each way along N(w)/|N(w)| up to the ray range, the nearer hit kept as a
 //     signed elevation; where both rays miss, the closest point of the surface, its offset along
 //     the normal as the elevation (counted as a miss). Each hit also gives the original's shading
-//     normal and albedo there (the paper never says where its shading normals came from);
+//     normal and albedo there (the paper never says where its shading normals came from).
+//     Departure (issue #14): on a model with alpha-masked materials a ray walks on through hits
+//     the alpha test cuts out (texture level 0 bilinear, Mesh::covered_at, the truth's rule) and
+//     keeps the nearer surviving hit; the sample records whether it found one (its coverage).
+//     Where neither direction does, it keeps the nearest hit of any kind for its elevation, so
+//     the surface keeps the shape it had without the test and the renderer cuts it out. A sample
+//     that lies on the original (leaf cards stay whole in the control mesh) takes the point it
+//     lies on, covered or not, without looking behind it;
 //  2. "interpolation" sampling replaces each elevation by the mean of sub-ray elevations over the
 //     vertex's ring of pattern triangles, weighted by the vertex's hat function: the paper's
 //     "roughly equal cells" weighted by distance, with a kernel that vanishes at the ring so
@@ -36,10 +43,69 @@ struct Sample {
     glm::vec4 albedo{0.8f, 0.8f, 0.8f, 1.0f};
     PbrSample pbr;
     bool missed = false;
+    bool covered = true; // the point survives its material's alpha test (issue #14)
 };
+
+// Cut-out surfaces a ray walks through before it gives up on a direction: leaf cards stacked
+// deeper than this along one normal are rare, and the walk must end.
+constexpr int k_max_cutouts = 64;
+// A sample this close to the original (a fraction of the ray range) lies on it: far below a
+// pattern step, far above the rounding of a point interpolated on a control face.
+constexpr float k_on_surface = 1e-4f;
+
+// The first hit along `direction` within `range` that survives the alpha test (issue #14): a ray
+// through a card's cut-out goes on to what lies behind it, as a view through the hole would.
+SurfacePoint first_covered(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range)
+{
+    float t_min = 0.0f;
+    for (int step = 0; step < k_max_cutouts; ++step) {
+        SurfacePoint hit = scene.intersect(origin, direction, range, t_min);
+        if (!hit.found || original.covered_at(hit.triangle, hit.b1, hit.b2)) return hit;
+        // past this hit, relative to its distance so float rounding cannot find it again
+        t_min = std::nextafter(hit.t + std::max(hit.t, range) * 1e-6f, std::numeric_limits<float>::infinity());
+    }
+    return {};
+}
 
 // The nearer of the hits along +direction and -direction within `range`, as a signed distance;
 // the closest point's offset along `direction` when both miss.
+SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 direction, float range, float& elevation,
+                           bool& missed);
+
+// The same for a model with alpha-masked materials (issue #14): the nearer hit that survives the
+// alpha test, `covered`; where neither direction meets one, the nearest hit of any kind (the
+// surface there keeps the shape it had without the test, and is cut out where drawn).
+SurfacePoint nearest_covered_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction,
+                                   float range, float& elevation, bool& missed, bool& covered)
+{
+    // a sample on the surface itself (a control face on a kept leaf card) is that point: covered
+    // or cut out, never what lies behind the card (which its own control faces draw)
+    SurfacePoint on = scene.closest(origin, k_on_surface * range);
+    if (on.found) {
+        elevation = glm::dot(on.position - origin, direction);
+        missed = false;
+        covered = original.covered_at(on.triangle, on.b1, on.b2);
+        return on;
+    }
+    SurfacePoint forward = first_covered(scene, original, origin, direction, range);
+    SurfacePoint backward = first_covered(scene, original, origin, -direction, range);
+    missed = false;
+    covered = true;
+    if (forward.found && (!backward.found || forward.t <= backward.t)) {
+        elevation = forward.t;
+        return forward;
+    }
+    if (backward.found) {
+        elevation = -backward.t;
+        return backward;
+    }
+    SurfacePoint any = nearest_along(scene, origin, direction, range, elevation, missed);
+    // any ray hit here is cut out; a ray starting on a covered point of the surface reports it
+    // through the closest point
+    covered = any.found && !missed && original.covered_at(any.triangle, any.b1, any.b2);
+    return any;
+}
+
 SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 direction, float range, float& elevation,
                            bool& missed)
 {
@@ -62,11 +128,13 @@ SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 di
     return closest;
 }
 
-Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range)
+// `cutouts`: the original has alpha-masked materials, and rays see through their cut-outs.
+Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts)
 {
     Sample s;
     glm::vec3 direction = unit_direction(point.normal);
-    SurfacePoint hit = nearest_along(scene, point.position, direction, range, s.elevation, s.missed);
+    SurfacePoint hit = cutouts ? nearest_covered_along(scene, original, point.position, direction, range, s.elevation, s.missed, s.covered)
+                               : nearest_along(scene, point.position, direction, range, s.elevation, s.missed);
     if (!hit.found) return s;
     const std::uint32_t* t = &original.indices[3 * std::size_t(hit.triangle)];
     float b0 = 1.0f - hit.b1 - hit.b2;
@@ -115,8 +183,8 @@ void for_each_chunked(std::size_t count, const Progress& progress, const std::st
 }
 
 // Hat-weighted sums of sub-ray elevations for every pattern vertex of one face (step 2).
-void ring_sums(const RayScene& scene, const ControlGeometry& control, std::uint32_t face, int n, int rays_per_side, float range,
-               std::vector<double>& sum_wh, std::vector<double>& sum_w)
+void ring_sums(const Mesh& original, const RayScene& scene, const ControlGeometry& control, std::uint32_t face, int n,
+               int rays_per_side, float range, bool cutouts, std::vector<double>& sum_wh, std::vector<double>& sum_w)
 {
     const std::uint32_t* corner = &control.indices[3 * std::size_t(face)];
     glm::vec3 p[3], nrm[3];
@@ -138,8 +206,11 @@ void ring_sums(const RayScene& scene, const ControlGeometry& control, std::uint3
                     glm::vec3 origin = w0 * p[0] + w1 * p[1] + w2 * p[2];
                     glm::vec3 direction = unit_direction(w0 * nrm[0] + w1 * nrm[1] + w2 * nrm[2]);
                     float h = 0.0f;
-                    bool missed = false;
-                    nearest_along(scene, origin, direction, range, h, missed);
+                    bool missed = false, covered = true;
+                    if (cutouts)
+                        nearest_covered_along(scene, original, origin, direction, range, h, missed, covered);
+                    else
+                        nearest_along(scene, origin, direction, range, h, missed);
                     sum_wh[va] += double(hat[0]) * h, sum_w[va] += hat[0];
                     sum_wh[vb] += double(hat[1]) * h, sum_w[vb] += hat[1];
                     sum_wh[vc] += double(hat[2]) * h, sum_w[vc] += hat[2];
@@ -154,6 +225,11 @@ void ring_sums(const RayScene& scene, const ControlGeometry& control, std::uint3
 
 } // namespace
 
+bool has_cutouts(const Mesh& mesh)
+{
+    return std::any_of(mesh.materials.begin(), mesh.materials.end(), [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+}
+
 Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
                                       const SampleOptions& options, const Progress& progress)
 {
@@ -164,11 +240,12 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     const std::size_t faces = control.face_count(), per_face = layout.finest_samples;
     const ControlTopology& topology = control.topology;
     const float range = options.ray_range;
+    const bool cutouts = has_cutouts(original);
 
     // corners and edges, once each
     std::vector<Sample> corners(control.positions.size());
     for_each_chunked(corners.size(), progress, "sampling corners", [&](std::size_t v) {
-        corners[v] = sample_at(original, scene, {control.positions[v], control.normals[v]}, range);
+        corners[v] = sample_at(original, scene, {control.positions[v], control.normals[v]}, range, cutouts);
     });
     std::vector<Sample> edge_samples(topology.edges.size() * std::size_t(n - 1));
     for_each_chunked(topology.edges.size(), progress, "sampling edges", [&](std::size_t e) {
@@ -176,7 +253,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
         const std::uint32_t ends[3] = {edge.lo, edge.hi, edge.hi};
         for (int s = 1; s < n; ++s) {
             FacePoint point = face_point(control.positions.data(), control.normals.data(), ends, bary(s, n), 0);
-            edge_samples[e * std::size_t(n - 1) + std::size_t(s - 1)] = sample_at(original, scene, point, range);
+            edge_samples[e * std::size_t(n - 1) + std::size_t(s - 1)] = sample_at(original, scene, point, range, cutouts);
         }
     });
 
@@ -186,6 +263,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     out.normal.assign(faces * per_face, glm::vec3(0.0f));
     out.albedo.assign(faces * per_face, glm::vec4(0.0f));
     if (original.has_pbr_materials()) out.pbr.assign(faces * per_face, PbrSample{});
+    if (cutouts) out.coverage.assign(faces * per_face, 0);
     std::vector<std::uint8_t> missed(faces * per_face, 0);
     auto shared_sample = [&](std::uint32_t f, VertexKind kind, int which, int along) -> const Sample& {
         if (kind == VertexKind::corner) return corners[control.indices[3 * std::size_t(f) + std::size_t(which)]];
@@ -202,11 +280,12 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                 Sample s = kind == VertexKind::interior
                                ? sample_at(original, scene,
                                            face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
-                                           range)
+                                           range, cutouts)
                                : shared_sample(f, kind, which, along);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
                 out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
                 if (!out.pbr.empty()) out.pbr[at] = s.pbr;
+                if (cutouts) out.coverage[at] = s.covered ? 1 : 0;
                 missed[at] = kind == VertexKind::interior && s.missed;
             }
     });
@@ -222,7 +301,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
         std::vector<double> sum_wh(faces * per_face, 0.0), sum_w(faces * per_face, 0.0);
         for_each_chunked(faces, progress, "interpolation sampling", [&](std::size_t f) {
             std::vector<double> wh(per_face, 0.0), w(per_face, 0.0);
-            ring_sums(scene, control, std::uint32_t(f), n, r, range, wh, w);
+            ring_sums(original, scene, control, std::uint32_t(f), n, r, range, cutouts, wh, w);
             std::copy(wh.begin(), wh.end(), sum_wh.begin() + std::ptrdiff_t(f * per_face));
             std::copy(w.begin(), w.end(), sum_w.begin() + std::ptrdiff_t(f * per_face));
         });

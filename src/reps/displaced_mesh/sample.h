@@ -44,9 +44,16 @@ struct SampledSurface {
     std::vector<glm::vec3> normal;     // unit shading normal of the original where the ray met it
     std::vector<glm::vec4> albedo;     // sRGB-encoded albedo there (Mesh::albedo_at)
     std::vector<PbrSample> pbr;        // its PBR inputs (Mesh::pbr_at); empty unless Mesh::has_pbr_materials()
+    // 1 where the sample's ray met a point that survives the alpha test, 0 where it went through
+    // cut-outs only or met nothing (issue #14); empty unless has_cutouts(original)
+    std::vector<std::uint8_t> coverage;
     std::size_t rays = 0;              // rays cast
     std::size_t misses = 0;            // vertices whose rays met nothing within range (closest point used)
 };
+
+// Whether any material of `mesh` cuts points out by an alpha test (mask, or blend drawn as mask):
+// then rays see through cut-outs and the package stores coverage.
+bool has_cutouts(const Mesh& mesh);
 
 // Shared edges and corners are sampled once, from the edge or the vertex, and copied into every
 // face that has them: the faces' values there are bit-identical. Deterministic for any thread count.

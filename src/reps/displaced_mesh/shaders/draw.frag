@@ -13,11 +13,17 @@
 layout(std430, binding = DM_SHADING_SSBO) readonly buffer ShadingBlock { uvec2 shading[]; };
 layout(std430, binding = DM_PBR_SSBO) readonly buffer PbrBlock { uvec2 pbr_samples[]; }; // only when has_pbr_maps
 uniform int has_pbr_maps; // the package has ORM and emission (issue #14); otherwise Material's defaults
+// the package stores coverage in the albedo's alpha (issue #14): interpolated across the finest
+// pattern triangle and cut where it falls below 1/2, a contour halfway between covered and cut-out
+// samples. Read from the finest pattern at every refinement, so a pixel far away point-samples
+// the same field the truth point-samples its texture with, and the leaves keep their area.
+uniform int has_coverage;
 
 // Counters count the fragments that pass the depth test. Early tests write depth before the shader
-// runs, so a fragment a cross-fade drops would still write depth: the renderer draws faded frames
-// with a variant compiled with DM_FADED, where depth is tested after the shader (and the counters
-// then also count fragments that fail the test).
+// runs, so a fragment a cross-fade drops, or a cut-out discards, would still write depth: the
+// renderer draws faded frames and packages with coverage with a variant compiled with DM_FADED,
+// where depth is tested after the shader (and the counters then also count fragments that fail
+// the test).
 #ifndef DM_FADED
 layout(early_fragment_tests) in;
 #endif
@@ -112,6 +118,7 @@ void main()
         normal += weight[k] * decode_normal(s.x);
         albedo += weight[k] * unpackUnorm4x8(s.y);
     }
+    if (has_coverage != 0 && albedo.a < 0.5) discard;
     if (refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
