@@ -9,11 +9,14 @@
 #include <standin/camera.h>
 #include <standin/eval.h>
 #include <standin/mesh.h>
+#include <standin/package.h>
 #include <standin/render.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <cstdio>
 
 namespace standin {
 namespace {
@@ -140,11 +143,12 @@ TEST(PbrTruth, ModelsWithoutPbrMaterialsLookAsBefore)
 
 // Mean CIEDE2000 over three views of the truth against a stand-in baked with and without the PBR
 // maps (the latter from the same model with its materials reset to the defaults).
-void expect_relit_like_the_truth(const std::string& representation, const std::string& name)
+void expect_relit_like_the_truth(const std::string& representation, const std::string& name,
+                                 const std::vector<std::pair<std::string, std::string>>& bake_values = {})
 {
     test::gpu_context();
     Mesh mesh = import_pbr_spheres(name);
-    std::unique_ptr<Package> package = test::bake(mesh, representation, {});
+    std::unique_ptr<Package> package = test::bake(mesh, representation, bake_values);
     ASSERT_TRUE(package);
     auto truth = make_mesh_renderer(mesh);
     ASSERT_TRUE(truth.is_ok());
@@ -153,7 +157,7 @@ void expect_relit_like_the_truth(const std::string& representation, const std::s
     // the same stand-in without its PBR maps: what it showed before issue #14
     Mesh plain = mesh;
     for (Material& m : plain.materials) m = Material{m.name, m.base_color, m.base_color_texture};
-    std::unique_ptr<Package> plain_package = test::bake(plain, representation, {});
+    std::unique_ptr<Package> plain_package = test::bake(plain, representation, bake_values);
     ASSERT_TRUE(plain_package);
     auto plain_standin = make_package_renderer(*plain_package, {});
     ASSERT_TRUE(plain_standin.is_ok());
@@ -173,6 +177,7 @@ void expect_relit_like_the_truth(const std::string& representation, const std::s
     }
     EXPECT_LT(with_maps, 2.0) << representation << ": mean CIEDE2000 with ORM + emission maps";
     EXPECT_LT(with_maps, 0.5 * without_maps) << representation << ": without the maps " << without_maps;
+    std::printf("%s: mean CIEDE2000 %.3f with the maps, %.3f without\n", representation.c_str(), with_maps, without_maps);
 }
 
 TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
@@ -183,6 +188,62 @@ TEST(PbrStandins, BillboardsRelightMetalsAndRoughSurfacesLikeTheTruth)
 TEST(PbrStandins, DisplacedMeshRelightsMetalsAndRoughSurfacesLikeTheTruth)
 {
     expect_relit_like_the_truth("displaced-mesh", "pbr_displaced");
+}
+
+// The view atlas captures ORM + emission pages from the truth's capture modes (issue #14); 80 views
+// keep the test short (each view is four renders of the model).
+TEST(PbrStandins, ViewAtlasRelightsMetalsAndRoughSurfacesLikeTheTruth)
+{
+    expect_relit_like_the_truth("view-atlas", "pbr_view_atlas", {{"subdivisions", "1"}});
+}
+
+// Microfacets read ORM + emission pages captured like their colour (issue #14); level 6 and 256²
+// captures keep the test short.
+TEST(PbrStandins, MicrofacetsRelightMetalsAndRoughSurfacesLikeTheTruth)
+{
+    expect_relit_like_the_truth("microfacets", "pbr_microfacets", {{"resolution", "256"}, {"level", "6"}});
+}
+
+// The ORM and emission pages of the view atlas and microfacets go through their packages unchanged
+// (the read-back package renders the same picture as the baked one), and models without PBR
+// materials get no such files.
+TEST(PbrStandins, ImagePagesRoundTripThroughThePackage)
+{
+    test::gpu_context();
+    Mesh mesh = import_pbr_spheres("pbr_pages_roundtrip");
+    Mesh plain = mesh;
+    for (Material& m : plain.materials) m = Material{m.name, m.base_color, m.base_color_texture};
+    const std::string dir = test::fresh_directory("pbr_pages_roundtrip_packages");
+    struct Case {
+        const char* representation;
+        std::vector<std::pair<std::string, std::string>> values;
+    };
+    const Case cases[] = {{"view-atlas", {{"subdivisions", "0"}, {"resolution", "128"}, {"page-size", "1024"}}},
+                          {"microfacets", {{"subdivisions", "0"}, {"resolution", "128"}, {"level", "5"}, {"page-size", "1024"}}}};
+    for (const Case& c : cases) {
+        std::unique_ptr<Package> baked = test::bake(mesh, c.representation, c.values);
+        std::unique_ptr<Package> baked_plain = test::bake(plain, c.representation, c.values);
+        ASSERT_TRUE(baked && baked_plain);
+        const std::string path = dir + "/" + c.representation + ".standin", plain_path = dir + "/" + c.representation + "_plain.standin";
+        ASSERT_TRUE(write_package(*baked, path).is_ok());
+        ASSERT_TRUE(write_package(*baked_plain, plain_path).is_ok());
+        EXPECT_TRUE(std::filesystem::exists(path + "/page_000_orm.png")) << c.representation;
+        EXPECT_TRUE(std::filesystem::exists(path + "/page_000_emission.png")) << c.representation;
+        EXPECT_FALSE(std::filesystem::exists(plain_path + "/page_000_orm.png")) << c.representation;
+        EXPECT_FALSE(std::filesystem::exists(plain_path + "/page_000_emission.png")) << c.representation;
+        Result<std::unique_ptr<Package>> read_back = read_package(path);
+        ASSERT_TRUE(read_back.is_ok()) << read_back.status().message();
+
+        auto from_bake = make_package_renderer(*baked, {});
+        auto from_disk = make_package_renderer(**read_back, {});
+        ASSERT_TRUE(from_bake.is_ok() && from_disk.is_ok()) << c.representation;
+        Camera camera = front_camera(mesh, 2.0f, 20.0f, 10.0f);
+        Light light = default_light(camera);
+        auto a = render_offscreen(**from_bake, camera, light, 240, 120);
+        auto b = render_offscreen(**from_disk, camera, light, 240, 120);
+        ASSERT_TRUE(a.is_ok() && b.is_ok());
+        EXPECT_EQ(a->color.pixels, b->color.pixels) << c.representation;
+    }
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 //  3. per capture direction (the view atlas's sphere layouts, or the seed's turntable circle):
 //     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
 //     saw surface; quantise depth to 16 (or 8) bits; crop to the covered texels in whole cells;
+//     PBR models (issue #14) also get the ORM and emission of the same texels;
 //  4. pack the crops into pages (reps::pack_views) and copy them in.
 // Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage);
 // orthographic cameras (depth along the view is then affine over a facet, so eq. 1 is exact per
@@ -71,6 +72,7 @@ Mesh degraded_geometry(const Mesh& mesh, const BakeSettings& s)
 // A view's images after step 3, cropped.
 struct Crop {
     ImageRGBA8 color;
+    ImageRGBA8 orm, emission; // PBR models only
     ImageRGBA16 normal_depth;
 };
 
@@ -104,6 +106,8 @@ Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radiu
     view.height = (y1 - y0 + 3 + cell - 1) / cell * cell;
     crop.color = ImageRGBA8(view.width, view.height);
     crop.normal_depth = ImageRGBA16(view.width, view.height);
+    const bool pbr = !capture.material.orm.empty();
+    if (pbr) crop.orm = ImageRGBA8(view.width, view.height), crop.emission = ImageRGBA8(view.width, view.height);
     const float depth_levels = s.depth_bits == 8 ? 255.0f : 65535.0f;
     const std::uint16_t depth_scale = s.depth_bits == 8 ? 257 : 1; // 8-bit codes stored as 16-bit
     for (int y = 0; y < view.height; ++y)
@@ -113,6 +117,7 @@ Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radiu
             std::size_t p = std::size_t(sy) * n + sx;
             std::memcpy(crop.color.at(x, y), capture.albedo.at(sx, sy), 3);
             crop.color.at(x, y)[3] = 255;
+            if (pbr) reps::copy_material_texel(capture.material, sx, sy, crop.orm, crop.emission, x, y);
             std::uint16_t* nd = crop.normal_depth.at(x, y);
             // the capture's 8-bit normal expanded to 16 bits (reps::SurfaceImage's encoding, n * 0.5 +
             // 0.5); never 0: a zero normal means "empty"
@@ -189,11 +194,20 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     int pages = reps::pack_views(package->views, s.page_size);
     package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
     package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA16(s.page_size, s.page_size));
+    const bool pbr = context.mesh.has_pbr_materials();
+    if (pbr) {
+        package->orm_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+        package->emission_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    }
     for (std::size_t k = 0; k < package->views.size(); ++k) {
         const View& v = package->views[k];
         if (v.width == 0) continue;
         copy_into_page(crops[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
         copy_into_page(crops[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        if (pbr) {
+            copy_into_page(crops[k].orm, package->orm_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+            copy_into_page(crops[k].emission, package->emission_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        }
     }
     return std::unique_ptr<Package>(std::move(package));
 }

@@ -8,7 +8,9 @@
 //  3. normals: the same renderer drawing a copy of the mesh whose vertex colours are its normals
 //     encoded n * 0.5 + 0.5 (interpolated as the renderer interpolates normals), textures kept for
 //     their alpha only (RGB white), so alpha-tested cut-outs are cut out of the normals too;
-//  4. range: the depth buffer of the geometry mesh (the colour mesh unless a degraded one is given),
+//  4. PBR models (issue #14): ORM and emission from the truth's capture modes
+//     (reps/common/material_capture.h), pixel for pixel the albedo's surface;
+//  5. range: the depth buffer of the geometry mesh (the colour mesh unless a degraded one is given),
 //     turned into heights along the direction.
 #include "reps/microfacets/capture.h"
 
@@ -64,6 +66,7 @@ Result<std::unique_ptr<SurfaceCapturer>> SurfaceCapturer::create(const Mesh& col
     auto capturer = std::make_unique<SurfaceCapturer>();
     capturer->sphere_ = sphere;
     capturer->resolution_ = resolution;
+    capturer->pbr_ = color_mesh.has_pbr_materials();
     Result<std::unique_ptr<Renderer>> albedo = make_mesh_renderer(color_mesh);
     if (!albedo) return albedo.status();
     capturer->albedo_ = std::move(*albedo);
@@ -110,6 +113,11 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     if (!geometry_) depth = target_->read_depth();
     draw(*normals_);
     out.normal = target_->read_color();
+    if (pbr_) {
+        Result<reps::MaterialImages> material = reps::capture_material(*albedo_, *target_, params);
+        if (!material) return material.status();
+        out.material = std::move(*material);
+    }
     if (geometry_) {
         draw(*geometry_);
         depth = target_->read_depth();

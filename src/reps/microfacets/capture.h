@@ -7,6 +7,7 @@
 // (issue #11); the view atlas's bake has its own. One of them should go.
 #pragma once
 
+#include "reps/common/material_capture.h"
 #include "reps/microfacets/range_holes.h"
 
 #include <standin/image.h>
@@ -28,6 +29,8 @@ struct SurfaceCapture {
     // Height of the geometry's surface above the centre plane along `direction` (object units),
     // valid where the geometry mesh covers the pixel.
     RangeImage range;
+    // models with PBR materials only (issue #14): ORM and emission, aligned with `albedo`
+    reps::MaterialImages material;
 };
 
 // Captures views of a sphere's content: the pixel (x, y) of a resolution^2 capture (continuous, y
@@ -35,7 +38,8 @@ struct SurfaceCapture {
 // res) axis_v. Needs a current GL context; holds the meshes' GPU copies.
 class SurfaceCapturer {
 public:
-    // `geometry` may be null (the range images come from `color_mesh` itself).
+    // `geometry` may be null (the range images come from `color_mesh` itself). Captures include the
+    // material channels when `color_mesh` has PBR materials.
     static Result<std::unique_ptr<SurfaceCapturer>> create(const Mesh& color_mesh, const Mesh* geometry,
                                                            const BoundingSphere& sphere, int resolution);
     Result<SurfaceCapture> capture(glm::vec3 direction) const;
@@ -44,6 +48,7 @@ private:
     std::unique_ptr<Renderer> albedo_, normals_, geometry_;
     std::unique_ptr<RenderTarget> target_; // one target for every capture: no allocation per view
     BoundingSphere sphere_;
+    bool pbr_ = false;
     int resolution_ = 0;
 };
 

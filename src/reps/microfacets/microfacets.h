@@ -59,6 +59,12 @@ public:
     // depth_bits is 8): reps::SurfaceImage's encodings. All zero where the colour page's coverage
     // is 0 (a covered texel never has a zero normal).
     std::vector<ImageRGBA16> normal_depth_pages;
+    // Models with PBR materials only (issue #14), else empty: per page, as reps::write_pbr_texel
+    // packs them, occlusion, perceptual roughness, metallic (linear) and coverage; and the emission,
+    // sRGB-encoded and clamped to [0, 1], and coverage. All zero where the colour's coverage is 0.
+    // Without them the renderer shades with Material's defaults (1, 1, 0; black).
+    std::vector<ImageRGBA8> orm_pages, emission_pages;
+    bool has_pbr() const { return !orm_pages.empty(); }
 };
 
 // The capture directions of a layout: the view atlas's sphere layouts (reps::layout_directions)

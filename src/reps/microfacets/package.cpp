@@ -1,6 +1,7 @@
 // Microfacet packages on disk (docs/FORMAT.md, "Microfacets"): manifest.json with the grid, the
 // octree levels, the captured views and the pages; voxels.bin with every level's Morton codes; the
-// pages as PNG (colour + coverage 8-bit, normal + depth 16-bit, or 8-bit for depth_bits 8).
+// pages as PNG (colour + coverage 8-bit, normal + depth 16-bit, or 8-bit for depth_bits 8; ORM and
+// emission 8-bit for models with PBR materials, issue #14).
 // Writing is deterministic (sorted keys, fixed PNG encoder); reading checks every field and file and
 // refuses what it does not understand with a status naming the file and the field.
 #include "reps/common/package_cast.h"
@@ -104,7 +105,15 @@ Status write(const Package& base, const std::string& directory)
             STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.normal_depth_pages[k], directory, normal_depth, files));
         else
             STANDIN_RETURN_IF_ERROR(manifest_io::write_image(narrowed(package.normal_depth_pages[k]), directory, normal_depth, files));
-        pages.push_back({{"color", color}, {"normal_depth", normal_depth}});
+        nlohmann::json page = {{"color", color}, {"normal_depth", normal_depth}};
+        if (package.has_pbr()) { // only then, so that packages of other models stay as they were
+            std::string orm = page_file(k, "orm"), emission = page_file(k, "emission");
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, orm, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.emission_pages[k], directory, emission, files));
+            page["orm"] = orm;
+            page["emission"] = emission;
+        }
+        pages.push_back(page);
     }
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views) views.push_back(manifest_io::view_json(v));
@@ -148,6 +157,14 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
                 manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
             package->normal_depth_pages.push_back(manifest_io::read_image16(
                 in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size, s.depth_bits));
+            const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));
+            if (k > 0 && pbr != package->has_pbr()) in.fail(where + "orm", "is on some pages only: every page or none");
+            if (pbr) {
+                package->orm_pages.push_back(
+                    manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size));
+                package->emission_pages.push_back(
+                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size));
+            }
         }
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty() || views.size() > 65535) in.fail("views", "is not an array of 1..65535 views");

@@ -15,7 +15,9 @@
 // timing (the lists keep work order): renders are byte-identical.
 // Beyond the paper: selection on the GPU (the paper's CPU loop was its bottleneck, §6.2), the LOD cut
 // per node (its §7 future work), blending weights that change continuously (its Fig. 13 popping),
-// lighting from stored normals (its lighting was fixed), 16-bit depth (its 8 bits cap it at 256^3).
+// lighting from stored normals (its lighting was fixed), 16-bit depth (its 8 bits cap it at 256^3),
+// and for PBR models (issue #14) ORM and emission pages read with the colour and lit by
+// shade_pbr_at; the programs are compiled with MF_PBR only for those packages.
 #include "reps/microfacets/lod.h"
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
@@ -114,9 +116,10 @@ struct DrawPlan {
     std::uint64_t capacity = 0;  // facets the lists may need (each instance: its finest level's count)
 };
 
-Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package)
+// Colour pages, and the ORM and emission pages of PBR packages (same layout and coverage).
+Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package, const std::vector<ImageRGBA8>& pages, const char* what)
 {
-    const int size = package.settings.page_size, layers = std::max(int(package.color_pages.size()), 1);
+    const int size = package.settings.page_size, layers = std::max(int(pages.size()), 1);
     GLuint name = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
     gpu::Texture texture(name);
@@ -124,15 +127,15 @@ Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // coverage is 0 or 255 and empty texels are 0: the pages are already premultiplied by coverage,
     // so mip levels average covered texels only once divided by their alpha (microfacets_sample.glsl)
-    for (std::size_t k = 0; k < package.color_pages.size(); ++k)
-        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, package.color_pages[k].pixels.data());
+    for (std::size_t k = 0; k < pages.size(); ++k)
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, pages[k].pixels.data());
     glGenerateTextureMipmap(name);
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST); // magnified: the exact texel eq. 1 tested
     glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " uploading colour pages");
+        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " uploading " + what + " pages");
     return texture;
 }
 
@@ -181,6 +184,7 @@ private:
 
     gpu::Program select_, scan_, scatter_, quads_program_, points_program_;
     gpu::Texture color_pages_, normal_depth_pages_;
+    gpu::Texture orm_pages_, emission_pages_; // PBR packages only
     gpu::Buffer views_, lookup_, nodes_, seen_, lods_, selected_, groups_, quads_, points_, commands_;
     std::uint64_t lods_capacity_ = 0, selected_capacity_ = 0, list_capacity_ = 0, groups_capacity_ = 0;
     gpu::Counters counters_;
@@ -197,6 +201,13 @@ Status check_package(const MicrofacetsPackage& package)
         return error(StatusCode::bad_data, "microfacets: the octree does not hold levels min_level..level");
     if (package.normal_depth_pages.size() != package.color_pages.size())
         return error(StatusCode::bad_data, "microfacets: normal-depth pages missing");
+    if (package.has_pbr() && (package.orm_pages.size() != package.color_pages.size() ||
+                              package.emission_pages.size() != package.color_pages.size()))
+        return error(StatusCode::bad_data, "microfacets: ORM or emission pages missing");
+    for (std::size_t k = 0; k < package.orm_pages.size(); ++k)
+        if (package.orm_pages[k].width != s.page_size || package.orm_pages[k].height != s.page_size ||
+            package.emission_pages[k].width != s.page_size || package.emission_pages[k].height != s.page_size)
+            return error(StatusCode::bad_data, "microfacets: PBR page " + std::to_string(k) + " is not page_size square");
     for (std::size_t k = 0; k < package.views.size(); ++k) {
         const View& v = package.views[k];
         if (v.width > 0 && (v.page < 0 || v.page >= int(package.color_pages.size()) || v.atlas_x + v.width > s.page_size ||
@@ -243,15 +254,23 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
                                    {&r->scatter_, {"reps/microfacets/shaders/scatter.comp"}},
                                    {&r->quads_program_, {"reps/microfacets/shaders/facets.vert", "reps/microfacets/shaders/facets.frag"}},
                                    {&r->points_program_, {"reps/microfacets/shaders/points.vert", "reps/microfacets/shaders/points.frag"}}}) {
-        Result<gpu::Program> made = gpu::Program::create(stages);
+        Result<gpu::Program> made = gpu::Program::create(stages, {{"MF_PBR", package.has_pbr() ? "1" : "0"}});
         if (!made) return made.status();
         *program = std::move(*made);
     }
 
     // textures and tables
-    Result<gpu::Texture> color = upload_color_pages(package);
+    Result<gpu::Texture> color = upload_color_pages(package, package.color_pages, "colour");
     if (!color) return color.status();
     r->color_pages_ = std::move(*color);
+    if (package.has_pbr()) {
+        Result<gpu::Texture> orm = upload_color_pages(package, package.orm_pages, "ORM");
+        if (!orm) return orm.status();
+        r->orm_pages_ = std::move(*orm);
+        Result<gpu::Texture> emission = upload_color_pages(package, package.emission_pages, "emission");
+        if (!emission) return emission.status();
+        r->emission_pages_ = std::move(*emission);
+    }
     Result<gpu::Texture> normal_depth = upload_normal_depth_pages(package);
     if (!normal_depth) return normal_depth.status();
     r->normal_depth_pages_ = std::move(*normal_depth);
@@ -496,6 +515,10 @@ DrawStats MicrofacetRenderer::draw(const DrawParams& params)
     // step 3: the two indirect draws
     glBindTextureUnit(MF_COLOR_TEXTURE, color_pages_.get());
     glBindTextureUnit(MF_NORMAL_DEPTH_TEXTURE, normal_depth_pages_.get());
+    if (orm_pages_.get() != 0) {
+        glBindTextureUnit(MF_ORM_TEXTURE, orm_pages_.get());
+        glBindTextureUnit(MF_EMISSION_TEXTURE, emission_pages_.get());
+    }
     glBindVertexArray(empty_vertex_array_.get());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_.get());
     glEnable(GL_DEPTH_TEST);

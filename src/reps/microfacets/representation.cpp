@@ -75,7 +75,8 @@ PackageSummary summarise(const Package& base)
     std::uint64_t texels = 0;
     for (const View& v : package.views) texels += std::uint64_t(v.width) * v.height;
     std::uint64_t page_texels = std::uint64_t(s.page_size) * s.page_size * package.color_pages.size();
-    std::uint64_t gpu_bytes = page_texels * 4 * 4 / 3 + page_texels * 8; // colour RGBA8 with mips, normal-depth RGBA16
+    // colour (and ORM + emission for PBR models) RGBA8 with mips, normal-depth RGBA16
+    std::uint64_t gpu_bytes = page_texels * 4 * 4 / 3 * (package.has_pbr() ? 3 : 1) + page_texels * 8;
     PackageSummary summary;
     summary.details = {{"source", package.source.file_name},
                        {"facets_per_level", levels},
@@ -83,6 +84,7 @@ PackageSummary summarise(const Package& base)
                        {"views", package.views.size()},
                        {"resolution", s.resolution},
                        {"depth_bits", s.depth_bits},
+                       {"pbr_pages", package.has_pbr()},
                        {"geometry_from", s.geometry_from},
                        {"max_view_angle_degrees", glm::degrees(package.max_view_angle)},
                        {"pages", package.color_pages.size()},

@@ -9,6 +9,9 @@
 //  - the icosahedron is turned so that +Y and -Y are face centres (the protocols' pole views);
 //  - "surface" maps (default) store albedo, world normal and depth instead of a lit colour, so the
 //    renderer can light dynamically and correct parallax (seed §7); "lit" is the paper's image;
+//  - PBR models (issue #14, Mesh::has_pbr_materials) also get ORM and emission pages with the same
+//    layout, captured from the truth's capture modes (reps/common/material_capture.h), so the
+//    renderer relights metals, smooth and occluded surfaces and emission like the truth;
 //  - default 1280 views (k = 3) of 256² instead of 5120 of 512²: a bunny package stays well under
 //    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options.
 #include "reps/view_atlas/view_atlas.h"
@@ -17,6 +20,7 @@
 #include "gpu/gl.h"
 #include "gpu/mesh_buffers.h"
 #include "gpu/shaders/common/bindings.h"
+#include "reps/common/material_capture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -137,11 +141,12 @@ float view_depth(const Camera& camera, float window_depth)
 
 struct Capture {
     ImageRGBA8 color, normal_depth; // cropped
+    ImageRGBA8 orm, emission;       // cropped, PBR models only
 };
 
 // Crops a capture to its covered pixels plus one empty texel, in whole cells.
-void crop(const RenderedImage& color, const RenderedImage* normals, const Camera& camera, float eye_distance,
-          const BoundingSphere& sphere, View& view, Capture& out)
+void crop(const RenderedImage& color, const RenderedImage* normals, const reps::MaterialImages* material,
+          const Camera& camera, float eye_distance, const BoundingSphere& sphere, View& view, Capture& out)
 {
     const int n = color.color.width;
     int x0 = n, y0 = n, x1 = -1, y1 = -1;
@@ -155,6 +160,7 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const Camera
     view.height = (y1 - y0 + 3 + k_cell - 1) / k_cell * k_cell;
     out.color = ImageRGBA8(view.width, view.height);
     if (normals) out.normal_depth = ImageRGBA8(view.width, view.height);
+    if (material) out.orm = ImageRGBA8(view.width, view.height), out.emission = ImageRGBA8(view.width, view.height);
     for (int y = 0; y < view.height; ++y) {
         for (int x = 0; x < view.width; ++x) {
             int sx = view.crop_x + x, sy = view.crop_y + y;
@@ -163,6 +169,7 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const Camera
             if (c[3] == 0) continue;
             std::memcpy(out.color.at(x, y), c, 3);
             out.color.at(x, y)[3] = 255;
+            if (material) reps::copy_material_texel(*material, sx, sy, out.orm, out.emission, x, y);
             if (!normals) continue;
             std::uint8_t* nd = out.normal_depth.at(x, y);
             std::memcpy(nd, normals->color.at(sx, sy), 3);
@@ -203,6 +210,14 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         if (!made) return made.status();
         normals = std::move(*made);
     }
+    // lit maps hold the truth's shading, PBR included; only surface maps are relit
+    const bool pbr = normals && context.mesh.has_pbr_materials();
+    std::unique_ptr<RenderTarget> material_target; // one for every view's material capture
+    if (pbr) {
+        Result<RenderTarget> target = RenderTarget::create(s.resolution, s.resolution, "view atlas capture");
+        if (!target) return target.status();
+        material_target = std::make_unique<RenderTarget>(std::move(*target));
+    }
 
     auto package = std::make_unique<ViewAtlasPackage>();
     package->source = context.source;
@@ -234,8 +249,18 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
             if (!rendered) return rendered.status();
             normal = std::move(*rendered);
         }
+        reps::MaterialImages material;
+        if (pbr) {
+            DrawParams params;
+            params.camera = camera;
+            params.light = light;
+            params.viewport = {s.resolution, s.resolution};
+            Result<reps::MaterialImages> captured = reps::capture_material(**truth, *material_target, params);
+            if (!captured) return captured.status();
+            material = std::move(*captured);
+        }
         float eye_distance = glm::dot(camera.eye_world - sphere.center, view.direction);
-        crop(*color, normals ? &normal : nullptr, camera, eye_distance, sphere, view, captures[k]);
+        crop(*color, normals ? &normal : nullptr, pbr ? &material : nullptr, camera, eye_distance, sphere, view, captures[k]);
         context.progress.report("view atlas: capturing views", double(k + 1) / double(directions.size()));
     }
 
@@ -243,11 +268,19 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     int pages = pack_views(package->views, s.page_size);
     package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
     if (normals) package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    if (pbr) {
+        package->orm_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+        package->emission_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    }
     for (std::size_t k = 0; k < package->views.size(); ++k) {
         const View& v = package->views[k];
         if (v.width == 0) continue;
         copy_into_page(captures[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
         if (normals) copy_into_page(captures[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        if (pbr) {
+            copy_into_page(captures[k].orm, package->orm_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+            copy_into_page(captures[k].emission, package->emission_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        }
     }
     return std::unique_ptr<Package>(std::move(package));
 }

@@ -1,6 +1,6 @@
 // View-atlas packages on disk (docs/FORMAT.md, "View atlas"): manifest.json with every view's
 // direction, axes and rectangles, and the atlas pages as PNG (colour + coverage; normal + depth for
-// "surface" maps). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
+// "surface" maps; ORM + emission for PBR models, issue #14). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
 // every field and file and refuses what it does not understand with a status naming file and field.
 #include "reps/common/package_codec.h"
 #include "reps/common/package_cast.h"
@@ -43,6 +43,13 @@ Status write(const Package& base, const std::string& directory)
                 manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
             page["normal_depth"] = page_file(k, "normal_depth");
         }
+        if (package.has_pbr()) { // only then, so that packages of other models stay as they were
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, page_file(k, "orm"), files));
+            STANDIN_RETURN_IF_ERROR(
+                manifest_io::write_image(package.emission_pages[k], directory, page_file(k, "emission"), files));
+            page["orm"] = page_file(k, "orm");
+            page["emission"] = page_file(k, "emission");
+        }
         pages.push_back(page);
     }
     nlohmann::json views = nlohmann::json::array();
@@ -82,6 +89,15 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             if (package->has_surface())
                 package->normal_depth_pages.push_back(manifest_io::read_image8(
                     in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size));
+            const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));
+            if (k > 0 && pbr != package->has_pbr()) in.fail(where + "orm", "is on some pages only: every page or none");
+            if (pbr && !package->has_surface()) in.fail(where + "orm", "needs surface maps (bake.maps \"surface\")");
+            if (pbr) {
+                package->orm_pages.push_back(
+                    manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size));
+                package->emission_pages.push_back(
+                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size));
+            }
         }
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");

@@ -80,6 +80,49 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     EXPECT_EQ(summarise_package(q).details["views"], 2);
 }
 
+TEST(ViewAtlasPackage, PbrPagesRoundTripAndOnlyWhenBaked)
+{
+    // issue #14: ORM and emission pages are written, named in the page entries and read back; a
+    // package without them writes exactly the files and manifest keys it wrote before
+    std::string dir = test::fresh_directory("view_atlas_pbr_roundtrip");
+    ViewAtlasPackage plain = small_package();
+    ASSERT_TRUE(write_package(plain, dir + "/plain.standin").is_ok());
+    EXPECT_FALSE(fs::exists(dir + "/plain.standin/page_000_orm.png"));
+    nlohmann::json plain_manifest = nlohmann::json::parse(read_text(dir + "/plain.standin/manifest.json"));
+    EXPECT_FALSE(plain_manifest["pages"][0].contains("orm"));
+    EXPECT_FALSE(plain_manifest["pages"][0].contains("emission"));
+
+    ViewAtlasPackage p = small_package();
+    p.orm_pages.assign(1, ImageRGBA8(256, 256));
+    p.emission_pages.assign(1, ImageRGBA8(256, 256));
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            if (p.color_pages[0].at(x, y)[3] == 0) continue;
+            std::uint8_t* o = p.orm_pages[0].at(x, y);
+            o[0] = 255, o[1] = std::uint8_t(x * 7), o[2] = std::uint8_t(y * 5), o[3] = 255;
+            std::uint8_t* e = p.emission_pages[0].at(x, y);
+            e[0] = 0, e[1] = std::uint8_t(x + y), e[2] = 250, e[3] = 255;
+        }
+    ASSERT_TRUE(write_package(p, dir + "/a.standin").is_ok());
+    ASSERT_TRUE(write_package(p, dir + "/b.standin").is_ok());
+    for (const char* name : {"manifest.json", "page_000_orm.png", "page_000_emission.png"})
+        EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/b.standin/" + name)) << name;
+    Result<std::unique_ptr<Package>> read_back = read_package(dir + "/a.standin");
+    ASSERT_TRUE(read_back.is_ok()) << read_back.status().message();
+    const auto& q = dynamic_cast<const ViewAtlasPackage&>(**read_back);
+    ASSERT_TRUE(q.has_pbr());
+    EXPECT_EQ(q.orm_pages[0].pixels, p.orm_pages[0].pixels);
+    EXPECT_EQ(q.emission_pages[0].pixels, p.emission_pages[0].pixels);
+
+    // one of the two missing is refused, naming the field
+    nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/a.standin/manifest.json"));
+    manifest["pages"][0].erase("emission");
+    std::ofstream(dir + "/a.standin/manifest.json") << manifest.dump(1);
+    Result<std::unique_ptr<Package>> bad = read_package(dir + "/a.standin");
+    ASSERT_FALSE(bad.is_ok());
+    EXPECT_NE(bad.status().message().find("emission"), std::string::npos) << bad.status().message();
+}
+
 TEST(ViewAtlasPackage, RefusesDamage)
 {
     std::string dir = test::fresh_directory("view_atlas_damage");

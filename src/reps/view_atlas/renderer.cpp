@@ -12,6 +12,9 @@
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell).
+// PBR packages (issue #14) add ORM and emission pages, read where the colour is read (premultiplied
+// by coverage like the normals) and lit with shade_pbr_at; the program is compiled with ATLAS_PBR
+// only for them, so other packages bind and read nothing more.
 // Pages are split over up to ATLAS_MAX_ARRAYS texture arrays per map (plan_arrays: layer and byte
 // limits), the fragment stage picks a view's array by branching.
 // Load-time tables: per-view height ranges and per-cell highest surfaces for the corrected walk; a
@@ -351,7 +354,7 @@ Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const st
 }
 
 // Every page of one map, split as planned.
-Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>& pages, bool color,
+Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>& pages, bool color, const char* map_name,
                   const ArrayPlan& plan, bool compressed, std::vector<gpu::Texture>& arrays)
 {
     for (int a = 0; a < plan.arrays; ++a) {
@@ -362,7 +365,7 @@ Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>
                        : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count);
         if (!texture) {
             std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
-            return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + (color ? "colour" : "normal-depth") +
+            return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + map_name +
                                                     " texture array " + std::to_string(a + 1) + " of " +
                                                     std::to_string(plan.arrays) + " (" + mib(plan.page_bytes * std::uint64_t(count)) +
                                                     "): " + texture.status().message());
@@ -383,6 +386,7 @@ private:
 
     gpu::Program program_;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
+    std::vector<gpu::Texture> orm_arrays_, emission_arrays_;       // PBR packages only
     gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
     gpu::Buffer views_, index_;
     gpu::Counters counters_;
@@ -398,6 +402,13 @@ Status check_package(const ViewAtlasPackage& package)
     if (package.views.empty()) return error(StatusCode::bad_data, "view atlas: no views");
     if (package.has_surface() && package.normal_depth_pages.size() != package.color_pages.size())
         return error(StatusCode::bad_data, "view atlas: normal-depth pages missing");
+    if (package.has_pbr() && (!package.has_surface() || package.orm_pages.size() != package.color_pages.size() ||
+                              package.emission_pages.size() != package.color_pages.size()))
+        return error(StatusCode::bad_data, "view atlas: ORM or emission pages missing, or without surface maps");
+    for (std::size_t k = 0; k < package.orm_pages.size(); ++k)
+        if (package.orm_pages[k].width != s.page_size || package.orm_pages[k].height != s.page_size ||
+            package.emission_pages[k].width != s.page_size || package.emission_pages[k].height != s.page_size)
+            return error(StatusCode::bad_data, "view atlas: PBR page " + std::to_string(k) + " is not page_size square");
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
         const ImageRGBA8& page = package.color_pages[k];
         if (page.width != s.page_size || page.height != s.page_size ||
@@ -435,11 +446,21 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
                                                   " exceeds GL_MAX_TEXTURE_SIZE " + std::to_string(max_size));
     Result<ArrayPlan> plan = plan_arrays(package, max_layers);
     if (!plan) return plan.status();
+    const bool pbr = package.has_pbr();
+    if (pbr) { // four maps' arrays, the cell tops and the shadow map in one fragment stage
+        GLint units = 0, combined = 0;
+        glGetIntegerv(GL_MAX_TEXTURE_IMAGE_UNITS, &units);
+        glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &combined);
+        if (4 * plan->arrays + 2 > units || ATLAS_EMISSION_TEXTURE + plan->arrays > combined)
+            return error(StatusCode::unsupported, "view atlas: a PBR package of " + std::to_string(plan->arrays) +
+                                                      " texture arrays per map needs more than this OpenGL's " +
+                                                      std::to_string(units) + " texture units; bake with fewer views or a lower --resolution");
+    }
 
     auto renderer = std::make_unique<AtlasRenderer>();
     Result<gpu::Program> program = gpu::Program::create(
         {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
-        {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}});
+        {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}, {"ATLAS_PBR", pbr ? "1" : "0"}});
     if (!program) return program.status();
     renderer->program_ = std::move(*program);
 
@@ -449,10 +470,15 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     if (compressed && !epoxy_has_gl_extension("GL_EXT_texture_compression_s3tc"))
         return error(StatusCode::unsupported, "view atlas: --texture-format bc3 needs GL_EXT_texture_compression_s3tc, "
                                               "which this OpenGL lacks; use rgba8");
-    STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, *plan, compressed, renderer->color_arrays_));
+    STANDIN_RETURN_IF_ERROR(upload_map(package, package.color_pages, true, "colour", *plan, compressed, renderer->color_arrays_));
+    if (pbr) {
+        STANDIN_RETURN_IF_ERROR(upload_map(package, package.orm_pages, false, "ORM", *plan, false, renderer->orm_arrays_));
+        STANDIN_RETURN_IF_ERROR(
+            upload_map(package, package.emission_pages, false, "emission", *plan, false, renderer->emission_arrays_));
+    }
     if (package.has_surface()) {
         STANDIN_RETURN_IF_ERROR(
-            upload_map(package, package.normal_depth_pages, false, *plan, false, renderer->normal_depth_arrays_));
+            upload_map(package, package.normal_depth_pages, false, "normal-depth", *plan, false, renderer->normal_depth_arrays_));
         Result<gpu::Texture> cell_tops = upload_cell_tops(depths, int(package.color_pages.size()));
         if (!cell_tops) return cell_tops.status();
         renderer->cell_tops_ = std::move(*cell_tops);
@@ -501,6 +527,10 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         glBindTextureUnit(GLuint(ATLAS_COLOR_TEXTURE + a), color_arrays_[a].get());
         glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
                           normal_depth_arrays_.empty() ? color_arrays_[a].get() : normal_depth_arrays_[a].get());
+        if (!orm_arrays_.empty()) {
+            glBindTextureUnit(GLuint(ATLAS_ORM_TEXTURE + a), orm_arrays_[a].get());
+            glBindTextureUnit(GLuint(ATLAS_EMISSION_TEXTURE + a), emission_arrays_[a].get());
+        }
     }
     if (cell_tops_.get() != 0) glBindTextureUnit(ATLAS_CELL_TEXTURE, cell_tops_.get());
     glBindVertexArray(empty_vertex_array_.get());

@@ -54,9 +54,11 @@ PackageSummary summarise(const Package& base)
     std::uint64_t texels = 0;
     for (const View& v : package.views) texels += std::uint64_t(v.width) * v.height;
     std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * package.color_pages.size();
-    std::uint64_t gpu_bytes = page_texels * 4 * (package.has_surface() ? 2 : 1) * 4 / 3; // RGBA8 pages with mips
-    // --texture-format bc3: colour pages at one byte per texel (DXT5), normal-depth still RGBA8
-    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + (package.has_surface() ? 4 : 0)) * 4 / 3;
+    // RGBA8 pages with mips: colour, normal-depth (surface), ORM and emission (PBR models)
+    const int maps = 1 + (package.has_surface() ? 1 : 0) + (package.has_pbr() ? 2 : 0);
+    std::uint64_t gpu_bytes = page_texels * 4 * std::uint64_t(maps) * 4 / 3;
+    // --texture-format bc3: colour pages at one byte per texel (DXT5), the other maps still RGBA8
+    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + 4 * std::uint64_t(maps - 1)) * 4 / 3;
     PackageSummary summary;
     summary.details = {{"source", package.source.file_name},
                        {"layout", settings.layout},
@@ -65,6 +67,7 @@ PackageSummary summarise(const Package& base)
                        {"fov", settings.fov},
                        {"resolution", settings.resolution},
                        {"maps", settings.maps},
+                       {"pbr_pages", package.has_pbr()},
                        {"pages", package.color_pages.size()},
                        {"page_size", settings.page_size},
                        {"crop_texels", texels},

@@ -50,6 +50,7 @@ public:
     // Distance of the perspective capture camera from the centre (the base distance).
     float capture_distance() const;
     bool has_surface() const { return settings.maps == "surface"; }
+    bool has_pbr() const { return !orm_pages.empty(); }
 
     Options parameters;    // as baked
     BakeSettings settings; // settings_from(parameters)
@@ -61,6 +62,11 @@ public:
     // "surface" only. RGB: world normal * 0.5 + 0.5; A: depth (r - dot(p - centre, direction)) /
     // (2r) in [0, 1], 0 nearest to the capture camera.
     std::vector<ImageRGBA8> normal_depth_pages;
+    // "surface" packages of models with PBR materials only (issue #14), else empty: per page, as
+    // reps::write_pbr_texel packs them, occlusion, perceptual roughness, metallic (linear) and
+    // coverage; and the emission, sRGB-encoded and clamped to [0, 1], and coverage. Without them
+    // the renderer shades with Material's defaults (1, 1, 0; black).
+    std::vector<ImageRGBA8> orm_pages, emission_pages;
 };
 
 // The bake parameters typed (representation.cpp), and the checks between them.

@@ -4,7 +4,8 @@
 // clipped by eq. 1, and the passing views are blended by their weights. The seed keeps a pixel
 // where its one view passes; with blending (A10 in docs/ARCHITECTURE.md) a pixel is covered where
 // any view passes ("any") or where the passing views hold half the weight ("vote"). Colour and
-// normal come from the same texels; the stored normal is lit by the shared lighting, and the depth
+// normal come from the same texels (and, for PBR packages, ORM and emission: issue #14); the stored
+// normal is lit by the shared lighting (shade_pbr_at), and the depth
 // written is the stored surface point's (the view with the largest weight), so stand-ins composite,
 // cast and receive shadows like the mesh.
 #include "gpu/shaders/common/frame.glsl"
@@ -43,7 +44,7 @@ void main()
     if (fade_discards()) discard;
     float w = voxel_size(v_level);
 
-    vec3 color = vec3(0.0), normal = vec3(0.0), surface = p;
+    vec3 color = vec3(0.0), normal = vec3(0.0), surface = p, orm = vec3(0.0), emission = vec3(0.0);
     float weight = 0.0, best = -1.0, abstained = 0.0;
     int best_view = int(v_views.x);
     InstanceLod lod = lods.items[v_instance];
@@ -62,6 +63,8 @@ void main()
         if (!s.passed) continue;
         color += wk * s.color;
         normal += wk * s.normal;
+        orm += wk * s.orm;
+        emission += wk * s.emission;
         weight += wk;
         if (wk > best) {
             best = wk;
@@ -80,6 +83,8 @@ void main()
     }
     if (!covered) discard;
     color /= weight;
+    orm /= weight;
+    emission /= weight;
 
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 surface_world = (world_from_object * vec4(surface, 1.0)).xyz;
@@ -93,5 +98,5 @@ void main()
     else if (debug_view == DEBUG_VIEW_NORMAL) out_color = vec4(normal_world * 0.5 + 0.5, 1.0);
     else if (debug_view == DEBUG_VIEW_FETCHES) out_color = vec4(fetches_color(g_fetches), 1.0);
     else if (debug_view == DEBUG_VIEW_LEVEL) out_color = vec4(heat(float(v_level - min_level) / float(max(max_level - min_level, 1))), 1.0);
-    else out_color = vec4(shade_at(color, normal_world, to_eye, surface_world), 1.0);
+    else out_color = vec4(shade_pbr_at(color, orm, srgb_to_linear(emission), normal_world, to_eye, surface_world), 1.0);
 }

@@ -26,6 +26,8 @@
 // texture units (the shadow map is BINDING_SHADOW_TEXTURE)
 #define MF_COLOR_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 0)        // albedo premultiplied by coverage, mip-mapped
 #define MF_NORMAL_DEPTH_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 1) // normal * 0.5 + 0.5 and depth, 16-bit
+#define MF_ORM_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 2)      // PBR packages (MF_PBR): occlusion, roughness, metallic; mip-mapped
+#define MF_EMISSION_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 3) // PBR packages: emission (sRGB); mip-mapped
 
 #define MF_GROUP_SIZE 256      // select.comp / scatter.comp work group; ranks in a group fit 16 bits
 #define MF_SCAN_SIZE 1024      // scan.comp: one group over every group's counts

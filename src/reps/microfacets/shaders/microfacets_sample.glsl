@@ -6,6 +6,13 @@
 
 layout(binding = MF_COLOR_TEXTURE) uniform sampler2DArray color_pages;
 layout(binding = MF_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages;
+#ifndef MF_PBR
+#define MF_PBR 0 // 1: the package has ORM and emission pages (issue #14; renderer.cpp defines it)
+#endif
+#if MF_PBR
+layout(binding = MF_ORM_TEXTURE) uniform sampler2DArray orm_pages;
+layout(binding = MF_EMISSION_TEXTURE) uniform sampler2DArray emission_pages;
+#endif
 
 uniform float page_size;  // texels per page side
 uniform int max_color_lod; // mip levels of the colour pages that never mix two crops
@@ -19,13 +26,15 @@ vec3 decode_normal(vec3 stored) { return stored * 2.0 - 1.0; }
 struct ViewSample {
     bool passed;    // covered and within W/2 (eq. 1)
     vec3 color;     // albedo, sRGB-encoded
+    vec3 orm;       // occlusion, roughness, metallic (Material's defaults without MF_PBR)
+    vec3 emission;  // sRGB-encoded (black without MF_PBR)
     vec3 normal;    // object space, unnormalised
     vec3 surface;   // the stored surface point: the facet point moved along the view to its depth
 };
 
 // The colour of a view's texel `at` (page coordinates), straight (not premultiplied); at lod > 0
 // filtered with the footprint kept inside the crop (crops sit on cells of 2^max_color_lod texels).
-vec3 view_color(ViewData view, ivec2 at, float lod)
+vec3 view_page(sampler2DArray pages, ViewData view, ivec2 at, float lod)
 {
     vec2 texel_center = vec2(at) + 0.5;
     if (lod > 0.0) {
@@ -33,9 +42,23 @@ vec3 view_color(ViewData view, ivec2 at, float lod)
         float margin = 0.5 * exp2(ceil(lod));
         texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
     }
-    vec4 c = textureLod(color_pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
+    vec4 c = textureLod(pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
     g_fetches += 1u;
     return c.a > 0.0 ? c.rgb / c.a : c.rgb;
+}
+
+vec3 view_color(ViewData view, ivec2 at, float lod) { return view_page(color_pages, view, at, lod); }
+
+// The PBR inputs of the same texel as view_color (the pages share its layout and coverage).
+void view_material(ViewData view, ivec2 at, float lod, inout ViewSample s)
+{
+#if MF_PBR
+    s.orm = view_page(orm_pages, view, at, lod);
+    s.emission = view_page(emission_pages, view, at, lod);
+#else
+    s.orm = vec3(1.0, 1.0, 0.0); // lighting.glsl SHADING_DEFAULT_ORM (this file is also a vertex stage's)
+    s.emission = vec3(0.0);
+#endif
 }
 
 
@@ -62,6 +85,7 @@ ViewSample sample_view(ViewData view, vec3 p, vec3 center, float w, float lod)
     s.passed = true;
     s.normal = decode_normal(nd.rgb);
     s.color = view_color(view, at, lod);
+    view_material(view, at, lod, s);
     return s;
 }
 
@@ -139,6 +163,7 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
                     s.surface = mix(p0, p1, crossing.x);
                     s.normal = normal;
                     s.color = view_color(view, at, lod);
+                    view_material(view, at, lod, s);
                     return RAY_HIT;
                 }
                 previous_top = top;

@@ -8,6 +8,8 @@
 #include "reps/microfacets/shaders/microfacets_layout.glsl"
 
 flat in vec3 v_color;
+flat in vec3 v_orm;
+flat in vec3 v_emission;
 flat in vec3 v_normal_world;
 flat in vec3 v_surface_world;
 flat in int v_view;
@@ -33,5 +35,5 @@ void main()
     else if (debug_view == DEBUG_VIEW_NORMAL) out_color = vec4(v_normal_world * 0.5 + 0.5, 1.0);
     else if (debug_view == DEBUG_VIEW_FETCHES) out_color = vec4(fetches_color(v_fetches), 1.0);
     else if (debug_view == DEBUG_VIEW_LEVEL) out_color = vec4(heat(float(v_level - min_level) / float(max(max_level - min_level, 1))), 1.0);
-    else out_color = vec4(shade_at(v_color, v_normal_world, to_eye, v_surface_world), 1.0);
+    else out_color = vec4(shade_pbr_at(v_color, v_orm, srgb_to_linear(v_emission), v_normal_world, to_eye, v_surface_world), 1.0);
 }

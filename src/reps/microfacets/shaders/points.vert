@@ -16,6 +16,8 @@ uniform float screen_pixels; // pixels per world unit (at distance 1 for perspec
 uniform int coverage_rule;
 
 flat out vec3 v_color;
+flat out vec3 v_orm;      // occlusion, roughness, metallic
+flat out vec3 v_emission; // sRGB-encoded
 flat out vec3 v_normal_world;
 flat out vec3 v_surface_world;
 flat out int v_view;
@@ -31,7 +33,7 @@ void main()
     vec3 c = voxel_center(f.a.y, level);
     float w = voxel_size(level);
 
-    vec3 color = vec3(0.0), normal = vec3(0.0), surface = c;
+    vec3 color = vec3(0.0), normal = vec3(0.0), surface = c, orm = vec3(0.0), emission = vec3(0.0);
     float weight = 0.0, best = -1.0;
     v_view = facet_view(f, 0);
     for (int k = 0; k < MF_MAX_BLEND; ++k) {
@@ -41,6 +43,8 @@ void main()
         if (!s.passed) continue;
         color += wk * s.color;
         normal += wk * s.normal;
+        orm += wk * s.orm;
+        emission += wk * s.emission;
         weight += wk;
         if (wk > best) {
             best = wk;
@@ -58,6 +62,8 @@ void main()
     }
     mat4 world_from_object = instances.world_from_object[i];
     v_color = color / weight;
+    v_orm = orm / weight;
+    v_emission = emission / weight;
     v_normal_world = normalize(mat3(world_from_object) * normal);
     v_surface_world = (world_from_object * vec4(surface, 1.0)).xyz;
 

@@ -8,6 +8,10 @@
 // STYLE_CORRECTED: the three views around each pixel's ray direction are intersected with the ray as
 // height fields (an exact walk over their texels that does not take depth edges for surfaces),
 // hits on the nearest surface are blended, the true depth is written and the stored normal is lit.
+// Every style that lights stored normals (surface maps) lights them with shade_pbr_at: with the
+// ORM and emission pages of a PBR package (ATLAS_PBR, issue #14) read where the colour is read,
+// otherwise with Material's defaults. Lit-colour packages (lit_maps) show the truth's own shading,
+// PBR included, as captured under the capture light: nothing is relit, so they have no PBR pages.
 // Filtering never bleeds the background: pages hold colour premultiplied by coverage, are mip-mapped
 // as such, and are divided by the filtered coverage; levels stop where two crops would mix.
 #include "gpu/shaders/common/frame.glsl"
@@ -28,8 +32,25 @@ in vec2 v_atlas_texel;
 #endif
 layout(binding = ATLAS_COLOR_TEXTURE) uniform sampler2DArray color_pages[ATLAS_ARRAYS];
 layout(binding = ATLAS_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages[ATLAS_ARRAYS];
+#ifndef ATLAS_PBR
+#define ATLAS_PBR 0 // 1: the package has ORM and emission pages (renderer.cpp defines it)
+#endif
+#if ATLAS_PBR
+layout(binding = ATLAS_ORM_TEXTURE) uniform sampler2DArray orm_pages[ATLAS_ARRAYS];
+layout(binding = ATLAS_EMISSION_TEXTURE) uniform sampler2DArray emission_pages[ATLAS_ARRAYS];
+#endif
 #define MAP_COLOR 0
 #define MAP_NORMAL_DEPTH 1
+#define MAP_ORM 2      // ATLAS_PBR only
+#define MAP_EMISSION 3 // ATLAS_PBR only
+// One map of texture array i: read (uvw, lod) or fetched (texel).
+#if ATLAS_PBR
+#define ATLAS_MAP_READ(i) (map == MAP_COLOR ? textureLod(color_pages[i], uvw, lod) : map == MAP_NORMAL_DEPTH ? textureLod(normal_depth_pages[i], uvw, lod) : map == MAP_ORM ? textureLod(orm_pages[i], uvw, lod) : textureLod(emission_pages[i], uvw, lod))
+#define ATLAS_MAP_FETCH(i) (map == MAP_COLOR ? texelFetch(color_pages[i], texel, 0) : map == MAP_NORMAL_DEPTH ? texelFetch(normal_depth_pages[i], texel, 0) : map == MAP_ORM ? texelFetch(orm_pages[i], texel, 0) : texelFetch(emission_pages[i], texel, 0))
+#else
+#define ATLAS_MAP_READ(i) (map == MAP_COLOR ? textureLod(color_pages[i], uvw, lod) : textureLod(normal_depth_pages[i], uvw, lod))
+#define ATLAS_MAP_FETCH(i) (map == MAP_COLOR ? texelFetch(color_pages[i], texel, 0) : texelFetch(normal_depth_pages[i], texel, 0))
+#endif
 
 uniform int style;
 uniform int debug_view; // DEBUG_VIEW_*
@@ -44,7 +65,7 @@ layout(depth_greater) out float gl_FragDepth;
 
 // A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
 // sampler is chosen by branching (indices into sampler arrays must be dynamically uniform).
-#define ATLAS_READ(i) if (array == i) return map == MAP_COLOR ? textureLod(color_pages[i], uvw, lod) : textureLod(normal_depth_pages[i], uvw, lod);
+#define ATLAS_READ(i) if (array == i) return ATLAS_MAP_READ(i);
 vec4 read_array(int map, int array, vec3 uvw, float lod)
 {
 #if ATLAS_ARRAYS > 1
@@ -71,10 +92,10 @@ vec4 read_array(int map, int array, vec3 uvw, float lod)
 #if ATLAS_ARRAYS > 8
 #error "atlas.frag reads at most 8 texture arrays per map (ATLAS_MAX_ARRAYS)"
 #endif
-    return map == MAP_COLOR ? textureLod(color_pages[0], uvw, lod) : textureLod(normal_depth_pages[0], uvw, lod);
+    return ATLAS_MAP_READ(0);
 }
 
-// A page sample of map MAP_COLOR or MAP_NORMAL_DEPTH at an atlas texel position: empty outside the
+// A page sample of map MAP_* at an atlas texel position: empty outside the
 // view's crop, clamped inside it at that level (so that filtering never reads a neighbouring crop).
 vec4 sample_page(int map, ViewData view, vec2 texel, float lod)
 {
@@ -115,7 +136,7 @@ void count_this_fragment()
 vec4 fetch_array(int map, int array, ivec3 texel)
 {
     g_fetches += 1u;
-#define ATLAS_FETCH(i) if (array == i) return map == MAP_COLOR ? texelFetch(color_pages[i], texel, 0) : texelFetch(normal_depth_pages[i], texel, 0);
+#define ATLAS_FETCH(i) if (array == i) return ATLAS_MAP_FETCH(i);
 #if ATLAS_ARRAYS > 1
     ATLAS_FETCH(1)
 #endif
@@ -137,7 +158,7 @@ vec4 fetch_array(int map, int array, ivec3 texel)
 #if ATLAS_ARRAYS > 7
     ATLAS_FETCH(7)
 #endif
-    return map == MAP_COLOR ? texelFetch(color_pages[0], texel, 0) : texelFetch(normal_depth_pages[0], texel, 0);
+    return ATLAS_MAP_FETCH(0);
 }
 
 // One texel of a view's height field at level 0: x: covered (0/1), y: height, zw: the normal's
@@ -290,8 +311,10 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d)
 // height `height`: bilinear over the level-0 texels of the hit's own surface only (height within
 // what their normals' slope allows), so that colour does not leak across a depth edge (plain
 // filtering would ring the front object with its colour on the surface behind it); from level 1 on
-// the coverage-respecting mip levels, blended in over the first level.
-void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4 color, out vec4 normal_depth)
+// the coverage-respecting mip levels, blended in over the first level. orm and emission: the PBR
+// pages likewise (premultiplied; zero without ATLAS_PBR).
+void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4 color, out vec4 normal_depth,
+                    out vec4 orm, out vec4 emission)
 {
     float texel = 2.0 * half_extent / resolution;
     vec2 p = capture_from_plane(plane) - 0.5;
@@ -299,6 +322,8 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     vec2 f = p - vec2(base);
     color = vec4(0.0);
     normal_depth = vec4(0.0);
+    orm = vec4(0.0);
+    emission = vec4(0.0);
     float weight_sum = 0.0;
     if (lod < 1.0) {
         for (int k = 0; k < 4; ++k) {
@@ -312,6 +337,10 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
             ivec3 at = ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x);
             color += w * fetch_array(MAP_COLOR, view.atlas.w, at);
             normal_depth += w * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+#if ATLAS_PBR
+            orm += w * fetch_array(MAP_ORM, view.atlas.w, at);
+            emission += w * fetch_array(MAP_EMISSION, view.atlas.w, at);
+#endif
             weight_sum += w;
         }
     }
@@ -319,13 +348,23 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     if (weight_sum <= 0.0) { // far away, or no texel of the surface around: the filtered maps
         color = sample_page(MAP_COLOR, view, texel_position, max(lod, 0.0));
         normal_depth = sample_page(MAP_NORMAL_DEPTH, view, texel_position, max(lod, 0.0));
+#if ATLAS_PBR
+        orm = sample_page(MAP_ORM, view, texel_position, max(lod, 0.0));
+        emission = sample_page(MAP_EMISSION, view, texel_position, max(lod, 0.0));
+#endif
         return;
     }
     color /= weight_sum;
     normal_depth /= weight_sum;
+    orm /= weight_sum;
+    emission /= weight_sum;
     if (lod > 0.0) {
         color = mix(color, sample_page(MAP_COLOR, view, texel_position, lod), lod);
         normal_depth = mix(normal_depth, sample_page(MAP_NORMAL_DEPTH, view, texel_position, lod), lod);
+#if ATLAS_PBR
+        orm = mix(orm, sample_page(MAP_ORM, view, texel_position, lod), lod);
+        emission = mix(emission, sample_page(MAP_EMISSION, view, texel_position, lod), lod);
+#endif
     }
 }
 
@@ -344,11 +383,23 @@ float coverage_threshold(float lod)
     return mix(0.5, dither, clamp(lod, 0.0, 1.0));
 }
 
-vec3 shade_surface(vec3 albedo, vec3 normal_object, vec3 direction_world, vec3 position_world)
+// orm: occlusion, roughness, metallic; emission: sRGB-encoded (the pages' encodings).
+vec3 shade_surface(vec3 albedo, vec3 orm, vec3 emission, vec3 normal_object, vec3 direction_world, vec3 position_world)
 {
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
-    return shade_at(albedo, normal_world, -direction_world, position_world);
+    return shade_pbr_at(albedo, orm, srgb_to_linear(emission), normal_world, -direction_world, position_world);
+}
+
+// A PBR page at a texel position of one view divided by the colour's coverage `a` (pages are
+// premultiplied by it); Material's defaults without ATLAS_PBR.
+vec3 pbr_sample(int map, ViewData view, vec2 texel, float lod, float a)
+{
+#if ATLAS_PBR
+    return sample_page(map, view, texel, lod).rgb / a;
+#else
+    return map == MAP_ORM ? SHADING_DEFAULT_ORM : vec3(0.0);
+#endif
 }
 
 // The picture of a debug view in place of the shaded colour.
@@ -376,13 +427,15 @@ void main()
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
         if (fade_discards()) discard; // after the derivatives, as below
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
-        g_fetches = lit_maps != 0 ? 1u : 2u;
+        g_fetches = lit_maps != 0 ? 1u : (ATLAS_PBR != 0 ? 4u : 2u);
         count_this_fragment();
         if (c.a < coverage_threshold(lod)) discard;
         vec3 color = c.rgb / c.a, n = -d; // lit-only packages have no normals
         if (lit_maps == 0) {
             n = sample_page(MAP_NORMAL_DEPTH, view, v_atlas_texel, lod).rgb / c.a * 2.0 - 1.0;
-            color = shade_surface(color, n, direction_world, fragment_world_position());
+            vec3 orm = pbr_sample(MAP_ORM, view, v_atlas_texel, lod, c.a);
+            vec3 emission = pbr_sample(MAP_EMISSION, view, v_atlas_texel, lod, c.a);
+            color = shade_surface(color, orm, emission, n, direction_world, fragment_world_position());
         }
         out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
@@ -400,6 +453,7 @@ void main()
     if (fade_discards()) discard;
 
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
+    vec3 orm_sum = vec3(0.0), emission_sum = vec3(0.0); // premultiplied (baseline) or weighted (corrected)
     float t_sum = 0.0, t_weight = 0.0;
     if (style == STYLE_BASELINE) {
         for (int k = 0; k < 3; ++k) {
@@ -422,12 +476,19 @@ void main()
             color_sum += v_weights[k] * sample_page(MAP_COLOR, view, texel, lod);
             normal_sum += v_weights[k] * sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
             g_fetches += 6u;
+#if ATLAS_PBR
+            g_fetches += 2u;
+            orm_sum += v_weights[k] * pbr_sample(MAP_ORM, view, texel, lod, 1.0);
+            emission_sum += v_weights[k] * pbr_sample(MAP_EMISSION, view, texel, lod, 1.0);
+#endif
         }
         count_this_fragment();
         if (color_sum.a < coverage_threshold(lod)) discard;
         vec3 albedo = color_sum.rgb / color_sum.a;
         vec3 n = normal_sum.rgb / color_sum.a * 2.0 - 1.0;
-        vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, n, direction_world, fragment_world_position());
+        vec3 orm = ATLAS_PBR != 0 ? orm_sum / color_sum.a : SHADING_DEFAULT_ORM;
+        vec3 emission = emission_sum / color_sum.a;
+        vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission, n, direction_world, fragment_world_position());
         out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
         gl_FragDepth = gl_FragCoord.z;
         return;
@@ -469,11 +530,14 @@ void main()
         if (weight <= 0.0) continue;
         ViewData view = views.items[ids[k]];
         vec3 p = o + hits[k].x * d - atlas_center;
-        vec4 c, nd;
-        surface_sample(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)), dot(p, view.direction.xyz), lod, c, nd);
+        vec4 c, nd, orm, emission;
+        surface_sample(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)), dot(p, view.direction.xyz), lod, c, nd,
+                       orm, emission);
         if (c.a <= 0.0) continue;
         color_sum += weight * vec4(c.rgb / c.a, 1.0);
         normal_sum += weight * vec4(nd.rgb / c.a * 2.0 - 1.0, 0.0);
+        orm_sum += weight * orm.rgb / c.a;
+        emission_sum += weight * emission.rgb / c.a;
         t_sum += weight * hits[k].x;
         t_weight += weight;
         if (weight > main_weight) {
@@ -486,7 +550,8 @@ void main()
     vec3 p_object = o + (t_sum / t_weight) * d;
     vec3 p_world = (world_from_object * vec4(p_object, 1.0)).xyz;
     vec3 albedo = color_sum.rgb / t_weight;
-    vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, normal_sum.xyz, direction_world, p_world);
+    vec3 orm = ATLAS_PBR != 0 ? orm_sum / t_weight : SHADING_DEFAULT_ORM;
+    vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission_sum / t_weight, normal_sum.xyz, direction_world, p_world);
     gl_FragDepth = max(window_depth(p_world), gl_FragCoord.z);
     out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
 }

@@ -19,6 +19,9 @@
 #define ATLAS_CELL_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 16)        // one array, layer = global page: per ATLAS_CELL x ATLAS_CELL texel
                                      // cell, the nearest depth code of its covered texels (R8;
                                      // 255 when empty), so the corrected walk skips cells it passes over
+#define ATLAS_ORM_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 17)      // PBR packages (ATLAS_PBR): occlusion, roughness,
+                                                                    // metallic, premultiplied by coverage
+#define ATLAS_EMISSION_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 25) // PBR packages: emission (sRGB), premultiplied by coverage
 #define ATLAS_CELL 16                // texels per cell side: view_atlas.h k_cell, crops sit on cells
 
 // styles (the run-time option "style")
