@@ -11,11 +11,6 @@
 //    renderer can light dynamically and correct parallax (seed §7); "lit" is the paper's image;
 //  - default 1280 views (k = 3) of 256² instead of 5120 of 512²: a bunny package stays well under
 //    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options.
-//  - coverage is supersampled (issue #14): each capture is rendered --coverage-samples² times
-//    larger and box-filtered down, alpha = the covered fraction of a texel and colour, normal and
-//    depth the means of its covered samples. A point-sampled capture puts an alpha-tested leaf's
-//    edge (or any silhouette) anywhere within a texel, up to half a texel off once the renderer
-//    thresholds the filtered coverage at 0.5; a box-filtered one crosses half at the edge itself.
 #include "reps/view_atlas/view_atlas.h"
 
 #include "gpu/frame.h"
@@ -144,47 +139,6 @@ struct Capture {
     ImageRGBA8 color, normal_depth; // cropped
 };
 
-// A capture rendered k times larger, box-filtered to its size: per texel, alpha = the fraction of its
-// k² samples whose alpha is non-zero, RGB and depth the means over those samples (no background
-// mixes into an edge texel's colour); empty texels stay 0 with depth 1.
-RenderedImage resolve_coverage(const RenderedImage& fine, int k)
-{
-    const int n = fine.color.width / k;
-    RenderedImage out;
-    out.color = ImageRGBA8(n, n);
-    out.depth.assign(std::size_t(n) * n, 1.0f);
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            unsigned covered = 0, rgb[3] = {0, 0, 0};
-            double depth = 0.0;
-            for (int sy = y * k; sy < (y + 1) * k; ++sy)
-                for (int sx = x * k; sx < (x + 1) * k; ++sx) {
-                    const std::uint8_t* c = fine.color.at(sx, sy);
-                    if (c[3] == 0) continue;
-                    ++covered;
-                    for (int i = 0; i < 3; ++i) rgb[i] += c[i];
-                    depth += fine.depth[std::size_t(sy) * fine.color.width + sx];
-                }
-            if (covered == 0) continue;
-            std::uint8_t* o = out.color.at(x, y);
-            for (int i = 0; i < 3; ++i) o[i] = std::uint8_t((rgb[i] + covered / 2) / covered);
-            o[3] = std::uint8_t((covered * 255 + unsigned(k * k) / 2) / unsigned(k * k));
-            out.depth[std::size_t(y) * n + x] = float(depth / covered);
-        }
-    return out;
-}
-
-// One capture at resolution², with `samples`² coverage samples per texel (fewer where the render
-// would pass 8192² pixels).
-Result<RenderedImage> render_capture(Renderer& renderer, const Camera& camera, const Light& light, int resolution,
-                                     int samples)
-{
-    const int k = std::clamp(8192 / resolution, 1, samples);
-    Result<RenderedImage> image = render_offscreen(renderer, camera, light, resolution * k, resolution * k);
-    if (!image) return image.status();
-    return resolve_coverage(*image, k);
-}
-
 // Crops a capture to its covered pixels plus one empty texel, in whole cells.
 void crop(const RenderedImage& color, const RenderedImage* normals, const Camera& camera, float eye_distance,
           const BoundingSphere& sphere, View& view, Capture& out)
@@ -207,7 +161,8 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const Camera
             if (sx < 0 || sy < 0 || sx >= n || sy >= n) continue;
             const std::uint8_t* c = color.color.at(sx, sy);
             if (c[3] == 0) continue;
-            std::memcpy(out.color.at(x, y), c, 4); // alpha: the texel's covered fraction
+            std::memcpy(out.color.at(x, y), c, 3);
+            out.color.at(x, y)[3] = 255;
             if (!normals) continue;
             std::uint8_t* nd = out.normal_depth.at(x, y);
             std::memcpy(nd, normals->color.at(sx, sy), 3);
@@ -271,11 +226,11 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         Light light = default_light(camera);
         if (normals) // albedo: pure ambient under the Lambert model
             light = Light{light.direction_to_light_world, 1.0f, 0.0f, 0.0f, 1.0f, ShadingModel::lambert_blinn_phong};
-        Result<RenderedImage> color = render_capture(**truth, camera, light, s.resolution, s.coverage_samples);
+        Result<RenderedImage> color = render_offscreen(**truth, camera, light, s.resolution, s.resolution);
         if (!color) return color.status();
         RenderedImage normal;
         if (normals) {
-            Result<RenderedImage> rendered = render_capture(*normals, camera, light, s.resolution, s.coverage_samples);
+            Result<RenderedImage> rendered = render_offscreen(*normals, camera, light, s.resolution, s.resolution);
             if (!rendered) return rendered.status();
             normal = std::move(*rendered);
         }

@@ -70,7 +70,7 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
         const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x)
-                if (color.at(x, y)[3] != 0) { // any coverage: bilinear filtering reaches partly covered texels
+                if (color.at(x, y)[3] >= 128) {
                     std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
                     std::uint8_t code = normal_depth.at(x, y)[3];
                     depths.nearest[cell] = std::min(depths.nearest[cell], code);

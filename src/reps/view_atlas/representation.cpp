@@ -26,9 +26,6 @@ std::vector<OptionSpec> bake_options()
                       "Capture projection: ortho, or perspective from the base distance"),
         number_option("fov", "40", 1.0, 170.0, "Field of view of perspective captures, degrees"),
         integer_option("resolution", 256, 16, 4096, "Capture size in pixels (square)"),
-        integer_option("coverage-samples", 4, 1, 8,
-                       "Coverage samples per capture texel along each axis: alpha is the covered fraction, so "
-                       "silhouettes and cut-out edges land within a texel (1: one point sample)"),
         choice_option("maps", "surface", {"surface", "lit"},
                       "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
         integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),
@@ -94,7 +91,6 @@ BakeSettings settings_from(const Options& parameters)
     s.projection = parameters.choice("projection");
     s.fov = parameters.number("fov");
     s.resolution = parameters.integer("resolution");
-    s.coverage_samples = parameters.integer("coverage-samples");
     s.maps = parameters.choice("maps");
     s.page_size = parameters.integer("page-size");
     return s;

@@ -36,7 +36,6 @@ struct BakeSettings {
     std::string projection = "ortho";   // "ortho" or "perspective" (camera at the base distance)
     float fov = 40.0f;                  // perspective capture, vertical = horizontal, degrees
     int resolution = 256;               // capture image size, pixels (square)
-    int coverage_samples = 4;           // per capture texel and axis (bake.cpp: supersampled coverage)
     std::string maps = "surface";       // "lit": shaded colour (the seed); "surface": albedo + normal/depth
     int page_size = 2048;               // atlas page size, texels (multiple of k_cell)
 };
@@ -57,8 +56,7 @@ public:
     glm::vec3 center{0.0f}; // bounding sphere of the source (centre of the box, half its diagonal)
     float radius = 1.0f;
     std::vector<View> views;
-    // RGB: lit colour ("lit") or albedo ("surface"), sRGB-encoded; A: coverage, the covered fraction
-    // of the texel (0 empty, 255 whole).
+    // RGB: lit colour ("lit") or albedo ("surface"), sRGB-encoded; A: coverage 0 / 255.
     std::vector<ImageRGBA8> color_pages;
     // "surface" only. RGB: world normal * 0.5 + 0.5; A: depth (r - dot(p - centre, direction)) /
     // (2r) in [0, 1], 0 nearest to the capture camera.
