@@ -102,7 +102,7 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
 
 // The next coverage-weighted mip level of an RGBA8 image (w x h): each texel the 2 x 2 (1 x 2 or
 // 2 x 1 along a side of size 1) block under it; colour weighted by alpha, alpha the plain mean. A
-// block with no coverage keeps its plain mean colour (it is never drawn: its alpha is 0).
+// block with no coverage takes its covered neighbours' colour (below).
 std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t>& fine, int w, int h)
 {
     const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
@@ -123,7 +123,26 @@ std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t
                 o[c] = std::uint8_t(std::lround(alpha > 0.0 ? weighted[c] / alpha : plain[c] / count));
             o[3] = std::uint8_t(std::lround(alpha / count));
         }
-    return out;
+    // an empty texel takes the mean colour of its covered neighbours (wrapping, as the sampler
+    // does), so that bilinear lookups at a cut-out's rim do not mix in the empty texels' colour
+    std::vector<std::uint8_t> filled = out;
+    for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+            std::uint8_t* o = &filled[(std::size_t(y) * nw + std::size_t(x)) * 4];
+            if (o[3] != 0) continue;
+            int sum[3] = {0, 0, 0}, n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int nx = (x + dx + nw) % nw, ny = (y + dy + nh) % nh;
+                    const std::uint8_t* t = &out[(std::size_t(ny) * nw + std::size_t(nx)) * 4];
+                    if (t[3] == 0) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
+                    ++n;
+                }
+            if (n > 0)
+                for (int c = 0; c < 3; ++c) o[c] = std::uint8_t((sum[c] + n / 2) / n);
+        }
+    return filled;
 }
 
 gpu::Texture upload_texture(const Texture& texture)
