@@ -31,8 +31,8 @@ done
 
 python3 - $reps <<'PY'
 import json, sys, os
-print("| representation | run | IoU d1 (thesis) | Luv d1 (thesis) | IoU d1 | Luv d1 | coverage d4 | coverage d8 |")
-print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+print("| representation | run | IoU d1 (thesis) | Luv d1 (thesis) | of it: edge | IoU d1 | Luv d1 | Luv d4 | Luv d8 | coverage d4 | coverage d8 |")
+print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
 for r in sys.argv[1:]:
     for tag in ("before", "after"):
         f = f"tree_{r}_{tag}.foliage.json"
@@ -44,7 +44,9 @@ for r in sys.argv[1:]:
         by = {}
         for v in views: by.setdefault(v["distance"], []).append(v)
         cov = lambda d: sum(v["standin_pixels"] for v in by[d]) / sum(v["truth_pixels"] for v in by[d])
-        th = f"{mean(thesis,'iou'):.3f} | {mean(thesis,'luv_mean'):.2f}" if thesis else "- | -"
-        print(f"| {r} | {tag} | {th} | {mean(by[1.0],'iou'):.3f} | "
-              f"{mean(by[1.0],'luv_mean'):.2f} | {cov(4.0):.3f} | {cov(8.0):.3f} |")
+        # luv_edge: the part of Luv from pixels only one image covers (absent from older evals)
+        edge = f"{mean(thesis,'luv_edge'):.2f}" if thesis and "luv_edge" in thesis[0] else "-"
+        th = f"{mean(thesis,'iou'):.3f} | {mean(thesis,'luv_mean'):.2f} | {edge}" if thesis else "- | - | -"
+        print(f"| {r} | {tag} | {th} | {mean(by[1.0],'iou'):.3f} | {mean(by[1.0],'luv_mean'):.2f} | "
+              f"{mean(by[4.0],'luv_mean'):.2f} | {mean(by[8.0],'luv_mean'):.2f} | {cov(4.0):.3f} | {cov(8.0):.3f} |")
 PY

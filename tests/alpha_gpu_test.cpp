@@ -70,6 +70,45 @@ TEST(AlphaTruth, SingleSidedMaterialsHideTheirBackFaces)
     EXPECT_EQ(alpha_truth_pixels(both, 0.0f), front);
 }
 
+TEST(AlphaTruth, MinifiedCutOutKeepsItsColour)
+{
+    // the disc cut-out with black in its empty texels (as most files have), drawn about 9 pixels wide (the
+    // 256-texel texture about 4 levels down): coverage-weighted mips keep every covered pixel the
+    // disc's one colour; plain means (glGenerateMipmap) darkened its rim towards black
+    Mesh quad = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    for (std::size_t i = 0; i < quad.textures[0].rgba.size(); i += 4) {
+        std::uint8_t* t = &quad.textures[0].rgba[i];
+        if (t[3] < 128) t[0] = t[1] = t[2] = t[3] = 0;
+        else t[3] = 255;
+    }
+    test::gpu_context();
+    auto renderer = make_mesh_renderer(quad);
+    ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
+    OrbitView view;
+    view.orthographic = true;
+    Camera camera = orbit_camera(quad.bounding_sphere(), view, 1.0f);
+    const Light albedo{default_light(camera).direction_to_light_world, 1.0f, 0.0f, 0.0f, 1.0f,
+                       ShadingModel::lambert_blinn_phong}; // pure ambient: the colour is the albedo
+    auto image = render_offscreen(**renderer, camera, albedo, 16, 16);
+    ASSERT_TRUE(image.is_ok()) << image.status().message();
+    // every covered pixel the colour of the disc's interior (the brightest: shading scales all alike)
+    glm::ivec3 interior(0);
+    for (std::size_t i = 0; i < image->color.pixels.size(); i += 4)
+        if (image->color.pixels[i + 3] != 0 && image->color.pixels[i + 1] > interior.y)
+            interior = {image->color.pixels[i], image->color.pixels[i + 1], image->color.pixels[i + 2]};
+    EXPECT_GT(interior.y, 100);
+    int covered = 0;
+    for (std::size_t i = 0; i < image->color.pixels.size(); i += 4) {
+        const std::uint8_t* p = &image->color.pixels[i];
+        if (p[3] == 0) continue;
+        ++covered;
+        EXPECT_NEAR(p[0], interior.x, 3);
+        EXPECT_NEAR(p[1], interior.y, 3);
+        EXPECT_NEAR(p[2], interior.z, 3);
+    }
+    EXPECT_GT(covered, 10); // about 24 pixels
+}
+
 // Each stand-in on the generated tree, against the truth: IoU and Luv at distance 1 (4 views of
 // the thesis' directions), coverage ratio at distances 4 and 8.
 struct FoliageFigures {

@@ -77,6 +77,11 @@ struct ImageMetrics {
     // L*u*v* with reference white D65, L in 0..100). 0 when U is empty.
     double luv_mean = 0.0;
     double luv_pixel_max = 0.0; // largest single-pixel distance over U
+    // luv_mean split by where the distance arises (issue #14: on foliage most of it is edge):
+    // luv_edge = the sum over pixels covered by only one image / |U| (so luv_mean - luv_edge comes
+    // from T & S); luv_shared = the mean over T & S alone (0 when T & S is empty).
+    double luv_edge = 0.0;
+    double luv_shared = 0.0;
     // Seed 003 §3: |dR|+|dG|+|dB| (8-bit values) summed over the object rectangle (pixels outside
     // it are background in both images and add nothing), and that sum / rect_pixels.
     double rgb_total = 0.0;

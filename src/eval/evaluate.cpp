@@ -34,6 +34,8 @@ const std::vector<Figure>& figures()
         {"spill_fraction", [](const ViewResult& v) { return v.metrics.spill_fraction; }},
         {"iou", [](const ViewResult& v) { return v.metrics.iou; }},
         {"psnr", [](const ViewResult& v) { return v.metrics.psnr; }},
+        {"luv_edge", [](const ViewResult& v) { return v.metrics.luv_edge; }},
+        {"luv_shared", [](const ViewResult& v) { return v.metrics.luv_shared; }},
     };
     return all;
 }

@@ -134,7 +134,7 @@ ImageMetrics compare_images(const ImageRGBA8& truth, const ImageRGBA8& standin, 
     // colour differences over the rectangle (outside it both images are background)
     std::vector<double> de2000;
     de2000.reserve(m.union_pixels);
-    double luv_sum = 0.0, squared_sum = 0.0;
+    double luv_sum = 0.0, luv_edge_sum = 0.0, squared_sum = 0.0;
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             const std::uint8_t* pt = truth.at(x, y);
@@ -152,6 +152,7 @@ ImageMetrics compare_images(const ImageRGBA8& truth, const ImageRGBA8& standin, 
                 de = ciede2000(a.lab, b.lab);
             }
             luv_sum += luv;
+            if ((pt[3] == 0) != (ps[3] == 0)) luv_edge_sum += luv;
             m.luv_pixel_max = std::max(m.luv_pixel_max, luv);
             de2000.push_back(de);
         }
@@ -159,6 +160,8 @@ ImageMetrics compare_images(const ImageRGBA8& truth, const ImageRGBA8& standin, 
     // summaries
     double u = double(m.union_pixels);
     m.luv_mean = luv_sum / u;
+    m.luv_edge = luv_edge_sum / u;
+    if (m.intersection_pixels > 0) m.luv_shared = (luv_sum - luv_edge_sum) / double(m.intersection_pixels);
     m.rgb_avg = m.rgb_total / double(m.rect_pixels);
     double de_sum = 0.0;
     for (double d : de2000) de_sum += d;

@@ -46,6 +46,22 @@ TEST(ImageMetrics, IdenticalImagesHaveNoError)
     EXPECT_EQ(m.rect_pixels, 3u);
 }
 
+TEST(ImageMetrics, LuvSplitsIntoEdgeAndSharedPixels)
+{
+    // truth: white at x = 0..2; stand-in: grey at x = 1..3. U = 4 pixels: x = 0 (truth only,
+    // white vs black = 100), x = 1, 2 (both, white vs grey), x = 3 (stand-in only, grey vs black).
+    ImageRGBA8 truth = filled(4, 1, {0, 0, 0, 0}), standin = filled(4, 1, {0, 0, 0, 0});
+    for (int x = 0; x < 3; ++x) set(truth, x, 0, {255, 255, 255, 255});
+    for (int x = 1; x < 4; ++x) set(standin, x, 0, {128, 128, 128, 255});
+    ImageMetrics m = compare_images(truth, standin);
+    // neutral greys have u* = v* = 0: their distances are differences of L*
+    double white = luv_from_srgb8({255, 255, 255}).x, grey = luv_from_srgb8({128, 128, 128}).x;
+    double white_grey = white - grey;
+    EXPECT_NEAR(m.luv_edge, (white + grey) / 4.0, 1e-6);
+    EXPECT_NEAR(m.luv_shared, white_grey, 1e-6);
+    EXPECT_NEAR(m.luv_mean, m.luv_edge + 2.0 * m.luv_shared / 4.0, 1e-9);
+}
+
 TEST(ImageMetrics, LuvOfPrimariesMatchesCieFormulas)
 {
     // sRGB red is L*u*v* (53.24, 175.01, 37.76); blue (32.30, -9.40, -130.35) (Bruce Lindbloom's

@@ -9,6 +9,12 @@
 // 0.5: distant leaves would fatten into cards), while a point sample per pixel covers each pixel
 // with the probability of its area being covered, so distant foliage keeps its area on average.
 // Single-sided materials (glTF doubleSided false) cull back faces; the rest draw both sides.
+// Mip levels of a texture with any alpha under 255 are coverage-weighted (each level's colour is
+// the mean of the finer texels' colours weighted by their alpha; alpha their plain mean), not
+// glGenerateMipmap's plain means: the colour of a cut-out's empty texels is arbitrary (black in most
+// files), and plain means pull it into the leaf as soon as the texture is minified, so the truth's
+// leaves darkened with distance and with the screen's resolution. Textures without alpha keep
+// glGenerateMipmap's levels (the same as before issue #14).
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "gpu/mesh_buffers.h"
@@ -94,6 +100,51 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
     return indices;
 }
 
+// The next coverage-weighted mip level of an RGBA8 image (w x h): each texel the 2 x 2 (1 x 2 or
+// 2 x 1 along a side of size 1) block under it; colour weighted by alpha, alpha the plain mean. A
+// block with no coverage takes its covered neighbours' colour (below).
+std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t>& fine, int w, int h)
+{
+    const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
+    std::vector<std::uint8_t> out(std::size_t(nw) * nh * 4);
+    for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+            double weighted[3] = {0, 0, 0}, plain[3] = {0, 0, 0}, alpha = 0.0;
+            int count = 0;
+            for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
+                for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
+                    const std::uint8_t* t = &fine[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 4];
+                    for (int c = 0; c < 3; ++c) weighted[c] += double(t[c]) * t[3], plain[c] += t[c];
+                    alpha += t[3];
+                    ++count;
+                }
+            std::uint8_t* o = &out[(std::size_t(y) * nw + std::size_t(x)) * 4];
+            for (int c = 0; c < 3; ++c)
+                o[c] = std::uint8_t(std::lround(alpha > 0.0 ? weighted[c] / alpha : plain[c] / count));
+            o[3] = std::uint8_t(std::lround(alpha / count));
+        }
+    // an empty texel takes the mean colour of its covered neighbours (wrapping, as the sampler
+    // does), so that bilinear lookups at a cut-out's rim do not mix in the empty texels' colour
+    std::vector<std::uint8_t> filled = out;
+    for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+            std::uint8_t* o = &filled[(std::size_t(y) * nw + std::size_t(x)) * 4];
+            if (o[3] != 0) continue;
+            int sum[3] = {0, 0, 0}, n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int nx = (x + dx + nw) % nw, ny = (y + dy + nh) % nh;
+                    const std::uint8_t* t = &out[(std::size_t(ny) * nw + std::size_t(nx)) * 4];
+                    if (t[3] == 0) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
+                    ++n;
+                }
+            if (n > 0)
+                for (int c = 0; c < 3; ++c) o[c] = std::uint8_t((sum[c] + n / 2) / n);
+        }
+    return filled;
+}
+
 gpu::Texture upload_texture(const Texture& texture)
 {
     int levels = 1 + int(std::floor(std::log2(std::max(texture.width, texture.height))));
@@ -101,7 +152,19 @@ gpu::Texture upload_texture(const Texture& texture)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
                         texture.rgba.data());
-    glGenerateTextureMipmap(handle.get());
+    bool has_alpha = false;
+    for (std::size_t i = 3; i < texture.rgba.size() && !has_alpha; i += 4) has_alpha = texture.rgba[i] != 255;
+    if (has_alpha) {
+        std::vector<std::uint8_t> level = texture.rgba;
+        int w = texture.width, h = texture.height;
+        for (int l = 1; l < levels; ++l) {
+            level = coverage_weighted_level(level, w, h);
+            w = std::max(1, w / 2), h = std::max(1, h / 2);
+            glTextureSubImage2D(handle.get(), l, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
+        }
+    } else {
+        glGenerateTextureMipmap(handle.get());
+    }
     glTextureParameteri(handle.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(handle.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
