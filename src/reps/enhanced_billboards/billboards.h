@@ -62,6 +62,9 @@ public:
     BakeSettings settings; // settings_from(parameters)
     std::vector<Billboard> billboards;
     Mesh coarse_mesh;                       // hole filling (seed §3.4); may be empty
+    // The compact coarse-mesh file as read from a bc package (coarse_mesh.h), written back as it is:
+    // quantising and reordering again would not give the same bytes (read, write: byte-identical).
+    std::string coarse_file;
     std::size_t faces_total = 0;
     double area_total = 0.0;
     double area_captured = 0.0;

@@ -209,7 +209,8 @@ Status write(const Package& base, const std::string& directory)
         const std::string name = compressed ? "coarse.meshopt" : "coarse.ply";
         const std::string path = (fs::path(directory) / name).string();
         if (compressed)
-            STANDIN_RETURN_IF_ERROR(write_file_atomic(path, reps::encode_coarse_mesh(package.coarse_mesh)));
+            STANDIN_RETURN_IF_ERROR(write_file_atomic(
+                path, !package.coarse_file.empty() ? package.coarse_file : reps::encode_coarse_mesh(package.coarse_mesh)));
         else
             STANDIN_RETURN_IF_ERROR(write_ply(package.coarse_mesh, path));
         STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, name, files));
@@ -283,6 +284,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
                 Result<std::string> bytes = read_file(path);
                 if (!bytes) throw manifest_io::BadField{bytes.status().message()};
                 mesh = reps::decode_coarse_mesh(*bytes, path, triangles, vertices);
+                package->coarse_file = std::move(*bytes);
             } else {
                 mesh = import_mesh(path);
             }
