@@ -267,16 +267,17 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
     EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
 }
 
-// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.962, Luv 13.1, coverage 0.978
-// / 0.982; view atlas 0.960, 8.09, 1.017 / 1.008. Luv is far over the 3 for every stand-in:
+// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.962, Luv 8.31, coverage 0.990
+// / 1.013; view atlas 0.960, 6.40, 1.017 / 1.008 (Luv 13.1 and 8.09 before the truth's
+// coverage-weighted mips and the coarse mesh's cut-out colours). Luv is far over the 3:
 // leaf edges a pixel off compare leaf against background (docs/RESULTS.md "Alpha-masked foliage").
 // Microfacets (IoU 0.959, Luv 7.37, coverage 0.991 / 0.986) take 250 s here with their default
 // 80 captures of 512^2, over ctest's limit on a loaded machine: measured by
 // bench/foliage_results.sh instead. Displaced mesh (its leaf cards kept whole, with coverage):
 // IoU 0.980, Luv 8.19, coverage 0.997 / 0.999 (23 s on the loaded 2-core machine).
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
-                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.94, 16.0, 0.06},
-                                           FoliageCase{"view-atlas", 0.94, 10.0, 0.06},
+                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.94, 10.0, 0.06},
+                                           FoliageCase{"view-atlas", 0.94, 8.0, 0.06},
                                            FoliageCase{"displaced-mesh", 0.95, 12.0, 0.04}),
                          [](const ::testing::TestParamInfo<FoliageCase>& info) {
                              std::string name = info.param.representation;
