@@ -124,8 +124,9 @@ constexpr std::uint64_t k_max_manifest_bytes = 64ull << 20;
 Result<std::uint64_t> package_bytes(const std::string& directory);
 
 constexpr const char* k_package_format = "standin-package";
-// 1: PNG maps only; 2: may hold KTX2 maps (docs/FORMAT.md, "Compressed images"). Packages without
-// compressed maps are still written as version 1.
-constexpr int k_package_format_version = 2;
+// 1: PNG maps only; 2: may hold KTX2 maps (docs/FORMAT.md, "Compressed images"); 3: and, for
+// enhanced billboards, the compact coarse mesh (a version-2 reader would try to import it as a
+// model). Packages without compressed maps are still written as version 1.
+constexpr int k_package_format_version = 3;
 
 } // namespace standin
