@@ -67,6 +67,18 @@ SurfacePoint first_covered(const RayScene& scene, const Mesh& original, glm::vec
     return {};
 }
 
+// The nearer of a hit along +direction and one along -direction (at least one found), its signed
+// distance in `elevation`.
+SurfacePoint nearer_of(const SurfacePoint& forward, const SurfacePoint& backward, float& elevation)
+{
+    if (forward.found && (!backward.found || forward.t <= backward.t)) {
+        elevation = forward.t;
+        return forward;
+    }
+    elevation = -backward.t;
+    return backward;
+}
+
 // The nearer of the hits along +direction and -direction within `range`, as a signed distance;
 // the closest point's offset along `direction` when both miss.
 SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 direction, float range, float& elevation,
@@ -91,14 +103,7 @@ SurfacePoint nearest_covered_along(const RayScene& scene, const Mesh& original, 
     SurfacePoint backward = first_covered(scene, original, origin, -direction, range);
     missed = false;
     covered = true;
-    if (forward.found && (!backward.found || forward.t <= backward.t)) {
-        elevation = forward.t;
-        return forward;
-    }
-    if (backward.found) {
-        elevation = -backward.t;
-        return backward;
-    }
+    if (forward.found || backward.found) return nearer_of(forward, backward, elevation);
     SurfacePoint any = nearest_along(scene, origin, direction, range, elevation, missed);
     // any ray hit here is cut out; a ray starting on a covered point of the surface reports it
     // through the closest point
@@ -112,14 +117,7 @@ SurfacePoint nearest_along(const RayScene& scene, glm::vec3 origin, glm::vec3 di
     SurfacePoint forward = scene.intersect(origin, direction, range);
     SurfacePoint backward = scene.intersect(origin, -direction, range);
     missed = false;
-    if (forward.found && (!backward.found || forward.t <= backward.t)) {
-        elevation = forward.t;
-        return forward;
-    }
-    if (backward.found) {
-        elevation = -backward.t;
-        return backward;
-    }
+    if (forward.found || backward.found) return nearer_of(forward, backward, elevation);
     // a ray starting on the surface (a control vertex is an input vertex) may report no hit at
     // t = 0 either way: the closest point says so, and is not a miss
     SurfacePoint closest = scene.closest(origin, std::numeric_limits<float>::infinity());
