@@ -39,12 +39,9 @@ std::string write_text(const std::string& dir, const std::string& name, const st
     return path;
 }
 
-std::string data_path(const std::string& name)
-{
-    const char* root = std::getenv("STANDIN_SOURCE_DIR");
-    fs::path source = root ? fs::path(root) : fs::path(__FILE__).parent_path().parent_path().parent_path();
-    return (source / "data" / name).string();
-}
+// test::source_dir(), not __FILE__: a compiler cache with a base directory (ccache's
+// CCACHE_BASEDIR) makes __FILE__ relative to the build folder.
+std::string data_path(const std::string& name) { return test::source_dir() + "/data/" + name; }
 
 Mesh import_ok(const std::string& path, ImportReport* report = nullptr, const ImportOptions& options = {})
 {
