@@ -21,12 +21,7 @@ namespace {
 
 Mesh export_torus()
 {
-    GenerateOptions options;
-    options.shape = GeneratedShape::torus;
-    options.target_triangles = 2000;
-    Result<Mesh> mesh = generate_mesh(options);
-    EXPECT_TRUE(mesh.is_ok());
-    return std::move(*mesh);
+    return test::generated(GeneratedShape::torus, 2000);
 }
 
 std::unique_ptr<Package> bake_small(const Mesh& mesh, const std::string& representation,

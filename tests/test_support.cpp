@@ -103,6 +103,16 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
     return package.is_ok() ? std::move(*package) : nullptr;
 }
 
+Mesh generated(GeneratedShape shape, std::size_t triangles)
+{
+    GenerateOptions options;
+    options.shape = shape;
+    options.target_triangles = triangles;
+    Result<Mesh> mesh = generate_mesh(options);
+    EXPECT_TRUE(mesh.is_ok()) << (mesh.is_ok() ? "" : mesh.status().message());
+    return mesh.is_ok() ? std::move(*mesh) : Mesh{};
+}
+
 std::string base64(const std::string& bytes)
 {
     static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

@@ -44,6 +44,10 @@ GpuContext& gpu_context();
 std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
                               const std::vector<std::pair<std::string, std::string>>& values);
 
+// generate_mesh of `shape` with about `triangles` triangles and the other options at their defaults;
+// fails the test (and returns an empty mesh) when the generator refuses.
+Mesh generated(GeneratedShape shape, std::size_t triangles);
+
 // Standard base64 (RFC 4648, padded): the data URIs of glTF fixtures tests write.
 std::string base64(const std::string& bytes);
 

@@ -3,6 +3,7 @@
 // smaller than the PLY, and damaged files (truncated, wrong counts, indices out of range, bad
 // boxes) are refused with one line naming the file.
 #include "reps/common/coarse_mesh.h"
+#include "test_support.h"
 
 #include <standin/files.h>
 
@@ -21,12 +22,7 @@ namespace {
 
 Mesh coarse_of_noisy_sphere()
 {
-    GenerateOptions generate;
-    generate.shape = GeneratedShape::noisy_sphere;
-    generate.target_triangles = 20000;
-    Result<Mesh> mesh = generate_mesh(generate);
-    EXPECT_TRUE(mesh);
-    return make_coarse_mesh(*mesh, 0.1f);
+    return make_coarse_mesh(test::generated(GeneratedShape::noisy_sphere, 20000), 0.1f);
 }
 
 // A position's grid cell: for the source the encoder's rounding of (p - lo) / extent * 65535, for a

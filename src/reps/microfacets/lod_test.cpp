@@ -2,6 +2,7 @@
 // lookup of candidate views against a brute-force search.
 #include "reps/microfacets/lod.h"
 #include "reps/microfacets/view_lookup.h"
+#include "test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -16,12 +17,7 @@ namespace {
 
 Mesh torus()
 {
-    GenerateOptions options;
-    options.shape = GeneratedShape::torus;
-    options.target_triangles = 3000;
-    Result<Mesh> mesh = generate_mesh(options);
-    EXPECT_TRUE(mesh.is_ok());
-    return std::move(*mesh);
+    return test::generated(GeneratedShape::torus, 3000);
 }
 
 // n directions spread over the sphere (a Fibonacci spiral)

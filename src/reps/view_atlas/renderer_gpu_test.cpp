@@ -26,12 +26,7 @@ namespace {
 
 Mesh torus()
 {
-    GenerateOptions options;
-    options.shape = GeneratedShape::torus;
-    options.target_triangles = 2000;
-    Result<Mesh> mesh = generate_mesh(options);
-    EXPECT_TRUE(mesh.is_ok());
-    return std::move(*mesh);
+    return test::generated(GeneratedShape::torus, 2000);
 }
 
 std::unique_ptr<Package> bake_atlas(const Mesh& mesh, const std::vector<std::pair<std::string, std::string>>& values)
