@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
@@ -122,6 +123,60 @@ TEST(Cli, RenderWritesAPngOfTheRequestedSize)
     for (std::size_t i = 3; i < image->pixels.size(); i += 4) covered += image->pixels[i] > 0;
     EXPECT_GT(covered, 160u * 120u / 20) << "the bunny fills a fair part of the view";
     EXPECT_EQ(image->at(0, 0)[3], 0) << "transparent background";
+}
+
+// `render --fade-to`: the screen-door cross-fade an engine's LOD switch shows. At amount 0 it is the
+// input's picture byte for byte; at 0.5 every pixel is the input's or the other's (never a mix),
+// about half of those that differ taken from each; a band maps --distance to the amount.
+TEST(Cli, RenderCrossFadesToASecondSubject)
+{
+    std::string dir = test::fresh_directory("cli_fade");
+    const std::string bunny = test::source_dir() + "/data/bunny.ply", torus = dir + "/torus.ply";
+    ASSERT_EQ(test::run_cli("generate torus -t 2000 -o " + torus).exit_code, 0);
+    auto render = [&](const std::string& name, const std::string& options) {
+        const std::string output = dir + "/" + name + ".png";
+        test::CommandResult result = test::run_cli("render " + bunny + " -o " + output + " --size 192x144 " + options);
+        EXPECT_EQ(result.exit_code, 0) << options << ": " << result.err;
+        Result<ImageRGBA8> image = read_png_rgba8(output);
+        EXPECT_TRUE(image.is_ok()) << options;
+        return image.is_ok() ? std::move(*image) : ImageRGBA8{};
+    };
+    const ImageRGBA8 plain = render("plain", "--distance 2.5");
+    const ImageRGBA8 none = render("none", "--distance 2.5 --fade-to " + torus + " --fade 0");
+    const ImageRGBA8 all = render("all", "--distance 2.5 --fade-to " + torus + " --fade 1");
+    const ImageRGBA8 half = render("half", "--distance 2.5 --fade-to " + torus + " --fade 0.5");
+    const ImageRGBA8 band = render("band", "--distance 2.5 --fade-to " + torus + " --fade-band 2:3");
+    const ImageRGBA8 before_band = render("before", "--distance 2.5 --fade-to " + torus + " --fade-band 3:4");
+    ASSERT_FALSE(plain.pixels.empty());
+    EXPECT_EQ(none.pixels, plain.pixels) << "amount 0 draws exactly the input";
+    EXPECT_EQ(before_band.pixels, plain.pixels) << "a band beyond the distance has not started";
+    EXPECT_EQ(band.pixels, half.pixels) << "2.5 is halfway through 2:3";
+    ASSERT_EQ(all.pixels.size(), plain.pixels.size());
+    std::size_t differ = 0, from_all = 0, neither = 0;
+    for (std::size_t i = 0; i < plain.pixels.size(); i += 4) {
+        auto same = [&](const ImageRGBA8& a, const ImageRGBA8& b) {
+            return std::equal(a.pixels.begin() + long(i), a.pixels.begin() + long(i) + 4, b.pixels.begin() + long(i));
+        };
+        if (same(plain, all)) continue;
+        ++differ;
+        if (same(half, all)) ++from_all;
+        else if (!same(half, plain)) ++neither;
+    }
+    ASSERT_GT(differ, 400u) << "the bunny and the torus cover different pixels";
+    EXPECT_EQ(neither, 0u) << "each pixel shows one subject, never a blend";
+    EXPECT_NEAR(double(from_all) / double(differ), 0.5, 0.1);
+
+    for (const char* options : {"--fade 0.5", "--fade-band 2:3", "--fade-to MISSING.ply", "--fade-to T --fade 0.5 --fade-band 2:3",
+                                "--fade-to T --fade 2", "--fade-to T --fade-band 3:2", "--fade-to T --fade-band 0:1",
+                                "--fade-to T --fade-band banana"}) {
+        std::string command = options;
+        if (std::size_t at = command.find(" T "); at != std::string::npos) command.replace(at + 1, 1, torus);
+        if (std::size_t at = command.find("MISSING"); at != std::string::npos) command.replace(at, 7, dir + "/missing");
+        test::CommandResult result = test::run_cli("render " + bunny + " -o " + dir + "/bad.png " + command);
+        EXPECT_EQ(result.exit_code, 2) << options;
+        EXPECT_EQ(line_count(result.err), 1) << options << ": " << result.err;
+        EXPECT_FALSE(fs::exists(dir + "/bad.png")) << options;
+    }
 }
 
 TEST(Cli, GenerateWritesAnImportablePly)

@@ -1,5 +1,7 @@
 // standin render: one picture of a model with the ground-truth renderer (or of a package with its
-// representation's renderer), offscreen, to PNG.
+// representation's renderer), offscreen, to PNG. With --fade-to, the picture is the screen-door
+// cross-fade an engine's level-of-detail switch would show (CrossFade, issue #14) from the input to
+// a second model or package, at an amount given directly or by where --distance falls in a band.
 #include "commands.h"
 #include "common.h"
 #include "declared_options.h"
@@ -10,9 +12,11 @@
 #include <standin/package.h>
 #include <standin/render.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 namespace standin::cli {
 
@@ -23,7 +27,81 @@ struct RenderArgs {
     DeclaredOptions options;
     std::string debug_view;
     ShadowArgs shadows;
+    std::string fade_to;   // a second model or package: cross-fade to it
+    std::string fade_band; // NEAR:FAR, relative distances: the amount follows --distance through the band
+    float fade_amount = NAN;
 };
+
+namespace {
+
+// A model or a package, read before any GL work, then drawn by its renderer.
+struct RenderSubject {
+    std::unique_ptr<Package> package; // null for a model
+    Mesh mesh;
+    BoundingSphere sphere;            // frames the picture (a package: as its source model)
+    std::unique_ptr<Renderer> renderer;
+};
+
+bool is_package(const std::string& path)
+{
+    std::error_code ec;
+    return std::filesystem::is_directory(path, ec);
+}
+
+// a directory is a package, drawn by its representation's renderer; a file is a model
+Result<RenderSubject> read_subject(const std::string& path)
+{
+    RenderSubject subject;
+    if (is_package(path)) {
+        Result<std::unique_ptr<Package>> package = read_package(path);
+        if (!package) return package.status();
+        subject.package = std::move(*package);
+        subject.sphere = bounding_sphere_of(subject.package->source.bounds);
+    } else {
+        Result<Mesh> mesh = import_mesh(path, nullptr, k_isolated_import);
+        if (!mesh) return mesh.status();
+        subject.mesh = std::move(*mesh);
+        subject.sphere = subject.mesh.bounding_sphere();
+    }
+    return subject;
+}
+
+Status make_renderer(RenderSubject& subject, const std::string& path, const RenderOptions& options)
+{
+    Result<std::unique_ptr<Renderer>> made =
+        subject.package ? make_package_renderer(*subject.package, options) : make_mesh_renderer(subject.mesh);
+    if (!made) return subject.package ? naming_file(made.status(), path) : made.status();
+    subject.renderer = std::move(*made);
+    return {};
+}
+
+// The cross-fade amount of --fade or --fade-band at the view's distance; NaN when no fade is asked.
+Result<float> fade_amount(const RenderArgs& args)
+{
+    const bool band = !args.fade_band.empty(), amount = !std::isnan(args.fade_amount);
+    if (args.fade_to.empty()) {
+        if (band || amount) return error(StatusCode::invalid_argument, "--fade and --fade-band need --fade-to MODEL_OR_PACKAGE");
+        return NAN;
+    }
+    if (band == amount)
+        return error(StatusCode::invalid_argument,
+                     "--fade-to needs exactly one of --fade AMOUNT (0: the input, 1: the --fade-to subject) or "
+                     "--fade-band NEAR:FAR (relative distances, like --distance)");
+    if (amount) {
+        if (!(args.fade_amount >= 0.0f && args.fade_amount <= 1.0f))
+            return error(StatusCode::invalid_argument, "--fade " + std::to_string(args.fade_amount) + ": must be in [0, 1]");
+        return args.fade_amount;
+    }
+    float near = NAN, far = NAN;
+    char tail = 0;
+    if (std::sscanf(args.fade_band.c_str(), "%f:%f%c", &near, &far, &tail) != 2 || !(near > 0.0f) || !(far >= near) ||
+        !std::isfinite(far))
+        return error(StatusCode::invalid_argument, "--fade-band " + args.fade_band +
+                                                       ": expected NEAR:FAR, relative distances with 0 < NEAR <= FAR (e.g. 2:3)");
+    return transition_amount(args.view.distance, near, far);
+}
+
+} // namespace
 
 static int run_render(RenderArgs& args)
 {
@@ -41,30 +119,35 @@ static int run_render(RenderArgs& args)
     if (Status s = check_output_path(args.output); !s) return fail(s);
     if (Status s = check_output_is_not_input(args.output, {args.input}); !s) return fail(s);
 
-    // a directory is a package, drawn by its representation's renderer; a file is a model
-    Result<std::unique_ptr<GpuContext>> context = create_headless_context();
-    if (!context) return fail(context.status());
-    std::unique_ptr<Renderer> renderer;
-    BoundingSphere sphere;
-    std::error_code ec;
-    if (std::filesystem::is_directory(args.input, ec)) {
-        Result<std::unique_ptr<Package>> package = read_package(args.input);
-        if (!package) return fail(package.status());
-        const Representation* at_hand[] = {&representation_of(**package)};
-        if (Status s = check_render_options_apply(options, at_hand); !s) return fail(s);
-        Result<std::unique_ptr<Renderer>> made = make_package_renderer(**package, options);
-        if (!made) return fail(naming_file(made.status(), args.input));
-        renderer = std::move(*made);
-        // frame the package as its source model
-        sphere = bounding_sphere_of((*package)->source.bounds);
-    } else {
-        if (Status s = check_render_options_apply(options, {}); !s) return fail(s);
-        Result<Mesh> mesh = import_mesh(args.input, nullptr, k_isolated_import);
-        if (!mesh) return fail(mesh.status());
-        Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*mesh);
-        if (!made) return fail(made.status());
-        renderer = std::move(*made);
-        sphere = mesh->bounding_sphere();
+    Result<float> fade = fade_amount(args);
+    if (!fade) return fail(fade.status());
+    if (!args.fade_to.empty()) {
+        if (Status s = check_output_is_not_input(args.output, {args.fade_to}); !s) return fail(s);
+    }
+    std::unique_ptr<GpuContext> context; // declared first: the renderers must go before it
+    std::vector<RenderSubject> subjects; // the input, then the --fade-to subject
+    std::vector<const Representation*> at_hand;
+    for (const std::string& path : {args.input, args.fade_to}) {
+        if (path.empty()) continue;
+        Result<RenderSubject> subject = read_subject(path);
+        if (!subject) return fail(subject.status());
+        if (subject->package) at_hand.push_back(&representation_of(*subject->package));
+        subjects.push_back(std::move(*subject));
+    }
+    if (Status s = check_render_options_apply(options, at_hand); !s) return fail(s);
+
+    Result<std::unique_ptr<GpuContext>> created = create_headless_context();
+    if (!created) return fail(created.status());
+    context = std::move(*created);
+    for (std::size_t i = 0; i < subjects.size(); ++i)
+        if (Status s = make_renderer(subjects[i], i == 0 ? args.input : args.fade_to, options); !s) return fail(s);
+    Renderer* renderer = subjects[0].renderer.get();
+    const BoundingSphere sphere = subjects[0].sphere;
+    std::unique_ptr<CrossFade> cross_fade;
+    if (subjects.size() == 2) {
+        cross_fade = std::make_unique<CrossFade>(*subjects[0].renderer, *subjects[1].renderer);
+        cross_fade->set_amount(*fade);
+        renderer = cross_fade.get();
     }
 
     Camera camera = orbit_camera(sphere, view, float(width) / float(height));
@@ -76,8 +159,14 @@ static int run_render(RenderArgs& args)
         render_offscreen(*renderer, camera, light_for(args.view, camera), width, height, {}, shadows);
     if (!image) return fail(image.status());
     if (Status s = write_png(image->color, args.output); !s) return fail(s);
+    std::string fade_note;
+    if (cross_fade) {
+        char amount[32];
+        std::snprintf(amount, sizeof amount, "%.3f", double(*fade));
+        fade_note = ", cross-fade " + std::string(amount) + " of the way to " + args.fade_to;
+    }
     note("wrote " + args.output + " (" + std::to_string(width) + "x" + std::to_string(height) + ", " +
-         (*context)->device_name() + ")");
+         context->device_name() + fade_note + ")");
     return k_exit_ok;
 }
 
@@ -92,6 +181,13 @@ CommandRun add_render_command(CLI::App& root)
     add_view_options(*command, args->view);
     add_shadow_options(*command, args->shadows);
     add_debug_view_option(*command, args->debug_view);
+    command->add_option("--fade-to", args->fade_to,
+                        "A second model or package: draw the screen-door cross-fade (dithered, 1/64 steps) from the input "
+                        "to it, as a level-of-detail switch over a distance band shows it (no pop); needs --fade or --fade-band");
+    command->add_option("--fade", args->fade_amount, "Cross-fade amount, 0 (all input) to 1 (all --fade-to)");
+    command->add_option("--fade-band", args->fade_band,
+                        "NEAR:FAR relative distances of the switch: the amount runs from 0 at NEAR to 1 at FAR, "
+                        "taken at --distance (e.g. --fade-band 2:3 --distance 2.5 is halfway)");
     args->options.add_to(*command, OptionKind::render);
     return [args] { return run_render(*args); };
 }
