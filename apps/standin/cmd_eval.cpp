@@ -32,40 +32,17 @@ struct EvalArgs {
     std::string shading = "ggx";
 };
 
-// A stand-in to evaluate: a package's renderer, or a mesh's (then also its surface).
-struct Subject {
-    std::unique_ptr<Package> package;
-    std::optional<Mesh> mesh;
-    std::unique_ptr<Renderer> renderer;
-    std::string representation;
-};
-
-static Result<Subject> load_subject(const EvalArgs& args)
+// The stand-in to evaluate: a package, or a mesh (then also its surface).
+static Result<Drawable> load_subject(const EvalArgs& args)
 {
-    Subject subject;
-    std::error_code ec;
     RenderOptions options;
     options.values = args.options.given();
-    if (std::filesystem::is_directory(args.standin, ec)) {
-        Result<std::unique_ptr<Package>> package = read_package(args.standin);
-        if (!package) return package.status();
-        subject.package = std::move(*package);
-        subject.representation = subject.package->representation();
-        const Representation* at_hand[] = {&representation_of(*subject.package)};
-        STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, at_hand));
-        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*subject.package, options);
-        if (!renderer) return naming_file(renderer.status(), args.standin);
-        subject.renderer = std::move(*renderer);
-        return subject;
-    }
-    STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, {}));
-    Result<Mesh> mesh = import_mesh(args.standin, nullptr, k_isolated_import);
-    if (!mesh) return mesh.status();
-    subject.mesh = std::move(*mesh);
-    subject.representation = "mesh";
-    Result<std::unique_ptr<Renderer>> renderer = make_mesh_renderer(*subject.mesh);
-    if (!renderer) return renderer.status();
-    subject.renderer = std::move(*renderer);
+    Result<Drawable> subject = read_drawable(args.standin);
+    if (!subject) return subject.status();
+    std::vector<const Representation*> at_hand;
+    if (subject->package) at_hand.push_back(&representation_of(*subject->package));
+    STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, at_hand));
+    STANDIN_RETURN_IF_ERROR(make_drawable_renderer(*subject, options));
     return subject;
 }
 
@@ -119,7 +96,7 @@ static int run_eval(EvalArgs& args)
     if (!context) return fail(context.status());
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*mesh);
     if (!truth) return fail(truth.status());
-    Result<Subject> subject = load_subject(args);
+    Result<Drawable> subject = load_subject(args);
     if (!subject) return fail(subject.status());
     if (subject->package) {
         Result<SourceInfo> source = describe_source(args.model, *mesh);
@@ -159,7 +136,7 @@ static int run_eval(EvalArgs& args)
     // outputs
     nlohmann::json identity = {{"model", args.model},
                                {"package", args.standin},
-                               {"representation", subject->representation},
+                               {"representation", subject->representation()},
                                {"shadows", args.shadows.enabled},
                                {"shading", args.shading},
                                {"command", command_line(args)}};

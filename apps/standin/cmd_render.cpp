@@ -34,47 +34,6 @@ struct RenderArgs {
 
 namespace {
 
-// A model or a package, read before any GL work, then drawn by its renderer.
-struct RenderSubject {
-    std::unique_ptr<Package> package; // null for a model
-    Mesh mesh;
-    BoundingSphere sphere;            // frames the picture (a package: as its source model)
-    std::unique_ptr<Renderer> renderer;
-};
-
-bool is_package(const std::string& path)
-{
-    std::error_code ec;
-    return std::filesystem::is_directory(path, ec);
-}
-
-// a directory is a package, drawn by its representation's renderer; a file is a model
-Result<RenderSubject> read_subject(const std::string& path)
-{
-    RenderSubject subject;
-    if (is_package(path)) {
-        Result<std::unique_ptr<Package>> package = read_package(path);
-        if (!package) return package.status();
-        subject.package = std::move(*package);
-        subject.sphere = bounding_sphere_of(subject.package->source.bounds);
-    } else {
-        Result<Mesh> mesh = import_mesh(path, nullptr, k_isolated_import);
-        if (!mesh) return mesh.status();
-        subject.mesh = std::move(*mesh);
-        subject.sphere = subject.mesh.bounding_sphere();
-    }
-    return subject;
-}
-
-Status make_renderer(RenderSubject& subject, const std::string& path, const RenderOptions& options)
-{
-    Result<std::unique_ptr<Renderer>> made =
-        subject.package ? make_package_renderer(*subject.package, options) : make_mesh_renderer(subject.mesh);
-    if (!made) return subject.package ? naming_file(made.status(), path) : made.status();
-    subject.renderer = std::move(*made);
-    return {};
-}
-
 // The cross-fade amount of --fade or --fade-band at the view's distance; NaN when no fade is asked.
 Result<float> fade_amount(const RenderArgs& args)
 {
@@ -125,11 +84,11 @@ static int run_render(RenderArgs& args)
         if (Status s = check_output_is_not_input(args.output, {args.fade_to}); !s) return fail(s);
     }
     std::unique_ptr<GpuContext> context; // declared first: the renderers must go before it
-    std::vector<RenderSubject> subjects; // the input, then the --fade-to subject
+    std::vector<Drawable> subjects; // the input, then the --fade-to subject
     std::vector<const Representation*> at_hand;
     for (const std::string& path : {args.input, args.fade_to}) {
         if (path.empty()) continue;
-        Result<RenderSubject> subject = read_subject(path);
+        Result<Drawable> subject = read_drawable(path);
         if (!subject) return fail(subject.status());
         if (subject->package) at_hand.push_back(&representation_of(*subject->package));
         subjects.push_back(std::move(*subject));
@@ -139,10 +98,10 @@ static int run_render(RenderArgs& args)
     Result<std::unique_ptr<GpuContext>> created = create_headless_context();
     if (!created) return fail(created.status());
     context = std::move(*created);
-    for (std::size_t i = 0; i < subjects.size(); ++i)
-        if (Status s = make_renderer(subjects[i], i == 0 ? args.input : args.fade_to, options); !s) return fail(s);
+    for (Drawable& subject : subjects)
+        if (Status s = make_drawable_renderer(subject, options); !s) return fail(s);
     Renderer* renderer = subjects[0].renderer.get();
-    const BoundingSphere sphere = subjects[0].sphere;
+    const BoundingSphere sphere = subjects[0].framing_sphere();
     std::unique_ptr<CrossFade> cross_fade;
     if (subjects.size() == 2) {
         cross_fade = std::make_unique<CrossFade>(*subjects[0].renderer, *subjects[1].renderer);

@@ -4,6 +4,7 @@
 #include <standin/log.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -132,6 +133,39 @@ void install_log_sink(const Verbosity& verbosity)
         const char* prefix = level == LogLevel::warning ? "warning: " : level == LogLevel::error ? "error: " : "";
         std::fprintf(stderr, "standin: %s%s\n", prefix, message.c_str());
     });
+}
+
+std::string Drawable::representation() const { return package ? package->representation() : "mesh"; }
+
+BoundingSphere Drawable::framing_sphere() const
+{
+    return package ? bounding_sphere_of(package->source.bounds) : mesh->bounding_sphere();
+}
+
+Result<Drawable> read_drawable(const std::string& path)
+{
+    Drawable drawable;
+    drawable.path = path;
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        Result<std::unique_ptr<Package>> package = read_package(path);
+        if (!package) return package.status();
+        drawable.package = std::move(*package);
+        return drawable;
+    }
+    Result<Mesh> mesh = import_mesh(path, nullptr, k_isolated_import);
+    if (!mesh) return mesh.status();
+    drawable.mesh = std::move(*mesh);
+    return drawable;
+}
+
+Status make_drawable_renderer(Drawable& drawable, const RenderOptions& options)
+{
+    Result<std::unique_ptr<Renderer>> made =
+        drawable.package ? make_package_renderer(*drawable.package, options) : make_mesh_renderer(*drawable.mesh);
+    if (!made) return drawable.package ? naming_file(made.status(), drawable.path) : made.status();
+    drawable.renderer = std::move(*made);
+    return {};
 }
 
 } // namespace standin::cli

@@ -3,12 +3,15 @@
 
 #include <standin/camera.h>
 #include <standin/mesh.h>
+#include <standin/package.h>
 #include <standin/progress.h>
 #include <standin/render.h>
 #include <standin/status.h>
 
 #include <CLI/CLI.hpp>
 
+#include <memory>
+#include <optional>
 #include <string>
 
 namespace standin::cli {
@@ -19,6 +22,22 @@ constexpr int k_exit_failure = 2; // bad input, bad options, or a failure we can
 // Every model the command line reads is parsed in a child process: a crash inside assimp on one
 // damaged file becomes that file's error (and a batch goes on with the rest).
 inline const ImportOptions k_isolated_import{.isolate_parser = true};
+
+// A model or a package named on the command line (render, eval): read before any GL work, then
+// drawn by its renderer (the package's representation's, or the ground truth's for a model).
+struct Drawable {
+    std::string path;
+    std::unique_ptr<Package> package; // null for a model
+    std::optional<Mesh> mesh;         // the model's
+    std::unique_ptr<Renderer> renderer;
+    std::string representation() const;  // the package's, or "mesh"
+    BoundingSphere framing_sphere() const; // a package is framed as its source model
+};
+// A directory is a package, anything else a model (imported in a child process).
+Result<Drawable> read_drawable(const std::string& path);
+// The renderer, under a current GL context; `options` must have been checked against the
+// representations at hand (check_render_options_apply).
+Status make_drawable_renderer(Drawable& drawable, const RenderOptions& options);
 
 // Prints "standin: MESSAGE" on stderr and returns the failure exit code.
 int fail(const Status& status);
