@@ -12,6 +12,7 @@
 #include <standin/package.h>
 #include <standin/render.h>
 
+#include <glm/gtc/type_precision.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -202,6 +203,77 @@ TEST(PbrStandins, ViewAtlasRelightsMetalsAndRoughSurfacesLikeTheTruth)
 TEST(PbrStandins, MicrofacetsRelightMetalsAndRoughSurfacesLikeTheTruth)
 {
     expect_relit_like_the_truth("microfacets", "pbr_microfacets", {{"resolution", "256"}, {"level", "6"}});
+}
+
+// A unit square in the z = 0 plane facing +z whose normal map tilts the normals 50 degrees towards
+// +x and -x in alternating vertical stripes (4 stripes): flat geometry that the truth shades striped.
+Mesh striped_normal_map_square()
+{
+    Mesh mesh;
+    mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
+    mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
+    mesh.colors.assign(4, glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+    mesh.uvs = {{0.0f, 1.0f}, {1.0f, 1.0f}, {1.0f, 0.0f}, {0.0f, 0.0f}}; // glTF's v runs down the image
+    mesh.indices = {0, 1, 2, 0, 2, 3};
+    mesh.face_materials = {0, 0};
+    Texture map;
+    map.width = map.height = 64;
+    const float tilt = glm::radians(50.0f);
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            const float side = (x / 16) % 2 == 0 ? 1.0f : -1.0f;
+            const glm::vec3 n(side * std::sin(tilt), 0.0f, std::cos(tilt)); // tangent space: +x along u
+            const glm::u8vec3 code(glm::round((n * 0.5f + 0.5f) * 255.0f));
+            map.rgba.insert(map.rgba.end(), {code.x, code.y, code.z, 255});
+        }
+    mesh.textures.push_back(map);
+    Material material;
+    material.normal_texture = 0;
+    material.double_sided = false;
+    mesh.materials.push_back(material);
+    EXPECT_TRUE(validate_mesh(mesh, "striped square").is_ok());
+    return mesh;
+}
+
+// Every stand-in shades with the normal map's normals, not the geometry's: the view atlas's and
+// microfacets' normal captures come from the truth's capture_normal mode (the normal it shades
+// with), the billboards and the displaced mesh sample Mesh::shading_normal_at. A stand-in's
+// picture must be far nearer the truth's stripes than the flat square's picture is.
+TEST(PbrStandins, EveryStandinShadesWithTheNormalMap)
+{
+    test::gpu_context();
+    const Mesh mesh = striped_normal_map_square();
+    Mesh flat = mesh;
+    flat.materials[0].normal_texture = -1;
+    auto truth = make_mesh_renderer(mesh);
+    auto flat_truth = make_mesh_renderer(flat);
+    ASSERT_TRUE(truth.is_ok() && flat_truth.is_ok());
+    const int size = 256;
+    Camera camera = front_camera(mesh, 1.0f, 0.0f, 0.0f);
+    Light light = default_light(camera);
+    light.direction_to_light_world = glm::normalize(glm::vec3(0.8f, 0.2f, 0.6f)); // from the side: stripes differ
+    auto t = render_offscreen(**truth, camera, light, size, size);
+    auto f = render_offscreen(**flat_truth, camera, light, size, size);
+    ASSERT_TRUE(t.is_ok() && f.is_ok());
+    const double flat_error = compare_images(t->color, f->color).de2000_mean;
+    ASSERT_GT(flat_error, 5.0) << "the normal map's stripes show in the truth";
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> bakes = {
+        {"enhanced-billboards", {}},
+        {"displaced-mesh", {{"degree", "33"}}}, // 32 samples across a face: 8 per stripe
+        {"view-atlas", {{"subdivisions", "1"}}},
+        {"microfacets", {{"resolution", "256"}, {"level", "6"}}}};
+    for (const auto& [representation, values] : bakes) {
+        std::unique_ptr<Package> package = test::bake(mesh, representation, values);
+        ASSERT_TRUE(package) << representation;
+        auto standin = make_package_renderer(*package, {});
+        ASSERT_TRUE(standin.is_ok()) << representation << ": " << standin.status().message();
+        auto s = render_offscreen(**standin, camera, light, size, size);
+        ASSERT_TRUE(s.is_ok());
+        const double error = compare_images(t->color, s->color).de2000_mean;
+        EXPECT_LT(error, 0.3 * flat_error) << representation << ": the flat square is " << flat_error << " from the truth";
+        std::printf("%s: mean CIEDE2000 %.3f against the normal-mapped truth (flat square: %.3f)\n", representation.c_str(),
+                    error, flat_error);
+    }
 }
 
 // The ORM and emission pages of the view atlas and microfacets go through their packages unchanged

@@ -45,10 +45,12 @@ Camera look_at_camera(glm::vec3 eye, glm::vec3 target, glm::vec3 up, float fov_y
 // lambert_blinn_phong: standin's model before issue #14 (Lambert + ambient + optional Blinn-Phong
 // with `specular` and `shininess`); it ignores metallic, roughness, occlusion and emission, and under
 // a pure ambient light (ambient 1, diffuse 0) returns the albedo, which bakers capture with it.
-// capture_orm and capture_emission are bakers' capture modes: renderers write the surface's
-// occlusion, roughness, metallic (linear, in r, g, b) or its emission (sRGB-encoded, clamped to 1)
-// instead of a colour; renderers of stand-ins without PBR maps write the defaults (1, 1, 0; black).
-enum class ShadingModel { ggx, lambert_blinn_phong, capture_orm, capture_emission };
+// capture_orm, capture_emission and capture_normal are bakers' capture modes: renderers write the
+// surface's occlusion, roughness, metallic (linear, in r, g, b), its emission (sRGB-encoded,
+// clamped to 1) or the normal it is shaded with (world space, normal map applied, turned towards
+// the eye, n * 0.5 + 0.5) instead of a colour; renderers of stand-ins without PBR maps write the
+// defaults (1, 1, 0; black).
+enum class ShadingModel { ggx, lambert_blinn_phong, capture_orm, capture_emission, capture_normal };
 
 // One directional light; shading is computed by the shared include
 // src/gpu/shaders/common/lighting.glsl. `diffuse` scales the light so that a white Lambert surface

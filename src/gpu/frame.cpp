@@ -11,6 +11,7 @@ int shading_model_code(ShadingModel model)
     case ShadingModel::lambert_blinn_phong: return SHADING_LAMBERT_BLINN_PHONG;
     case ShadingModel::capture_orm: return SHADING_CAPTURE_ORM;
     case ShadingModel::capture_emission: return SHADING_CAPTURE_EMISSION;
+    case ShadingModel::capture_normal: return SHADING_CAPTURE_NORMAL;
     }
     return SHADING_GGX;
 }

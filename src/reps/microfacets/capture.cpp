@@ -5,9 +5,9 @@
 //     image axes follow the same up-vector rule as the evaluation's);
 //  2. albedo: the ground-truth renderer under a light that is pure ambient (1, no diffuse), so the
 //     shaded colour is the albedo, coverage from alpha;
-//  3. normals: the same renderer drawing a copy of the mesh whose vertex colours are its normals
-//     encoded n * 0.5 + 0.5 (interpolated as the renderer interpolates normals), textures kept for
-//     their alpha only (RGB white), so alpha-tested cut-outs are cut out of the normals too;
+//  3. normals: the same renderer in its capture_normal mode, the normal it shades each pixel with
+//     (normal maps applied, turned towards the camera, n * 0.5 + 0.5), alpha-tested cut-outs cut
+//     out as in the albedo;
 //  4. PBR models (issue #14): ORM and emission from the truth's capture modes
 //     (reps/common/material_capture.h), pixel for pixel the albedo's surface;
 //  5. range: the depth buffer of the geometry mesh (the colour mesh unless a degraded one is given),
@@ -22,31 +22,6 @@
 namespace standin::microfacets {
 
 namespace {
-
-// a copy of the mesh that shows its normals as albedo (step 3)
-Mesh normals_as_colors(const Mesh& mesh)
-{
-    Mesh copy;
-    copy.positions = mesh.positions;
-    copy.normals = mesh.normals;
-    copy.indices = mesh.indices;
-    copy.colors.reserve(mesh.normals.size());
-    for (std::size_t v = 0; v < mesh.normals.size(); ++v)
-        copy.colors.push_back(glm::vec4(glm::normalize(mesh.normals[v]) * 0.5f + 0.5f, mesh.colors[v].w));
-    if (!mesh.has_alpha_test()) {
-        copy.face_materials.assign(mesh.triangle_count(), 0u);
-        copy.materials.resize(1);
-        return copy;
-    }
-    // alpha-tested materials (issue #14): the same materials and UVs, textures whitened
-    copy.face_materials = mesh.face_materials;
-    copy.materials = mesh.materials;
-    copy.uvs = mesh.uvs;
-    copy.textures = mesh.textures;
-    for (Texture& texture : copy.textures)
-        for (std::size_t i = 0; i < texture.rgba.size(); i += 4) texture.rgba[i] = texture.rgba[i + 1] = texture.rgba[i + 2] = 255;
-    return copy;
-}
 
 Camera capture_camera(const BoundingSphere& sphere, glm::vec3 direction)
 {
@@ -70,9 +45,6 @@ Result<std::unique_ptr<SurfaceCapturer>> SurfaceCapturer::create(const Mesh& col
     Result<std::unique_ptr<Renderer>> albedo = make_mesh_renderer(color_mesh);
     if (!albedo) return albedo.status();
     capturer->albedo_ = std::move(*albedo);
-    Result<std::unique_ptr<Renderer>> normals = make_mesh_renderer(normals_as_colors(color_mesh));
-    if (!normals) return normals.status();
-    capturer->normals_ = std::move(*normals);
     if (geometry) {
         Result<std::unique_ptr<Renderer>> made = make_mesh_renderer(*geometry);
         if (!made) return made.status();
@@ -111,8 +83,10 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     out.albedo = target_->read_color();
     std::vector<float> depth;
     if (!geometry_) depth = target_->read_depth();
-    draw(*normals_);
+    params.light.shading = ShadingModel::capture_normal; // step 3
+    draw(*albedo_);
     out.normal = target_->read_color();
+    params.light = albedo_light;
     if (pbr_) {
         Result<reps::MaterialImages> material = reps::capture_material(*albedo_, *target_, params);
         if (!material) return material.status();

@@ -45,7 +45,7 @@ public:
     Result<SurfaceCapture> capture(glm::vec3 direction) const;
 
 private:
-    std::unique_ptr<Renderer> albedo_, normals_, geometry_;
+    std::unique_ptr<Renderer> albedo_, geometry_;
     std::unique_ptr<RenderTarget> target_; // one target for every capture: no allocation per view
     BoundingSphere sphere_;
     bool pbr_ = false;

@@ -3,7 +3,8 @@
 // the face centres of a subdivided icosahedron, orthographically or with a perspective camera at the
 // base distance r / sin(fov/2), lit by the renderer's fixed light; crop every image to its content.
 // Steps: choose the directions (layout.cpp); render each view with the ground-truth renderer on the
-// GPU (colour, and for "surface" maps the normal and the depth); crop to the covered pixels plus one
+// GPU (colour, and for "surface" maps the shading normal, from the truth's capture mode, and the
+// depth); crop to the covered pixels plus one
 // empty texel, padded to whole k_cell cells; pack the crops into pages (layout.cpp); copy them in.
 // Differences from the paper:
 //  - the icosahedron is turned so that +Y and -Y are face centres (the protocols' pole views);
@@ -16,10 +17,7 @@
 //    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options.
 #include "reps/view_atlas/view_atlas.h"
 
-#include "gpu/frame.h"
 #include "gpu/gl.h"
-#include "gpu/mesh_buffers.h"
-#include "gpu/shaders/common/bindings.h"
 #include "reps/common/material_capture.h"
 
 #include <algorithm>
@@ -29,93 +27,6 @@
 namespace standin::view_atlas {
 
 namespace {
-
-// The surface normals of the mesh, world space, as the capture's second image. Alpha-tested
-// materials (issue #14) are drawn with the ground truth's alpha test (the same cutoff, level 0 of
-// the texture), so the normals behind a leaf's cut-out are those of what the colour shows there.
-class NormalRenderer final : public Renderer {
-public:
-    static Result<std::unique_ptr<NormalRenderer>> create(const Mesh& mesh)
-    {
-        auto r = std::make_unique<NormalRenderer>();
-        Result<gpu::Program> program =
-            gpu::Program::create({"reference/shaders/mesh.vert", "reps/view_atlas/shaders/capture_normal.frag"});
-        if (!program) return program.status();
-        r->program_ = std::move(*program);
-        r->has_texture_location_ = r->program_.uniform("has_texture");
-        r->alpha_cutoff_location_ = r->program_.uniform("alpha_cutoff");
-        // one range per material, triangles in their original order within it
-        std::vector<std::uint32_t> indices;
-        indices.reserve(mesh.indices.size());
-        for (std::uint32_t m = 0; m < mesh.materials.size(); ++m) {
-            Range range;
-            range.first = std::uint32_t(indices.size());
-            for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
-                if (mesh.face_materials[t] == m) indices.insert(indices.end(), &mesh.indices[3 * t], &mesh.indices[3 * t] + 3);
-            range.count = std::uint32_t(indices.size()) - range.first;
-            const Material& material = mesh.materials[m];
-            range.cutoff = alpha_test_cutoff(material);
-            range.double_sided = material.double_sided;
-            if (range.cutoff > 0.0f && material.base_color_texture >= 0 && mesh.has_texture_coordinates()) {
-                const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
-                range.texture = int(r->textures_.size());
-                gpu::Texture handle = gpu::make_texture_2d(GL_RGBA8, texture.width, texture.height, 1);
-                glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-                glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
-                                    texture.rgba.data());
-                glTextureParameteri(handle.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-                glTextureParameteri(handle.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-                glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-                glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-                r->textures_.push_back(std::move(handle));
-            }
-            if (range.count > 0) r->ranges_.push_back(range);
-        }
-        r->mesh_ = gpu::MeshBuffers::upload(mesh, indices);
-        return r;
-    }
-    DrawStats draw(const DrawParams& params) override
-    {
-        frame_.bind(params);
-        program_.use();
-        mesh_.bind();
-        glEnable(GL_DEPTH_TEST);
-        DrawStats stats;
-        for (const Range& range : ranges_) {
-            glUniform1i(has_texture_location_, range.texture >= 0 ? 1 : 0);
-            glUniform1f(alpha_cutoff_location_, range.cutoff);
-            if (range.texture >= 0) glBindTextureUnit(BINDING_FIRST_RENDERER_TEXTURE, textures_[std::size_t(range.texture)].get());
-            if (range.double_sided) {
-                glDisable(GL_CULL_FACE);
-            } else {
-                glEnable(GL_CULL_FACE);
-                glCullFace(GL_BACK);
-                glFrontFace(GL_CCW);
-            }
-            glDrawElements(GL_TRIANGLES, GLsizei(range.count), GL_UNSIGNED_INT,
-                           reinterpret_cast<const void*>(std::uintptr_t(range.first) * sizeof(std::uint32_t)));
-            stats.draw_calls += 1;
-            stats.primitives += range.count / 3;
-        }
-        glDisable(GL_CULL_FACE);
-        glBindVertexArray(0);
-        return stats;
-    }
-
-private:
-    struct Range {
-        std::uint32_t first = 0, count = 0;
-        int texture = -1; // into textures_: only alpha-tested materials need theirs
-        float cutoff = 0.0f;
-        bool double_sided = true;
-    };
-    gpu::Program program_;
-    gpu::MeshBuffers mesh_;
-    std::vector<gpu::Texture> textures_;
-    std::vector<Range> ranges_;
-    gpu::FrameResources frame_;
-    GLint has_texture_location_ = -1, alpha_cutoff_location_ = -1;
-};
 
 // The capture camera of a direction: the protocols' orbit camera at distance 1 (so that the view's
 // up vector, and with it the camera-relative light, follows the same rule as the evaluation's).
@@ -204,12 +115,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     }
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(context.mesh);
     if (!truth) return truth.status();
-    std::unique_ptr<NormalRenderer> normals;
-    if (s.maps == "surface") {
-        Result<std::unique_ptr<NormalRenderer>> made = NormalRenderer::create(context.mesh);
-        if (!made) return made.status();
-        normals = std::move(*made);
-    }
+    // surface maps: normals from the truth's capture mode, the very normal it shades each pixel with
+    // (normal maps applied, alpha-tested cut-outs cut out), so they line up with the colour capture
+    const bool normals = s.maps == "surface";
     // lit maps hold the truth's shading, PBR included; only surface maps are relit
     const bool pbr = normals && context.mesh.has_pbr_materials();
     std::unique_ptr<RenderTarget> material_target; // one for every view's material capture
@@ -245,7 +153,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         if (!color) return color.status();
         RenderedImage normal;
         if (normals) {
-            Result<RenderedImage> rendered = render_offscreen(*normals, camera, light, s.resolution, s.resolution);
+            Light normal_light = light;
+            normal_light.shading = ShadingModel::capture_normal;
+            Result<RenderedImage> rendered = render_offscreen(**truth, camera, normal_light, s.resolution, s.resolution);
             if (!rendered) return rendered.status();
             normal = std::move(*rendered);
         }

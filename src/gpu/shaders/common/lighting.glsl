@@ -103,6 +103,7 @@ vec3 shade_pbr(vec3 albedo_srgb, vec3 orm, vec3 emissive, vec3 normal_world, vec
     if (model == SHADING_CAPTURE_EMISSION) return linear_to_srgb(emissive);
     vec3 n = normalize(normal_world);
     if (dot(n, to_eye_world) < 0.0) n = -n;
+    if (model == SHADING_CAPTURE_NORMAL) return n * 0.5 + 0.5;
     if (model == SHADING_LAMBERT_BLINN_PHONG)
         return shade_lambert_blinn_phong(albedo_srgb, n, to_eye_world, to_light_world, terms * vec4(1.0, visibility, visibility, 1.0));
 
