@@ -29,6 +29,11 @@ namespace standin::view_atlas {
 
 namespace {
 
+// How far, in capture texels, the model may reach beyond the outermost covered texel centre (and
+// in front of the nearest depth): a smooth outline reaches less than one, a thin tip further
+// between two texel centres (the bunny's ear: 1.6, measured with the hull's own export).
+constexpr double k_sampling_margin = 2.0;
+
 struct Face {
     std::vector<glm::dvec3> points; // counter-clockwise from outside
     glm::dvec3 normal;
@@ -295,10 +300,11 @@ std::vector<HalfSpace> atlas_half_spaces(const ViewAtlasPackage& package)
             }
         if (x1 < 0) continue;
         const glm::dvec3 u = v.axis_u, w = v.axis_v, d = v.direction;
-        // a quarter texel beyond the centres of the first empty texels around the covered ones, on
-        // the plane through the centre (a curved outline can cross that column between its centres)
-        const double u_lo = -h + (x0 - 0.75) * t, u_hi = -h + (x1 + 1.75) * t;
-        const double v_lo = -h + (y0 - 0.75) * t, v_hi = -h + (y1 + 1.75) * t;
+        // k_sampling_margin texels beyond the outermost covered texels' centres, on the plane through
+        // the centre: a thin tip crosses the next columns between their centres
+        const double m = k_sampling_margin;
+        const double u_lo = -h + (x0 + 0.5 - m) * t, u_hi = -h + (x1 + 0.5 + m) * t;
+        const double v_lo = -h + (y0 + 0.5 - m) * t, v_hi = -h + (y1 + 0.5 + m) * t;
         if (perspective) {
             // the plane through the capture camera (at eye along d) and the line at u0 on the centre
             // plane: eye u + u0 (d . q) <= u0 eye on the model's side
@@ -313,7 +319,7 @@ std::vector<HalfSpace> atlas_half_spaces(const ViewAtlasPackage& package)
             add(-w, -v_lo);
         }
         // depth code k puts the surface at r - 2 r k / 255 along d (rounded to the nearest code)
-        if (nd) add(d, r - 2.0 * r * nearest / 255.0 + r / 255.0 + t);
+        if (nd) add(d, r - 2.0 * r * nearest / 255.0 + r / 255.0 + k_sampling_margin * t);
     }
     return out;
 }

@@ -59,10 +59,10 @@ ConvexPolytope clip_polytope(const ConvexPolytope& polytope, const std::vector<H
 // The half-spaces a view atlas bounds its model by: per captured view, 4 from the covered texels'
 // rectangle (along axis_u and axis_v: slabs for ortho captures, planes through the capture camera
 // for perspective ones) and, for "surface" packages, 1 from the nearest depth of its covered
-// texels (along direction). Each stands 1.25 texels outside the outermost covered texel's centre
-// (a quarter texel beyond the centre of the first empty one) and the depth plane one texel and
-// half a depth code in front of the nearest depth: a smooth surface that covers no texel centre
-// sticks out by less than that (a sliver thinner than a texel can stick out further).
+// texels (along direction). Each stands 2 capture texels outside the outermost covered texel's
+// centre (the depth plane 2 texels and half a depth code in front of the nearest depth): a smooth
+// surface that covers no texel centre sticks out by less than one, a thin tip (the bunny's ears)
+// by up to 1.6; only a sliver thinner than a texel and longer than that can stick out further.
 std::vector<HalfSpace> atlas_half_spaces(const ViewAtlasPackage& package);
 
 // The capture texel on the plane through the centre, object units (2 half_extent / resolution).

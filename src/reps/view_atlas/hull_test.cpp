@@ -185,7 +185,7 @@ TEST(AtlasHull, CubeHullIsItsBoxWithinATexel)
     const Solid cube{false, {0.3, -0.2, 1.0}, 0.5};
     for (bool perspective : {false, true}) {
         SCOPED_TRACE(perspective ? "perspective" : "ortho");
-        ViewAtlasPackage p = capture(cube, 8, 96, perspective);
+        ViewAtlasPackage p = capture(cube, 8, 192, perspective);
         const double texel = capture_texel(p);
         ClipStats stats;
         ConvexPolytope hull = atlas_hull(p, &stats);
@@ -203,7 +203,7 @@ TEST(AtlasHull, SphereHullLiesBetweenTheSphereAndItsBox)
     const Solid sphere{true, {-1.0, 2.0, 0.5}, 0.5};
     for (bool perspective : {false, true}) {
         SCOPED_TRACE(perspective ? "perspective" : "ortho");
-        ViewAtlasPackage p = capture(sphere, 8, 96, perspective);
+        ViewAtlasPackage p = capture(sphere, 8, 192, perspective);
         const double texel = capture_texel(p);
         ConvexPolytope hull = atlas_hull(p);
         ASSERT_FALSE(hull.empty());
