@@ -65,6 +65,19 @@ ParsedGlb parse_glb(const std::string& bytes)
     return out;
 }
 
+// The values of an accessor (float vectors or 32-bit indices), tightly packed.
+template <typename T>
+std::vector<T> read_accessor(const ParsedGlb& glb, int accessor_index)
+{
+    const auto& accessor = glb.json["accessors"][std::size_t(accessor_index)];
+    const auto& view = glb.json["bufferViews"][accessor["bufferView"].get<std::size_t>()];
+    const std::size_t offset = view["byteOffset"].get<std::size_t>() + accessor.value("byteOffset", std::size_t(0));
+    std::vector<T> out(accessor["count"].get<std::size_t>());
+    EXPECT_LE(offset + out.size() * sizeof(T), glb.bin.size());
+    if (offset + out.size() * sizeof(T) <= glb.bin.size()) std::memcpy(out.data(), glb.bin.data() + offset, out.size() * sizeof(T));
+    return out;
+}
+
 // Exports to a fresh file and parses it back; checks every mesh's POSITION bounds lie within the
 // source's box grown by `margin` (a fraction of its diagonal).
 ParsedGlb export_and_parse(const Package& package, const OptionValues& options, const std::string& path, float margin,
@@ -100,7 +113,7 @@ TEST(Export, ViewAtlasGridAtlasHasTheFramesAndTheQuad)
     options.set("atlas-size", "256");
     ExportScene scene;
     ParsedGlb glb = export_and_parse(*package, options, dir + "/a.glb", 0.8f, &scene);
-    ASSERT_EQ(glb.json["meshes"].size(), 1u);
+    ASSERT_EQ(glb.json["meshes"].size(), 2u); // the quad and the atlas hull
     ASSERT_EQ(glb.json["images"].size(), 2u);
     const auto& extras = glb.json["nodes"][1]["extras"]["standin"];
     EXPECT_EQ(extras["role"], "grid-impostor");
@@ -108,6 +121,35 @@ TEST(Export, ViewAtlasGridAtlasHasTheFramesAndTheQuad)
     EXPECT_EQ(extras["atlas_size"], 256);
     EXPECT_EQ(extras["frame_axes"].size(), 16u);
     EXPECT_NEAR(extras["radius"].get<float>(), mesh.bounding_sphere().radius, 1e-5f);
+    // the atlas hull: the quad's extras under its own role, a closed convex mesh holding every
+    // vertex of the model (within a capture texel: the sampling margin), smaller than the quad
+    const auto& hull_extras = glb.json["nodes"][2]["extras"]["standin"];
+    EXPECT_EQ(hull_extras["role"], "grid-impostor-hull");
+    EXPECT_EQ(hull_extras["quad_node"], "impostor");
+    EXPECT_EQ(hull_extras["frame_axes"], extras["frame_axes"]);
+    EXPECT_EQ(hull_extras["color_texture"], extras["color_texture"]);
+    EXPECT_EQ(glb.json["nodes"][2]["name"], "hull");
+    {
+        const auto& primitive = glb.json["meshes"][1]["primitives"][0];
+        std::vector<glm::vec3> positions = read_accessor<glm::vec3>(glb, primitive["attributes"]["POSITION"]);
+        std::vector<std::uint32_t> indices = read_accessor<std::uint32_t>(glb, primitive["indices"]);
+        ASSERT_GE(indices.size(), 12u);
+        EXPECT_LT(indices.size() / 3, 2000u);
+        const float texel = 2.0f * mesh.bounding_sphere().radius / 64.0f;
+        std::size_t outside = 0;
+        double area = 0.0; // seen along +Z: half the sum of |projected triangle areas|
+        for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+            const glm::vec3 a = positions[indices[t]], b = positions[indices[t + 1]], c = positions[indices[t + 2]];
+            const glm::vec3 n = glm::cross(b - a, c - a);
+            area += 0.25 * std::abs(double(n.z));
+            if (glm::length(n) < 1e-12f) continue;
+            for (const glm::vec3& p : mesh.positions)
+                if (glm::dot(glm::normalize(n), p - a) > texel) ++outside;
+        }
+        EXPECT_EQ(outside, 0u);
+        const double h = extras["half_extent"].get<double>();
+        EXPECT_LT(area, 0.8 * 4.0 * h * h);
+    }
     // the textures are the atlas size, colour with coverage somewhere and transparency somewhere
     ASSERT_EQ(scene.textures.size(), 2u);
     EXPECT_EQ(scene.textures[0].width, 256);

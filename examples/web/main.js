@@ -16,6 +16,8 @@
 //   vote=W, tolerance=CODES   impostor: frame weight that must hold a point (default all), depth slack
 //   wall=TEXELS    billboards: a larger depth jump between two samples is a wall, not a crossing (4)
 //   billboards=plain          billboard boxes as textured meshes instead of the ray cast
+//   proxy=quad     grid impostor: draw on the camera-facing quad even when the file has the atlas
+//                  hull (role grid-impostor-hull, drawn by default)
 //   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
 //   spin=DEG       degrees of azimuth per second while not still (default 10)
 import * as THREE from 'three';
@@ -223,18 +225,21 @@ async function billboard(node, extras, parser, shaders) {
     track_camera(mesh, material);
 }
 
-async function grid_impostor(node, extras, parser, shaders) {
+// A grid-impostor material (grid_impostor.{vert,frag}); `hull`: for the atlas hull's own vertices
+// instead of the camera-facing square.
+async function grid_impostor_material(extras, parser, shaders, hull) {
     if (extras.projection && extras.projection !== 'ortho')
         throw new Error(`grid impostor: projection "${extras.projection}" is not supported (ortho only)`);
     const color = (await parser.getDependency('texture', extras.color_texture)).clone();
     const has_nd = extras.normal_depth_texture !== undefined && extras.normal_depth_texture !== null;
     const normal_depth = has_nd ? (await parser.getDependency('texture', extras.normal_depth_texture)).clone() : null;
     for (const t of [color, normal_depth]) if (t) as_codes(t);
-    const material = new THREE.RawShaderMaterial({
+    return new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['grid_impostor.vert'],
         fragmentShader: shaders['grid_impostor.frag'],
-        side: THREE.DoubleSide,
+        defines: hull ? { HULL: 1 } : {},
+        side: hull ? THREE.BackSide : THREE.DoubleSide,
         uniforms: {
             color_atlas: { value: color },
             normal_depth_atlas: { value: normal_depth || color },
@@ -254,6 +259,12 @@ async function grid_impostor(node, extras, parser, shaders) {
             depth_tolerance: { value: has_nd ? (extras.depth_scale * number('tolerance', 1.5)) / 255 : 0 },
         },
     });
+}
+
+// a `grid-impostor` node: a camera-facing square placed by the vertex stage, replacing the node's
+// front-facing quad (which is for plain glTF viewers)
+async function grid_impostor(node, extras, parser, shaders) {
+    const material = await grid_impostor_material(extras, parser, shaders, false);
     const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
     mesh.frustumCulled = false; // the vertex stage places the quad
     track_camera(mesh, material);
@@ -261,11 +272,23 @@ async function grid_impostor(node, extras, parser, shaders) {
     return mesh;
 }
 
+// a `grid-impostor-hull` node: its own mesh (the atlas hull) drawn with the impostor shaders
+async function grid_impostor_hull(node, extras, parser, shaders) {
+    const material = await grid_impostor_material(extras, parser, shaders, true);
+    const mesh = node.isMesh ? node : node.children.find((c) => c.isMesh);
+    if (!mesh) throw new Error('grid-impostor-hull node without a mesh');
+    mesh.material = material;
+    track_camera(mesh, material);
+    window.standin.info.frame_axes_error = check_frame_axes(extras);
+    window.standin.info.hull_triangles = mesh.geometry.index ? mesh.geometry.index.count / 3 : 0;
+}
+
 async function load_standin(url, shaders) {
     const gltf = await new GLTFLoader().loadAsync(url);
     const root = gltf.scene;
     let root_extras = null;
     const impostors = [];
+    const hulls = [];
     const billboards = [];
     const roles = [];
     root.traverse((node) => {
@@ -274,12 +297,25 @@ async function load_standin(url, shaders) {
         if (extras.representation) root_extras = extras;
         if (extras.role) roles.push(extras.role);
         if (extras.role === 'grid-impostor') impostors.push({ node, extras });
+        if (extras.role === 'grid-impostor-hull') hulls.push({ node, extras });
         if (extras.role === 'billboard') billboards.push({ node, extras });
     });
     use_mesh_materials(root, shaders);
     if (params.get('billboards') !== 'plain')
         for (const { node, extras } of billboards) await billboard(node, extras, gltf.parser, shaders);
+    // the impostor on the atlas hull when the file has one (far fewer pixels than the quad), else
+    // on the camera-facing quad; the quad node itself is for plain glTF viewers
+    const on_hull = hulls.length > 0 && params.get('proxy') !== 'quad';
+    window.standin.info.impostor_proxy = impostors.length ? (on_hull ? 'hull' : 'quad') : null;
+    for (const { node, extras } of hulls) {
+        if (on_hull) await grid_impostor_hull(node, extras, gltf.parser, shaders);
+        else node.visible = false;
+    }
     for (const { node, extras } of impostors) {
+        if (on_hull) {
+            node.visible = false;
+            continue;
+        }
         const mesh = await grid_impostor(node, extras, gltf.parser, shaders);
         node.parent.add(mesh);
         mesh.position.copy(node.position);

@@ -6,7 +6,13 @@
 // projection: in perspective the sphere's outline is a cone of half-angle asin(r / D) from the eye,
 // which cuts the plane through the centre in a circle of radius r D / sqrt(D^2 - r^2) > r (a quad of
 // the frames' own half side h = r would clip the parts of the model nearer the eye).
-// Attributes: position (the corners of the square [-1, 1]^2, z ignored).
+// With HULL defined (the `grid-impostor-hull` node, issue #16) the vertices are the atlas hull's,
+// drawn as they are: a convex polytope around the model, so that far fewer pixels than the
+// square's run the fragment stage, which needs only each pixel's eye ray (the same ray as through
+// the square) and so is unchanged. The hull is drawn with its back faces (three.BackSide): they
+// cover the same pixels as the front ones, and still do when the eye is inside the hull.
+// Attributes: position (the corners of the square [-1, 1]^2, z ignored; with HULL, the hull's
+// vertices in object space).
 // Uniforms (object space = the source model's, the glTF's):
 //   projectionMatrix, modelViewMatrix: three.js's (clip <- view <- object)
 //   eye_object: the camera position (perspective) in object space
@@ -27,6 +33,10 @@ out vec3 v_position_object;
 
 void main()
 {
+#ifdef HULL
+    v_position_object = position;
+    gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
+#else
     vec3 to_eye = orthographic == 1 ? -forward_object : eye_object - center;
     float distance_to_center = length(to_eye);
     vec3 w = to_eye / max(distance_to_center, 1e-20);
@@ -42,4 +52,5 @@ void main()
     vec3 p = center + (position.x * right + position.y * top) * half_side * 1.01;
     v_position_object = p;
     gl_Position = projectionMatrix * modelViewMatrix * vec4(p, 1.0);
+#endif
 }

@@ -3,7 +3,10 @@
 // for Unreal, 2018; Amplify Impostors; Godot octahedral impostors), and a camera-facing quad node
 // carrying in its extras what such a shader needs. Steps: check that the package was baked on a
 // grid (icosahedral views have no grid layout), resample the stored crops into the atlas, build the
-// quad (textured, for a plain viewer, with the frame that looks along +Z), describe the frames.
+// quad (textured, for a plain viewer, with the frame that looks along +Z), describe the frames;
+// then the atlas hull (hull.cpp, issue #16) as a second node an impostor shader can draw on
+// instead of the quad, textured with the same front frame.
+#include "reps/view_atlas/hull.h"
 #include "reps/view_atlas/view_atlas.h"
 #include "reps/common/grid_atlas.h"
 #include "reps/common/package_cast.h"
@@ -11,9 +14,44 @@
 #include <standin/export.h>
 #include <standin/files.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace standin::view_atlas {
+
+namespace {
+
+// The hull as a flat-shaded mesh (each face its own corners, its normal), textured like the quad
+// with the front frame: a point's UV is its projection into that frame (through the capture camera
+// for perspective packages), so a plain viewer shows the model from the front on the hull's front faces.
+ExportMesh hull_mesh(const ViewAtlasPackage& package, const ConvexPolytope& hull, const View& front, int fi, int fj)
+{
+    const BakeSettings& s = package.settings;
+    const float h = package.half_extent(), eye = package.capture_distance();
+    ExportMesh mesh;
+    mesh.name = "hull";
+    for (std::size_t f = 0; f < hull.faces.size(); ++f) {
+        const std::uint32_t first = std::uint32_t(mesh.positions.size());
+        for (std::uint32_t v : hull.faces[f]) {
+            const glm::vec3 p(hull.vertices[v]);
+            const glm::vec3 q = p - package.center;
+            float scale = 1.0f / h;
+            if (s.projection == "perspective") scale *= eye / std::max(eye - glm::dot(q, front.direction), 1e-6f * eye);
+            const float fs = std::clamp(glm::dot(q, front.axis_u) * scale * 0.5f + 0.5f, 0.0f, 1.0f);
+            const float ft = std::clamp(glm::dot(q, front.axis_v) * scale * 0.5f + 0.5f, 0.0f, 1.0f);
+            mesh.positions.push_back(p);
+            mesh.normals.push_back(glm::vec3(hull.face_normals[f]));
+            mesh.uvs.push_back({(float(fi) + fs) / float(s.frames), (float(fj) + ft) / float(s.frames)});
+        }
+        for (std::uint32_t k = 1; k + 1 < hull.faces[f].size(); ++k) mesh.indices.insert(mesh.indices.end(), {first, first + k, first + k + 1});
+    }
+    mesh.base_color_texture = 0;
+    mesh.alpha_mode = "MASK";
+    mesh.double_sided = false; // closed and convex: the back faces would show the frame mirrored
+    return mesh;
+}
+
+} // namespace
 
 std::vector<OptionSpec> export_options()
 {
@@ -111,6 +149,30 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     }
     quad.extras["standin"] = block;
     scene.meshes.push_back(std::move(quad));
+
+    // the atlas hull: the same atlas and frames, drawn on a tight convex proxy instead of the quad
+    ClipStats stats;
+    ConvexPolytope hull = atlas_hull(package, &stats);
+    if (!hull.empty()) {
+        ExportMesh mesh = hull_mesh(package, hull, front, fi, fj);
+        block["role"] = "grid-impostor-hull";
+        block["quad_node"] = "impostor";
+        mesh.extras["standin"] = block;
+        // its screen area against the quad's (2h x 2h), orthographic, over the frames' directions
+        double area_min = 1e30, area_max = 0.0, area_sum = 0.0;
+        for (const View& v : package.views) {
+            const double a = hull.projected_area(glm::dvec3(v.direction)) / (4.0 * double(h) * double(h));
+            area_min = std::min(area_min, a), area_max = std::max(area_max, a), area_sum += a;
+        }
+        char note[240];
+        std::snprintf(note, sizeof note,
+                      "atlas hull: %zu triangles, %zu faces (%d of %d view planes cut); its screen area is %.1f %% of the "
+                      "quad's on average over the frames' directions (%.1f-%.1f %%, orthographic)",
+                      hull.triangle_count(), hull.faces.size(), stats.cut, stats.planes, 100.0 * area_sum / double(package.views.size()),
+                      100.0 * area_min, 100.0 * area_max);
+        scene.notes.push_back(note);
+        scene.meshes.push_back(std::move(mesh));
+    }
 
     std::uint64_t texture_bytes = 0;
     for (const ExportTexture& t : scene.textures) texture_bytes += export_texture_bytes(t);

@@ -84,7 +84,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
 // in tests), at most ATLAS_MAX_ARRAYS arrays per map (shaders/atlas_layout.glsl). A package that
 // needs more is refused with a status naming it and its sizes; so is one the GL cannot allocate.
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
-// `standin export` (export.cpp): the grid atlas and its impostor quad.
+// `standin export` (export.cpp): the grid atlas, its impostor quad and the atlas hull (hull.h).
 std::vector<OptionSpec> export_options();
 Result<ExportScene> export_scene(const Package& package, const Options& options);
 
