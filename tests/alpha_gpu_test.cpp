@@ -261,7 +261,7 @@ double silhouette_iou(Renderer& truth, Renderer& standin, const Mesh& mesh)
 }
 
 // The view atlas places a cut-out's edge inside its capture texels (issue #14): alpha-tested models
-// are captured with 4 x 4 samples per texel, the texel's alpha is the covered fraction, and the
+// are captured with 2 x 2 samples per texel, the texel's alpha is the covered fraction, and the
 // corrected walk filters it bilinearly at the hit and keeps the hit where it reaches 1/2. With one
 // sample per texel (STANDIN_ATLAS_COVERAGE_SAMPLES=1: binary coverage, as before) the disc's
 // contour is quantised to texels. Coarse 64^2 captures make the texel ~5 pixels on screen.
