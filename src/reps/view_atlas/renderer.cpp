@@ -11,7 +11,10 @@
 // fragment counter, `standin bench`).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
-// where two crops would mix (view_atlas.h, k_cell).
+// where two crops would mix (view_atlas.h, k_cell). Coverage may be fractional (alpha-tested
+// models, issue #14): the corrected walk keeps a crossing where the filtered coverage reaches 1/2
+// (atlas.frag, hit_coverage), and the normal-depth pages' level 0 is not premultiplied, so the walk
+// reads a partly covered texel's full depth (upload_pages).
 // PBR packages (issue #14) add ORM and emission pages, read where the colour is read (premultiplied
 // by coverage like the normals) and lit with shade_pbr_at; the program is compiled with ATLAS_PBR
 // only for them, so other packages bind and read nothing more.

@@ -6,8 +6,9 @@
 // read where the eye ray crosses the centre plane moved by one parallax step along its depth,
 // blended by weight.
 // STYLE_CORRECTED: the three views around each pixel's ray direction are intersected with the ray as
-// height fields (an exact walk over their texels that does not take depth edges for surfaces),
-// hits on the nearest surface are blended, the true depth is written and the stored normal is lit.
+// height fields (an exact walk over their texels that does not take depth edges for surfaces, and
+// that keeps a crossing only where the coverage filtered around it reaches 1/2, issue #14), hits on
+// the nearest surface are blended, the true depth is written and the stored normal is lit.
 // Every style that lights stored normals (surface maps) lights them with shade_pbr_at: with the
 // ORM and emission pages of a PBR package (ATLAS_PBR, issue #14) read where the colour is read,
 // otherwise with Material's defaults. Lit-colour packages (lit_maps) show the truth's own shading,
