@@ -11,7 +11,10 @@
 // fragment counter, `standin bench`).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
-// where two crops would mix (view_atlas.h, k_cell).
+// where two crops would mix (view_atlas.h, k_cell). Coverage may be fractional (alpha-tested
+// models, issue #14): the corrected walk keeps a crossing where the filtered coverage reaches 1/2
+// (atlas.frag, hit_coverage), and the normal-depth pages' level 0 is not premultiplied, so the walk
+// reads a partly covered texel's full depth (upload_pages).
 // PBR packages (issue #14) add ORM and emission pages, read where the colour is read (premultiplied
 // by coverage like the normals) and lit with shade_pbr_at; the program is compiled with ATLAS_PBR
 // only for them, so other packages bind and read nothing more.
@@ -73,7 +76,7 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
         const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x)
-                if (color.at(x, y)[3] >= 128) {
+                if (color.at(x, y)[3] != 0) { // any coverage: the walk meets every covered texel
                     std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
                     std::uint8_t code = normal_depth.at(x, y)[3];
                     depths.nearest[cell] = std::min(depths.nearest[cell], code);
@@ -157,12 +160,14 @@ std::vector<std::int32_t> build_index(const std::vector<View>& views)
 }
 
 // A page premultiplied by coverage: colour pages by their own alpha, normal-depth pages by the
-// colour page's alpha, so that filtering averages only covered texels.
-std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha)
+// colour page's alpha, so that filtering averages only covered texels. `any`: by 255 wherever the
+// coverage is not 0 instead (the normal-depth pages' level 0, upload_pages says why).
+std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha, bool any = false)
 {
     std::vector<std::uint8_t> out(page.pixels.size());
     for (std::size_t p = 0; p < out.size(); p += 4) {
         unsigned a = coverage.pixels[p + 3];
+        if (any && a != 0) a = 255;
         for (int c = 0; c < 3; ++c) out[p + c] = std::uint8_t((page.pixels[p + c] * a + 127) / 255);
         out[p + 3] = keep_alpha ? page.pixels[p + 3] : std::uint8_t((page.pixels[p + 3] * a + 127) / 255);
     }
@@ -333,9 +338,15 @@ Result<gpu::Texture> upload_compressed_color_pages(const std::vector<ImageRGBA8>
     return texture;
 }
 
-// Pages [first, first + count) of one map in one texture array.
+// Pages [first, first + count) of one map in one texture array. `whole_level0` (normal-depth
+// pages): mip levels are made from the pages premultiplied by coverage like every map's, then level
+// 0 is replaced by the pages premultiplied by "any coverage", i.e. the stored normal and depth on
+// every covered texel. The corrected walk reads heights there (one fetch per texel, atlas.frag
+// height_texel): a partly covered edge texel (fractional coverage, issue #14) must keep its full
+// 8-bit depth, which dividing by its coverage would coarsen; readers that filter level 0 take the
+// colour's alpha as its weight (surface_sample).
 Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
-                                  bool color, int size, int first, int count)
+                                  bool color, int size, int first, int count, bool whole_level0)
 {
     Result<gpu::Texture> allocated = allocate_page_array(GL_RGBA8, size, count);
     if (!allocated) return allocated.status();
@@ -348,6 +359,11 @@ Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const st
         glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
     }
     glGenerateTextureMipmap(name);
+    for (int k = 0; whole_level0 && k < count && std::size_t(first + k) < pages.size(); ++k) {
+        std::size_t page = std::size_t(first + k);
+        std::vector<std::uint8_t> data = premultiplied(pages[page], coverage[page], color, true);
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
+    }
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " uploading pages");
     return texture;
@@ -362,7 +378,8 @@ Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>
         int count = std::min(plan.pages_per_array, std::max(int(pages.size()), 1) - first);
         Result<gpu::Texture> texture =
             compressed ? upload_compressed_color_pages(pages, package.settings.page_size, first, count)
-                       : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count);
+                       : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count,
+                                      &pages == &package.normal_depth_pages);
         if (!texture) {
             std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
             return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + map_name +

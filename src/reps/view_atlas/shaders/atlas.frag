@@ -6,8 +6,9 @@
 // read where the eye ray crosses the centre plane moved by one parallax step along its depth,
 // blended by weight.
 // STYLE_CORRECTED: the three views around each pixel's ray direction are intersected with the ray as
-// height fields (an exact walk over their texels that does not take depth edges for surfaces),
-// hits on the nearest surface are blended, the true depth is written and the stored normal is lit.
+// height fields (an exact walk over their texels that does not take depth edges for surfaces, and
+// that keeps a crossing only where the coverage filtered around it reaches 1/2, issue #14), hits on
+// the nearest surface are blended, the true depth is written and the stored normal is lit.
 // Every style that lights stored normals (surface maps) lights them with shade_pbr_at: with the
 // ORM and emission pages of a PBR package (ATLAS_PBR, issue #14) read where the colour is read,
 // otherwise with Material's defaults. Lit-colour packages (lit_maps) show the truth's own shading,
@@ -167,8 +168,9 @@ vec4 height_texel(ViewData view, ivec2 capture_texel)
 {
     ivec2 local = capture_texel - view.crop.xy;
     if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, view.crop.zw))) return vec4(0.0);
-    // one read: normal-depth pages are premultiplied by coverage, so an empty texel is all zero at
-    // level 0, while a unit normal encoded as n * 0.5 + 0.5 has a component of at least 0.21
+    // one read: level 0 of the normal-depth pages holds the stored values on every covered texel
+    // (however little covered) and zero on empty ones (renderer.cpp, upload_pages), while a unit
+    // normal encoded as n * 0.5 + 0.5 has a component of at least 0.21
     vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
     if (max(nd.r, max(nd.g, nd.b)) < 0.1) return vec4(0.0);
     vec3 n = nd.rgb * 2.0 - 1.0;
@@ -200,8 +202,41 @@ bool linked(vec4 a, vec4 b, int axis, float texel)
     return abs(a.y - b.y) <= hf_link_tolerance(a[2 + axis], b[2 + axis], texel, depth_quantum());
 }
 
+// The coverage of the surface at height `height` at plane point `plane` of a view (issue #14): the
+// colour pages' alpha (for alpha-tested models the covered fraction of each texel, bake.cpp) of the
+// four texels around the point, filtered bilinearly as the truth's alpha test filters its texture,
+// so that a cut-out's edge falls where the filtered coverage crosses 1/2, inside a texel, instead of
+// on texel borders. A neighbour of the same surface (the link rule's step and a texel) adds its
+// alpha; an empty neighbour or one holding a surface behind adds none (the front surface would
+// have been stored there); one holding a nearer surface tells nothing about this one and is left
+// out of the weights. Binary packages get the contour half-way between covered and empty texel
+// centres (their old edge on texel borders, with corners cut).
+float hit_coverage(ViewData view, vec2 plane, float height)
+{
+    float texel = 2.0 * half_extent / resolution;
+    vec2 p = capture_from_plane(plane) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    vec2 f = p - vec2(base);
+    float coverage = 0.0, weight_sum = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 corner = ivec2(k & 1, k >> 1);
+        float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y);
+        vec4 t = height_texel(view, base + corner);
+        if (t.x > 0.5) {
+            float tolerance = hf_link_tolerance(t.z, t.w, texel, depth_quantum()) + texel;
+            if (t.y > height + tolerance) continue;
+            if (t.y >= height - tolerance)
+                coverage += w * fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
+        }
+        weight_sum += w;
+    }
+    return weight_sum > 0.0 ? coverage / weight_sum : 1.0;
+}
+
 // Intersects ray o + t d (object space) with one view's height field: a digital walk over the
-// texels under the ray between the view's nearest and farthest stored heights. Returns (t, result).
+// texels under the ray between the view's nearest and farthest stored heights. A crossing where
+// the surface's filtered coverage is under 1/2 (hit_coverage) is no hit: the ray passes beside the
+// edge there and walks on. Returns (t, result).
 vec2 intersect_view(ViewData view, vec3 o, vec3 d)
 {
     vec3 u = view.axis_u.xyz, v = view.axis_v.xyz, w = view.direction.xyz;
@@ -285,7 +320,10 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d)
             bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
                                linked(previous, current, entered_across, texel);
             vec2 crossing = hf_cross_column(t_enter, t_enter, t_exit, -ro.z, -rd.z, -current.y, from_linked, -previous.y);
-            if (crossing.y == HF_TOP || crossing.y == HF_WALL) return vec2(crossing.x, RAY_HIT);
+            if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
+                vec3 hit = ro + crossing.x * rd; // plane coordinates and height
+                if (hit_coverage(view, hit.xy, hit.z) >= 0.5) return vec2(crossing.x, RAY_HIT);
+            }
             hidden = hidden || crossing.y == HF_UNDER;
         }
         previous = current;
@@ -335,8 +373,11 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
             if (abs(t.y - height) > tolerance) continue;
             float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y) + 1e-6;
             ivec3 at = ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x);
-            color += w * fetch_array(MAP_COLOR, view.atlas.w, at);
-            normal_depth += w * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+            vec4 texel_color = fetch_array(MAP_COLOR, view.atlas.w, at);
+            color += w * texel_color;
+            // level 0 of the normal-depth pages is not premultiplied (renderer.cpp, upload_pages):
+            // weight it by the colour's coverage like the other maps
+            normal_depth += w * texel_color.a * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
 #if ATLAS_PBR
             orm += w * fetch_array(MAP_ORM, view.atlas.w, at);
             emission += w * fetch_array(MAP_EMISSION, view.atlas.w, at);
