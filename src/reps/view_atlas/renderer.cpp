@@ -9,6 +9,10 @@
 // nearest surface, lights the stored normals and writes true depth. Its proxy is a cut-out hull:
 // the nearest view's crop prism instead of the bounding sphere's quad (overdraw measured by the
 // fragment counter, `standin bench`).
+// Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
+// corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
+// seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth
+// tests reject hidden instances' fragments before they walk.
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell). Coverage may be fractional (alpha-tested
@@ -38,7 +42,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
+#include <utility>
 
 namespace standin::view_atlas {
 
@@ -408,6 +414,9 @@ private:
     gpu::Buffer views_, index_;
     gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
+    glm::vec3 center_{0.0f};                // the package's bounding sphere centre (object space)
+    std::vector<glm::mat4> sorted_;         // this frame's instances, front to back (draw)
+    std::vector<std::pair<float, std::uint32_t>> order_; // (view depth, index), reused across frames
     GLint counting_at_ = -1;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
@@ -511,6 +520,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->index_ = gpu::make_buffer(build_index(package.views));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     renderer->style_ = style;
+    renderer->center_ = package.center;
     renderer->counting_at_ = renderer->program_.uniform("counting");
 
     GLuint id = renderer->program_.id();
@@ -524,6 +534,8 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
     glProgramUniform1i(id, renderer->program_.uniform("style"), style);
     glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
+    glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"),
+                       float(settings.options.number("baseline-below")));
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
@@ -532,9 +544,28 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     return std::unique_ptr<Renderer>(std::move(renderer));
 }
 
+// Instances front to back: each one's bounding-sphere centre by its depth along the camera's view
+// axis, ties by index, so the order (and so the picture where two hits share a depth) does not
+// depend on the sort. Every style writes a depth at or behind its proxy's (depth_greater in
+// atlas.frag), so a GPU's early depth test can reject the fragments of instances hidden behind
+// nearer ones before they walk; drawn back to front, each would walk and then be overwritten.
 DrawStats AtlasRenderer::draw(const DrawParams& params)
 {
-    frame_.bind(params);
+    DrawParams sorted_params = params;
+    if (params.world_from_object.size() > 1) {
+        const glm::mat4& view = params.camera.view_from_world;
+        order_.resize(params.world_from_object.size());
+        for (std::size_t i = 0; i < order_.size(); ++i) {
+            glm::vec4 center = view * (params.world_from_object[i] * glm::vec4(center_, 1.0f));
+            float depth = -center.z; // the camera looks down -z
+            order_[i] = {std::isnan(depth) ? std::numeric_limits<float>::max() : depth, std::uint32_t(i)};
+        }
+        std::sort(order_.begin(), order_.end());
+        sorted_.resize(order_.size());
+        for (std::size_t i = 0; i < order_.size(); ++i) sorted_[i] = params.world_from_object[order_[i].second];
+        sorted_params.world_from_object = sorted_;
+    }
+    frame_.bind(sorted_params);
     GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());

@@ -41,6 +41,10 @@ std::vector<OptionSpec> render_options()
         number_option("seed-below", "8", 0.0, 1.0e6,
                       "Corrected style, level of detail: an instance whose bounding sphere is under this many "
                       "pixels in radius is drawn as the seed's nearest view (one quad, no walk; 0: never)"),
+        number_option("baseline-below", "0", 0.0, 1.0e6,
+                      "Corrected style, level of detail: an instance under this many pixels in radius (and not "
+                      "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
+                      "one parallax step, no walk; 0: never; 48 for crowds, docs/RESULTS.md)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),

@@ -4,15 +4,20 @@
 // Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
 // Corrected: the cut-out hull below (36 vertices). The fragment stage casts the rays; with the eye
 // inside the proxy, the whole screen.
-// Level of detail (beyond the paper, for crowds): a corrected-style instance whose bounding sphere
-// projects to fewer than seed_below_pixels pixels of radius is drawn as the seed's quad (its first 6
-// vertices, the other 30 collapsed) and shaded as the seed (v_lod_seed): at that size the walk's
-// parallax is below a pixel or two, and its hull and walk cost most of a crowd's frame.
+// Level of detail (beyond the paper, for crowds), by the radius in pixels of the instance's bounding
+// sphere, corrected style only: under baseline_below_pixels an instance keeps its cut-out hull but is
+// shaded as the octahedral baseline (three views around its direction, one parallax step: no walk);
+// under seed_below_pixels it is drawn as the seed's quad (its first 6 vertices, the other 30
+// collapsed) and shaded as the seed. v_lod says which. The thresholds were chosen by comparing each
+// level's picture with the corrected one at the switch size (docs/RESULTS.md, "View atlas crowd:
+// level of detail"): there the walk's parallax is below a pixel or two, and its hull and walk cost
+// most of a crowd's frame. 0 turns a level off.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 uniform int style;
-uniform float seed_below_pixels; // corrected style: radius in pixels under which the seed's quad is drawn
+uniform float seed_below_pixels;     // corrected style: radius in pixels under which the seed's quad is drawn
+uniform float baseline_below_pixels; // corrected style: radius in pixels under which the baseline shades the hull
 
 // Radius in pixels of the instance's bounding sphere (largest axis scale), measured along the
 // camera's up vector so that orthographic and perspective cameras are treated alike.
@@ -29,7 +34,7 @@ float sphere_pixels(mat4 world_from_object)
 flat out ivec3 v_views;
 flat out vec3 v_weights;
 flat out int v_instance;
-flat out int v_lod_seed; // 1: drawn and shaded as the seed's nearest view (level of detail)
+flat out int v_lod; // ATLAS_LOD_*: the level of detail a corrected-style instance is shaded at
 out vec2 v_atlas_texel; // seed: atlas texel position (level 0) on the nearest view's page
 
 void main()
@@ -41,10 +46,13 @@ void main()
                                          : normalize(eye_object - atlas_center);
     vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
     v_instance = gl_InstanceID;
-    v_lod_seed = 0;
-    bool lod_seed = style == STYLE_CORRECTED && seed_below_pixels > 0.0 && sphere_pixels(world_from_object) < seed_below_pixels;
+    v_lod = ATLAS_LOD_CORRECTED;
+    if (style == STYLE_CORRECTED && max(seed_below_pixels, baseline_below_pixels) > 0.0) {
+        float pixels = sphere_pixels(world_from_object);
+        v_lod = pixels < seed_below_pixels ? ATLAS_LOD_SEED : pixels < baseline_below_pixels ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
+    }
+    bool lod_seed = v_lod == ATLAS_LOD_SEED;
     if (lod_seed) {
-        v_lod_seed = 1;
         const int strip_corner[6] = int[6](0, 1, 3, 0, 3, 2); // the strip's quad as two triangles
         int c = strip_corner[min(gl_VertexID, 5)];
         corner = vec2(c & 1, (c >> 1) & 1);
@@ -74,9 +82,15 @@ void main()
         // to the back of the sphere. Every point of the model projects into every view's crop, so
         // this prism holds the whole model; drawn as its faces towards the eye (36 vertices, the
         // others collapsed), each covered pixel runs the fragment stage once.
-        int k = nearest_view(e);
-        v_views = ivec3(k, 0, 0);
-        v_weights = vec3(1.0, 0.0, 0.0);
+        // the baseline level blends the views around the instance's direction (the nearest first);
+        // the corrected fragment stage picks its own per pixel
+        if (v_lod == ATLAS_LOD_BASELINE) {
+            blend_views(e, v_views, v_weights);
+        } else {
+            v_views = ivec3(nearest_view(e), 0, 0);
+            v_weights = vec3(1.0, 0.0, 0.0);
+        }
+        int k = v_views.x;
         ViewData view = views.items[k];
         vec3 lo = vec3(plane_from_capture(vec2(view.crop.xy)), -atlas_radius);
         vec3 hi = vec3(plane_from_capture(vec2(view.crop.xy + view.crop.zw)),

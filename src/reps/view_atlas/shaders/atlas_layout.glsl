@@ -29,6 +29,11 @@
 #define STYLE_BASELINE 1   // impostor bakers: 3 views blended, one parallax offset step
 #define STYLE_CORRECTED 2  // 3 views blended, each intersected per pixel with its depth
 
+// levels of detail of a corrected-style instance (atlas.vert: v_lod, by its size in pixels)
+#define ATLAS_LOD_CORRECTED 0 // the walk on the cut-out hull
+#define ATLAS_LOD_BASELINE 1  // the baseline's blend and parallax step on the cut-out hull
+#define ATLAS_LOD_SEED 2      // the seed's nearest view on its quad
+
 #define LOOKUP_SIDE 32     // cells per side of each face of the direction lookup cube
 #define NEIGHBOURS 12      // nearest other views kept per view
 #define MAX_LOD 4          // mip levels that never mix two views (crops sit on 16-texel cells)
