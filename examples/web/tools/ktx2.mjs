@@ -150,7 +150,8 @@ export function write_glb(json, bin) {
 // does not know the extension and only warns that it cannot read the image): Basis payload
 // (vkFormat 0; ETC1S in BasisLZ, or UASTC in none/Zstandard), one 2D image (no depth, layers,
 // faces), base size the PNG's and a multiple of 4, the full mip chain (the sampler minifies with
-// mips), BT.709 primaries and the sRGB transfer of a baseColorTexture, orientation "rd" if stated.
+// mips), BT.709 primaries and the sRGB transfer of a baseColorTexture, alpha not premultiplied, the
+// DFD channels the extension lists, orientation "rd" and swizzle "rgba" if stated.
 // Returns the first rule broken, or null.
 export function check_ktx2(bytes, width, height, uastc) {
     const id = [0xab, 0x4b, 0x54, 0x58, 0x20, 0x32, 0x30, 0xbb, 0x0d, 0x0a, 0x1a, 0x0a];
@@ -171,15 +172,22 @@ export function check_ktx2(bytes, width, height, uastc) {
     if (model !== (uastc ? 166 : 163)) return `DFD colour model ${model}, not ${uastc ? 'UASTC (166)' : 'ETC1S (163)'}`;
     if (primaries !== 1) return `DFD primaries ${primaries}, not BT.709 (1)`;
     if (transfer !== 2) return `DFD transfer ${transfer}, not sRGB (2)`;
+    if (bytes[dfd + 15] & 1) return 'DFD flags premultiplied alpha';
+    // samples: 16 bytes each after the 24-byte block header; the channel id is the top 4 bits of
+    // byte 3 of each (ETC1S: RGB 0 and AAA 15 for RGBA; UASTC: one sample, RGB 0 or RGBA 3)
+    const samples = (view.getUint16(dfd + 10, true) - 24) / 16;
+    const channels = Array.from({ length: Math.max(0, samples) }, (_, k) => bytes[dfd + 4 + 24 + 16 * k + 3] & 15);
+    const ok = uastc ? channels.length === 1 && (channels[0] === 0 || channels[0] === 3)
+        : (channels.length === 1 && channels[0] === 0) || (channels.length === 2 && channels[0] === 0 && channels[1] === 15);
+    if (!ok) return `DFD channels [${channels}] are not ${uastc ? 'UASTC RGB or RGBA' : 'ETC1S RGB (+ AAA)'}`;
     for (let at = kvd; at + 4 <= kvd + kvd_length;) {
         const length = u32(at);
         const pair = bytes.subarray(at + 4, at + 4 + length);
         const zero = pair.indexOf(0);
         const key = new TextDecoder().decode(pair.subarray(0, zero < 0 ? pair.length : zero));
-        if (key === 'KTXorientation') {
-            const value = new TextDecoder().decode(pair.subarray(zero + 1)).replace(/\0+$/, '');
-            if (value !== 'rd') return `KTXorientation "${value}", not "rd"`;
-        }
+        const value = new TextDecoder().decode(pair.subarray(zero + 1)).replace(/\0+$/, '');
+        if (key === 'KTXorientation' && value !== 'rd') return `KTXorientation "${value}", not "rd"`;
+        if (key === 'KTXswizzle' && value !== 'rgba') return `KTXswizzle "${value}", not "rgba"`;
         at += 4 + pad4(length);
     }
     return null;
