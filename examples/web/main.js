@@ -2,7 +2,7 @@
 // orbited by one camera. WebGL2 through three.js; the grid-atlas impostor is drawn by
 // shaders/grid_impostor.{vert,frag}, the reference GLSL for that format (docs/FORMAT.md, "Export"),
 // billboards by shaders/billboard.{vert,frag}, plain meshes by shaders/mesh.{vert,frag}, all with
-// standin's lighting.
+// standin's lighting. Colour textures may be PNG or KTX2 (KHR_texture_basisu, tools/ktx2.mjs).
 //
 // URL parameters (all optional; a test drives the viewer through them, README.md):
 //   model=URL      the original model: .glb/.gltf, .ply or .obj
