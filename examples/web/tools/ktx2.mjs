@@ -3,7 +3,8 @@
 // block-compressed textures (BCn, ETC, ASTC: whatever the GPU has, transcoded at load time) instead
 // of RGBA8. Debian packages no Basis encoder (no basisu, no KTX-Software toktx); the npm package
 // ktx2-encoder ships Binomial's basis_universal encoder compiled to WebAssembly with a Node entry,
-// which is what this uses.
+// which is what this uses. Sources: Khronos, "KHR_texture_basisu" (glTF extension, ratified 2021)
+// and "KTX File Format Specification 2.0"; Binomial (R. Geldreich), Basis Universal (2019-).
 //   node tools/ktx2.mjs IN.glb OUT.glb [--etc1s | --uastc] [--quality Q] [--keep-png]
 //
 // Steps:
@@ -21,8 +22,8 @@
 //      require (KTXorientation "rd").
 //   4. Write a new GLB in which each converted image is the KTX2 (mimeType image/ktx2) and its
 //      texture names it through extensions.KHR_texture_basisu.source. By default the extension is
-//      required and the PNG is dropped (texture.source removed): the point is a smaller download,
-//      and three.js and the Khronos validator accept it; --keep-png keeps the PNG as texture.source
+//      required and the PNG is dropped (texture.source removed): the point is the GPU footprint
+//      and, for detailed atlases, the download, and three.js and the Khronos validator accept it; --keep-png keeps the PNG as texture.source
 //      (the fallback for loaders without Basis; the extension then is only "used").
 //   5. Everything else (nodes, extras with their texture indices, accessors, the other images) is
 //      copied unchanged; texture indices do not move.
