@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Bakes small packages of every representation from the bundled models (data/), exports them with
-# `standin export` and runs the Khronos glTF validator (npm gltf-validator, pinned in
+# `standin export`, rewrites some with KTX2 colour textures (examples/web/tools/ktx2.mjs, checked by
+# export_ktx2_check.mjs) and runs the Khronos glTF validator (npm gltf-validator, pinned in
 # tools/gltf/package-lock.json) on every .glb, failing on any error. A microfacets export at a
-# level the package lacks must be refused in one line with exit status 2. Exits 77 (ctest
+# level the package lacks, and a truncated .glb given to the converter, must be refused in one line
+# with exit status 2. Exits 77 (ctest
 # SKIP_RETURN_CODE) when npm or the package cannot be installed, so that an offline machine skips
 # rather than fails.
 # Usage: export_validator.sh STANDIN SOURCE_DIR WORK_DIR
@@ -29,6 +31,9 @@ if ! cmp -s "$source_dir/tools/gltf/package-lock.json" "$tools/package-lock.json
     fi
 fi
 cp "$source_dir/tools/gltf/validate.mjs" "$tools/"
+# the KTX2 converter of the web viewer's folder, next to its encoder (ktx2-encoder, pinned in the same
+# lock file): ESM resolves packages from the script's own folder
+cp "$source_dir/examples/web/tools/ktx2.mjs" "$tools/"
 
 out=$work/packages
 rm -rf "$out"
@@ -73,5 +78,33 @@ if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/micro.err")" -ne 1 ] || [ -e "$out/b
     cat "$out/micro.err"
     exit 1
 fi
+
+# KTX2 (examples/web/tools/ktx2.mjs): the colour textures as Basis ETC1S / UASTC under
+# KHR_texture_basisu, the data textures bit-exact; the validator must still find no error (it does
+# not know the extension: it warns that it cannot read image/ktx2, which export_ktx2_check.mjs
+# checks instead)
+ktx2() { # NAME SUFFIX MIN_CONVERTED TOOL_ARGS...
+    local name=$1 suffix=$2 min=$3
+    shift 3
+    node "$tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" --quiet "$@"
+    node "$source_dir/tests/export_ktx2_check.mjs" "$tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" "$min"
+}
+ktx2 bunny_atlas etc1s 1
+ktx2 box_atlas uastc 1 --uastc
+ktx2 teapot_hemi fallback 1 --keep-png
+ktx2 box_billboards etc1s 0
+
+# bad input to the converter: one line, exit 2, no file
+head -c 1000 "$out/bunny_atlas.glb" >"$out/truncated.glb"
+set +e
+node "$tools/ktx2.mjs" "$out/truncated.glb" "$out/bad_ktx2.glb" 2>"$out/ktx2.err"
+status=$?
+set -e
+if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/ktx2.err")" -ne 1 ] || [ -e "$out/bad_ktx2.glb" ]; then
+    echo "FAIL: converting a truncated .glb to KTX2 should fail with one line and exit 2 (got $status):"
+    cat "$out/ktx2.err"
+    exit 1
+fi
+rm "$out/truncated.glb"
 
 node "$tools/validate.mjs" "$out"/*.glb

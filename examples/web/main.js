@@ -2,7 +2,7 @@
 // orbited by one camera. WebGL2 through three.js; the grid-atlas impostor is drawn by
 // shaders/grid_impostor.{vert,frag}, the reference GLSL for that format (docs/FORMAT.md, "Export"),
 // billboards by shaders/billboard.{vert,frag}, plain meshes by shaders/mesh.{vert,frag}, all with
-// standin's lighting.
+// standin's lighting. Colour textures may be PNG or KTX2 (KHR_texture_basisu, tools/ktx2.mjs).
 //
 // URL parameters (all optional; a test drives the viewer through them, README.md):
 //   model=URL      the original model: .glb/.gltf, .ply or .obj
@@ -22,6 +22,7 @@
 //   spin=DEG       degrees of azimuth per second while not still (default 10)
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
 import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -68,7 +69,7 @@ function extension_of(url) {
 
 async function load_model(url) {
     const ext = extension_of(url);
-    if (ext === 'glb' || ext === 'gltf') return { object: (await new GLTFLoader().loadAsync(url)).scene };
+    if (ext === 'glb' || ext === 'gltf') return { object: (await gltf_loader().loadAsync(url)).scene };
     if (ext === 'ply') {
         const geometry = await new PLYLoader().loadAsync(url);
         if (!geometry.getAttribute('normal')) geometry.computeVertexNormals();
@@ -85,6 +86,17 @@ async function load_model(url) {
         return { object };
     }
     throw new Error(`${url}: the viewer reads .glb, .gltf, .ply and .obj models`);
+}
+
+// glTF with KHR_texture_basisu (colour maps as KTX2 / Basis Universal, examples/web/tools/ktx2.mjs):
+// three's KTX2Loader transcodes them, in a worker, with the Basis transcoder three ships
+// (node_modules/three/examples/jsm/libs/basis/), to a block format this GPU samples (ASTC, BPTC,
+// ETC2, S3TC, ..., else RGBA8); it needs the renderer to know which, so main() sets it up first
+let ktx2_loader = null;
+function gltf_loader() {
+    const loader = new GLTFLoader();
+    if (ktx2_loader) loader.setKTX2Loader(ktx2_loader);
+    return loader;
 }
 
 // standin's shading for a plain mesh: its glTF/three material becomes mesh.{vert,frag}
@@ -169,6 +181,12 @@ function as_codes(texture) {
     return texture;
 }
 
+// what the test reports of a colour map: a transcoded KTX2 (its three format: the GPU block format
+// the Basis transcoder chose) or an image
+function texture_kind(texture) {
+    return texture.isCompressedTexture ? `ktx2 (three format ${texture.format})` : 'image';
+}
+
 // the camera and light in a mesh's object space, before each draw (uniforms eye_object,
 // forward_object, orthographic, clip_from_object, to_light_object)
 function track_camera(mesh, material) {
@@ -197,6 +215,7 @@ const camera_uniforms = () => ({
 async function billboard(node, extras, parser, shaders) {
     const color = as_codes((await parser.getDependency('texture', extras.color_texture)).clone());
     const normal_depth = as_codes((await parser.getDependency('texture', extras.normal_depth_texture)).clone());
+    (window.standin.info.billboard_color_textures ||= []).push(texture_kind(color));
     const material = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['billboard.vert'],
@@ -234,6 +253,7 @@ async function grid_impostor_material(extras, parser, shaders, hull) {
     const has_nd = extras.normal_depth_texture !== undefined && extras.normal_depth_texture !== null;
     const normal_depth = has_nd ? (await parser.getDependency('texture', extras.normal_depth_texture)).clone() : null;
     for (const t of [color, normal_depth]) if (t) as_codes(t);
+    window.standin.info.color_texture = texture_kind(color);
     return new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['grid_impostor.vert'],
@@ -284,7 +304,7 @@ async function grid_impostor_hull(node, extras, parser, shaders) {
 }
 
 async function load_standin(url, shaders) {
-    const gltf = await new GLTFLoader().loadAsync(url);
+    const gltf = await gltf_loader().loadAsync(url);
     const root = gltf.scene;
     let root_extras = null;
     const impostors = [];
@@ -376,6 +396,24 @@ async function main() {
     if (!['both', 'model', 'standin'].includes(view)) throw new Error(`view=${view}: use both, model or standin`);
     const still = params.get('still') === '1';
 
+    const size = params.get('size');
+    let width = window.innerWidth, height = window.innerHeight;
+    if (size) {
+        const m = /^(\d+)x(\d+)$/.exec(size);
+        if (!m) throw new Error(`size=${size}: use WxH`);
+        width = Number(m[1]);
+        height = Number(m[2]);
+    }
+    const canvas = document.getElementById('view');
+    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
+    renderer.setPixelRatio(size ? 1 : window.devicePixelRatio);
+    renderer.setSize(width, height, true);
+    renderer.setClearColor(0x000000, 0);
+    renderer.autoClear = false;
+    ktx2_loader = new KTX2Loader()
+        .setTranscoderPath(new URL('node_modules/three/examples/jsm/libs/basis/', import.meta.url).href)
+        .detectSupport(renderer);
+
     const shaders = await load_shaders();
     const [model, standin] = await Promise.all([
         model_url ? load_model(model_url) : null,
@@ -393,20 +431,6 @@ async function main() {
     else sphere = sphere_of_box(new THREE.Box3().setFromObject(standin.object));
     window.standin.info.sphere = { center: sphere.center.toArray(), radius: sphere.radius };
 
-    const size = params.get('size');
-    let width = window.innerWidth, height = window.innerHeight;
-    if (size) {
-        const m = /^(\d+)x(\d+)$/.exec(size);
-        if (!m) throw new Error(`size=${size}: use WxH`);
-        width = Number(m[1]);
-        height = Number(m[2]);
-    }
-    const canvas = document.getElementById('view');
-    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
-    renderer.setPixelRatio(size ? 1 : window.devicePixelRatio);
-    renderer.setSize(width, height, true);
-    renderer.setClearColor(0x000000, 0);
-    renderer.autoClear = false;
 
     const halves = [];
     if (view !== 'standin' && model) halves.push(new THREE.Scene().add(model.object));

@@ -13,6 +13,7 @@ const k_types = {
     '.bin': 'application/octet-stream', '.png': 'image/png', '.jpg': 'image/jpeg',
     '.ply': 'application/octet-stream', '.obj': 'text/plain', '.mtl': 'text/plain',
     '.vert': 'text/plain', '.frag': 'text/plain', '.glsl': 'text/plain',
+    '.ktx2': 'image/ktx2', '.wasm': 'application/wasm',
 };
 
 // mounts: [[prefix, dir]], longest prefix first

@@ -6,12 +6,15 @@
 //     (checks the camera model, the loaders and the read-back);
 //   - stand-in cases: a package baked by `standin bake`, exported by `standin export` to .glb, drawn
 //     by the viewer, against `standin render` of the package (its own renderer).
+//   - a KTX2 case: the grid atlas export rewritten by tools/ktx2.mjs (colour atlas as KTX2 / Basis
+//     ETC1S, KHR_texture_basisu), drawn through three's KTX2Loader, against the same render
+//     (from the first camera only: the encoding is what it checks, not the camera).
 // Exit status: 0 pass, 1 fail, 77 skipped (no Chromium, or no npm to install playwright-core/three),
 // 2 bad arguments. Registered in ctest as web_viewer_silhouette (tests/CMakeLists.txt).
 //   node test/silhouette.mjs --cli build/standin [--work DIR] [--chromium /usr/bin/chromium]
 //        [--min-iou 0.95] [--only NAME]
 import { spawnSync } from 'node:child_process';
-import { existsSync, mkdirSync, rmSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -58,7 +61,7 @@ const k_cases = [
     { name: 'model box_textured.glb', model: 'data/box_textured.glb' },
     { name: 'view-atlas grid atlas', model: 'data/bunny.ply',
       bake: ['-r', 'view-atlas', '--layout', 'octahedral', '--frames', '16', '--resolution', '192'],
-      export: ['--atlas-size', '2048'], proxy: 'hull' }, // drawn on the atlas hull (issue #16), not the quad
+      export: ['--atlas-size', '2048'], proxy: 'hull', ktx2: ['--etc1s'] }, // drawn on the atlas hull (issue #16), not the quad
     { name: 'displaced-mesh', model: 'data/bunny.ply', bake: ['-r', 'displaced-mesh'], export: [] },
     { name: 'enhanced-billboards', model: 'data/bunny.ply', bake: ['-r', 'enhanced-billboards'], export: [] },
     // the finest baked level (7: 128^3) as a plain voxel-face mesh
@@ -86,7 +89,7 @@ function cli(args) {
 
 // the prerequisites: Chromium, and node_modules (npm ci when npm is there)
 if (!existsSync(options.chromium)) skip(`no Chromium at ${options.chromium} (Debian package chromium; scripts/setup installs it)`);
-if (!existsSync(join(web_dir, 'node_modules', 'playwright-core')) || !existsSync(join(web_dir, 'node_modules', 'three'))) {
+if (['playwright-core', 'three', 'ktx2-encoder'].some((m) => !existsSync(join(web_dir, 'node_modules', m)))) {
     const npm = run('sh', ['-c', 'command -v npm']);
     if (npm.status !== 0) skip('npm is not installed: cannot install playwright-core and three (examples/web/package.json)');
     console.log('silhouette: npm ci in examples/web');
@@ -188,6 +191,23 @@ try {
                     row.error = `the impostor was drawn on the ${r.info.impostor_proxy}, not the ${c.proxy}`;
                 }
                 if (row.status !== 'pass') failed = true;
+                if (c.ktx2 && k === 0) {
+                    // the same export with its colour atlas as KTX2, against the same render
+                    const t1 = Date.now();
+                    const glb = join(options.work, `${slug}.glb`), ktx2_glb = join(options.work, `${slug}.ktx2.glb`);
+                    const tool = run(process.execPath, [join(web_dir, 'tools', 'ktx2.mjs'), glb, ktx2_glb, ...c.ktx2]);
+                    if (tool.status !== 0) throw new Error(`tools/ktx2.mjs: exit ${tool.status}: ${(tool.stderr || '').trim()}`);
+                    const k2 = await view_in_browser(query.replace(`/work/${slug}.glb`, `/work/${slug}.ktx2.glb`),
+                        `/work/${view}.standin.png`, join(options.work, `${view}.ktx2.web.png`));
+                    row.ktx2 = { iou: k2.iou, web_pixels: k2.web_pixels, bytes_png: statSync(glb).size,
+                        bytes_ktx2: statSync(ktx2_glb).size, color_texture: k2.info.color_texture, seconds: (Date.now() - t1) / 1000 };
+                    // the viewer must have drawn the transcoded KTX2, not an image
+                    const used_ktx2 = /^ktx2/.test(k2.info.color_texture || '');
+                    if (k2.iou < options.min_iou || !used_ktx2) {
+                        row.status = 'FAIL';
+                        failed = true;
+                    }
+                }
             } catch (error) {
                 row.status = 'FAIL';
                 row.error = error.message;
@@ -197,6 +217,9 @@ try {
             results.push(row);
             const iou = row.iou !== undefined ? `IoU ${row.iou.toFixed(4)} (${row.web_pixels} web / ${row.standin_pixels} standin pixels)` : '';
             console.log(`${row.status.padEnd(5)} ${c.name}, azimuth ${camera.azimuth} elevation ${camera.elevation}: ${iou} ${row.seconds.toFixed(1)} s${row.error ? `\n  ${row.error}` : ''}`);
+            if (row.ktx2)
+                console.log(`      ${c.name} as KTX2 (${row.ktx2.color_texture}; ${row.ktx2.bytes_png} -> ${row.ktx2.bytes_ktx2} bytes): ` +
+                    `IoU ${row.ktx2.iou.toFixed(4)} (${row.ktx2.web_pixels} web pixels) ${row.ktx2.seconds.toFixed(1)} s`);
             if (row.error && !prepared && c.bake) break; // bake or export failed: no other camera can run
         }
     }
