@@ -29,6 +29,10 @@ std::vector<OptionSpec> bake_options()
         choice_option("maps", "surface", {"surface", "lit"},
                       "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
         integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),
+        choice_option("compression", "none", {"none", "bc", "bc-color"},
+                      "Pages in the package: none (PNG), bc (BC5 octahedral normals and zlib-packed exact depth "
+                      "in KTX2 files, colour PNG), bc-color (bc, colour as the DXT5 blocks --texture-format bc3 "
+                      "uploads, mip levels included)"),
     };
 }
 
@@ -67,6 +71,7 @@ PackageSummary summarise(const Package& base)
                        {"fov", settings.fov},
                        {"resolution", settings.resolution},
                        {"maps", settings.maps},
+                       {"compression", settings.compression},
                        {"pbr_pages", package.has_pbr()},
                        {"pages", package.color_pages.size()},
                        {"page_size", settings.page_size},
@@ -96,6 +101,7 @@ BakeSettings settings_from(const Options& parameters)
     s.resolution = parameters.integer("resolution");
     s.maps = parameters.choice("maps");
     s.page_size = parameters.integer("page-size");
+    s.compression = parameters.choice("compression");
     return s;
 }
 
