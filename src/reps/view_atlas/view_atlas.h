@@ -41,7 +41,7 @@ struct BakeSettings {
     // Pages in the package (package.cpp): "none" PNG; "bc" (format version 4) BC5 octahedral
     // normals and exact R8 depth in KTX2 files, colour PNG; "bc-color" as bc, colour as the DXT5
     // blocks --texture-format bc3 uploads (color_page_blocks), mip levels included.
-    std::string compression = "none";
+    std::string compression = "bc";
 };
 
 class ViewAtlasPackage final : public Package {
