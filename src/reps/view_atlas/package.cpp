@@ -59,7 +59,8 @@ Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, cons
             return true;
         }));
     BlockImage depth{BlockFormat::r8, size, size, {std::vector<std::uint8_t>(std::size_t(size) * std::size_t(size))}};
-    for (std::size_t t = 0; t < depth.levels[0].size(); ++t) depth.levels[0][t] = nd.pixels[t * 4 + 3];
+    for (std::size_t t = 0; t < depth.levels[0].size(); ++t) // uncovered texels 0, as a reader gives them
+        depth.levels[0][t] = color.pixels[t * 4 + 3] >= 128 ? nd.pixels[t * 4 + 3] : std::uint8_t(0);
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, page_blocks_file(k, "normal"), files));
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, page_blocks_file(k, "depth"), files));
     page["normal"] = page_blocks_file(k, "normal");

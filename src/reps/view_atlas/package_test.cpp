@@ -71,7 +71,7 @@ ViewAtlasPackage with_compression(ViewAtlasPackage p, const char* compression)
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
             if (p.color_pages[0].at(x, y)[3] == 0) continue;
-            glm::vec3 n = glm::normalize(glm::vec3(std::sin(x * 0.3f), std::cos(y * 0.2f), std::sin(float(x + y) * 0.1f) - 0.3f));
+            glm::vec3 n = glm::normalize(glm::vec3(std::sin(x * 0.1f), std::cos(y * 0.07f), std::sin(float(x + y) * 0.05f) - 0.3f));
             for (int c = 0; c < 3; ++c) p.normal_depth_pages[0].at(x, y)[c] = std::uint8_t(std::lround((n[c] * 0.5f + 0.5f) * 255.0f));
         }
     return p;
@@ -109,7 +109,10 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
             const std::uint8_t *na = &q.normal_depth_pages[0].pixels[t * 4], *nb = &p.normal_depth_pages[0].pixels[t * 4];
             ASSERT_EQ(a[3], b[3]) << "coverage, texel " << t;
             if (b[3] == 0) {
-                ASSERT_EQ(a[0] | a[1] | a[2] | na[0] | na[1] | na[2] | na[3], 0) << "uncovered texel " << t;
+                ASSERT_EQ(na[0] | na[1] | na[2] | na[3], 0) << "uncovered texel " << t;
+                if (bc_color) { // PNG colour is as stored
+                    ASSERT_EQ(a[0] | a[1] | a[2], 0) << "uncovered texel " << t;
+                }
                 continue;
             }
             ASSERT_EQ(na[3], nb[3]) << "depth, texel " << t;
@@ -117,7 +120,7 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
             auto normal = [](const std::uint8_t* n) { return glm::normalize(glm::vec3(n[0], n[1], n[2]) / 255.0f * 2.0f - 1.0f); };
             worst_normal = std::max(worst_normal, glm::degrees(std::acos(std::min(glm::dot(normal(na), normal(nb)), 1.0f))));
         }
-        EXPECT_LT(worst_normal, 8.0f);
+        EXPECT_LT(worst_normal, 12.0f); // as the billboards' BC5 normals
         if (bc_color) {
             EXPECT_LT(worst_color, 40); // 5:6:5 end points of a gradient
             ASSERT_EQ(q.color_bc3.size(), 1u);
