@@ -135,7 +135,12 @@ bool up_to_date(const std::string& directory, const std::string& content_hash, c
         if (!b) return v;
         return v.is_object() && v.contains(b) ? v[b] : nlohmann::json(nullptr);
     };
-    return at("format") == k_package_format && at("version") == k_package_format_version &&
+    // any version this standin reads: packages are written with the lowest version that describes
+    // them (include/standin/package.h), so an up-to-date package may hold 1, 3 or 4
+    const nlohmann::json version = at("version");
+    const bool readable = version.is_number_integer() && version.get<std::int64_t>() >= 1 &&
+                          version.get<std::int64_t>() <= k_package_format_version;
+    return at("format") == k_package_format && readable &&
            at("representation") == representation.name && at("source", "content_hash") == content_hash &&
            at("requested") == requested;
 }

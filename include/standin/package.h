@@ -126,7 +126,10 @@ Result<std::uint64_t> package_bytes(const std::string& directory);
 constexpr const char* k_package_format = "standin-package";
 // 1: PNG maps only; 2: may hold KTX2 maps (docs/FORMAT.md, "Compressed images"); 3: and, for
 // enhanced billboards, the compact coarse mesh (a version-2 reader would try to import it as a
-// model). Packages without compressed maps are still written as version 1.
-constexpr int k_package_format_version = 3;
+// model); 4: and, for the view atlas, block-compressed pages (a version-3 reader would miss the
+// pages' normal-depth PNGs and refuse by field, not by version). Packages are written with the
+// lowest version that describes them: without compressed maps 1, enhanced billboards 3.
+constexpr int k_package_format_version = 4;
+constexpr int k_package_format_version_compact_coarse = 3;
 
 } // namespace standin

@@ -106,4 +106,19 @@ glm::vec3 octahedral_decode(glm::vec2 e)
     return glm::normalize(n);
 }
 
+std::vector<std::uint8_t> compress_octahedral_normals(int width, int height,
+                                                      const std::function<bool(std::size_t, glm::vec3&)>& normal_at)
+{
+    const std::size_t texels = std::size_t(width) * std::size_t(height);
+    std::vector<std::uint8_t> octahedral(texels * 4, 0), covered(texels, 0);
+    for (std::size_t k = 0; k < texels; ++k) {
+        glm::vec3 n(0.0f, 0.0f, 1.0f);
+        covered[k] = normal_at(k, n) ? 1 : 0;
+        glm::vec2 e = covered[k] ? octahedral_encode(n) : glm::vec2(0.5f);
+        octahedral[k * 4 + 0] = std::uint8_t(std::lround(std::clamp(e.x, 0.0f, 1.0f) * 255.0f));
+        octahedral[k * 4 + 1] = std::uint8_t(std::lround(std::clamp(e.y, 0.0f, 1.0f) * 255.0f));
+    }
+    return compress_blocks(octahedral.data(), width, height, covered.data(), squish::kBc5);
+}
+
 } // namespace standin::reps

@@ -7,7 +7,9 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace standin::reps {
@@ -25,5 +27,17 @@ std::vector<std::uint8_t> decompress_blocks(const std::uint8_t* blocks, int widt
 // A unit normal as a point of [0, 1]² (the octahedron folded onto a square), and back (unit).
 glm::vec2 octahedral_encode(glm::vec3 n);
 glm::vec3 octahedral_decode(glm::vec2 e);
+
+// The BC5 blocks of a width x height map of octahedral normals (the packages' normal maps: the
+// enhanced billboards' and the view atlas's). `normal_at(k, n)` gives texel k's unit normal and
+// returns true, or false where the texel is not covered: those are left out of their block's fit
+// and stored as the code of +Z.
+std::vector<std::uint8_t> compress_octahedral_normals(int width, int height,
+                                                      const std::function<bool(std::size_t, glm::vec3&)>& normal_at);
+// Texel k's unit normal from the RGBA8 image decompress_blocks(blocks, ..., squish::kBc5) gives.
+inline glm::vec3 octahedral_texel(const std::vector<std::uint8_t>& decoded, std::size_t k)
+{
+    return octahedral_decode(glm::vec2(decoded[k * 4], decoded[k * 4 + 1]) / 255.0f);
+}
 
 } // namespace standin::reps

@@ -52,15 +52,10 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
 {
     using manifest_io::BlockFormat;
     const std::size_t texels = std::size_t(b.width) * std::size_t(b.height);
-    std::vector<std::uint8_t> octahedral(texels * 4, 0), covered(texels, 0);
     manifest_io::BlockImage depth{depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, {}};
     std::vector<std::uint8_t> depths(texels * (depth_bits == 8 ? 1 : 2));
     for (std::size_t k = 0; k < texels; ++k) {
-        covered[k] = b.color.pixels[k * 4 + 3] >= 128;
         const std::uint16_t* nd = &b.normal_depth.pixels[k * 4];
-        glm::vec2 e = covered[k] ? reps::octahedral_encode(reps::decode_normal(nd)) : glm::vec2(0.5f);
-        octahedral[k * 4 + 0] = std::uint8_t(std::lround(std::clamp(e.x, 0.0f, 1.0f) * 255.0f));
-        octahedral[k * 4 + 1] = std::uint8_t(std::lround(std::clamp(e.y, 0.0f, 1.0f) * 255.0f));
         if (depth_bits == 8) {
             depths[k] = std::uint8_t((nd[3] + 128) / 257);
         } else {
@@ -71,7 +66,11 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
     manifest_io::BlockImage normal{BlockFormat::bc5, b.width, b.height, {}};
     normal.levels.push_back(!b.normal_bc5.empty()
                                 ? b.normal_bc5
-                                : reps::compress_blocks(octahedral.data(), b.width, b.height, covered.data(), squish::kBc5));
+                                : reps::compress_octahedral_normals(b.width, b.height, [&](std::size_t k, glm::vec3& n) {
+                                      if (b.color.pixels[k * 4 + 3] < 128) return false;
+                                      n = reps::decode_normal(&b.normal_depth.pixels[k * 4]);
+                                      return true;
+                                  }));
     depth.levels.push_back(std::move(depths));
     const std::string names[3] = {billboard_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
     STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, names[0], files));
@@ -116,7 +115,7 @@ void read_compressed(const manifest_io::Reader& in, const nlohmann::json& files,
             std::fill_n(&b.color.pixels[k * 4], 4, std::uint8_t(0));
             continue;
         }
-        glm::vec3 n = reps::octahedral_decode(glm::vec2(octahedral[k * 4], octahedral[k * 4 + 1]) / 255.0f);
+        glm::vec3 n = reps::octahedral_texel(octahedral, k);
         std::uint16_t* nd = &b.normal_depth.pixels[k * 4];
         for (int a = 0; a < 3; ++a) nd[a] = reps::encode_normal(n[a]);
         nd[3] = depth_bits == 8 ? std::uint16_t(depth.levels[0][k] * 257)
@@ -224,7 +223,7 @@ Status write(const Package& base, const std::string& directory)
         left[reason] = {{"faces", what.faces}, {"area", what.area}, {"area_fraction", package.area_total > 0 ? what.area / package.area_total : 0.0}};
 
     nlohmann::json manifest =
-        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version : 1);
+        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version_compact_coarse : 1);
     manifest["faces_total"] = package.faces_total;
     manifest["area_total"] = package.area_total;
     manifest["area_captured"] = package.area_captured;

@@ -1,12 +1,25 @@
 // View-atlas packages on disk (docs/FORMAT.md, "View atlas"): manifest.json with every view's
-// direction, axes and rectangles, and the atlas pages as PNG (colour + coverage; normal + depth for
-// "surface" maps; ORM + emission for PBR models, issue #14). Writing is deterministic (sorted keys, fixed PNG encoder); reading validates
-// every field and file and refuses what it does not understand with a status naming file and field.
+// direction, axes and rectangles, and the atlas pages (colour + coverage; normal + depth for
+// "surface" maps; ORM + emission for PBR models, issue #14). With --compression none every page is
+// a PNG (format version 1). With bc (format version 4, issue #17) a surface page's normals are BC5
+// blocks of octahedral normals (Meyer et al. 2010) fitted over covered texels only and its depth
+// exact R8 under zlib, in the KTX2 files of reps/common/package_codec.h, as the enhanced billboards
+// store theirs; colour stays PNG (BC3 colour cost the billboards +0.77 Luv, docs/RESULTS.md).
+// bc-color stores the colour as the premultiplied DXT5 levels --texture-format bc3 uploads, so that
+// loading compresses nothing. ORM and emission pages stay PNG in every mode (rare, and BC3 would
+// round the linear ORM channels to 5:6:5). Reading decodes the blocks into the in-memory pages PNG
+// packages give (uncovered texels 0) and keeps them, so that writing a read package stores the
+// same blocks. Writing is deterministic (sorted keys, fixed PNG encoder, zlib 9, blocks fitted
+// independently of the thread count); reading validates every field and file and refuses what it
+// does not understand with a status naming file and field.
+#include "reps/common/block_compress.h"
 #include "reps/common/package_codec.h"
 #include "reps/common/package_cast.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
+
+#include <squish.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +32,74 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string page_file(std::size_t index, const char* map) { return manifest_io::numbered_png("page", index, map); }
+
+std::string page_blocks_file(std::size_t index, const char* map)
+{
+    std::string name = page_file(index, map);
+    return name.substr(0, name.size() - 4) + ".ktx2";
+}
+
+using manifest_io::BlockFormat;
+using manifest_io::BlockImage;
+
+// A surface page's normals (BC5, octahedral) and depth (R8, exact) as the package stores them.
+Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, const std::string& directory,
+                            nlohmann::json& files, nlohmann::json& page)
+{
+    const int size = package.settings.page_size;
+    const ImageRGBA8& color = package.color_pages[k];
+    const ImageRGBA8& nd = package.normal_depth_pages[k];
+    BlockImage normal{BlockFormat::bc5, size, size, {}};
+    if (k < package.normal_bc5.size() && !package.normal_bc5[k].empty())
+        normal.levels.push_back(package.normal_bc5[k]);
+    else
+        normal.levels.push_back(reps::compress_octahedral_normals(size, size, [&](std::size_t t, glm::vec3& n) {
+            if (color.pixels[t * 4 + 3] < 128) return false;
+            n = glm::vec3(nd.pixels[t * 4], nd.pixels[t * 4 + 1], nd.pixels[t * 4 + 2]) / 255.0f * 2.0f - 1.0f;
+            return true;
+        }));
+    BlockImage depth{BlockFormat::r8, size, size, {std::vector<std::uint8_t>(std::size_t(size) * std::size_t(size))}};
+    for (std::size_t t = 0; t < depth.levels[0].size(); ++t) // uncovered texels 0, as a reader gives them
+        depth.levels[0][t] = color.pixels[t * 4 + 3] >= 128 ? nd.pixels[t * 4 + 3] : std::uint8_t(0);
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, page_blocks_file(k, "normal"), files));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, page_blocks_file(k, "depth"), files));
+    page["normal"] = page_blocks_file(k, "normal");
+    page["depth"] = page_blocks_file(k, "depth");
+    return Status::ok();
+}
+
+// Decodes a page's compressed colour (bc-color) into `color`, zero where not covered.
+void read_color_blocks(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& name, int size,
+                       ViewAtlasPackage& package)
+{
+    BlockImage blocks = manifest_io::read_blocks(in, files, name, BlockFormat::bc3_srgb, size, size, k_mip_levels);
+    ImageRGBA8 color(size, size);
+    color.pixels = reps::decompress_blocks(blocks.levels[0].data(), size, size, squish::kDxt5);
+    for (std::size_t t = 0; t < color.pixels.size(); t += 4)
+        if (color.pixels[t + 3] < 128) std::fill_n(&color.pixels[t], 4, std::uint8_t(0));
+    package.color_pages.push_back(std::move(color));
+    package.color_bc3.push_back(std::move(blocks.levels));
+}
+
+// Decodes a page's normals and depth into the normal-depth page PNG packages hold.
+void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& normal_name,
+                         const std::string& depth_name, int size, ViewAtlasPackage& package)
+{
+    BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, size, size, 1);
+    BlockImage depth = manifest_io::read_blocks(in, files, depth_name, BlockFormat::r8, size, size, 1);
+    const std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), size, size, squish::kBc5);
+    const ImageRGBA8& color = package.color_pages.back();
+    ImageRGBA8 nd(size, size);
+    for (std::size_t t = 0; t < std::size_t(size) * std::size_t(size); ++t) {
+        if (color.pixels[t * 4 + 3] < 128) continue;
+        const glm::vec3 n = reps::octahedral_texel(octahedral, t);
+        for (int c = 0; c < 3; ++c)
+            nd.pixels[t * 4 + std::size_t(c)] = std::uint8_t(std::lround(std::clamp(n[c] * 0.5f + 0.5f, 0.0f, 1.0f) * 255.0f));
+        nd.pixels[t * 4 + 3] = depth.levels[0][t];
+    }
+    package.normal_depth_pages.push_back(std::move(nd));
+    package.normal_bc5.push_back(std::move(normal.levels[0]));
+}
 
 } // namespace
 
@@ -35,10 +116,26 @@ Status write(const Package& base, const std::string& directory)
     const auto& package = reps::package_cast<ViewAtlasPackage>(base);
     nlohmann::json files = nlohmann::json::object();
     nlohmann::json pages = nlohmann::json::array();
+    const std::string& compression = package.settings.compression;
+    const bool compressed = compression != "none";
+    // format version 4 only where there are KTX2 pages: a lit package of bc is laid out as before
+    const bool new_layout = compression == "bc-color" || (compressed && package.has_surface());
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
-        nlohmann::json page = {{"color", page_file(k, "color")}, {"normal_depth", nullptr}};
-        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, page_file(k, "color"), files));
-        if (package.has_surface()) {
+        nlohmann::json page = {{"color", page_file(k, "color")}};
+        if (compression == "bc-color") {
+            BlockImage color{BlockFormat::bc3_srgb, package.settings.page_size, package.settings.page_size, {}};
+            color.levels = k < package.color_bc3.size() && !package.color_bc3[k].empty() ? package.color_bc3[k]
+                                                                                        : color_page_blocks(package.color_pages[k]);
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(color, directory, page_blocks_file(k, "color"), files));
+            page["color"] = page_blocks_file(k, "color");
+        } else {
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, page_file(k, "color"), files));
+        }
+        if (compressed) {
+            if (package.has_surface()) STANDIN_RETURN_IF_ERROR(write_surface_blocks(package, k, directory, files, page));
+        } else if (!package.has_surface()) {
+            page["normal_depth"] = nullptr;
+        } else {
             STANDIN_RETURN_IF_ERROR(
                 manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
             page["normal_depth"] = page_file(k, "normal_depth");
@@ -55,7 +152,7 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views)
         views.push_back(manifest_io::view_json(v));
-    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);
+    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters, new_layout ? k_package_format_version : 1);
     manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
     manifest["half_extent"] = package.half_extent();
     manifest["pages"] = pages;
@@ -70,7 +167,15 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
         auto package = std::make_unique<ViewAtlasPackage>();
         package->source = manifest_io::read_source(in, manifest);
-        package->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        // packages from before --compression hold PNG pages
+        nlohmann::json patched;
+        const nlohmann::json* settings = &manifest;
+        if (manifest.contains("bake") && manifest["bake"].is_object() && !manifest["bake"].contains("compression")) {
+            patched = manifest;
+            patched["bake"]["compression"] = "none";
+            settings = &patched;
+        }
+        package->parameters = manifest_io::read_settings(in, *settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         if (Status valid = check_settings(package->settings); !valid) in.fail("bake", valid.message());
         const BakeSettings& s = package->settings;
@@ -84,9 +189,15 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (pages.empty()) in.fail("pages", "is empty: the package draws nothing");
         for (std::size_t k = 0; k < pages.size(); ++k) {
             std::string where = "pages[" + std::to_string(k) + "].";
-            package->color_pages.push_back(
-                manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
-            if (package->has_surface())
+            if (s.compression == "bc-color")
+                read_color_blocks(in, files, in.string(pages[k], "color", where), s.page_size, *package);
+            else
+                package->color_pages.push_back(
+                    manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
+            if (package->has_surface() && s.compression != "none")
+                read_surface_blocks(in, files, in.string(pages[k], "normal", where), in.string(pages[k], "depth", where),
+                                    s.page_size, *package);
+            else if (package->has_surface())
                 package->normal_depth_pages.push_back(manifest_io::read_image8(
                     in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size));
             const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));

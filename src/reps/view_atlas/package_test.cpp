@@ -2,12 +2,15 @@
 // refusal (with the file and field named) of damaged or inconsistent packages.
 #include "test_support.h"
 
+#include "reps/common/block_compress.h"
+#include "reps/common/package_codec.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -24,6 +27,7 @@ ViewAtlasPackage small_package()
     OptionValues values;
     values.set("resolution", "32");
     values.set("page-size", "256");
+    values.set("compression", "none"); // exact round trips; BcPagesRoundTrip tests bc
     p.parameters = *Options::parse(registration().bake_options, values, "test");
     p.settings = settings_from(p.parameters);
     p.center = glm::vec3(0.0f);
@@ -54,6 +58,153 @@ ViewAtlasPackage small_package()
 }
 
 std::string read_text(const std::string& path) { return *read_file(path); }
+
+ViewAtlasPackage with_compression(ViewAtlasPackage p, const char* compression)
+{
+    OptionValues values;
+    values.set("resolution", "32");
+    values.set("page-size", "256");
+    values.set("compression", compression);
+    p.parameters = *Options::parse(registration().bake_options, values, "test");
+    p.settings = settings_from(p.parameters);
+    // unit normals (small_package's are +Z), spread over the sphere to exercise the octahedral fold
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            if (p.color_pages[0].at(x, y)[3] == 0) continue;
+            glm::vec3 n = glm::normalize(glm::vec3(std::sin(x * 0.1f), std::cos(y * 0.07f), std::sin(float(x + y) * 0.05f) - 0.3f));
+            for (int c = 0; c < 3; ++c) p.normal_depth_pages[0].at(x, y)[c] = std::uint8_t(std::lround((n[c] * 0.5f + 0.5f) * 255.0f));
+        }
+    return p;
+}
+
+// --compression bc / bc-color (issue #17): format version 4, KTX2 pages; coverage and depth exact,
+// normals within BC5's error, colour exact (bc) or within DXT5's (bc-color); a read package writes
+// the same blocks back; the stored colour blocks are what --texture-format bc3 would have made.
+TEST(ViewAtlasPackage, BcPagesRoundTrip)
+{
+    for (const char* compression : {"bc", "bc-color"}) {
+        SCOPED_TRACE(compression);
+        const bool bc_color = std::string(compression) == "bc-color";
+        std::string dir = test::fresh_directory(std::string("view_atlas_") + compression);
+        ViewAtlasPackage p = with_compression(small_package(), compression);
+        ASSERT_TRUE(write_package(p, dir + "/a.standin").is_ok());
+        ASSERT_TRUE(write_package(p, dir + "/b.standin").is_ok());
+        nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/a.standin/manifest.json"));
+        EXPECT_EQ(manifest["version"], k_package_format_version);
+        EXPECT_EQ(manifest["bake"]["compression"], compression);
+        EXPECT_FALSE(fs::exists(dir + "/a.standin/page_000_normal_depth.png"));
+        EXPECT_EQ(fs::exists(dir + "/a.standin/page_000_color.png"), !bc_color);
+        for (const std::string name : {"manifest.json", "page_000_normal.ktx2", "page_000_depth.ktx2",
+                                       bc_color ? "page_000_color.ktx2" : "page_000_color.png"})
+            EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/b.standin/" + name)) << name;
+
+        Result<std::unique_ptr<Package>> read_back = read_package(dir + "/a.standin");
+        ASSERT_TRUE(read_back.is_ok()) << read_back.status().message();
+        const auto& q = dynamic_cast<const ViewAtlasPackage&>(**read_back);
+        EXPECT_EQ(q.settings.compression, compression);
+        float worst_normal = 0.0f;
+        int worst_color = 0;
+        for (std::size_t t = 0; t < p.color_pages[0].pixels.size() / 4; ++t) {
+            const std::uint8_t *a = &q.color_pages[0].pixels[t * 4], *b = &p.color_pages[0].pixels[t * 4];
+            const std::uint8_t *na = &q.normal_depth_pages[0].pixels[t * 4], *nb = &p.normal_depth_pages[0].pixels[t * 4];
+            ASSERT_EQ(a[3], b[3]) << "coverage, texel " << t;
+            if (b[3] == 0) {
+                ASSERT_EQ(na[0] | na[1] | na[2] | na[3], 0) << "uncovered texel " << t;
+                if (bc_color) { // PNG colour is as stored
+                    ASSERT_EQ(a[0] | a[1] | a[2], 0) << "uncovered texel " << t;
+                }
+                continue;
+            }
+            ASSERT_EQ(na[3], nb[3]) << "depth, texel " << t;
+            for (int c = 0; c < 3; ++c) worst_color = std::max(worst_color, std::abs(int(a[c]) - int(b[c])));
+            auto normal = [](const std::uint8_t* n) { return glm::normalize(glm::vec3(n[0], n[1], n[2]) / 255.0f * 2.0f - 1.0f); };
+            worst_normal = std::max(worst_normal, glm::degrees(std::acos(std::min(glm::dot(normal(na), normal(nb)), 1.0f))));
+        }
+        EXPECT_LT(worst_normal, 12.0f); // as the billboards' BC5 normals
+        if (bc_color) {
+            EXPECT_LT(worst_color, 40); // 5:6:5 end points of a gradient
+            ASSERT_EQ(q.color_bc3.size(), 1u);
+            EXPECT_EQ(q.color_bc3[0], color_page_blocks(p.color_pages[0])); // what bc3 uploads, stored
+        } else {
+            EXPECT_EQ(worst_color, 0); // colour stays PNG
+            EXPECT_TRUE(q.color_bc3.empty());
+        }
+
+        // writing the read package stores the blocks it read (no refit of decoded normals)
+        ASSERT_TRUE(write_package(q, dir + "/c.standin").is_ok());
+        for (const char* name : {"page_000_normal.ktx2", "page_000_depth.ktx2"})
+            EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/c.standin/" + name)) << name;
+        if (bc_color) {
+            EXPECT_EQ(read_text(dir + "/a.standin/page_000_color.ktx2"), read_text(dir + "/c.standin/page_000_color.ktx2"));
+        }
+    }
+    // none keeps format version 1 (older standins read it) and the PNG layout
+    std::string dir = test::fresh_directory("view_atlas_none");
+    ASSERT_TRUE(write_package(small_package(), dir + "/p.standin").is_ok());
+    nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/p.standin/manifest.json"));
+    EXPECT_EQ(manifest["version"], 1);
+    EXPECT_TRUE(manifest["pages"][0].contains("normal_depth"));
+}
+
+// Hostile compressed pages: every refusal names the file (or field) and nothing crashes.
+TEST(ViewAtlasPackage, RefusesBadCompressedPages)
+{
+    std::string dir = test::fresh_directory("view_atlas_bc_damage");
+    const std::string path = dir + "/p.standin";
+    auto fresh = [&](const char* compression) {
+        fs::remove_all(path);
+        EXPECT_TRUE(write_package(with_compression(small_package(), compression), path).is_ok());
+        return nlohmann::json::parse(read_text(path + "/manifest.json"));
+    };
+    auto replace = [&](nlohmann::json& manifest, const std::string& name, const std::string& bytes) {
+        EXPECT_TRUE(write_file_atomic(path + "/" + name, bytes).is_ok());
+        manifest["files"][name] = {{"bytes", bytes.size()}, {"fnv1a64", hex64(hash_bytes(bytes))}};
+        std::ofstream(path + "/manifest.json") << manifest.dump(1);
+    };
+    auto expect_refused = [&](const std::string& what) {
+        Result<std::unique_ptr<Package>> bad = read_package(path);
+        ASSERT_FALSE(bad.is_ok()) << what;
+        EXPECT_EQ(bad.status().code(), StatusCode::bad_data) << bad.status().message();
+        EXPECT_NE(bad.status().message().find(what), std::string::npos) << bad.status().message();
+    };
+    using manifest_io::BlockFormat;
+    using manifest_io::BlockImage;
+    // a valid KTX2 of the wrong size, of the wrong format, of too few levels; a truncated one
+    nlohmann::json m = fresh("bc");
+    BlockImage small{BlockFormat::bc5, 128, 128, {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::bc5, 128, 128))}};
+    replace(m, "page_000_normal.ktx2", manifest_io::encode_ktx2(small));
+    expect_refused("page_000_normal.ktx2");
+    m = fresh("bc");
+    BlockImage bc4{BlockFormat::bc4, 256, 256, {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::bc4, 256, 256))}};
+    replace(m, "page_000_depth.ktx2", manifest_io::encode_ktx2(bc4));
+    expect_refused("page_000_depth.ktx2");
+    m = fresh("bc");
+    std::string normal = read_text(path + "/page_000_normal.ktx2");
+    replace(m, "page_000_normal.ktx2", normal.substr(0, normal.size() - 7));
+    expect_refused("page_000_normal.ktx2");
+    m = fresh("bc-color");
+    BlockImage one_level{BlockFormat::bc3_srgb, 256, 256,
+                         {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::bc3_srgb, 256, 256))}};
+    replace(m, "page_000_color.ktx2", manifest_io::encode_ktx2(one_level));
+    expect_refused("page_000_color.ktx2");
+    // a bc package whose entry lacks its depth file; an unknown compression
+    m = fresh("bc");
+    m["pages"][0].erase("depth");
+    std::ofstream(path + "/manifest.json") << m.dump(1);
+    expect_refused("pages[0].depth");
+    m = fresh("bc");
+    m["bake"]["compression"] = "bc7";
+    std::ofstream(path + "/manifest.json") << m.dump(1);
+    expect_refused("compression");
+    // a package of an older standin (no bake.compression) still reads, as PNG pages
+    fs::remove_all(path);
+    ASSERT_TRUE(write_package(small_package(), path).is_ok());
+    m = nlohmann::json::parse(read_text(path + "/manifest.json"));
+    m["bake"].erase("compression");
+    std::ofstream(path + "/manifest.json") << m.dump(1);
+    Result<std::unique_ptr<Package>> old = read_package(path);
+    ASSERT_TRUE(old.is_ok()) << old.status().message();
+}
 
 TEST(ViewAtlasPackage, RoundTripAndDeterminism)
 {

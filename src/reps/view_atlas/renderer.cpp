@@ -35,8 +35,6 @@
 #include "gpu/gl.h"
 #include "reps/view_atlas/shaders/atlas_layout.glsl"
 
-#include <squish.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -165,21 +163,6 @@ std::vector<std::int32_t> build_index(const std::vector<View>& views)
     return index;
 }
 
-// A page premultiplied by coverage: colour pages by their own alpha, normal-depth pages by the
-// colour page's alpha, so that filtering averages only covered texels. `any`: by 255 wherever the
-// coverage is not 0 instead (the normal-depth pages' level 0, upload_pages says why).
-std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha, bool any = false)
-{
-    std::vector<std::uint8_t> out(page.pixels.size());
-    for (std::size_t p = 0; p < out.size(); p += 4) {
-        unsigned a = coverage.pixels[p + 3];
-        if (any && a != 0) a = 255;
-        for (int c = 0; c < 3; ++c) out[p + c] = std::uint8_t((page.pixels[p + c] * a + 127) / 255);
-        out[p + 3] = keep_alpha ? page.pixels[p + 3] : std::uint8_t((page.pixels[p + 3] * a + 127) / 255);
-    }
-    return out;
-}
-
 // How the pages of one map are split over texture arrays: consecutive pages, at most
 // pages_per_array per array (GL_MAX_ARRAY_TEXTURE_LAYERS and the byte budget).
 struct ArrayPlan {
@@ -272,71 +255,28 @@ Result<gpu::Texture> allocate_page_array(GLenum format, int size, int count)
     return texture;
 }
 
-// The next mip level of a premultiplied RGBA8 square: the mean of each 2x2 block, rounded, as
-// glGenerateMipmap's box filter does.
-std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size)
-{
-    const int half = std::max(size / 2, 1);
-    std::vector<std::uint8_t> out(std::size_t(half) * half * 4);
-    for (int y = 0; y < half; ++y)
-        for (int x = 0; x < half; ++x)
-            for (int c = 0; c < 4; ++c) {
-                auto at = [&](int dx, int dy) {
-                    return unsigned(level[(std::size_t(std::min(2 * y + dy, size - 1)) * size + std::min(2 * x + dx, size - 1)) * 4 + c]);
-                };
-                out[(std::size_t(y) * half + x) * 4 + c] = std::uint8_t((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2) / 4);
-            }
-    return out;
-}
-
-// DXT5 blocks of an RGBA8 square (side a multiple of 4 or below 4), rows of blocks in parallel
-// (each block depends on its texels only, so the result does not depend on the thread count).
-std::vector<std::uint8_t> compress_bc3(const std::vector<std::uint8_t>& rgba, int size)
-{
-    const int blocks = std::max((size + 3) / 4, 1);
-    std::vector<std::uint8_t> out(std::size_t(blocks) * blocks * 16);
-    tbb::parallel_for(0, blocks, [&](int by) {
-        for (int bx = 0; bx < blocks; ++bx) {
-            std::uint8_t texels[16 * 4];
-            int mask = 0;
-            for (int j = 0; j < 4; ++j)
-                for (int i = 0; i < 4; ++i) {
-                    int x = bx * 4 + i, y = by * 4 + j, k = j * 4 + i;
-                    if (x < size && y < size) {
-                        mask |= 1 << k;
-                        std::copy_n(&rgba[(std::size_t(y) * size + x) * 4], 4, &texels[k * 4]);
-                    } else {
-                        std::fill_n(&texels[k * 4], 4, std::uint8_t(0));
-                    }
-                }
-            squish::CompressMasked(texels, mask, &out[(std::size_t(by) * blocks + bx) * 16],
-                                   squish::kDxt5 | squish::kColourClusterFit);
-        }
-    });
-    return out;
-}
-
-// Colour pages [first, first + count) as DXT5 (RenderOptions::texture_format "bc3"): premultiplied,
-// mip levels made here (compressed formats cannot be mip-mapped by the GL), each level compressed.
-// Coverage survives exactly: a block whose alpha is only 0 and 255 stores both as its end points.
-Result<gpu::Texture> upload_compressed_color_pages(const std::vector<ImageRGBA8>& pages, int size, int first, int count)
+// Colour pages [first, first + count) as DXT5 (RenderOptions::texture_format "bc3"): the blocks a
+// package of --compression bc-color stores, uploaded as they are, or else made here as such a
+// package's writer makes them (color_page_blocks: premultiplied, mip levels made on the CPU, as
+// compressed formats cannot be mip-mapped by the GL). Coverage survives exactly: a block whose
+// alpha is only 0 and 255 stores both as its end points.
+Result<gpu::Texture> upload_compressed_color_pages(const ViewAtlasPackage& package, int size, int first, int count)
 {
     Result<gpu::Texture> allocated = allocate_page_array(GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, size, count);
     if (!allocated) return allocated.status();
     gpu::Texture texture = std::move(*allocated);
     GLuint name = texture.get();
-    for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
-        const ImageRGBA8& page = pages[std::size_t(first + k)];
-        std::vector<std::uint8_t> level = premultiplied(page, page, true);
-        int level_size = size;
+    for (int k = 0; k < count && std::size_t(first + k) < package.color_pages.size(); ++k) {
+        const std::size_t page = std::size_t(first + k);
+        const bool stored = page < package.color_bc3.size() && package.color_bc3[page].size() == std::size_t(k_mip_levels);
+        std::vector<std::vector<std::uint8_t>> made;
+        if (!stored) made = color_page_blocks(package.color_pages[page]);
+        const std::vector<std::vector<std::uint8_t>>& levels = stored ? package.color_bc3[page] : made;
         for (int m = 0; m < k_mip_levels; ++m) {
-            if (m > 0) {
-                level = half_level(level, level_size);
-                level_size = std::max(level_size / 2, 1);
-            }
-            std::vector<std::uint8_t> blocks = compress_bc3(level, level_size);
+            const int level_size = std::max(size >> m, 1);
             glCompressedTextureSubImage3D(name, m, 0, 0, GLint(k), level_size, level_size, 1,
-                                          GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, GLsizei(blocks.size()), blocks.data());
+                                          GL_COMPRESSED_RGBA_S3TC_DXT5_EXT, GLsizei(levels[std::size_t(m)].size()),
+                                          levels[std::size_t(m)].data());
         }
     }
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
@@ -383,7 +323,7 @@ Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>
         int first = a * plan.pages_per_array;
         int count = std::min(plan.pages_per_array, std::max(int(pages.size()), 1) - first);
         Result<gpu::Texture> texture =
-            compressed ? upload_compressed_color_pages(pages, package.settings.page_size, first, count)
+            compressed ? upload_compressed_color_pages(package, package.settings.page_size, first, count)
                        : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count,
                                       &pages == &package.normal_depth_pages);
         if (!texture) {

@@ -44,6 +44,10 @@ struct BakeSettings {
     int resolution = 256;               // capture image size, pixels (square)
     std::string maps = "surface";       // "lit": shaded colour (the seed); "surface": albedo + normal/depth
     int page_size = 2048;               // atlas page size, texels (multiple of k_cell)
+    // Pages in the package (package.cpp): "none" PNG; "bc" (format version 4) BC5 octahedral
+    // normals and exact R8 depth in KTX2 files, colour PNG; "bc-color" as bc, colour as the DXT5
+    // blocks --texture-format bc3 uploads (color_page_blocks), mip levels included.
+    std::string compression = "bc";
 };
 
 class ViewAtlasPackage final : public Package {
@@ -74,7 +78,24 @@ public:
     // coverage; and the emission, sRGB-encoded and clamped to [0, 1], and coverage. Without them
     // the renderer shades with Material's defaults (1, 1, 0; black).
     std::vector<ImageRGBA8> orm_pages, emission_pages;
+    // As read from a compressed package (empty otherwise, or per page when made by the bake): the
+    // BC5 blocks of each page's octahedral normals, written back as they are (re-fitting decoded
+    // normals would drift), and each page's DXT5 colour levels (color_page_blocks), which the
+    // renderer uploads as they are under --texture-format bc3. The pages above hold them decoded.
+    std::vector<std::vector<std::uint8_t>> normal_bc5;
+    std::vector<std::vector<std::vector<std::uint8_t>>> color_bc3;
 };
+
+// Pages as the GPU filters them (pages.cpp): premultiplied by coverage (colour pages by their own
+// alpha, keep_alpha; the other maps by the colour page's alpha, their own alpha too), so that
+// filtering averages covered texels only; the next mip level of a premultiplied square (2x2 box,
+// rounded, as glGenerateMipmap); and a colour page's DXT5 blocks, k_mip_levels levels of the
+// premultiplied page, level 0 first. `any`: premultiplied by 255 wherever the coverage is not 0
+// instead (the normal-depth pages' level 0: renderer.cpp, upload_pages, says why).
+std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha,
+                                        bool any = false);
+std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size);
+std::vector<std::vector<std::uint8_t>> color_page_blocks(const ImageRGBA8& page);
 
 // The bake parameters typed (representation.cpp), and the checks between them.
 BakeSettings settings_from(const Options& parameters);
