@@ -68,16 +68,23 @@ bake teapot_microfacets teapot.ply -r microfacets
 export_glb teapot_microfacets
 "$standin" export "$out/teapot_microfacets.standin" -o "$out/teapot_microfacets_coarse.glb" --pixels 64
 
+# refused WHAT OUTPUT COMMAND...: COMMAND must fail with one line on stderr, exit 2, and no OUTPUT
+refused() {
+    local what=$1 output=$2 status
+    shift 2
+    set +e
+    "$@" 2>"$out/refused.err"
+    status=$?
+    set -e
+    if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/refused.err")" -ne 1 ] || [ -e "$output" ]; then
+        echo "FAIL: $what should fail with one line and exit 2 (got $status):"
+        cat "$out/refused.err"
+        exit 1
+    fi
+}
 # bad input: a level the package does not hold is one line, exit 2, no file
-set +e
-"$standin" export "$out/teapot_microfacets.standin" -o "$out/bad_level.glb" --level 9 2>"$out/micro.err"
-status=$?
-set -e
-if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/micro.err")" -ne 1 ] || [ -e "$out/bad_level.glb" ]; then
-    echo "FAIL: exporting microfacets at a level the package lacks should fail with one line and exit 2 (got $status):"
-    cat "$out/micro.err"
-    exit 1
-fi
+refused "exporting microfacets at a level the package lacks" "$out/bad_level.glb" \
+    "$standin" export "$out/teapot_microfacets.standin" -o "$out/bad_level.glb" --level 9
 
 # KTX2 (examples/web/tools/ktx2.mjs): the colour textures as Basis ETC1S / UASTC under
 # KHR_texture_basisu, the data textures bit-exact; the validator must still find no error (it does
@@ -96,15 +103,8 @@ ktx2 box_billboards etc1s 0
 
 # bad input to the converter: one line, exit 2, no file
 head -c 1000 "$out/bunny_atlas.glb" >"$out/truncated.glb"
-set +e
-node "$tools/ktx2.mjs" "$out/truncated.glb" "$out/bad_ktx2.glb" 2>"$out/ktx2.err"
-status=$?
-set -e
-if [ "$status" -ne 2 ] || [ "$(wc -l <"$out/ktx2.err")" -ne 1 ] || [ -e "$out/bad_ktx2.glb" ]; then
-    echo "FAIL: converting a truncated .glb to KTX2 should fail with one line and exit 2 (got $status):"
-    cat "$out/ktx2.err"
-    exit 1
-fi
+refused "converting a truncated .glb to KTX2" "$out/bad_ktx2.glb" \
+    node "$tools/ktx2.mjs" "$out/truncated.glb" "$out/bad_ktx2.glb"
 rm "$out/truncated.glb"
 
 node "$tools/validate.mjs" "$out"/*.glb

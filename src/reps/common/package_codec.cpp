@@ -164,6 +164,15 @@ nlohmann::json settings_json(const Options& parameters)
     return bake;
 }
 
+const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const char* value,
+                                           nlohmann::json& storage)
+{
+    if (!manifest.contains("bake") || !manifest["bake"].is_object() || manifest["bake"].contains(key)) return manifest;
+    storage = manifest;
+    storage["bake"][key] = value;
+    return storage;
+}
+
 Options read_settings(const Reader& in, const nlohmann::json& manifest, std::span<const OptionSpec> specs)
 {
     const nlohmann::json& bake = in.member(manifest, "bake", "");

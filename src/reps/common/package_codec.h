@@ -87,6 +87,10 @@ SourceInfo read_source(const Reader& in, const nlohmann::json& manifest);
 nlohmann::json settings_json(const Options& parameters);
 // Reads the "bake" block back, checking every value against the same declaration the baker used.
 Options read_settings(const Reader& in, const nlohmann::json& manifest, std::span<const OptionSpec> specs);
+// The manifest, or a copy in `storage` whose "bake" block gains `key` = `value` where a package
+// written before that option existed lacks it (the value that reproduces what it did then).
+const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const char* value,
+                                           nlohmann::json& storage);
 
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).
 void check_axes(const Reader& in, const std::string& where, glm::vec3 axis_u, glm::vec3 axis_v, glm::vec3 direction);

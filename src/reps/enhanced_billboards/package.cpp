@@ -243,13 +243,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         package->source = manifest_io::read_source(in, manifest);
         // packages from before --compression hold PNG maps
         nlohmann::json patched;
-        const nlohmann::json* settings = &manifest;
-        if (manifest.contains("bake") && manifest["bake"].is_object() && !manifest["bake"].contains("compression")) {
-            patched = manifest;
-            patched["bake"]["compression"] = "none";
-            settings = &patched;
-        }
-        package->parameters = manifest_io::read_settings(in, *settings, registration().bake_options);
+        const nlohmann::json& settings = manifest_io::with_setting_default(manifest, "compression", "none", patched);
+        package->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         int depth_bits = package->settings.depth_bits;
         if (depth_bits != 8 && depth_bits != 16) in.fail("bake.depth_bits", "must be 8 or 16");

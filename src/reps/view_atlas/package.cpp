@@ -169,13 +169,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         package->source = manifest_io::read_source(in, manifest);
         // packages from before --compression hold PNG pages
         nlohmann::json patched;
-        const nlohmann::json* settings = &manifest;
-        if (manifest.contains("bake") && manifest["bake"].is_object() && !manifest["bake"].contains("compression")) {
-            patched = manifest;
-            patched["bake"]["compression"] = "none";
-            settings = &patched;
-        }
-        package->parameters = manifest_io::read_settings(in, *settings, registration().bake_options);
+        const nlohmann::json& settings = manifest_io::with_setting_default(manifest, "compression", "none", patched);
+        package->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         if (Status valid = check_settings(package->settings); !valid) in.fail("bake", valid.message());
         const BakeSettings& s = package->settings;
