@@ -201,6 +201,32 @@ TEST(Export, DisplacedMeshRefinesWithTau)
     EXPECT_EQ(*read_file(dir + "/fine.glb"), *read_file(dir + "/again.glb"));
 }
 
+// An alpha-masked model's displaced mesh (issue #14) keeps its cut-outs in the export: a MASK
+// material whose vertex alphas are the samples' coverage, some under 1/2 (the disc's outside) and
+// some over (its inside), as the renderer discards them.
+TEST(Export, DisplacedMeshKeepsCutOutsAsAMaskMaterial)
+{
+    Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    auto package = bake_small(card, "displaced-mesh", {{"degree", "17"}});
+    ASSERT_TRUE(package);
+    std::string dir = test::fresh_directory("export_displaced_alpha");
+    ParsedGlb glb = export_and_parse(*package, {}, dir + "/card.glb", 0.05f);
+    ASSERT_EQ(glb.json["meshes"].size(), 1u);
+    const auto& primitive = glb.json["meshes"][0]["primitives"][0];
+    const auto& material = glb.json["materials"][primitive["material"].get<std::size_t>()];
+    EXPECT_EQ(material["alphaMode"], "MASK");
+    EXPECT_EQ(material["alphaCutoff"], 0.5);
+    EXPECT_EQ(material["doubleSided"], true);
+    std::vector<glm::vec4> colors = read_accessor<glm::vec4>(glb, primitive["attributes"]["COLOR_0"].get<int>());
+    std::size_t cut = 0, kept = 0;
+    for (const glm::vec4& c : colors) (c.w < 0.5f ? cut : kept) += 1;
+    EXPECT_GT(cut, colors.size() / 10) << "the corners outside the disc are cut out";
+    EXPECT_GT(kept, colors.size() / 10) << "the disc is kept";
+    // an opaque model's export stays opaque
+    ParsedGlb torus = export_and_parse(*bake_small(export_torus(), "displaced-mesh", {{"degree", "5"}}), {}, dir + "/torus.glb", 0.05f);
+    EXPECT_EQ(torus.json["materials"][0]["alphaMode"], "OPAQUE");
+}
+
 TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)
 {
     Mesh mesh = export_torus();

@@ -4,7 +4,9 @@
 // the bounding sphere's diameter spanning --pixels pixels, no culling, the paper's weighted split
 // rule so that no facing term enters), each refined corner displaced as the vertex stage does,
 // corners welded by exact position (the refinement evaluates shared edges bit-identically), and
-// shading normal + albedo from the nearest finest-level sample. Departs from the renderer in the
+// shading normal + albedo from the nearest finest-level sample; packages of alpha-masked models
+// (issue #14) put each sample's coverage in the vertex alpha of a MASK material (cut-off 1/2,
+// double-sided), which is what the renderer does with it (interpolate, discard below 1/2). Departs from the renderer in the
 // criterion (the renderer's default "error" weighs edges by how they face the camera; an export
 // has no camera) and in having no per-frame view.
 #include "reps/displaced_mesh/displaced_mesh.h"
@@ -93,11 +95,16 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 std::uint32_t albedo = p.albedo[sample];
                 mesh.positions.push_back(position);
                 mesh.normals.push_back(decode_normal(p.shading_normals[sample]));
-                mesh.colors.push_back({export_srgb_to_linear(albedo), export_srgb_to_linear(albedo >> 8), export_srgb_to_linear(albedo >> 16),
-                                       float(albedo >> 24) / 255.0f});
+                const float alpha = p.coverage.empty() ? float(albedo >> 24) / 255.0f : float(p.coverage[sample]) / 255.0f;
+                mesh.colors.push_back({export_srgb_to_linear(albedo), export_srgb_to_linear(albedo >> 8),
+                                       export_srgb_to_linear(albedo >> 16), alpha});
             }
             mesh.indices.push_back(it->second);
         }
+    }
+    if (!p.coverage.empty()) {
+        mesh.alpha_mode = "MASK";
+        mesh.double_sided = true; // cut-out cards are seen from both sides, as the renderer draws them
     }
     mesh.extras["standin"] = {{"role", "mesh"},
                               {"tau", refine_options.tau},
