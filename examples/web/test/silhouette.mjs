@@ -63,6 +63,9 @@ const k_cases = [
       bake: ['-r', 'view-atlas', '--layout', 'octahedral', '--frames', '16', '--resolution', '192'],
       export: ['--atlas-size', '2048'], proxy: 'hull', ktx2: ['--etc1s'] }, // drawn on the atlas hull (issue #16), not the quad
     { name: 'displaced-mesh', model: 'data/bunny.ply', bake: ['-r', 'displaced-mesh'], export: [] },
+    // alpha-masked leaf cards (issue #14): the export must keep the cut-outs the renderer discards
+    { name: 'displaced-mesh tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
+      bake: ['-r', 'displaced-mesh'], export: [] },
     { name: 'enhanced-billboards', model: 'data/bunny.ply', bake: ['-r', 'enhanced-billboards'], export: [] },
     // the finest baked level (7: 128^3) as a plain voxel-face mesh
     { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
@@ -153,6 +156,10 @@ try {
     for (const c of k_cases) {
         if (options.only && !c.name.includes(options.only)) continue;
         const slug = c.name.replace(/[^a-z0-9]+/gi, '_');
+        // a generated model lies in the work folder (served as /work), a bundled one in the repository
+        const model_path = c.generate ? join(options.work, c.model) : join(repo_dir, c.model);
+        const model_url = c.generate ? `/work/${c.model}` : `/repo/${c.model}`;
+        if (c.generate) cli(['generate', ...c.generate, '-o', model_path]);
         let pkg = null;
         let prepared = false;
         for (const [k, camera] of k_cameras.entries()) {
@@ -164,8 +171,8 @@ try {
                 let query;
                 const truth = join(options.work, `${view}.standin.png`);
                 if (!c.bake) {
-                    cli(['render', join(repo_dir, c.model), '-o', truth, ...camera_args(camera)]);
-                    query = `model=/repo/${c.model}&view=model&${camera_query(camera)}`;
+                    cli(['render', model_path, '-o', truth, ...camera_args(camera)]);
+                    query = `model=${model_url}&view=model&${camera_query(camera)}`;
                 } else {
                     if (!has_export) {
                         row.status = 'not run: this standin has no export command';
@@ -175,13 +182,13 @@ try {
                     }
                     pkg = join(options.work, `${slug}.standin`);
                     if (!prepared) {
-                        cli(['bake', join(repo_dir, c.model), '-o', pkg, ...c.bake]);
+                        cli(['bake', model_path, '-o', pkg, ...c.bake]);
                         cli(['export', pkg, '-o', join(options.work, `${slug}.glb`), ...c.export]);
                         prepared = true;
                     }
                     cli(['render', pkg, '-o', truth, ...camera_args(camera)]);
                     // framed by the model's box, as standin render frames a package by its source's bounds
-                    query = `model=/repo/${c.model}&standin=/work/${slug}.glb&view=standin&${camera_query(camera)}`;
+                    query = `model=${model_url}&standin=/work/${slug}.glb&view=standin&${camera_query(camera)}`;
                 }
                 const r = await view_in_browser(query, `/work/${view}.standin.png`, join(options.work, `${view}.web.png`));
                 Object.assign(row, { iou: r.iou, web_pixels: r.web_pixels, standin_pixels: r.standin_pixels, info: r.info });
