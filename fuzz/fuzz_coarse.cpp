@@ -13,11 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     static bool ready = (standin::fuzz::lower_budgets(), true);
     (void)ready;
     std::string_view bytes(reinterpret_cast<const char*>(data), size);
-    auto header = [&](std::size_t at) -> std::uint64_t {
-        if (size < at + 4) return 0;
-        return std::uint64_t(data[at]) | std::uint64_t(data[at + 1]) << 8 | std::uint64_t(data[at + 2]) << 16 |
-               std::uint64_t(data[at + 3]) << 24;
-    };
+    auto header = [&](std::size_t at) { return standin::fuzz::input_u32(data, size, at); };
     standin::Result<standin::Mesh> mesh = standin::reps::decode_coarse_mesh(bytes, "input.meshopt", header(16), header(12));
     if (mesh) {
         for (std::uint32_t i : mesh->indices)

@@ -21,11 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     static bool ready = (standin::fuzz::lower_budgets(), true);
     (void)ready;
     std::string_view bytes(reinterpret_cast<const char*>(data), size);
-    auto header = [&](std::size_t at) -> std::uint32_t {
-        if (size < at + 4) return 0;
-        return std::uint32_t(data[at]) | std::uint32_t(data[at + 1]) << 8 | std::uint32_t(data[at + 2]) << 16 |
-               std::uint32_t(data[at + 3]) << 24;
-    };
+    auto header = [&](std::size_t at) { return standin::fuzz::input_u32(data, size, at); };
     const BlockFormat formats[] = {BlockFormat::bc3_srgb, BlockFormat::bc4, BlockFormat::bc5, BlockFormat::r16, BlockFormat::r8};
     BlockFormat format = formats[header(12) % 5];
     for (BlockFormat f : formats)

@@ -32,6 +32,15 @@ inline std::string write_input(const std::string& name, const std::uint8_t* data
     return path;
 }
 
+// The little-endian 32-bit word at `at` of a fuzzer input, 0 past its end: harnesses take the
+// counts a manifest would give from the input's own header, so that inputs reach the decoders.
+inline std::uint32_t input_u32(const std::uint8_t* data, std::size_t size, std::size_t at)
+{
+    if (size < at + 4) return 0;
+    return std::uint32_t(data[at]) | std::uint32_t(data[at + 1]) << 8 | std::uint32_t(data[at + 2]) << 16 |
+           std::uint32_t(data[at + 3]) << 24;
+}
+
 // 256 MiB and 2 million triangles: refusals come before libFuzzer's -rss_limit_mb (2048 by default).
 inline void lower_budgets()
 {
