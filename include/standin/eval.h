@@ -271,6 +271,7 @@ struct FrameRecord {
     float distance_rel = 1.0f;
     double ms_median = 0.0, ms_min = 0.0, ms_max = 0.0; // GPU timer queries
     double wall_ms_median = 0.0; // submission to glFinish; the figure to compare on llvmpipe
+    double cpu_ms_median = 0.0;  // process CPU time (all threads) over the same span: llvmpipe's work, independent of machine load
     std::size_t covered_pixels = 0;
     double fetches_per_pixel = -1.0; // -1 where the renderer does not count fetches
     double fragments_per_pixel = -1.0; // overdraw: fragment-stage runs per covered pixel; -1 where not counted

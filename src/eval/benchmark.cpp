@@ -56,6 +56,7 @@ static Result<FrameRecord> time_subject(Renderer& renderer, const std::string& s
     record.ms_min = times->min_ms;
     record.ms_max = times->max_ms;
     record.wall_ms_median = times->wall_median_ms;
+    record.cpu_ms_median = times->cpu_median_ms;
     record.covered_pixels = times->covered_pixels;
     record.fetches_per_pixel = times->fetches_per_pixel;
     record.fragments_per_pixel = times->fragments_per_pixel;

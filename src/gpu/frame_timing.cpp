@@ -6,11 +6,26 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <vector>
 
 namespace standin::gpu {
 
 static const float k_transparent[4] = {0, 0, 0, 0};
+
+static double process_cpu_ms()
+{
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+static double frame_median(std::vector<double> values)
+{
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
 
 Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int warmup, int frames)
 {
@@ -32,25 +47,25 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
     }
     glFinish();
     GpuTimer timer;
-    std::vector<double> ms, wall;
+    std::vector<double> ms, wall, cpu;
     for (int i = 0; i < frames; ++i) {
         target->clear(k_transparent);
         glFinish();
         auto start = std::chrono::steady_clock::now();
+        const double cpu_start = process_cpu_ms();
         timer.begin();
         result.stats = renderer.draw(params);
         timer.end();
         glFinish();
         wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        cpu.push_back(process_cpu_ms() - cpu_start);
         ms.push_back(timer.milliseconds());
     }
-    std::sort(wall.begin(), wall.end());
-    result.wall_median_ms = wall.size() % 2 ? wall[wall.size() / 2] : 0.5 * (wall[wall.size() / 2 - 1] + wall[wall.size() / 2]);
-    std::sort(ms.begin(), ms.end());
-    result.median_ms = ms[ms.size() / 2];
-    if (ms.size() % 2 == 0) result.median_ms = 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
-    result.min_ms = ms.front();
-    result.max_ms = ms.back();
+    result.wall_median_ms = frame_median(wall);
+    result.cpu_median_ms = frame_median(cpu);
+    result.median_ms = frame_median(ms);
+    result.min_ms = *std::min_element(ms.begin(), ms.end());
+    result.max_ms = *std::max_element(ms.begin(), ms.end());
 
     // coverage of the last frame, then one counted frame where the renderer counts fetches
     ImageRGBA8 pixels = target->read_color();

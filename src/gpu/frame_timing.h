@@ -13,6 +13,10 @@ struct FrameTimes {
     // CPU wall time from submission to glFinish. On llvmpipe the timer query does not cover the
     // deferred rasterisation, so this is the figure to compare there.
     double wall_median_ms = 0.0;
+    // CPU time of the whole process (every thread) over the same span. A software rasteriser's
+    // threads run in this process, so on llvmpipe this is the work a frame costs, whatever else the
+    // machine runs at the time (wall time grows with the machine's load; this does not).
+    double cpu_median_ms = 0.0;
     DrawStats stats;                 // of the last frame
     std::size_t covered_pixels = 0;  // alpha > 0 after the last frame
     double fetches_per_pixel = -1.0; // -1 when the renderer does not count fetches
