@@ -14,8 +14,9 @@
 //   size=WxH       the drawing size in pixels (default: the window)
 //   blend=1|3      impostor frames blended (default 3); steps=N ray-march steps (default 96)
 //   vote=W, tolerance=CODES   impostor: frame weight that must hold a point (default all), depth slack
-//   wall=TEXELS    billboards: a larger depth jump between two samples is a wall, not a crossing (4)
 //   billboards=plain          billboard boxes as textured meshes instead of the ray cast
+//   coarse=all     billboards: the coarse mesh everywhere, not only where a billboard ray came
+//                  near a surface and missed (standin's rule; the stencil, see billboard())
 //   proxy=quad     grid impostor: draw on the camera-facing quad even when the file has the atlas
 //                  hull (role grid-impostor-hull, drawn by default)
 //   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
@@ -231,17 +232,47 @@ async function billboard(node, extras, parser, shaders) {
             texel_size: { value: extras.texel_size },
             depth_range: { value: extras.depth_range },
             size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
-            steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
-            // a surface at 60 degrees to the front plane changes depth by 1.7 texels a texel: walls
-            // are the jumps of more than 4 texels' worth between two samples
-            wall_depth: { value: (number('wall', 4) * extras.texel_size) / extras.depth_range },
+            // the browser decodes the 16-bit PNG to 8 bits: one code is 1/255 of the depth range
+            depth_quantum: { value: 1 / 255 },
             ...camera_uniforms(),
         },
     });
     const mesh = node.isMesh ? node : node.children.find((c) => c.isMesh);
     if (!mesh) throw new Error('billboard node without a mesh');
+    // every fragment that is not discarded (a hit, or a near miss: alpha 0, which the blending
+    // leaves invisible) sets the stencil bit the coarse mesh is drawn through, whatever its depth
+    material.blending = THREE.CustomBlending;
+    material.blendSrc = THREE.SrcAlphaFactor;
+    material.blendDst = THREE.OneMinusSrcAlphaFactor;
+    material.blendSrcAlpha = THREE.OneFactor;
+    material.blendDstAlpha = THREE.OneMinusSrcAlphaFactor;
+    material.stencilWrite = true;
+    material.stencilFunc = THREE.AlwaysStencilFunc;
+    material.stencilRef = k_near_stencil;
+    material.stencilWriteMask = k_near_stencil;
+    material.stencilZPass = THREE.ReplaceStencilOp;
+    material.stencilZFail = THREE.ReplaceStencilOp;
     mesh.material = material;
+    mesh.renderOrder = -1; // before the coarse mesh, which reads the stencil
     track_camera(mesh, material);
+}
+
+// The stencil bit of pixels where a billboard ray hit or came near a surface and missed: standin's
+// renderer fills only those with the coarse mesh (src/reps/enhanced_billboards/shaders/coarse.frag),
+// which drawn everywhere would grow the silhouette wherever it is coarser than the billboards (leaf
+// cards simplified into solid triangles). Drawn there with the depth test, it may also cover a
+// billboard hit behind which it lies nearer, which standin's never does; no silhouette changes.
+const k_near_stencil = 1;
+function coarse_mesh(node) {
+    if (params.get('coarse') === 'all') return;
+    node.traverse((m) => {
+        if (!m.isMesh) return;
+        m.material.stencilWrite = true;
+        m.material.stencilFunc = THREE.EqualStencilFunc;
+        m.material.stencilRef = k_near_stencil;
+        m.material.stencilFuncMask = k_near_stencil;
+        m.material.stencilWriteMask = 0;
+    });
 }
 
 // A grid-impostor material (grid_impostor.{vert,frag}); `hull`: for the atlas hull's own vertices
@@ -310,6 +341,7 @@ async function load_standin(url, shaders) {
     const impostors = [];
     const hulls = [];
     const billboards = [];
+    const coarse_meshes = [];
     const roles = [];
     root.traverse((node) => {
         const extras = node.userData && node.userData.standin;
@@ -319,10 +351,13 @@ async function load_standin(url, shaders) {
         if (extras.role === 'grid-impostor') impostors.push({ node, extras });
         if (extras.role === 'grid-impostor-hull') hulls.push({ node, extras });
         if (extras.role === 'billboard') billboards.push({ node, extras });
+        if (extras.role === 'coarse-mesh') coarse_meshes.push(node);
     });
     use_mesh_materials(root, shaders);
-    if (params.get('billboards') !== 'plain')
+    if (params.get('billboards') !== 'plain') {
         for (const { node, extras } of billboards) await billboard(node, extras, gltf.parser, shaders);
+        for (const node of coarse_meshes) coarse_mesh(node);
+    }
     // the impostor on the atlas hull when the file has one (far fewer pixels than the quad), else
     // on the camera-facing quad; the quad node itself is for plain glTF viewers
     const on_hull = hulls.length > 0 && params.get('proxy') !== 'quad';
@@ -405,7 +440,8 @@ async function main() {
         height = Number(m[2]);
     }
     const canvas = document.getElementById('view');
-    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
+    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true,
+        stencil: true }); // billboards' coarse mesh (billboard())
     renderer.setPixelRatio(size ? 1 : window.devicePixelRatio);
     renderer.setSize(width, height, true);
     renderer.setClearColor(0x000000, 0);
