@@ -212,11 +212,95 @@ const camera_uniforms = () => ({
     light_terms: { value: k_light_terms },
 });
 
+// The alpha channel of an image texture (null: not readable here, e.g. a transcoded KTX2).
+function texture_alpha(texture, width, height) {
+    const image = texture.image;
+    if (texture.isCompressedTexture || !image || !(image.width === width && image.height === height)) return null;
+    const canvas = new OffscreenCanvas(width, height);
+    const context = canvas.getContext('2d', { willReadFrequently: true });
+    context.drawImage(image, 0, 0);
+    const rgba = context.getImageData(0, 0, width, height).data;
+    const alpha = new Uint8Array(width * height);
+    for (let i = 0; i < alpha.length; ++i) alpha[i] = rgba[4 * i + 3];
+    return alpha;
+}
+
+// The min/max depth pyramid billboard.frag skips empty space with (standin builds the same at load
+// time, src/reps/enhanced_billboards/acceleration.cpp): level 0 is each covered texel's depth and
+// those of its covered neighbours that a link might join (the widest the link rule allows, so the
+// ranges hold the renderer's, which the exact normals decide: a superset only costs a closer look),
+// level k the union over cells of 2^k texels; all levels stacked in one RG32F texture, widened by
+// one 8-bit code against rounding differences between this decode and the texture upload. Without a
+// readable depth map no pyramid (levels 0: every texel is visited); without a readable colour map
+// every texel counts as covered.
+function billboard_pyramid(extras, color, normal_depth) {
+    const width = extras.width, height = extras.height;
+    const depth = texture_alpha(normal_depth, width, height);
+    if (!depth) return { texture: new THREE.DataTexture(new Float32Array(2), 1, 1, THREE.RGFormat, THREE.FloatType), levels: 0, rows: [0] };
+    const coverage = texture_alpha(color, width, height);
+    const levels = Math.max(1, Math.min(8, Math.floor(Math.log2(Math.max(width, height)))));
+    const cell = 1 << levels;
+    const padded_w = Math.ceil(width / cell) * cell, padded_h = Math.ceil(height / cell) * cell;
+    const widest = (1.5 * 8 + 0.5) * (extras.texel_size / extras.depth_range) + 3 / 255;
+    const covered = (i, j) => i >= 0 && j >= 0 && i < width && j < height && (!coverage || coverage[j * width + i] > 0);
+    // level 0: per texel range
+    let w = padded_w, h = padded_h;
+    let lo = new Float32Array(w * h).fill(2), hi = new Float32Array(w * h).fill(-1);
+    for (let j = 0; j < height; ++j)
+        for (let i = 0; i < width; ++i) {
+            if (!covered(i, j)) continue;
+            const d = depth[j * width + i] / 255;
+            let a = d, b = d;
+            for (const [di, dj] of [[1, 0], [-1, 0], [0, 1], [0, -1]]) {
+                if (!covered(i + di, j + dj)) continue;
+                const e = depth[(j + dj) * width + i + di] / 255;
+                if (Math.abs(e - d) <= widest) {
+                    a = Math.min(a, e);
+                    b = Math.max(b, e);
+                }
+            }
+            lo[j * w + i] = a - 1 / 255;
+            hi[j * w + i] = b + 1 / 255;
+        }
+    // levels 1..levels, stacked: level k's rows from rows[k]
+    const rows = [0];
+    const stacked = [];
+    let row = 0;
+    for (let k = 1; k <= levels; ++k) {
+        const nw = w / 2, nh = h / 2;
+        const nlo = new Float32Array(nw * nh), nhi = new Float32Array(nw * nh);
+        for (let j = 0; j < nh; ++j)
+            for (let i = 0; i < nw; ++i) {
+                const at = [(2 * j) * w + 2 * i, (2 * j) * w + 2 * i + 1, (2 * j + 1) * w + 2 * i, (2 * j + 1) * w + 2 * i + 1];
+                nlo[j * nw + i] = Math.min(...at.map((x) => lo[x]));
+                nhi[j * nw + i] = Math.max(...at.map((x) => hi[x]));
+            }
+        rows.push(row);
+        stacked.push({ lo: nlo, hi: nhi, w: nw, h: nh, row });
+        row += nh;
+        [w, h, lo, hi] = [nw, nh, nlo, nhi];
+    }
+    const tw = padded_w / 2;
+    const data = new Float32Array(tw * row * 2);
+    for (const l of stacked)
+        for (let j = 0; j < l.h; ++j)
+            for (let i = 0; i < l.w; ++i) {
+                data[2 * ((l.row + j) * tw + i)] = l.lo[j * l.w + i];
+                data[2 * ((l.row + j) * tw + i) + 1] = l.hi[j * l.w + i];
+            }
+    const texture = new THREE.DataTexture(data, tw, row, THREE.RGFormat, THREE.FloatType);
+    texture.needsUpdate = true;
+    return { texture, levels, rows };
+}
+
 // a `billboard` node: its box drawn by billboard.{vert,frag} (the ray cast through its height field)
 async function billboard(node, extras, parser, shaders) {
     const color = as_codes((await parser.getDependency('texture', extras.color_texture)).clone());
     const normal_depth = as_codes((await parser.getDependency('texture', extras.normal_depth_texture)).clone());
     (window.standin.info.billboard_color_textures ||= []).push(texture_kind(color));
+    const pyramid = billboard_pyramid(extras, color, normal_depth);
+    (window.standin.info.billboard_pyramid_levels ||= []).push(pyramid.levels);
+    const rows = [...pyramid.rows, ...Array(9).fill(0)].slice(0, 9);
     const material = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['billboard.vert'],
@@ -234,6 +318,9 @@ async function billboard(node, extras, parser, shaders) {
             size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
             // the browser decodes the 16-bit PNG to 8 bits: one code is 1/255 of the depth range
             depth_quantum: { value: 1 / 255 },
+            pyramid: { value: pyramid.texture },
+            levels: { value: pyramid.levels },
+            pyramid_rows: { value: rows },
             ...camera_uniforms(),
         },
     });

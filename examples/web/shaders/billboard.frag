@@ -46,6 +46,12 @@ uniform float texel_size;
 uniform float depth_range;
 uniform vec2 size_texels;
 uniform float depth_quantum; // one step of the depth codes as read, in [0, 1] of depth_range
+// min/max pyramid over the texels' depth ranges (each covered texel's depth and those of its
+// neighbours a link may join; built by main.js from the maps): level k (1..levels: cells of 2^k
+// texels) is the rectangle of rows from pyramid_rows[k], RG = lowest, highest depth (empty: 2, -1)
+uniform highp sampler2D pyramid;
+uniform int levels;
+uniform int pyramid_rows[9];
 uniform vec3 eye_object;
 uniform vec3 forward_object;
 uniform int orthographic;
@@ -62,7 +68,7 @@ const float k_curvature_texels = 0.5;
 const float k_quanta = 2.0;
 const float k_max_slope = 8.0;
 const float k_miss = 0.0, k_top = 1.0, k_wall = 2.0;
-const int k_max_texels = 8192; // a walk crosses at most width + height texels
+const int k_max_iterations = 2048; // cells visited, at all levels (standin's march: 512)
 
 vec3 box_from_object(vec3 p)
 {
@@ -147,60 +153,100 @@ void main()
     float t1 = min(min(t_far.x, t_far.y), t_far.z);
     if (t1 <= t0) discard;
 
-    // 2. the walk, texel by texel (Amanatides & Woo 1987), with standin's exact column crossing
+    // 2. the walk (Amanatides & Woo 1987) through the min/max pyramid (Tevs et al. 2008) as standin's
+    // march climbs it: a cell whose depth range the ray's segment above it misses is skipped whole;
+    // in a texel, standin's exact column crossing
     ivec2 size = ivec2(size_texels);
     ivec2 dir = ivec2(d.x >= 0.0 ? 1 : -1, d.y >= 0.0 ? 1 : -1);
-    ivec2 ahead = max(dir, ivec2(0)); // 1 where a texel's exit side is its upper one
+    ivec2 ahead = max(dir, ivec2(0)); // 1 where a cell's exit side is its upper one
     float link_scale = texel_size / depth_range; // one texel of depth, in units of depth_range
-    vec2 p = o.xy + t0 * d.xy + vec2(dir) * 1e-3;
-    ivec2 texel = clamp(ivec2(floor(p)), ivec2(0), size - 1);
+    // a box as deep as the model: start as high as the ray's path across the plane is long
+    float footprint = length(d.xy) * (t1 - t0);
+    int level = clamp(int(ceil(log2(footprint + 1.0))), 0, levels);
     float t = t0;
-    int entry_axis = -1; // the axis of the side the walk entered this texel through; -1: the box entry
-    bool previous_covered = false;
-    vec4 previous_nd = vec4(0.0);
+    ivec2 texel = clamp(ivec2(floor(o.xy + t0 * d.xy + vec2(dir) * 1e-3)), ivec2(0), size - 1);
+    // the last texel read at level 0: the one a wall crossing comes from, most of the time
+    ivec2 last_texel = ivec2(-1);
+    bool last_covered = false;
+    vec4 last_nd = vec4(0.0);
     bool found = false, near = false;
     float t_hit = 0.0;
     ivec2 hit_texel = texel;
-    for (int i = 0; i < k_max_texels; ++i) {
-        vec2 t_bounds = (vec2(texel + ahead) - o.xy) * inv.xy;
+    int iteration = 0;
+    for (; iteration < k_max_iterations; ++iteration) {
+        ivec2 cell = texel >> level;
+        vec2 t_bounds = (vec2((cell + ahead) << level) - o.xy) * inv.xy;
         int axis = t_bounds.x < t_bounds.y ? 0 : 1;
         float t_exit = min(t_bounds[axis], t1);
-        bool covered = texelFetch(color_map, texel, 0).a > 0.5 / 255.0; // standin: coverage code != 0
-        vec4 nd = vec4(0.0);
-        if (covered) {
-            nd = texelFetch(normal_depth_map, texel, 0);
-            bool from_linked = entry_axis >= 0 && previous_covered && linked(nd, previous_nd, entry_axis == 0 ? axis_u : axis_v);
-            vec2 crossing = cross_column(t, t, t_exit, o.z, d.z, nd.a, from_linked, previous_nd.a);
-            if (crossing.y != k_miss) {
-                t_hit = crossing.x;
-                // on a wall, the texel whose top is nearer the crossing
-                float z_in = o.z + t * d.z;
-                hit_texel = texel;
-                if (crossing.y == k_wall && abs(z_in - previous_nd.a) < abs(z_in - nd.a)) hit_texel[entry_axis] -= dir[entry_axis];
-                found = true;
-                break;
+        float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
+        float z_lo = min(z_a, z_b), z_hi = max(z_a, z_b);
+        if (level > 0) {
+            vec2 range = texelFetch(pyramid, ivec2(cell.x, pyramid_rows[level] + cell.y), 0).rg;
+            if (range.x <= z_hi && range.y >= z_lo) {
+                --level; // the segment may meet the surface below this cell: look closer
+                continue;
             }
-            if (!near) {
-                // the renderer's near miss: the segment over the texel meets its range (the widest
-                // a link allows bounds it first, so most texels the ray passes high above cost no more)
-                float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
-                float z_lo = min(z_a, z_b), z_hi = max(z_a, z_b);
-                float widest = (k_slope_tolerance * k_max_slope + k_curvature_texels) * link_scale + k_quanta * depth_quantum;
-                float slack = 0.5 / 65535.0;
-                if (nd.a - widest <= z_hi + slack && nd.a + widest >= z_lo - slack) {
-                    vec2 range = texel_range(texel, nd);
-                    near = range.x <= z_hi + slack && range.y >= z_lo - slack;
+        } else {
+            bool covered = texelFetch(color_map, texel, 0).a > 0.5 / 255.0; // standin: coverage code != 0
+            vec4 nd = vec4(0.0);
+            if (covered) {
+                nd = texelFetch(normal_depth_map, texel, 0);
+                // the wall to the texel the ray came from, if it continues this surface, then the top
+                vec2 t_entries = (vec2(texel + ivec2(1) - ahead) - o.xy) * inv.xy;
+                int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
+                float t_in = t_entries[entry_axis];
+                ivec2 from = texel;
+                from[entry_axis] -= dir[entry_axis];
+                bool from_linked = false;
+                vec4 from_nd = last_nd;
+                if (t_in >= t0 && from[entry_axis] >= 0 && from[entry_axis] < size[entry_axis]) {
+                    bool from_covered = last_covered;
+                    if (from != last_texel) {
+                        from_covered = texelFetch(color_map, from, 0).a > 0.5 / 255.0;
+                        from_nd = texelFetch(normal_depth_map, from, 0);
+                    }
+                    from_linked = from_covered && linked(nd, from_nd, entry_axis == 0 ? axis_u : axis_v);
+                }
+                vec2 crossing = cross_column(t_in, t, t_exit, o.z, d.z, nd.a, from_linked, from_nd.a);
+                if (crossing.y != k_miss) {
+                    t_hit = crossing.x;
+                    // on a wall, the texel whose top is nearer the crossing
+                    float z_in = o.z + t_in * d.z;
+                    hit_texel = crossing.y == k_wall && abs(z_in - from_nd.a) < abs(z_in - nd.a) ? from : texel;
+                    found = true;
+                    break;
+                }
+                if (!near) {
+                    // the renderer's near miss: the segment over the texel meets its range (the widest
+                    // a link allows bounds it first, so most texels the ray passes high above cost no more)
+                    float widest = (k_slope_tolerance * k_max_slope + k_curvature_texels) * link_scale + k_quanta * depth_quantum;
+                    float slack = 0.5 / 65535.0;
+                    if (nd.a - widest <= z_hi + slack && nd.a + widest >= z_lo - slack) {
+                        vec2 range = texel_range(texel, nd);
+                        near = range.x <= z_hi + slack && range.y >= z_lo - slack;
+                    }
                 }
             }
+            last_texel = texel;
+            last_covered = covered;
+            last_nd = nd;
         }
+
+        // leave the cell: into the neighbouring one, one level up when that is in another parent
         if (t_exit >= t1) break;
-        previous_covered = covered;
-        previous_nd = nd;
-        texel[axis] += dir[axis];
-        entry_axis = axis;
+        ivec2 next = texel;
+        next[axis] = (cell[axis] + dir[axis]) << level;
+        if (dir[axis] < 0) next[axis] += (1 << level) - 1;
+        int other = 1 - axis;
+        float along = o[other] + t_exit * d[other];
+        int lo = cell[other] << level, hi = ((cell[other] + 1) << level) - 1;
+        next[other] = clamp(int(floor(along + float(dir[other]) * 1e-3)), lo, hi);
+        if (next[axis] < 0 || next[axis] >= size[axis]) break;
+        if (level < levels && (cell >> 1) != ((next >> level) >> 1)) ++level;
+        texel = next;
         t = t_exit;
-        if (texel[axis] < 0 || texel[axis] >= size[axis]) break;
     }
+    if (iteration == k_max_iterations) near = true; // out of iterations: let the coarse mesh decide
     if (!found) {
         // 3. a near miss marks the stencil only (main.js); anything else is no part of the picture
         if (!near) discard;
