@@ -212,10 +212,11 @@ const camera_uniforms = () => ({
     light_terms: { value: k_light_terms },
 });
 
-// The alpha channel of an image texture (null: not readable here, e.g. a transcoded KTX2).
+// The alpha channel of the top-left width x height texels of an image texture (the export pads its
+// maps to multiples of 4; null: not readable here, e.g. a transcoded KTX2).
 function texture_alpha(texture, width, height) {
     const image = texture.image;
-    if (texture.isCompressedTexture || !image || !(image.width === width && image.height === height)) return null;
+    if (texture.isCompressedTexture || !image || !(image.width >= width && image.height >= height)) return null;
     const canvas = new OffscreenCanvas(width, height);
     const context = canvas.getContext('2d', { willReadFrequently: true });
     context.drawImage(image, 0, 0);

@@ -14,24 +14,26 @@
 // leaves one texel wide and grazing views keep every texel the renderer keeps.
 // Steps, per pixel of the box's back faces:
 //  1. the eye ray in box space, clipped to the box (slabs);
-//  2. a texel-by-texel walk (DDA) from the entry: in each covered texel, the crossing of the wall
-//     it was entered through (when that neighbour is linked) or else of its top inside the texel
-//     (hf_cross_column); the first crossing is the hit;
+//  2. a walk (DDA) from the entry through a min/max pyramid as standin's march climbs its own (a
+//     cell whose depth range the ray's segment above it misses is skipped whole); in each covered
+//     texel, the crossing of the wall it was entered through (when that neighbour is linked) or
+//     else of its top inside the texel (hf_cross_column); the first crossing is the hit;
 //  3. the hit's depth is written (gl_FragDepth), so boxes and the coarse mesh resolve by the depth
-//     test; no hit: discard, unless the ray came within a texel of a surface (it entered a covered
-//     texel's column): then a `near miss`, drawn with alpha 0 and far depth so that only the stencil
-//     bit NEAR_MISS_STENCIL is set, where the coarse mesh may then fill (main.js);
+//     test; no hit: discard, unless the ray came within a texel of a surface (its segment over a
+//     covered texel meets that texel's depth range, its walls to linked neighbours included): then
+//     a near miss, drawn with alpha 0 (blended away) and far depth, only to set the stencil bit
+//     that the coarse mesh is drawn through (main.js; standin fills only hits' and near misses'
+//     pixels with it, coarse.frag);
 //  4. shading is standin's: Lambert + ambient, two-sided, linear light, sRGB in and out; the texel
 //     is the hit's (nearest, as texelFetch in standin).
-// Departures from the standin renderer: no min/max pyramid (the walk visits every texel on the ray:
-// cost linear in the box's size in texels, fine for a viewer's few billboards, and without the
-// renderer's level-of-detail shortcut, which only acts where 4 or more texels share a pixel), and
-// depth codes as the browser decodes the 16-bit PNG: 8 bits (depth_quantum = 1/255) unless main.js
-// decoded the 16 bits itself (then 1/65535).
+// Departures from the standin renderer: one box per billboard, not its sheared per-tile boxes;
+// the pyramid's ranges are conservative (links judged by the widest the rule allows, not by the
+// normals); no level-of-detail shortcut (it only acts where 4 or more texels share a pixel); depth
+// codes as the browser decodes the 16-bit PNG: 8 bits (depth_quantum = 1/255).
 // Textures: color_map (RGB sRGB albedo, A coverage), normal_depth_map (RGB object-space normal *
 // 0.5 + 0.5, A depth d in [0, 1] of depth_range), read with texelFetch. Uniforms: the node's extras
 // (origin, axis_u, axis_v, direction, texel_size, depth_range, width and height as size_texels),
-// depth_quantum, the camera in object space (eye_object, forward_object, orthographic),
+// depth_quantum, pyramid / levels / pyramid_rows, the camera in object space (eye_object, forward_object, orthographic),
 // clip_from_object, the light (to_light_object, unit; light_terms = ambient, diffuse).
 precision highp float;
 precision highp int;
