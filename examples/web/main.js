@@ -212,6 +212,63 @@ const camera_uniforms = () => ({
     light_terms: { value: k_light_terms },
 });
 
+// The PNG image of glTF texture `index` decoded to 16-bit codes (8-bit ones scaled by 257): the
+// browser's own decoder gives WebGL 8 bits of a 16-bit PNG, which would move the billboards' depths
+// by up to half an 8-bit code. Inflate is the browser's (DecompressionStream, zlib format); RGBA or
+// RGB, 8 or 16 bits, not interlaced, as standin writes its maps. Returns { data (Uint16Array, RGBA),
+// width, height, bits }.
+async function decode_png_codes(parser, index) {
+    const image = parser.json.images[parser.json.textures[index].source];
+    let bytes;
+    if (image.bufferView !== undefined) bytes = new Uint8Array(await parser.getDependency('bufferView', image.bufferView));
+    else bytes = new Uint8Array(await (await fetch(new URL(image.uri, new URL(parser.options.path || '', location.href)))).arrayBuffer());
+    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+    if (view.getUint32(0) !== 0x89504e47) throw new Error(`texture ${index}: not a PNG`);
+    let width = 0, height = 0, bits = 0, channels = 0;
+    const idat = [];
+    for (let at = 8; at + 8 <= bytes.length;) {
+        const length = view.getUint32(at), type = String.fromCharCode(...bytes.subarray(at + 4, at + 8));
+        const body = bytes.subarray(at + 8, at + 8 + length);
+        if (type === 'IHDR') {
+            width = view.getUint32(at + 8);
+            height = view.getUint32(at + 12);
+            bits = body[8];
+            channels = { 2: 3, 6: 4 }[body[9]];
+            if (!channels || !(bits === 8 || bits === 16) || body[12] !== 0)
+                throw new Error(`texture ${index}: PNG colour type ${body[9]}, ${bits} bits, interlace ${body[12]}: not supported`);
+        } else if (type === 'IDAT') idat.push(body);
+        at += 12 + length;
+    }
+    const inflated = new Uint8Array(await new Response(new Blob(idat).stream().pipeThrough(new DecompressionStream('deflate'))).arrayBuffer());
+    const bpp = (channels * bits) / 8, stride = width * bpp;
+    if (inflated.length < height * (stride + 1)) throw new Error(`texture ${index}: PNG data too short`);
+    const raw = new Uint8Array(height * stride);
+    for (let y = 0; y < height; ++y) {
+        const filter = inflated[y * (stride + 1)], line = inflated.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+        const out = y * stride, up = out - stride;
+        for (let x = 0; x < stride; ++x) {
+            const a = x >= bpp ? raw[out + x - bpp] : 0, b = y > 0 ? raw[up + x] : 0, c = x >= bpp && y > 0 ? raw[up + x - bpp] : 0;
+            let p = 0;
+            if (filter === 1) p = a;
+            else if (filter === 2) p = b;
+            else if (filter === 3) p = (a + b) >> 1;
+            else if (filter === 4) {
+                const pa = Math.abs(b - c), pb = Math.abs(a - c), pc = Math.abs(a + b - 2 * c);
+                p = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+            }
+            raw[out + x] = (line[x] + p) & 255;
+        }
+    }
+    const data = new Uint16Array(width * height * 4);
+    for (let i = 0; i < width * height; ++i)
+        for (let k = 0; k < 4; ++k) {
+            const channel = k < channels ? k : -1;
+            data[4 * i + k] = channel < 0 ? 65535 : bits === 16 ? (raw[i * bpp + 2 * channel] << 8) | raw[i * bpp + 2 * channel + 1]
+                                                                : raw[i * bpp + channel] * 257;
+        }
+    return { data, width, height, bits };
+}
+
 // The alpha channel of the top-left width x height texels of an image texture (the export pads its
 // maps to multiples of 4; null: not readable here, e.g. a transcoded KTX2).
 function texture_alpha(texture, width, height) {
@@ -231,18 +288,19 @@ function texture_alpha(texture, width, height) {
 // those of its covered neighbours that a link might join (the widest the link rule allows, so the
 // ranges hold the renderer's, which the exact normals decide: a superset only costs a closer look),
 // level k the union over cells of 2^k texels; all levels stacked in one RG32F texture, widened by
-// one 8-bit code against rounding differences between this decode and the texture upload. Without a
-// readable depth map no pyramid (levels 0: every texel is visited); without a readable colour map
-// every texel counts as covered.
-function billboard_pyramid(extras, color, normal_depth) {
+// one depth code. Depths are the decoded codes (decode_png_codes); without a readable colour map
+// (a transcoded KTX2) every texel counts as covered.
+function billboard_pyramid(extras, color, codes) {
     const width = extras.width, height = extras.height;
-    const depth = texture_alpha(normal_depth, width, height);
-    if (!depth) return { texture: new THREE.DataTexture(new Float32Array(2), 1, 1, THREE.RGFormat, THREE.FloatType), levels: 0, rows: [0] };
+    const depth = new Float32Array(width * height);
+    for (let j = 0; j < height; ++j)
+        for (let i = 0; i < width; ++i) depth[j * width + i] = codes.data[4 * (j * codes.width + i) + 3] / 65535;
     const coverage = texture_alpha(color, width, height);
     const levels = Math.max(1, Math.min(8, Math.floor(Math.log2(Math.max(width, height)))));
     const cell = 1 << levels;
     const padded_w = Math.ceil(width / cell) * cell, padded_h = Math.ceil(height / cell) * cell;
-    const widest = (1.5 * 8 + 0.5) * (extras.texel_size / extras.depth_range) + 3 / 255;
+    const quantum = codes.bits === 16 ? 1 / 65535 : 1 / 255;
+    const widest = (1.5 * 8 + 0.5) * (extras.texel_size / extras.depth_range) + 3 * quantum;
     const covered = (i, j) => i >= 0 && j >= 0 && i < width && j < height && (!coverage || coverage[j * width + i] > 0);
     // level 0: per texel range
     let w = padded_w, h = padded_h;
@@ -250,18 +308,18 @@ function billboard_pyramid(extras, color, normal_depth) {
     for (let j = 0; j < height; ++j)
         for (let i = 0; i < width; ++i) {
             if (!covered(i, j)) continue;
-            const d = depth[j * width + i] / 255;
+            const d = depth[j * width + i];
             let a = d, b = d;
             for (const [di, dj] of [[1, 0], [-1, 0], [0, 1], [0, -1]]) {
                 if (!covered(i + di, j + dj)) continue;
-                const e = depth[(j + dj) * width + i + di] / 255;
+                const e = depth[(j + dj) * width + i + di];
                 if (Math.abs(e - d) <= widest) {
                     a = Math.min(a, e);
                     b = Math.max(b, e);
                 }
             }
-            lo[j * w + i] = a - 1 / 255;
-            hi[j * w + i] = b + 1 / 255;
+            lo[j * w + i] = a - quantum;
+            hi[j * w + i] = b + quantum;
         }
     // levels 1..levels, stacked: level k's rows from rows[k]
     const rows = [0];
@@ -297,9 +355,15 @@ function billboard_pyramid(extras, color, normal_depth) {
 // a `billboard` node: its box drawn by billboard.{vert,frag} (the ray cast through its height field)
 async function billboard(node, extras, parser, shaders) {
     const color = as_codes((await parser.getDependency('texture', extras.color_texture)).clone());
-    const normal_depth = as_codes((await parser.getDependency('texture', extras.normal_depth_texture)).clone());
+    const codes = await decode_png_codes(parser, extras.normal_depth_texture);
+    if (codes.width < extras.width || codes.height < extras.height)
+        throw new Error(`billboard: normal + depth map ${codes.width}x${codes.height} smaller than the billboard ${extras.width}x${extras.height}`);
+    const normal_depth = new THREE.DataTexture(codes.data, codes.width, codes.height, THREE.RGBAIntegerFormat, THREE.UnsignedShortType);
+    normal_depth.internalFormat = 'RGBA16UI';
+    normal_depth.needsUpdate = true;
     (window.standin.info.billboard_color_textures ||= []).push(texture_kind(color));
-    const pyramid = billboard_pyramid(extras, color, normal_depth);
+    (window.standin.info.billboard_depth_bits ||= []).push(codes.bits);
+    const pyramid = billboard_pyramid(extras, color, codes);
     (window.standin.info.billboard_pyramid_levels ||= []).push(pyramid.levels);
     const rows = [...pyramid.rows, ...Array(9).fill(0)].slice(0, 9);
     const material = new THREE.RawShaderMaterial({
@@ -317,8 +381,7 @@ async function billboard(node, extras, parser, shaders) {
             texel_size: { value: extras.texel_size },
             depth_range: { value: extras.depth_range },
             size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
-            // the browser decodes the 16-bit PNG to 8 bits: one code is 1/255 of the depth range
-            depth_quantum: { value: 1 / 255 },
+            depth_quantum: { value: codes.bits === 16 ? 1 / 65535 : 1 / 255 },
             pyramid: { value: pyramid.texture },
             levels: { value: pyramid.levels },
             pyramid_rows: { value: rows },

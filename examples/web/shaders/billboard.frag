@@ -28,10 +28,11 @@
 //     is the hit's (nearest, as texelFetch in standin).
 // Departures from the standin renderer: one box per billboard, not its sheared per-tile boxes;
 // the pyramid's ranges are conservative (links judged by the widest the rule allows, not by the
-// normals); no level-of-detail shortcut (it only acts where 4 or more texels share a pixel); depth
-// codes as the browser decodes the 16-bit PNG: 8 bits (depth_quantum = 1/255).
-// Textures: color_map (RGB sRGB albedo, A coverage), normal_depth_map (RGB object-space normal *
-// 0.5 + 0.5, A depth d in [0, 1] of depth_range), read with texelFetch. Uniforms: the node's extras
+// normals); no level-of-detail shortcut (it only acts where 4 or more texels share a pixel).
+// Textures: color_map (RGB sRGB albedo, A coverage), normal_depth_map (an RGBA16UI integer texture
+// of the PNG's 16-bit codes, which main.js decodes itself: RGB object-space normal * 0.5 + 0.5, A
+// depth d in [0, 1] of depth_range, as code / 65535), read with texelFetch; the maps may be larger
+// than width x height (the export pads them to multiples of 4). Uniforms: the node's extras
 // (origin, axis_u, axis_v, direction, texel_size, depth_range, width and height as size_texels),
 // depth_quantum, pyramid / levels / pyramid_rows, the camera in object space (eye_object, forward_object, orthographic),
 // clip_from_object, the light (to_light_object, unit; light_terms = ambient, diffuse).
@@ -39,7 +40,7 @@ precision highp float;
 precision highp int;
 
 uniform sampler2D color_map;
-uniform sampler2D normal_depth_map;
+uniform highp usampler2D normal_depth_map; // RGBA16UI codes
 uniform vec3 origin;
 uniform vec3 axis_u;
 uniform vec3 axis_v;
@@ -71,6 +72,8 @@ const float k_quanta = 2.0;
 const float k_max_slope = 8.0;
 const float k_miss = 0.0, k_top = 1.0, k_wall = 2.0;
 const int k_max_iterations = 2048; // cells visited, at all levels (standin's march: 512)
+
+vec4 normal_depth(ivec2 texel) { return vec4(texelFetch(normal_depth_map, texel, 0)) / 65535.0; }
 
 vec3 box_from_object(vec3 p)
 {
@@ -122,7 +125,7 @@ vec2 texel_range(ivec2 texel, vec4 nd)
         ivec2 other = texel + step;
         if (any(lessThan(other, ivec2(0))) || any(greaterThanEqual(other, size))) continue;
         if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
-        vec4 other_nd = texelFetch(normal_depth_map, other, 0);
+        vec4 other_nd = normal_depth(other);
         if (linked(nd, other_nd, k < 2 ? axis_u : axis_v)) range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
     }
     return range;
@@ -192,7 +195,7 @@ void main()
             bool covered = texelFetch(color_map, texel, 0).a > 0.5 / 255.0; // standin: coverage code != 0
             vec4 nd = vec4(0.0);
             if (covered) {
-                nd = texelFetch(normal_depth_map, texel, 0);
+                nd = normal_depth(texel);
                 // the wall to the texel the ray came from, if it continues this surface, then the top
                 vec2 t_entries = (vec2(texel + ivec2(1) - ahead) - o.xy) * inv.xy;
                 int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
@@ -205,7 +208,7 @@ void main()
                     bool from_covered = last_covered;
                     if (from != last_texel) {
                         from_covered = texelFetch(color_map, from, 0).a > 0.5 / 255.0;
-                        from_nd = texelFetch(normal_depth_map, from, 0);
+                        from_nd = normal_depth(from);
                     }
                     from_linked = from_covered && linked(nd, from_nd, entry_axis == 0 ? axis_u : axis_v);
                 }
@@ -264,7 +267,7 @@ void main()
 
     // 4. standin's shading
     vec3 albedo = texelFetch(color_map, hit_texel, 0).rgb;
-    vec3 n = normalize(texelFetch(normal_depth_map, hit_texel, 0).rgb * 2.0 - 1.0);
+    vec3 n = normalize(normal_depth(hit_texel).rgb * 2.0 - 1.0);
     if (dot(n, -ray) < 0.0) n = -n;
     float n_dot_l = max(dot(n, to_light_object), 0.0);
     out_color = vec4(linear_to_srgb(srgb_to_linear(albedo) * (light_terms.x + light_terms.y * n_dot_l)), 1.0);
