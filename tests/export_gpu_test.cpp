@@ -244,6 +244,36 @@ TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)
     EXPECT_GT(boxes, 0u);
     EXPECT_EQ(glb.json["images"].size(), 2 * boxes);
     EXPECT_LE(coarse, 1u);
+    // maps padded to multiples of 4 (KTX2 blocks), the billboard's texels top-left, the padding
+    // uncovered, and the box's UVs reaching only the billboard's texels
+    std::size_t covered = 0;
+    for (const ExportMesh& mesh : scene.meshes) {
+        if (mesh.extras["standin"]["role"] != "billboard") continue;
+        const int width = mesh.extras["standin"]["width"], height = mesh.extras["standin"]["height"];
+        const ExportTexture& color = scene.textures[std::size_t(mesh.base_color_texture)];
+        const ExportTexture& normal_depth = scene.textures[std::size_t(mesh.base_color_texture) + 1];
+        for (const ExportTexture* t : {&color, &normal_depth}) {
+            EXPECT_EQ(t->width % 4, 0) << t->name;
+            EXPECT_EQ(t->height % 4, 0) << t->name;
+            EXPECT_GE(t->width, width);
+            EXPECT_LT(t->width, width + 4);
+            EXPECT_GE(t->height, height);
+            EXPECT_LT(t->height, height + 4);
+        }
+        ASSERT_TRUE(write_file_atomic(dir + "/map.png", color.png));
+        Result<ImageRGBA8> map = read_png_rgba8(dir + "/map.png");
+        ASSERT_TRUE(map);
+        for (int y = 0; y < map->height; ++y)
+            for (int x = 0; x < map->width; ++x) {
+                if (x < width && y < height) covered += map->at(x, y)[3] != 0;
+                else ASSERT_EQ(map->at(x, y)[3], 0) << color.name << " " << x << ", " << y;
+            }
+        glm::vec2 uv_max{0.0f};
+        for (glm::vec2 uv : mesh.uvs) uv_max = glm::max(uv_max, uv);
+        EXPECT_FLOAT_EQ(uv_max.x, float(width) / float(color.width));
+        EXPECT_FLOAT_EQ(uv_max.y, float(height) / float(color.height));
+    }
+    EXPECT_GT(covered, 0u);
 }
 
 // Every directed edge of a triangle mesh (vertices welded by exact position) is matched by one in

@@ -99,7 +99,7 @@ ktx2() { # NAME SUFFIX MIN_CONVERTED TOOL_ARGS...
 ktx2 bunny_atlas etc1s 1
 ktx2 box_atlas uastc 1 --uastc
 ktx2 teapot_hemi fallback 1 --keep-png
-ktx2 box_billboards etc1s 0
+ktx2 box_billboards etc1s 1 # every billboard colour map: the export pads them to multiples of 4
 
 # bad input to the converter: one line, exit 2, no file
 head -c 1000 "$out/bunny_atlas.glb" >"$out/truncated.glb"

@@ -14,8 +14,9 @@
 //   size=WxH       the drawing size in pixels (default: the window)
 //   blend=1|3      impostor frames blended (default 3); steps=N ray-march steps (default 96)
 //   vote=W, tolerance=CODES   impostor: frame weight that must hold a point (default all), depth slack
-//   wall=TEXELS    billboards: a larger depth jump between two samples is a wall, not a crossing (4)
 //   billboards=plain          billboard boxes as textured meshes instead of the ray cast
+//   coarse=all     billboards: the coarse mesh everywhere, not only where a billboard ray came
+//                  near a surface and missed (standin's rule; the stencil, see billboard())
 //   proxy=quad     grid impostor: draw on the camera-facing quad even when the file has the atlas
 //                  hull (role grid-impostor-hull, drawn by default)
 //   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
@@ -211,11 +212,160 @@ const camera_uniforms = () => ({
     light_terms: { value: k_light_terms },
 });
 
+// The PNG image of glTF texture `index` decoded to 16-bit codes (8-bit ones scaled by 257): the
+// browser's own decoder gives WebGL 8 bits of a 16-bit PNG, which would move the billboards' depths
+// by up to half an 8-bit code. Inflate is the browser's (DecompressionStream, zlib format); RGBA or
+// RGB, 8 or 16 bits, not interlaced, as standin writes its maps. Returns { data (Uint16Array, RGBA),
+// width, height, bits }.
+async function decode_png_codes(parser, index) {
+    const image = parser.json.images[parser.json.textures[index].source];
+    let bytes;
+    if (image.bufferView !== undefined) bytes = new Uint8Array(await parser.getDependency('bufferView', image.bufferView));
+    else bytes = new Uint8Array(await (await fetch(new URL(image.uri, new URL(parser.options.path || '', location.href)))).arrayBuffer());
+    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+    if (view.getUint32(0) !== 0x89504e47) throw new Error(`texture ${index}: not a PNG`);
+    let width = 0, height = 0, bits = 0, channels = 0;
+    const idat = [];
+    for (let at = 8; at + 8 <= bytes.length;) {
+        const length = view.getUint32(at), type = String.fromCharCode(...bytes.subarray(at + 4, at + 8));
+        const body = bytes.subarray(at + 8, at + 8 + length);
+        if (type === 'IHDR') {
+            width = view.getUint32(at + 8);
+            height = view.getUint32(at + 12);
+            bits = body[8];
+            channels = { 2: 3, 6: 4 }[body[9]];
+            if (!channels || !(bits === 8 || bits === 16) || body[12] !== 0)
+                throw new Error(`texture ${index}: PNG colour type ${body[9]}, ${bits} bits, interlace ${body[12]}: not supported`);
+        } else if (type === 'IDAT') idat.push(body);
+        at += 12 + length;
+    }
+    const inflated = new Uint8Array(await new Response(new Blob(idat).stream().pipeThrough(new DecompressionStream('deflate'))).arrayBuffer());
+    const bpp = (channels * bits) / 8, stride = width * bpp;
+    if (inflated.length < height * (stride + 1)) throw new Error(`texture ${index}: PNG data too short`);
+    const raw = new Uint8Array(height * stride);
+    for (let y = 0; y < height; ++y) {
+        const filter = inflated[y * (stride + 1)], line = inflated.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+        const out = y * stride, up = out - stride;
+        for (let x = 0; x < stride; ++x) {
+            const a = x >= bpp ? raw[out + x - bpp] : 0, b = y > 0 ? raw[up + x] : 0, c = x >= bpp && y > 0 ? raw[up + x - bpp] : 0;
+            let p = 0;
+            if (filter === 1) p = a;
+            else if (filter === 2) p = b;
+            else if (filter === 3) p = (a + b) >> 1;
+            else if (filter === 4) {
+                const pa = Math.abs(b - c), pb = Math.abs(a - c), pc = Math.abs(a + b - 2 * c);
+                p = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+            }
+            raw[out + x] = (line[x] + p) & 255;
+        }
+    }
+    const data = new Uint16Array(width * height * 4);
+    for (let i = 0; i < width * height; ++i)
+        for (let k = 0; k < 4; ++k) {
+            const channel = k < channels ? k : -1;
+            data[4 * i + k] = channel < 0 ? 65535 : bits === 16 ? (raw[i * bpp + 2 * channel] << 8) | raw[i * bpp + 2 * channel + 1]
+                                                                : raw[i * bpp + channel] * 257;
+        }
+    return { data, width, height, bits };
+}
+
+// The alpha channel of the top-left width x height texels of an image texture (the export pads its
+// maps to multiples of 4; null: not readable here, e.g. a transcoded KTX2).
+function texture_alpha(texture, width, height) {
+    const image = texture.image;
+    if (texture.isCompressedTexture || !image || !(image.width >= width && image.height >= height)) return null;
+    const canvas = new OffscreenCanvas(width, height);
+    const context = canvas.getContext('2d', { willReadFrequently: true });
+    context.drawImage(image, 0, 0);
+    const rgba = context.getImageData(0, 0, width, height).data;
+    const alpha = new Uint8Array(width * height);
+    for (let i = 0; i < alpha.length; ++i) alpha[i] = rgba[4 * i + 3];
+    return alpha;
+}
+
+// The min/max depth pyramid billboard.frag skips empty space with (standin builds the same at load
+// time, src/reps/enhanced_billboards/acceleration.cpp): level 0 is each covered texel's depth and
+// those of its covered neighbours that a link might join (the widest the link rule allows, so the
+// ranges hold the renderer's, which the exact normals decide: a superset only costs a closer look),
+// level k the union over cells of 2^k texels; all levels stacked in one RG32F texture, widened by
+// one depth code. Depths are the decoded codes (decode_png_codes); without a readable colour map
+// (a transcoded KTX2) every texel counts as covered.
+function billboard_pyramid(extras, color, codes) {
+    const width = extras.width, height = extras.height;
+    const depth = new Float32Array(width * height);
+    for (let j = 0; j < height; ++j)
+        for (let i = 0; i < width; ++i) depth[j * width + i] = codes.data[4 * (j * codes.width + i) + 3] / 65535;
+    const coverage = texture_alpha(color, width, height);
+    const levels = Math.max(1, Math.min(8, Math.floor(Math.log2(Math.max(width, height)))));
+    const cell = 1 << levels;
+    const padded_w = Math.ceil(width / cell) * cell, padded_h = Math.ceil(height / cell) * cell;
+    const quantum = codes.bits === 16 ? 1 / 65535 : 1 / 255;
+    const widest = (1.5 * 8 + 0.5) * (extras.texel_size / extras.depth_range) + 3 * quantum;
+    const covered = (i, j) => i >= 0 && j >= 0 && i < width && j < height && (!coverage || coverage[j * width + i] > 0);
+    // level 0: per texel range
+    let w = padded_w, h = padded_h;
+    let lo = new Float32Array(w * h).fill(2), hi = new Float32Array(w * h).fill(-1);
+    for (let j = 0; j < height; ++j)
+        for (let i = 0; i < width; ++i) {
+            if (!covered(i, j)) continue;
+            const d = depth[j * width + i];
+            let a = d, b = d;
+            for (const [di, dj] of [[1, 0], [-1, 0], [0, 1], [0, -1]]) {
+                if (!covered(i + di, j + dj)) continue;
+                const e = depth[(j + dj) * width + i + di];
+                if (Math.abs(e - d) <= widest) {
+                    a = Math.min(a, e);
+                    b = Math.max(b, e);
+                }
+            }
+            lo[j * w + i] = a - quantum;
+            hi[j * w + i] = b + quantum;
+        }
+    // levels 1..levels, stacked: level k's rows from rows[k]
+    const rows = [0];
+    const stacked = [];
+    let row = 0;
+    for (let k = 1; k <= levels; ++k) {
+        const nw = w / 2, nh = h / 2;
+        const nlo = new Float32Array(nw * nh), nhi = new Float32Array(nw * nh);
+        for (let j = 0; j < nh; ++j)
+            for (let i = 0; i < nw; ++i) {
+                const at = [(2 * j) * w + 2 * i, (2 * j) * w + 2 * i + 1, (2 * j + 1) * w + 2 * i, (2 * j + 1) * w + 2 * i + 1];
+                nlo[j * nw + i] = Math.min(...at.map((x) => lo[x]));
+                nhi[j * nw + i] = Math.max(...at.map((x) => hi[x]));
+            }
+        rows.push(row);
+        stacked.push({ lo: nlo, hi: nhi, w: nw, h: nh, row });
+        row += nh;
+        [w, h, lo, hi] = [nw, nh, nlo, nhi];
+    }
+    const tw = padded_w / 2;
+    const data = new Float32Array(tw * row * 2);
+    for (const l of stacked)
+        for (let j = 0; j < l.h; ++j)
+            for (let i = 0; i < l.w; ++i) {
+                data[2 * ((l.row + j) * tw + i)] = l.lo[j * l.w + i];
+                data[2 * ((l.row + j) * tw + i) + 1] = l.hi[j * l.w + i];
+            }
+    const texture = new THREE.DataTexture(data, tw, row, THREE.RGFormat, THREE.FloatType);
+    texture.needsUpdate = true;
+    return { texture, levels, rows };
+}
+
 // a `billboard` node: its box drawn by billboard.{vert,frag} (the ray cast through its height field)
 async function billboard(node, extras, parser, shaders) {
     const color = as_codes((await parser.getDependency('texture', extras.color_texture)).clone());
-    const normal_depth = as_codes((await parser.getDependency('texture', extras.normal_depth_texture)).clone());
+    const codes = await decode_png_codes(parser, extras.normal_depth_texture);
+    if (codes.width < extras.width || codes.height < extras.height)
+        throw new Error(`billboard: normal + depth map ${codes.width}x${codes.height} smaller than the billboard ${extras.width}x${extras.height}`);
+    const normal_depth = new THREE.DataTexture(codes.data, codes.width, codes.height, THREE.RGBAIntegerFormat, THREE.UnsignedShortType);
+    normal_depth.internalFormat = 'RGBA16UI';
+    normal_depth.needsUpdate = true;
     (window.standin.info.billboard_color_textures ||= []).push(texture_kind(color));
+    (window.standin.info.billboard_depth_bits ||= []).push(codes.bits);
+    const pyramid = billboard_pyramid(extras, color, codes);
+    (window.standin.info.billboard_pyramid_levels ||= []).push(pyramid.levels);
+    const rows = [...pyramid.rows, ...Array(9).fill(0)].slice(0, 9);
     const material = new THREE.RawShaderMaterial({
         glslVersion: THREE.GLSL3,
         vertexShader: shaders['billboard.vert'],
@@ -231,17 +381,49 @@ async function billboard(node, extras, parser, shaders) {
             texel_size: { value: extras.texel_size },
             depth_range: { value: extras.depth_range },
             size_texels: { value: new THREE.Vector2(extras.width, extras.height) },
-            steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
-            // a surface at 60 degrees to the front plane changes depth by 1.7 texels a texel: walls
-            // are the jumps of more than 4 texels' worth between two samples
-            wall_depth: { value: (number('wall', 4) * extras.texel_size) / extras.depth_range },
+            depth_quantum: { value: codes.bits === 16 ? 1 / 65535 : 1 / 255 },
+            pyramid: { value: pyramid.texture },
+            levels: { value: pyramid.levels },
+            pyramid_rows: { value: rows },
             ...camera_uniforms(),
         },
     });
     const mesh = node.isMesh ? node : node.children.find((c) => c.isMesh);
     if (!mesh) throw new Error('billboard node without a mesh');
+    // every fragment that is not discarded (a hit, or a near miss: alpha 0, which the blending
+    // leaves invisible) sets the stencil bit the coarse mesh is drawn through, whatever its depth
+    material.blending = THREE.CustomBlending;
+    material.blendSrc = THREE.SrcAlphaFactor;
+    material.blendDst = THREE.OneMinusSrcAlphaFactor;
+    material.blendSrcAlpha = THREE.OneFactor;
+    material.blendDstAlpha = THREE.OneMinusSrcAlphaFactor;
+    material.stencilWrite = true;
+    material.stencilFunc = THREE.AlwaysStencilFunc;
+    material.stencilRef = k_near_stencil;
+    material.stencilWriteMask = k_near_stencil;
+    material.stencilZPass = THREE.ReplaceStencilOp;
+    material.stencilZFail = THREE.ReplaceStencilOp;
     mesh.material = material;
+    mesh.renderOrder = -1; // before the coarse mesh, which reads the stencil
     track_camera(mesh, material);
+}
+
+// The stencil bit of pixels where a billboard ray hit or came near a surface and missed: standin's
+// renderer fills only those with the coarse mesh (src/reps/enhanced_billboards/shaders/coarse.frag),
+// which drawn everywhere would grow the silhouette wherever it is coarser than the billboards (leaf
+// cards simplified into solid triangles). Drawn there with the depth test, it may also cover a
+// billboard hit behind which it lies nearer, which standin's never does; no silhouette changes.
+const k_near_stencil = 1;
+function coarse_mesh(node) {
+    if (params.get('coarse') === 'all') return;
+    node.traverse((m) => {
+        if (!m.isMesh) return;
+        m.material.stencilWrite = true;
+        m.material.stencilFunc = THREE.EqualStencilFunc;
+        m.material.stencilRef = k_near_stencil;
+        m.material.stencilFuncMask = k_near_stencil;
+        m.material.stencilWriteMask = 0;
+    });
 }
 
 // A grid-impostor material (grid_impostor.{vert,frag}); `hull`: for the atlas hull's own vertices
@@ -310,6 +492,7 @@ async function load_standin(url, shaders) {
     const impostors = [];
     const hulls = [];
     const billboards = [];
+    const coarse_meshes = [];
     const roles = [];
     root.traverse((node) => {
         const extras = node.userData && node.userData.standin;
@@ -319,10 +502,13 @@ async function load_standin(url, shaders) {
         if (extras.role === 'grid-impostor') impostors.push({ node, extras });
         if (extras.role === 'grid-impostor-hull') hulls.push({ node, extras });
         if (extras.role === 'billboard') billboards.push({ node, extras });
+        if (extras.role === 'coarse-mesh') coarse_meshes.push(node);
     });
     use_mesh_materials(root, shaders);
-    if (params.get('billboards') !== 'plain')
+    if (params.get('billboards') !== 'plain') {
         for (const { node, extras } of billboards) await billboard(node, extras, gltf.parser, shaders);
+        for (const node of coarse_meshes) coarse_mesh(node);
+    }
     // the impostor on the atlas hull when the file has one (far fewer pixels than the quad), else
     // on the camera-facing quad; the quad node itself is for plain glTF viewers
     const on_hull = hulls.length > 0 && params.get('proxy') !== 'quad';
@@ -405,7 +591,8 @@ async function main() {
         height = Number(m[2]);
     }
     const canvas = document.getElementById('view');
-    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true });
+    const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: true, preserveDrawingBuffer: true,
+        stencil: true }); // billboards' coarse mesh (billboard())
     renderer.setPixelRatio(size ? 1 : window.devicePixelRatio);
     renderer.setSize(width, height, true);
     renderer.setClearColor(0x000000, 0);

@@ -4,33 +4,43 @@
 // "Geometry of a billboard"; Vichitvejpaisal 2005 §3.3: a ray cast through the billboard's height
 // field inside its box), used as is by examples/web. Self-contained: no includes.
 //
-// Box space: x = dot(p - origin, axis_u) / (width * texel_size), y likewise along axis_v with
-// height, z = dot(p - origin, direction) / depth_range (direction points into the model); the maps
-// are read at uv = (x, y) (row 0 at origin: glTF UVs, three's GLTFLoader with flipY false).
+// Box space: x = dot(p - origin, axis_u) / texel_size (texels), y likewise along axis_v, z =
+// dot(p - origin, direction) / depth_range (direction points into the model); texel (i, j) of the
+// maps covers [i, i + 1) x [j, j + 1) (row 0 at origin: glTF UVs, three's GLTFLoader, flipY false).
+// The surface is the one standin's exact march intersects (src/reps/enhanced_billboards/shaders/
+// march.frag, MARCH_EXACT; reps/common/shaders/height_field.{h,glsl}): a covered texel (coverage
+// code > 0) is a flat top at its depth, and two neighbouring covered texels whose depth step is
+// within what their normals' slopes allow (the shared link rule) are joined by a wall, so thin
+// leaves one texel wide and grazing views keep every texel the renderer keeps.
 // Steps, per pixel of the box's back faces:
-//  1. the eye ray in object space, clipped to the box [0, 1]^3 (slabs);
-//  2. `steps` samples along it; a sample is on a covered texel (colour alpha >= 0.5) with signed
-//     height f = z - d (d: the depth code in the normal + depth map's alpha). The ray hits where f
-//     changes sign between two successive covered samples (the surface as a sheet, seen from the
-//     front or the back) whose depths d differ by no more than the ray's z moved or wall_depth
-//     (else the sign change is the wall at a depth edge between two surfaces), refined by bisection;
+//  1. the eye ray in box space, clipped to the box (slabs);
+//  2. a walk (DDA) from the entry through a min/max pyramid as standin's march climbs its own (a
+//     cell whose depth range the ray's segment above it misses is skipped whole); in each covered
+//     texel, the crossing of the wall it was entered through (when that neighbour is linked) or
+//     else of its top inside the texel (hf_cross_column); the first crossing is the hit;
 //  3. the hit's depth is written (gl_FragDepth), so boxes and the coarse mesh resolve by the depth
-//     test; no hit: discard;
-//  4. shading is standin's: Lambert + ambient, two-sided, linear light, sRGB in and out.
-// Departures from the standin renderer (src/reps/enhanced_billboards): a fixed-step march (its
-// exact march walks texel columns and the walls between neighbours of one surface through a min/max
-// pyramid), bilinear reads of 8-bit codes (browsers decode the 16-bit PNG to 8 bits), and the
-// coarse mesh is drawn everywhere rather than only where rays came near a surface and missed.
-// Textures: color_map (RGB sRGB albedo, A coverage), normal_depth_map (RGB object-space normal *
-// 0.5 + 0.5, A depth d in [0, 1] of depth_range). Uniforms: the node's extras (origin, axis_u,
-// axis_v, direction, texel_size, depth_range, width, height), the camera in object space
-// (eye_object, forward_object, orthographic), clip_from_object, the light (to_light_object, unit;
-// light_terms = ambient, diffuse), steps (<= 256).
+//     test; no hit: discard, unless the ray came within a texel of a surface (its segment over a
+//     covered texel meets that texel's depth range, its walls to linked neighbours included): then
+//     a near miss, drawn with alpha 0 (blended away) and far depth, only to set the stencil bit
+//     that the coarse mesh is drawn through (main.js; standin fills only hits' and near misses'
+//     pixels with it, coarse.frag);
+//  4. shading is standin's: Lambert + ambient, two-sided, linear light, sRGB in and out; the texel
+//     is the hit's (nearest, as texelFetch in standin).
+// Departures from the standin renderer: one box per billboard, not its sheared per-tile boxes;
+// the pyramid's ranges are conservative (links judged by the widest the rule allows, not by the
+// normals); no level-of-detail shortcut (it only acts where 4 or more texels share a pixel).
+// Textures: color_map (RGB sRGB albedo, A coverage), normal_depth_map (an RGBA16UI integer texture
+// of the PNG's 16-bit codes, which main.js decodes itself: RGB object-space normal * 0.5 + 0.5, A
+// depth d in [0, 1] of depth_range, as code / 65535), read with texelFetch; the maps may be larger
+// than width x height (the export pads them to multiples of 4). Uniforms: the node's extras
+// (origin, axis_u, axis_v, direction, texel_size, depth_range, width and height as size_texels),
+// depth_quantum, pyramid / levels / pyramid_rows, the camera in object space (eye_object, forward_object, orthographic),
+// clip_from_object, the light (to_light_object, unit; light_terms = ambient, diffuse).
 precision highp float;
 precision highp int;
 
 uniform sampler2D color_map;
-uniform sampler2D normal_depth_map;
+uniform highp usampler2D normal_depth_map; // RGBA16UI codes
 uniform vec3 origin;
 uniform vec3 axis_u;
 uniform vec3 axis_v;
@@ -38,31 +48,87 @@ uniform vec3 direction;
 uniform float texel_size;
 uniform float depth_range;
 uniform vec2 size_texels;
+uniform float depth_quantum; // one step of the depth codes as read, in [0, 1] of depth_range
+// min/max pyramid over the texels' depth ranges (each covered texel's depth and those of its
+// neighbours a link may join; built by main.js from the maps): level k (1..levels: cells of 2^k
+// texels) is the rectangle of rows from pyramid_rows[k], RG = lowest, highest depth (empty: 2, -1)
+uniform highp sampler2D pyramid;
+uniform int levels;
+uniform int pyramid_rows[9];
 uniform vec3 eye_object;
 uniform vec3 forward_object;
 uniform int orthographic;
 uniform mat4 clip_from_object;
 uniform vec3 to_light_object;
 uniform vec2 light_terms;
-uniform int steps;
-uniform float wall_depth; // depth (in units of depth_range) two neighbouring samples of one surface may differ by
 
 in vec3 v_position_object;
 out vec4 out_color;
 
+// the shared height-field rule (reps/common/shaders/height_field.h, copied: no includes here)
+const float k_slope_tolerance = 1.5;
+const float k_curvature_texels = 0.5;
+const float k_quanta = 2.0;
+const float k_max_slope = 8.0;
+const float k_miss = 0.0, k_top = 1.0, k_wall = 2.0;
+const int k_max_iterations = 2048; // cells visited, at all levels (standin's march: 512)
+
+vec4 normal_depth(ivec2 texel) { return vec4(texelFetch(normal_depth_map, texel, 0)) / 65535.0; }
+
 vec3 box_from_object(vec3 p)
 {
     vec3 q = p - origin;
-    return vec3(dot(q, axis_u) / (size_texels.x * texel_size), dot(q, axis_v) / (size_texels.y * texel_size),
-                dot(q, direction) / depth_range);
+    return vec3(dot(q, axis_u) / texel_size, dot(q, axis_v) / texel_size, dot(q, direction) / depth_range);
 }
 
-// signed height above the sheet of the box point b, and whether its texel is covered
-float height(vec3 b, out bool covered)
+// depth change per texel along `axis` that normal n implies, in texels of depth, capped (hf_slope)
+float slope_along(vec3 n, vec3 axis)
 {
-    vec2 uv = clamp(b.xy, 0.5 / size_texels, 1.0 - 0.5 / size_texels);
-    covered = textureLod(color_map, uv, 0.0).a >= 0.5;
-    return b.z - textureLod(normal_depth_map, uv, 0.0).a;
+    float along = abs(dot(n, axis)), across = abs(dot(n, direction));
+    return along >= across * k_max_slope ? k_max_slope : along / across;
+}
+
+// hf_cross_column (reps/common/shaders/height_field.glsl)
+vec2 cross_column(float t_wall, float t_enter, float t_exit, float z_origin, float z_per_t, float top,
+                  bool from_linked, float from_top)
+{
+    if (from_linked) {
+        float z_wall = z_origin + t_wall * z_per_t;
+        if (z_wall >= min(from_top, top) && z_wall <= max(from_top, top)) return vec2(t_wall, k_wall);
+    }
+    float z_enter = z_origin + t_enter * z_per_t, z_exit = z_origin + t_exit * z_per_t;
+    if (top >= min(z_enter, z_exit) && top <= max(z_enter, z_exit)) {
+        float t_top = abs(z_per_t) > 1e-20 ? clamp((top - z_origin) / z_per_t, t_enter, t_exit) : t_enter;
+        return vec2(t_top, k_top);
+    }
+    return vec2(-1.0, k_miss);
+}
+
+// whether covered texel `texel` (normal + depth nd) and its covered neighbour `other` continue one
+// surface (hf_link_tolerance); `axis_vector`: the box axis from one to the other
+bool linked(vec4 nd, vec4 other_nd, vec3 axis_vector)
+{
+    float slope = max(slope_along(nd.rgb * 2.0 - 1.0, axis_vector), slope_along(other_nd.rgb * 2.0 - 1.0, axis_vector));
+    float allowed = (k_slope_tolerance * slope + k_curvature_texels) * texel_size / depth_range + k_quanta * depth_quantum;
+    return abs(nd.a - other_nd.a) <= allowed;
+}
+
+// the depth range of a covered texel's column and of the walls to its linked neighbours (the
+// renderer's SurfaceTexel min / max): a ray whose segment over the texel meets it came within a
+// texel of the surface
+vec2 texel_range(ivec2 texel, vec4 nd)
+{
+    vec2 range = vec2(nd.a);
+    ivec2 size = ivec2(size_texels);
+    for (int k = 0; k < 4; ++k) {
+        ivec2 step = k == 0 ? ivec2(1, 0) : k == 1 ? ivec2(-1, 0) : k == 2 ? ivec2(0, 1) : ivec2(0, -1);
+        ivec2 other = texel + step;
+        if (any(lessThan(other, ivec2(0))) || any(greaterThanEqual(other, size))) continue;
+        if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
+        vec4 other_nd = normal_depth(other);
+        if (linked(nd, other_nd, k < 2 ? axis_u : axis_v)) range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
+    }
+    return range;
 }
 
 vec3 srgb_to_linear(vec3 c)
@@ -81,50 +147,118 @@ void main()
     // 1. the ray in box space (an affine map: the ray stays a line, t is shared)
     vec3 ray = orthographic == 1 ? normalize(forward_object) : normalize(v_position_object - eye_object);
     vec3 start = orthographic == 1 ? v_position_object - ray * 4.0 * length(size_texels * texel_size) : eye_object;
-    vec3 b0 = box_from_object(start);
-    vec3 db = box_from_object(start + ray) - b0;
-    vec3 inv = 1.0 / vec3(abs(db.x) > 1e-12 ? db.x : 1e-12, abs(db.y) > 1e-12 ? db.y : 1e-12, abs(db.z) > 1e-12 ? db.z : 1e-12);
-    vec3 ta = (vec3(0.0) - b0) * inv, tb = (vec3(1.0) - b0) * inv;
+    vec3 o = box_from_object(start);
+    vec3 d = box_from_object(start + ray) - o;
+    const float tiny = 1e-20;
+    vec3 inv = 1.0 / vec3(abs(d.x) > tiny ? d.x : tiny, abs(d.y) > tiny ? d.y : tiny, abs(d.z) > tiny ? d.z : tiny);
+    vec3 box_max = vec3(size_texels, 1.0);
+    vec3 ta = (vec3(0.0) - o) * inv, tb = (box_max - o) * inv;
     vec3 t_near = min(ta, tb), t_far = max(ta, tb);
     float t0 = max(max(t_near.x, t_near.y), max(t_near.z, 0.0));
     float t1 = min(min(t_far.x, t_far.y), t_far.z);
     if (t1 <= t0) discard;
 
-    // 2. the first sign change of the height between covered samples
-    float dt = (t1 - t0) / float(steps);
-    bool previous_covered;
-    float previous_t = t0;
-    float previous_f = height(b0 + db * t0, previous_covered);
-    bool found = false;
-    float ta_hit = 0.0, tb_hit = 0.0;
-    for (int i = 1; i <= 256; ++i) {
-        if (i > steps) break;
-        float t = t0 + float(i) * dt;
-        bool covered;
-        float f = height(b0 + db * t, covered);
-        // a crossing between texels of one surface, not the wall between two surfaces at a depth edge
-        // (the sheet's depth jumps there by more than the ray moved and more than wall_texels allow)
-        float jump = abs((f - previous_f) - (b0.z + db.z * t - (b0.z + db.z * previous_t)));
-        bool same_surface = jump <= max(2.0 * abs(db.z) * dt, wall_depth);
-        if (covered && previous_covered && same_surface && (f >= 0.0) != (previous_f >= 0.0)) {
-            ta_hit = previous_t;
-            tb_hit = t;
-            found = true;
-            break;
+    // 2. the walk (Amanatides & Woo 1987) through the min/max pyramid (Tevs et al. 2008) as standin's
+    // march climbs it: a cell whose depth range the ray's segment above it misses is skipped whole;
+    // in a texel, standin's exact column crossing
+    ivec2 size = ivec2(size_texels);
+    ivec2 dir = ivec2(d.x >= 0.0 ? 1 : -1, d.y >= 0.0 ? 1 : -1);
+    ivec2 ahead = max(dir, ivec2(0)); // 1 where a cell's exit side is its upper one
+    float link_scale = texel_size / depth_range; // one texel of depth, in units of depth_range
+    // a box as deep as the model: start as high as the ray's path across the plane is long
+    float footprint = length(d.xy) * (t1 - t0);
+    int level = clamp(int(ceil(log2(footprint + 1.0))), 0, levels);
+    float t = t0;
+    ivec2 texel = clamp(ivec2(floor(o.xy + t0 * d.xy + vec2(dir) * 1e-3)), ivec2(0), size - 1);
+    // the last texel read at level 0: the one a wall crossing comes from, most of the time
+    ivec2 last_texel = ivec2(-1);
+    bool last_covered = false;
+    vec4 last_nd = vec4(0.0);
+    bool found = false, near = false;
+    float t_hit = 0.0;
+    ivec2 hit_texel = texel;
+    int iteration = 0;
+    for (; iteration < k_max_iterations; ++iteration) {
+        ivec2 cell = texel >> level;
+        vec2 t_bounds = (vec2((cell + ahead) << level) - o.xy) * inv.xy;
+        int axis = t_bounds.x < t_bounds.y ? 0 : 1;
+        float t_exit = min(t_bounds[axis], t1);
+        float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
+        float z_lo = min(z_a, z_b), z_hi = max(z_a, z_b);
+        if (level > 0) {
+            vec2 range = texelFetch(pyramid, ivec2(cell.x, pyramid_rows[level] + cell.y), 0).rg;
+            if (range.x <= z_hi && range.y >= z_lo) {
+                --level; // the segment may meet the surface below this cell: look closer
+                continue;
+            }
+        } else {
+            bool covered = texelFetch(color_map, texel, 0).a > 0.5 / 255.0; // standin: coverage code != 0
+            vec4 nd = vec4(0.0);
+            if (covered) {
+                nd = normal_depth(texel);
+                // the wall to the texel the ray came from, if it continues this surface, then the top
+                vec2 t_entries = (vec2(texel + ivec2(1) - ahead) - o.xy) * inv.xy;
+                int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
+                float t_in = t_entries[entry_axis];
+                ivec2 from = texel;
+                from[entry_axis] -= dir[entry_axis];
+                bool from_linked = false;
+                vec4 from_nd = last_nd;
+                if (t_in >= t0 && from[entry_axis] >= 0 && from[entry_axis] < size[entry_axis]) {
+                    bool from_covered = last_covered;
+                    if (from != last_texel) {
+                        from_covered = texelFetch(color_map, from, 0).a > 0.5 / 255.0;
+                        from_nd = normal_depth(from);
+                    }
+                    from_linked = from_covered && linked(nd, from_nd, entry_axis == 0 ? axis_u : axis_v);
+                }
+                vec2 crossing = cross_column(t_in, t, t_exit, o.z, d.z, nd.a, from_linked, from_nd.a);
+                if (crossing.y != k_miss) {
+                    t_hit = crossing.x;
+                    // on a wall, the texel whose top is nearer the crossing
+                    float z_in = o.z + t_in * d.z;
+                    hit_texel = crossing.y == k_wall && abs(z_in - from_nd.a) < abs(z_in - nd.a) ? from : texel;
+                    found = true;
+                    break;
+                }
+                if (!near) {
+                    // the renderer's near miss: the segment over the texel meets its range (the widest
+                    // a link allows bounds it first, so most texels the ray passes high above cost no more)
+                    float widest = (k_slope_tolerance * k_max_slope + k_curvature_texels) * link_scale + k_quanta * depth_quantum;
+                    float slack = 0.5 / 65535.0;
+                    if (nd.a - widest <= z_hi + slack && nd.a + widest >= z_lo - slack) {
+                        vec2 range = texel_range(texel, nd);
+                        near = range.x <= z_hi + slack && range.y >= z_lo - slack;
+                    }
+                }
+            }
+            last_texel = texel;
+            last_covered = covered;
+            last_nd = nd;
         }
-        previous_covered = covered;
-        previous_f = f;
-        previous_t = t;
+
+        // leave the cell: into the neighbouring one, one level up when that is in another parent
+        if (t_exit >= t1) break;
+        ivec2 next = texel;
+        next[axis] = (cell[axis] + dir[axis]) << level;
+        if (dir[axis] < 0) next[axis] += (1 << level) - 1;
+        int other = 1 - axis;
+        float along = o[other] + t_exit * d[other];
+        int lo = cell[other] << level, hi = ((cell[other] + 1) << level) - 1;
+        next[other] = clamp(int(floor(along + float(dir[other]) * 1e-3)), lo, hi);
+        if (next[axis] < 0 || next[axis] >= size[axis]) break;
+        if (level < levels && (cell >> 1) != ((next >> level) >> 1)) ++level;
+        texel = next;
+        t = t_exit;
     }
-    if (!found) discard;
-    bool covered;
-    float fa = height(b0 + db * ta_hit, covered);
-    for (int i = 0; i < 6; ++i) {
-        float t = 0.5 * (ta_hit + tb_hit);
-        float f = height(b0 + db * t, covered);
-        if ((f >= 0.0) == (fa >= 0.0)) ta_hit = t; else tb_hit = t;
+    if (iteration == k_max_iterations) near = true; // out of iterations: let the coarse mesh decide
+    if (!found) {
+        // 3. a near miss marks the stencil only (main.js); anything else is no part of the picture
+        if (!near) discard;
+        gl_FragDepth = 1.0;
+        out_color = vec4(0.0);
+        return;
     }
-    float t_hit = 0.5 * (ta_hit + tb_hit);
 
     // 3. the hit's depth
     vec3 hit_object = start + ray * t_hit;
@@ -132,9 +266,8 @@ void main()
     gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
 
     // 4. standin's shading
-    vec2 uv = clamp((b0 + db * t_hit).xy, 0.5 / size_texels, 1.0 - 0.5 / size_texels);
-    vec3 albedo = textureLod(color_map, uv, 0.0).rgb;
-    vec3 n = normalize(textureLod(normal_depth_map, uv, 0.0).rgb * 2.0 - 1.0);
+    vec3 albedo = texelFetch(color_map, hit_texel, 0).rgb;
+    vec3 n = normalize(normal_depth(hit_texel).rgb * 2.0 - 1.0);
     if (dot(n, -ray) < 0.0) n = -n;
     float n_dot_l = max(dot(n, to_light_object), 0.0);
     out_color = vec4(linear_to_srgb(srgb_to_linear(albedo) * (light_terms.x + light_terms.y * n_dot_l)), 1.0);

@@ -4,11 +4,16 @@
 // 16-bit normal + depth map referenced from the node's extras for a height-field shader; plus the
 // coarse hole-filling mesh (§3.4) as a vertex-coloured mesh. A plain viewer then shows each
 // billboard's image on its front face, alpha-masked; a shader ray-marches the box with the maps.
+// Departure: both maps are padded to multiples of 4 texels (uncovered texels, zero normal and
+// depth, after the last column and row; the UVs reach only the billboard's own texels), because
+// KHR_texture_basisu needs block-aligned sizes (examples/web/tools/ktx2.mjs): texel (i, j) stays
+// texel (i, j), and `width`, `height` in the extras stay the billboard's.
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/common/package_cast.h"
 
 #include <standin/export.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace standin::billboards {
@@ -16,6 +21,20 @@ namespace standin::billboards {
 namespace {
 
 nlohmann::json billboard_vec3(glm::vec3 v) { return {v.x, v.y, v.z}; }
+
+// Maps are padded to this many texels (a Basis / KTX2 block).
+constexpr int k_billboard_map_alignment = 4;
+
+int billboard_map_extent(int texels) { return (texels + k_billboard_map_alignment - 1) / k_billboard_map_alignment * k_billboard_map_alignment; }
+
+// `image` grown to billboard_map_extent of its sides, the new texels zero (uncovered)
+template <class Image> Image billboard_padded_map(const Image& image)
+{
+    Image out(billboard_map_extent(image.width), billboard_map_extent(image.height));
+    for (int y = 0; y < image.height; ++y)
+        std::copy(image.at(0, y), image.at(0, y) + std::size_t(image.width) * 4, out.at(0, y));
+    return out;
+}
 
 // The six faces of the box as quads of corner indices (bit 0: +u, bit 1: +v, bit 2: +depth).
 constexpr int k_box_faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
@@ -27,6 +46,8 @@ ExportMesh billboard_box(const Billboard& b, const std::string& name)
     for (int k = 0; k < 8; ++k)
         corner[k] = b.origin + float(k & 1) * w * b.axis_u + float((k >> 1) & 1) * h * b.axis_v + float((k >> 2) & 1) * d * b.direction;
     const glm::vec3 centre = b.origin + 0.5f * (w * b.axis_u + h * b.axis_v + d * b.direction);
+    // the billboard's texels are the top-left width x height of the padded maps
+    const glm::vec2 uv_extent{float(b.width) / float(billboard_map_extent(b.width)), float(b.height) / float(billboard_map_extent(b.height))};
     ExportMesh mesh;
     mesh.name = name;
     for (const auto& face : k_box_faces) {
@@ -40,7 +61,7 @@ ExportMesh billboard_box(const Billboard& b, const std::string& name)
         for (int k = 0; k < 4; ++k) {
             mesh.positions.push_back(p[k]);
             mesh.normals.push_back(normal);
-            mesh.uvs.push_back({float(face[k] & 1), float((face[k] >> 1) & 1)});
+            mesh.uvs.push_back(uv_extent * glm::vec2(float(face[k] & 1), float((face[k] >> 1) & 1)));
         }
         if (flip) mesh.indices.insert(mesh.indices.end(), {base, base + 2, base + 1, base, base + 3, base + 2});
         else mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
@@ -59,9 +80,9 @@ Result<ExportScene> export_scene(const Package& base, const Options&)
         const Billboard& b = package.billboards[k];
         if (b.width <= 0 || b.height <= 0) continue;
         std::string name = "billboard_" + std::to_string(k);
-        Result<ExportTexture> color = make_export_texture(name + "_color", b.color);
+        Result<ExportTexture> color = make_export_texture(name + "_color", billboard_padded_map(b.color));
         if (!color) return color.status();
-        Result<ExportTexture> normal_depth = make_export_texture(name + "_normal_depth", b.normal_depth);
+        Result<ExportTexture> normal_depth = make_export_texture(name + "_normal_depth", billboard_padded_map(b.normal_depth));
         if (!normal_depth) return normal_depth.status();
         const int color_index = int(scene.textures.size());
         scene.textures.push_back(std::move(*color));
