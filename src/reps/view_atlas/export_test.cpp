@@ -5,6 +5,8 @@
 #include "reps/common/view_layout.h"
 #include "reps/view_atlas/view_atlas.h"
 
+#include <standin/export.h>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
