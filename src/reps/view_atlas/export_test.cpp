@@ -1,7 +1,7 @@
 // The view atlas's grid-atlas export with a hand-built octahedral package (no GPU): by default one
-// atlas texel per capture pixel (issue #16: fewer rounded leaves off and filled the gaps between
-// them in the web viewer), an explicit --atlas-size as given, and refusal of a size smaller than
-// the frames.
+// atlas texel per capture pixel (issue #16: resampled to fewer texels, leaves came out rounded off
+// and the gaps between them filled in the web viewer), an explicit --atlas-size as given, and
+// refusal of a size smaller than the frames.
 #include "reps/common/view_layout.h"
 #include "reps/view_atlas/view_atlas.h"
 
