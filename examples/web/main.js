@@ -12,8 +12,8 @@
 //                  camera (include/standin/camera.h): around the bounding sphere of the model's box,
 //                  distance 1 = radius / sin(fov / 2), +Y up; defaults 0, 0, 1, 40, as `standin render`
 //   size=WxH       the drawing size in pixels (default: the window)
-//   blend=1|3      impostor frames blended (default 3); steps=N ray-march steps (default 96)
-//   vote=W, tolerance=CODES   impostor: frame weight that must hold a point (default all), depth slack
+//   blend=1|3      impostor frames blended (default 3); steps=N grid impostor: the most texels its
+//                  walk crosses per frame (default 1024)
 //   billboards=plain          billboard boxes as textured meshes instead of the ray cast
 //   coarse=all     billboards: the coarse mesh everywhere, not only where a billboard ray came
 //                  near a surface and missed (standin's rule; the stencil, see billboard())
@@ -456,9 +456,9 @@ async function grid_impostor_material(extras, parser, shaders, hull) {
             depth_scale: { value: extras.depth_scale },
             ...camera_uniforms(),
             blend_frames: { value: number('blend', 3) === 1 ? 1 : 3 },
-            steps: { value: Math.max(1, Math.min(256, number('steps', 96))) },
-            vote_threshold: { value: Math.min(0.999, number('vote', 0.999)) },
-            depth_tolerance: { value: has_nd ? (extras.depth_scale * number('tolerance', 1.5)) / 255 : 0 },
+            // the most texels the walk crosses per frame (a ray crosses at most 2 sin(angle between
+            // frames) of a frame's side: about a third of it between neighbouring frames)
+            steps: { value: Math.max(1, Math.min(1024, number('steps', 1024))) },
         },
     });
 }

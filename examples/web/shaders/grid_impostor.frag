@@ -3,41 +3,59 @@
 // `grid-impostor` node of a .glb written by `standin export` (docs/FORMAT.md, "Export": "Frame <->
 // direction", "Inside a frame"), used as is by examples/web. Self-contained: no includes.
 //
-// Steps, per pixel of the camera-facing square (grid_impostor.vert):
-//  1. the eye ray in object space, clipped to the bounding sphere;
+// Steps, per pixel of the hull (or the camera-facing square; grid_impostor.vert):
+//  1. the eye ray in object space;
 //  2. the frames around the view direction: the octahedral (or hemi-octahedral) encoding of the
 //     direction from the centre towards the eye gives a position g on the frame grid (frame
 //     centres at integer g); `blend_frames` 3 takes the three frames of the grid triangle holding g
 //     with barycentric weights (the bakers' 3-frame blend), 1 the nearest frame alone;
-//  3. each frame is an orthographic view along `direction` whose texels say "the surface lies at
-//     signed distance depth_near - d * depth_scale from the centre along direction, where alpha
-//     (coverage) >= 0.5": a point behind that surface (seen from the frame's camera) on a covered
-//     texel is held by the frame. Each frame's solid extends behind its surface to the sphere, so
-//     one frame alone widens thin parts seen obliquely; the point must be held by frames of summed
-//     weight >= vote_threshold (default all of them: the intersection of their solids, as
-//     space carving does). The walk takes `steps` points between the sphere's entry and exit,
-//     stops at the first held one and refines between it and the previous one by bisection; no
-//     held point: discard (the alpha test). The hit's depth is written as gl_FragDepth;
-//  4. colour and normal are the frames' texels at the hit, weighted by frame weight x coverage;
-//  5. shading is standin's (src/gpu/shaders/common/lighting.glsl): Lambert + ambient, two-sided, in
+//  3. each frame is a height field over its plane (an orthographic view along `direction`): texel
+//     (x, y) with coverage a > 0 holds a flat top at height depth_near - d * depth_scale (towards
+//     the frame's camera). The ray is intersected with each frame exactly, as standin's own
+//     corrected walk does (src/reps/view_atlas/shaders/atlas.frag, `intersect_view`): a digital walk
+//     (Amanatides & Woo 1987) over the frame's texels under the ray, the surface being the tops and
+//     the walls between neighbours of one surface (a height step within what their normals' slope
+//     allows, the rule of src/reps/common/shaders/height_field.glsl); a ray that enters a column
+//     below its top through a depth edge is in space the frame did not see (it abstains). A crossing
+//     counts only where the coverage, filtered bilinearly over the four texels of the crossed
+//     surface, reaches 1/2 (atlas.frag `hit_coverage`, issue #14): a cut-out's edge then falls inside
+//     texels, where the truth's alpha test puts it; below 1/2 the ray passes beside the edge and
+//     walks on;
+//  4. the vote: the pixel is drawn where the frames that hit weigh at least as much as those whose
+//     walk found nothing (abstaining frames do not count), as standin's renderer decides; hits
+//     within two texels of the nearest are the same surface and are blended by weight (fading out
+//     to four texels); the blended hit's depth is written as gl_FragDepth;
+//  5. colour and normal: each hitting frame's texels around its hit, bilinear over those of the
+//     hit's own surface, weighted by coverage (colour does not leak across depth edges);
+//  6. shading is standin's (src/gpu/shaders/common/lighting.glsl): Lambert + ambient, two-sided, in
 //     linear light, from sRGB albedo to sRGB output; a `lit` atlas is shown as stored.
+// Until issue #16 this shader marched the ray in fixed steps through the intersection of the
+// frames' solids and read coverage as binary (alpha >= 1/2, depth filtered across edges): on
+// foliage it rounded leaves off and filled the gaps between them (docs/RESULTS.md "Foliage in the
+// web viewer").
 // Departures from the standin renderer (src/reps/view_atlas): the exported grid has frames on a
 // regular octahedral grid instead of the package's views, its texels are box-filtered from the
-// captures, and the walk is a fixed-step march rather than the exact texel walk; frame axes are
-// rederived from the frame index by the documented lookAt rule (the viewer checks them against
-// the file's frame_axes).
+// captures (exported by default at frames x capture resolution, one texel per capture pixel),
+// its depth has 8 bits instead of 16 (the link rule's two quanta are 8-bit ones), the frames are
+// the grid triangle's instead of the 3 nearest views, the walk does not skip empty cells (there
+// is no cell-top map), and only level 0 is read (cut-outs alias where a texel is under a pixel).
+// Frame axes are rederived from the frame index by the documented lookAt rule (the viewer checks
+// them against the file's frame_axes). The atlas side must be a multiple of `frames` (the
+// export's default is): other sizes put frame borders inside texels, which the walk ignores.
 //
-// Textures (both sampled at level 0, bilinear, clamped inside each frame so that no filter reads
-// the neighbouring frame; v runs down the image, as glTF's UVs and three's GLTFLoader, flipY false):
+// Textures (read texel by texel with texelFetch, level 0; v runs down the image, as glTF's UVs and
+// three's GLTFLoader, flipY false):
 //   color_atlas: RGB albedo, sRGB-encoded (or the shaded colour when lit_color == 1), A coverage
+//     (the covered fraction of the texel; > 0: the texel holds a surface)
 //   normal_depth_atlas: RGB object-space unit normal * 0.5 + 0.5, A depth code d (linear codes)
 // Uniforms: the node's extras (frames, hemi = layout "hemi-octahedral", center, radius,
 // half_extent, depth_near, depth_scale), the camera in object space (eye_object, forward_object,
 // orthographic), clip_from_object (for the depth written), the light (to_light_object, unit;
-// light_terms = ambient, diffuse), and the walk's knobs (blend_frames 1 or 3, steps <= 256,
-// vote_threshold, depth_tolerance: about 1.5 depth codes, depth_scale * 1.5 / 255 for 8-bit maps).
+// light_terms = ambient, diffuse), and the walk's knobs (blend_frames 1 or 3, steps: the most
+// texels walked per frame, <= 1024).
 // Perspective captures (extras projection "perspective") are not handled: the export's default is
-// ortho.
+// ortho. Without a normal + depth texture (`lit` packages) each frame is its plane through the
+// centre.
 precision highp float;
 precision highp int;
 
@@ -59,9 +77,7 @@ uniform mat4 clip_from_object;
 uniform vec3 to_light_object;
 uniform vec2 light_terms;
 uniform int blend_frames;
-uniform int steps;
-uniform float vote_threshold;  // weight of the frames that must hold a point: 1 = all (default), 0.5 = a majority
-uniform float depth_tolerance; // object units a point may lie in front of a frame's surface and still be held (quantisation)
+uniform int steps; // the most texels walked per frame
 
 in vec3 v_position_object;
 out vec4 out_color;
@@ -109,39 +125,184 @@ struct Frame {
     float weight;
 };
 
-// the atlas coordinates of frame point st (in [0, 1]^2), kept half a texel inside the frame
-vec2 atlas_uv(ivec2 cell, vec2 st)
+// the constants of standin's height-field rule (src/reps/common/shaders/height_field.h)
+const float k_slope_tolerance = 1.5;  // normals are sampled at texel centres: allow half as much again
+const float k_curvature_texels = 0.5; // a curved surface turns between two normals: half a texel
+const float k_quanta = 2.0;           // a step of two depth codes is rounding, not an edge
+const float k_max_slope = 8.0;        // texels of depth per texel: steeper is a wall
+
+const int k_hit = 0, k_miss = 1, k_hidden = 2;
+
+int g_texels; // texels per frame side (the atlas side / frames)
+
+float texel_side() { return 2.0 * half_extent / float(g_texels); }
+float depth_quantum() { return depth_scale / 255.0; }
+
+// frame texel position (texel units, texel x spans [x, x + 1)) of plane coordinates
+vec2 texel_from_plane(vec2 plane) { return (plane / half_extent * 0.5 + 0.5) * float(g_texels); }
+
+float slope_of(float along, float across)
 {
-    float texels = float(textureSize(color_atlas, 0).x) / float(frames);
-    st = clamp(st, 0.5 / texels, 1.0 - 0.5 / texels);
-    return (vec2(cell) + st) / float(frames);
+    along = abs(along);
+    across = abs(across);
+    return along >= across * k_max_slope ? k_max_slope : along / across;
 }
 
-vec2 frame_st(Frame f, vec3 p)
+// One texel of a frame's height field: x: covered (0/1), y: height (towards the frame's camera),
+// zw: the normal's slope along axis_u and axis_v (height per unit of plane distance, capped);
+// `coverage`: the texel's covered fraction. Outside the frame: empty.
+vec4 height_texel(Frame f, ivec2 texel, out float coverage)
 {
-    vec3 q = p - center;
-    return vec2(dot(q, f.axis_u), dot(q, f.axis_v)) / half_extent * 0.5 + 0.5;
+    coverage = 0.0;
+    if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(g_texels)))) return vec4(0.0);
+    ivec2 at = f.cell * g_texels + texel;
+    coverage = texelFetch(color_atlas, at, 0).a;
+    if (coverage <= 0.0) return vec4(0.0);
+    if (has_normal_depth == 0) return vec4(1.0, 0.0, 0.0, 0.0);
+    vec4 nd = texelFetch(normal_depth_atlas, at, 0);
+    vec3 n = nd.rgb * 2.0 - 1.0;
+    vec3 n_frame = vec3(dot(n, f.axis_u), dot(n, f.axis_v), dot(n, f.direction));
+    return vec4(1.0, depth_near - nd.a * depth_scale, slope_of(n_frame.x, n_frame.z), slope_of(n_frame.y, n_frame.z));
 }
 
-// covered and behind the frame's surface (seen from its camera): the frame's height field holds p.
-// Without depth the frame's plane through the centre is the surface.
-bool inside(Frame f, vec3 p)
+// the largest height step between two neighbouring texels of one surface
+float link_tolerance(vec4 a, vec4 b, int axis)
 {
-    vec2 st = frame_st(f, p);
-    if (any(lessThan(st, vec2(0.0))) || any(greaterThan(st, vec2(1.0)))) return false;
-    vec2 uv = atlas_uv(f.cell, st);
-    if (textureLod(color_atlas, uv, 0.0).a < 0.5) return false;
-    float surface = has_normal_depth == 1 ? depth_near - textureLod(normal_depth_atlas, uv, 0.0).a * depth_scale : 0.0;
-    return dot(p - center, f.direction) <= surface + depth_tolerance;
+    return (k_slope_tolerance * max(a[2 + axis], b[2 + axis]) + k_curvature_texels) * texel_side() +
+           k_quanta * depth_quantum();
 }
 
-// the weight of the frames that hold p
-float vote(Frame f[3], vec3 p)
+// The coverage of the surface at `height` at frame plane point `plane` (atlas.frag `hit_coverage`):
+// the coverage of the four texels around it, filtered bilinearly; a neighbour of the same surface
+// adds its coverage, an empty one or one holding a surface behind adds none (the front surface
+// would have been stored there), one holding a nearer surface tells nothing about this one and is
+// left out of the weights.
+float hit_coverage(Frame f, vec2 plane, float height)
 {
-    float held = 0.0;
-    for (int k = 0; k < 3; ++k)
-        if (f[k].weight > 0.0 && inside(f[k], p)) held += f[k].weight;
-    return held;
+    vec2 p = texel_from_plane(plane) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    vec2 fr = p - vec2(base);
+    float coverage = 0.0, weight_sum = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        ivec2 corner = ivec2(k & 1, k >> 1);
+        float w = (corner.x == 1 ? fr.x : 1.0 - fr.x) * (corner.y == 1 ? fr.y : 1.0 - fr.y);
+        float a;
+        vec4 t = height_texel(f, base + corner, a);
+        if (t.x > 0.5) {
+            float tolerance = (k_slope_tolerance * max(t.z, t.w) + k_curvature_texels + 1.0) * texel_side() +
+                              k_quanta * depth_quantum();
+            if (t.y > height + tolerance) continue;
+            if (t.y >= height - tolerance) coverage += w * a;
+        }
+        weight_sum += w;
+    }
+    return weight_sum > 0.0 ? coverage / weight_sum : 1.0;
+}
+
+// Intersects ray o + t d (object space) with one frame's height field (atlas.frag
+// `intersect_view`, without its empty-cell skipping): returns (t, k_hit / k_miss / k_hidden).
+vec2 intersect_frame(Frame f, vec3 o, vec3 d)
+{
+    vec3 q = o - center;
+    vec3 ro = vec3(dot(q, f.axis_u), dot(q, f.axis_v), dot(q, f.direction));
+    vec3 rd = vec3(dot(d, f.axis_u), dot(d, f.axis_v), dot(d, f.direction));
+    if (rd.z > -1e-4) return vec2(-1.0, float(k_miss));
+    // the slab of heights the depth codes span, and the frame's square
+    float top = depth_near, bottom = depth_near - depth_scale;
+    if (has_normal_depth == 0) top = bottom = 0.0;
+    float t0 = (top + 1e-4 * radius - ro.z) / rd.z;
+    float t1 = (bottom - 1e-4 * radius - ro.z) / rd.z;
+    for (int a = 0; a < 2; ++a) {
+        if (abs(rd[a]) < 1e-9) {
+            if (abs(ro[a]) > half_extent) return vec2(-1.0, float(k_miss));
+            continue;
+        }
+        float ta = (-half_extent - ro[a]) / rd[a], tb = (half_extent - ro[a]) / rd[a];
+        t0 = max(t0, min(ta, tb));
+        t1 = min(t1, max(ta, tb));
+    }
+    t0 = max(t0, 0.0);
+    if (t0 >= t1) return vec2(-1.0, float(k_miss));
+
+    vec2 p0 = texel_from_plane((ro + t0 * rd).xy);
+    vec2 dp = rd.xy * (float(g_texels) / (2.0 * half_extent)); // texels per unit t
+    ivec2 step_dir = ivec2(dp.x >= 0.0 ? 1 : -1, dp.y >= 0.0 ? 1 : -1);
+    vec2 inv = vec2(abs(dp.x) > 1e-9 ? 1.0 / abs(dp.x) : 1e30, abs(dp.y) > 1e-9 ? 1.0 / abs(dp.y) : 1e30);
+    ivec2 cell = clamp(ivec2(floor(p0)), ivec2(0), ivec2(g_texels - 1));
+    // where the ray crosses the lines x = X and y = Y (texels), from the start point so that every
+    // step agrees
+    vec2 t_next = vec2(t0 + abs(float(cell.x + max(step_dir.x, 0)) - p0.x) * inv.x,
+                       t0 + abs(float(cell.y + max(step_dir.y, 0)) - p0.y) * inv.y);
+    float t_enter = t0;
+    int entered_across = -1; // axis crossed into the current texel, -1 at the start
+    vec4 previous = vec4(0.0);
+    bool previous_above = true; // the ray left the previous texel above its top (or it was empty)
+    bool hidden = false;
+    vec2 p1 = texel_from_plane((ro + t1 * rd).xy);
+    int count = min(int(abs(p0.x - p1.x) + abs(p0.y - p1.y)) + 3, steps);
+    for (int i = 0; i < 1024; ++i) {
+        if (i >= count) break;
+        if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(g_texels)))) break;
+        float a;
+        vec4 current = height_texel(f, cell, a);
+        float t_exit = min(min(t_next.x, t_next.y), t1);
+        if (current.x > 0.5) {
+            // the crossing of this column (height_field.glsl `hf_cross_column`, in heights)
+            float z_enter = ro.z + t_enter * rd.z, z_exit = ro.z + t_exit * rd.z;
+            bool below = z_enter <= current.y;
+            bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
+                               abs(previous.y - current.y) <= link_tolerance(previous, current, entered_across);
+            float t_hit = -1.0;
+            if (from_linked && z_enter <= max(previous.y, current.y) && z_enter >= min(previous.y, current.y))
+                t_hit = t_enter; // the wall between two texels of one surface
+            else if (current.y <= z_enter && current.y >= z_exit)
+                t_hit = clamp((current.y - ro.z) / rd.z, t_enter, t_exit); // the top
+            if (t_hit >= 0.0) {
+                vec3 hit = ro + t_hit * rd; // plane coordinates and height
+                if (hit_coverage(f, hit.xy, hit.z) >= 0.5) return vec2(t_hit, float(k_hit));
+            } else if (below) {
+                hidden = true; // entered under the top through a depth edge: space the frame did not see
+            }
+        }
+        previous = current;
+        previous_above = current.x < 0.5 || ro.z + t_exit * rd.z > current.y;
+        if (t_exit >= t1) break;
+        if (t_next.x < t_next.y) {
+            cell.x += step_dir.x;
+            t_next.x = t0 + abs(float(cell.x + max(step_dir.x, 0)) - p0.x) * inv.x;
+            entered_across = 0;
+        } else {
+            cell.y += step_dir.y;
+            t_next.y = t0 + abs(float(cell.y + max(step_dir.y, 0)) - p0.y) * inv.y;
+            entered_across = 1;
+        }
+        t_enter = t_exit;
+    }
+    return vec2(-1.0, float(hidden ? k_hidden : k_miss));
+}
+
+// A frame's colour (alpha: the summed weight) and normal at a hit: bilinear over the texels of the
+// hit's own surface (height within the link rule's step and a texel), weighted by coverage.
+void surface_sample(Frame f, vec2 plane, float height, out vec4 color, out vec3 normal)
+{
+    vec2 p = texel_from_plane(plane) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    vec2 fr = p - vec2(base);
+    color = vec4(0.0);
+    normal = vec3(0.0);
+    for (int k = 0; k < 4; ++k) {
+        ivec2 corner = ivec2(k & 1, k >> 1);
+        float a;
+        vec4 t = height_texel(f, base + corner, a);
+        if (t.x < 0.5) continue;
+        float tolerance = (k_slope_tolerance * max(t.z, t.w) + k_curvature_texels + 1.0) * texel_side() +
+                          k_quanta * depth_quantum();
+        if (abs(t.y - height) > tolerance) continue;
+        float w = ((corner.x == 1 ? fr.x : 1.0 - fr.x) * (corner.y == 1 ? fr.y : 1.0 - fr.y) + 1e-6) * a;
+        ivec2 at = f.cell * g_texels + base + corner;
+        color += w * vec4(texelFetch(color_atlas, at, 0).rgb, 1.0);
+        if (has_normal_depth == 1) normal += w * (texelFetch(normal_depth_atlas, at, 0).rgb * 2.0 - 1.0);
+    }
 }
 
 vec3 srgb_to_linear(vec3 c)
@@ -157,15 +318,11 @@ vec3 linear_to_srgb(vec3 c)
 
 void main()
 {
-    // 1. the eye ray, clipped to the bounding sphere
+    g_texels = max(textureSize(color_atlas, 0).x / frames, 1);
+
+    // 1. the eye ray (for parallel projection from in front of the bounding sphere)
     vec3 ray = orthographic == 1 ? normalize(forward_object) : normalize(v_position_object - eye_object);
     vec3 origin = orthographic == 1 ? v_position_object - ray * 2.0 * radius : eye_object;
-    vec3 oc = origin - center;
-    float b = dot(oc, ray), c = dot(oc, oc) - radius * radius;
-    float disc = b * b - c;
-    if (disc <= 0.0) discard;
-    float t0 = max(-b - sqrt(disc), 0.0), t1 = -b + sqrt(disc);
-    if (t1 <= t0) discard;
 
     // 2. the frames around the direction towards the eye
     vec3 to_eye = orthographic == 1 ? -ray : normalize(eye_object - center);
@@ -197,53 +354,54 @@ void main()
         f[k].weight = weights[k];
     }
 
-    // 3. the first point along the ray that the frames' height fields hold by vote (each frame's
-    // solid extends behind its surface: one frame alone would widen thin parts seen obliquely)
-    float dt = (t1 - t0) / float(steps);
-    float t_out = t0, t_in = t1;
-    bool found = false;
-    for (int i = 0; i < 256; ++i) {
-        if (i >= steps) break;
-        float t = t0 + (float(i) + 0.5) * dt;
-        if (vote(f, origin + ray * t) >= vote_threshold) {
-            t_in = t;
-            found = true;
-            break;
+    // 3.-4. each frame intersected exactly; drawn where the frames that hit outweigh those that
+    // saw nothing along the ray
+    vec2 hits[3];
+    float t_min = 1e30, hit_vote = 0.0, miss_vote = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        hits[k] = vec2(-1.0, float(k_miss));
+        if (f[k].weight <= 0.0) continue;
+        hits[k] = intersect_frame(f[k], origin, ray);
+        if (int(hits[k].y) == k_hit) {
+            t_min = min(t_min, hits[k].x);
+            hit_vote += f[k].weight;
+        } else if (int(hits[k].y) == k_miss) {
+            miss_vote += f[k].weight;
         }
-        t_out = t;
     }
-    if (!found) discard;
-    for (int i = 0; i < 6; ++i) {
-        float t = 0.5 * (t_out + t_in);
-        if (vote(f, origin + ray * t) >= vote_threshold) t_in = t; else t_out = t;
+    if (hit_vote <= 0.0 || hit_vote < miss_vote) discard;
+
+    // 5. hits within two texels of the nearest are one surface, fading out to four texels
+    vec4 color_sum = vec4(0.0);
+    vec3 normal_sum = vec3(0.0);
+    float t_sum = 0.0, t_weight = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        if (int(hits[k].y) != k_hit) continue;
+        float weight = f[k].weight * clamp(2.0 - (hits[k].x - t_min) / (2.0 * texel_side()), 0.0, 1.0);
+        if (weight <= 0.0) continue;
+        vec3 q = origin + hits[k].x * ray - center;
+        vec4 c;
+        vec3 n;
+        surface_sample(f[k], vec2(dot(q, f[k].axis_u), dot(q, f[k].axis_v)), dot(q, f[k].direction), c, n);
+        if (c.a <= 0.0) continue;
+        color_sum += weight * vec4(c.rgb / c.a, 1.0);
+        normal_sum += weight * n / c.a;
+        t_sum += weight * hits[k].x;
+        t_weight += weight;
     }
-    vec3 hit = origin + ray * t_in;
+    if (t_weight <= 0.0) discard;
+    vec3 hit = origin + (t_sum / t_weight) * ray;
     vec4 clip = clip_from_object * vec4(hit, 1.0);
     gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+    vec3 albedo = color_sum.rgb / t_weight;
 
-    // 4. colour and normal: the frames' texels at the hit, by weight over the covered ones
-    vec4 color = vec4(0.0);
-    vec3 normal = vec3(0.0);
-    float coverage = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        if (f[k].weight <= 0.0) continue;
-        vec2 uv = atlas_uv(f[k].cell, frame_st(f[k], hit));
-        vec4 c = textureLod(color_atlas, uv, 0.0);
-        float w = f[k].weight * c.a;
-        color += w * c;
-        if (has_normal_depth == 1) normal += w * (textureLod(normal_depth_atlas, uv, 0.0).rgb * 2.0 - 1.0);
-        coverage += w;
-    }
-    color /= max(coverage, 1e-6);
-    if (has_normal_depth == 0) normal = -ray;
-
-    // 5. standin's shading
+    // 6. standin's shading
     if (lit_color == 1) {
-        out_color = vec4(color.rgb, 1.0);
+        out_color = vec4(albedo, 1.0);
         return;
     }
-    vec3 n = normalize(normal);
+    vec3 n = has_normal_depth == 1 && dot(normal_sum, normal_sum) > 1e-12 ? normalize(normal_sum) : -ray;
     if (dot(n, -ray) < 0.0) n = -n;
     float n_dot_l = max(dot(n, to_light_object), 0.0);
-    out_color = vec4(linear_to_srgb(srgb_to_linear(color.rgb) * (light_terms.x + light_terms.y * n_dot_l)), 1.0);
+    out_color = vec4(linear_to_srgb(srgb_to_linear(albedo) * (light_terms.x + light_terms.y * n_dot_l)), 1.0);
 }

@@ -62,6 +62,9 @@ const k_cases = [
     { name: 'view-atlas grid atlas', model: 'data/bunny.ply',
       bake: ['-r', 'view-atlas', '--layout', 'octahedral', '--frames', '16', '--resolution', '192'],
       export: ['--atlas-size', '2048'], proxy: 'hull', ktx2: ['--etc1s'] }, // drawn on the atlas hull (issue #16), not the quad
+    // alpha-masked leaf cards (issue #16): thin leaves through the web grid shader's walk
+    { name: 'view-atlas grid atlas tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
+      bake: ['-r', 'view-atlas', '--layout', 'octahedral', '--frames', '16', '--resolution', '192'], export: [], proxy: 'hull' },
     { name: 'displaced-mesh', model: 'data/bunny.ply', bake: ['-r', 'displaced-mesh'], export: [] },
     // alpha-masked leaf cards (issue #14): the export must keep the cut-outs the renderer discards
     { name: 'displaced-mesh tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',

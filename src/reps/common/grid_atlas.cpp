@@ -1,9 +1,11 @@
 // Grid atlas resampling (grid_atlas.h). The layout is the one of Ryan Brucks's Impostor Baker for
 // Unreal (2018) and Amplify Impostors: frame (i, j) of an N x N grid over the octahedral map, the
 // whole view in its cell. Steps: per atlas texel, its frame and the capture pixels under it (an
-// s x s box, s = ceil(resolution / cell) up to 8); colour averaged in linear light over the covered
-// ones, alpha = covered fraction; normals averaged, depth averaged; then a few passes of dilation
-// inside each cell. Departs from the bakers in the source of the images only: ours are the view
+// s x s box, s = ceil(resolution / cell) up to 8); colour averaged in linear light weighted by the
+// pixels' coverage, alpha = their mean coverage (the captures' covered fraction, issue #14: 0..1
+// per pixel for alpha-tested models, kept rather than thresholded at 1/2, so that a reader filtering
+// it finds a cut-out's edge inside texels, issue #16); normals and depth averaged over the pixels
+// with any coverage; then a few passes of dilation inside each cell. Departs from the bakers in the source of the images only: ours are the view
 // atlas's stored crops (packed, cropped to content), put back uncropped.
 #include "reps/common/grid_atlas.h"
 
@@ -114,7 +116,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
     // every texel reads the pages and writes only itself: rows in parallel, deterministic
     tbb::parallel_for(0, size, [&](int y) {
         for (int x = 0; x < size; ++x) {
-            float rgb[3] = {0, 0, 0}, depth = 0.0f;
+            float rgb[3] = {0, 0, 0}, depth = 0.0f, coverage = 0.0f;
             glm::vec3 normal(0.0f);
             int covered = 0, i = 0, j = 0;
             for (int b = 0; b < box; ++b) {
@@ -128,8 +130,10 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                         continue;
                     int tx = v.atlas_x + px - v.crop_x, ty = v.atlas_y + py - v.crop_y;
                     const std::uint8_t* c = (*in.color_pages)[std::size_t(v.page)].at(tx, ty);
-                    if (c[3] < 128) continue;
-                    for (int k = 0; k < 3; ++k) rgb[k] += to_linear[c[k]];
+                    if (c[3] == 0) continue;
+                    const float pixel_coverage = float(c[3]) / 255.0f;
+                    for (int k = 0; k < 3; ++k) rgb[k] += pixel_coverage * to_linear[c[k]];
+                    coverage += pixel_coverage;
                     if (with_normals) {
                         const std::uint8_t* n = (*in.normal_depth_pages)[std::size_t(v.page)].at(tx, ty);
                         normal += glm::vec3(n[0], n[1], n[2]) / 255.0f * 2.0f - 1.0f;
@@ -148,8 +152,9 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                 continue;
             }
             filled[std::size_t(y) * size + x] = 1;
-            for (int k = 0; k < 3; ++k) out[k] = grid_linear_to_srgb8(rgb[k] / float(covered));
-            out[3] = std::uint8_t((covered * 255 + box * box / 2) / (box * box));
+            for (int k = 0; k < 3; ++k) out[k] = grid_linear_to_srgb8(rgb[k] / coverage);
+            // at least 1: a texel with a surface in it has alpha > 0 (readers walk it as covered)
+            out[3] = std::uint8_t(std::clamp(std::lround(coverage * 255.0f / float(box * box)), 1L, 255L));
             if (with_normals) {
                 float length = glm::length(normal);
                 glm::vec3 n = length > 1e-6f ? normal / length : glm::vec3(0.0f);

@@ -16,7 +16,7 @@ namespace standin::reps {
 // What the views were captured at and are stored in.
 struct GridAtlasInput {
     const std::vector<View>* views = nullptr;              // frames * frames, layout order
-    const std::vector<ImageRGBA8>* color_pages = nullptr;  // RGB sRGB albedo, A coverage (0 / 255)
+    const std::vector<ImageRGBA8>* color_pages = nullptr;  // RGB sRGB albedo, A covered fraction (0..255)
     const std::vector<ImageRGBA8>* normal_depth_pages = nullptr; // may be null: colour only
     int resolution = 0; // capture size, pixels
     int frames = 0;
@@ -30,7 +30,9 @@ struct GridAtlas {
 // Resamples every view into its cell: atlas texel (x, y) lies in frame (i, j) = floor((x, y) *
 // frames / size) and shows capture point (x, y) * frames / size - (i, j) (in [0, 1]^2) times the
 // resolution; a box filter over the capture pixels under the texel (colour averaged in linear light
-// over covered pixels, coverage as alpha; normals averaged and renormalised, depth averaged).
+// weighted by coverage, the mean coverage as alpha, at least 1/255 where any pixel has some;
+// normals averaged and renormalised, depth averaged, over the pixels with coverage). At size =
+// frames x resolution the box is one pixel: the captures' texels, coverage and depth as stored.
 // Empty texels take the colour and normal of covered neighbours in their cell (a few texels of
 // dilation, so that bilinear filtering and mips do not darken silhouettes); their alpha stays 0 and
 // their depth is 1. Deterministic.

@@ -112,5 +112,38 @@ TEST(GridAtlas, EachViewLandsInItsCellWithCoverageAndDepth)
     EXPECT_FALSE(make_grid_atlas(input, 1));
 }
 
+// Alpha-tested models store each capture pixel's covered fraction (issue #14); the atlas keeps it
+// (issue #16) instead of thresholding it at 1/2: one texel per pixel copies it, a coarser atlas
+// averages it, and a pixel with any coverage keeps its full colour and depth.
+TEST(GridAtlas, KeepsFractionalCoverage)
+{
+    const int frames = 2, resolution = 8;
+    std::vector<View> views(4);
+    std::vector<ImageRGBA8> color(1, ImageRGBA8(64, 64)), normal_depth(1, ImageRGBA8(64, 64));
+    // every view: whole crop, pixel x of row y covered by (x + 1) * 25 / 255, colour 200, depth 80
+    for (int k = 0; k < 4; ++k) {
+        View& v = views[std::size_t(k)];
+        v.crop_x = 0, v.crop_y = 0, v.width = 8, v.height = 8, v.page = 0, v.atlas_x = k * 8, v.atlas_y = 0;
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                std::uint8_t* c = color[0].at(k * 8 + x, y);
+                c[0] = c[1] = c[2] = 200, c[3] = std::uint8_t((x + 1) * 25);
+                std::uint8_t* n = normal_depth[0].at(k * 8 + x, y);
+                n[0] = 128, n[1] = 128, n[2] = 255, n[3] = 80;
+            }
+    }
+    GridAtlasInput input{&views, &color, &normal_depth, resolution, frames};
+    Result<GridAtlas> exact = make_grid_atlas(input, frames * resolution);
+    ASSERT_TRUE(exact) << exact.status().message();
+    for (int x = 0; x < 8; ++x) {
+        EXPECT_EQ(exact->color.at(x, 3)[3], (x + 1) * 25) << x;
+        EXPECT_NEAR(exact->color.at(x, 3)[0], 200, 1) << x;
+        EXPECT_EQ(exact->normal_depth.at(x, 3)[3], 80) << x;
+    }
+    Result<GridAtlas> half = make_grid_atlas(input, frames * resolution / 2);
+    ASSERT_TRUE(half) << half.status().message();
+    for (int x = 0; x < 4; ++x) EXPECT_NEAR(half->color.at(x, 1)[3], (2 * x + 1.5) * 25, 1) << x;
+}
+
 } // namespace
 } // namespace standin::reps

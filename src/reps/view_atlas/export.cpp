@@ -21,6 +21,8 @@ namespace standin::view_atlas {
 
 namespace {
 
+constexpr int k_grid_export_atlas_cap = 4096;
+
 // The hull as a flat-shaded mesh (each face its own corners, its normal), textured like the quad
 // with the front frame: a point's UV is its projection into that frame (through the capture camera
 // for perspective packages), so a plain viewer shows the model from the front on the hull's front faces.
@@ -56,8 +58,9 @@ ExportMesh hull_mesh(const ViewAtlasPackage& package, const ConvexPolytope& hull
 std::vector<OptionSpec> export_options()
 {
     return {
-        integer_option("atlas-size", 2048, 16, 16384,
-                       "Side of the square grid atlas, texels (view-atlas: each frame gets atlas-size / frames)"),
+        integer_option("atlas-size", 0, 0, 16384,
+                       "Side of the square grid atlas, texels (view-atlas: each frame gets atlas-size / frames); 0: "
+                       "frames x capture resolution (one texel per capture pixel), at most 4096"),
         integer_option("frames", 0, 0, 64,
                        "Frames per side of the grid atlas; 0: as baked (a view atlas exports the grid it was baked "
                        "with: bake with --layout octahedral --frames N)"),
@@ -78,7 +81,13 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         return error(StatusCode::invalid_argument, "--frames " + std::to_string(frames) + ": " + name + " was baked with " +
                                                        std::to_string(s.frames) + " frames; re-bake with --frames " +
                                                        std::to_string(frames) + " or leave --frames out");
-    const int size = options.integer("atlas-size");
+    // By default one texel per capture pixel: resampling to fewer texels (2048 for 16 frames of
+    // 192 pixels, the default until issue #16) rounds cut-outs off and fills the gaps between
+    // leaves, which no shader can undo (docs/RESULTS.md "Foliage in the web viewer"). 4096 is the
+    // largest texture every WebGL2 and mobile GPU of today takes; a multiple of frames keeps frame
+    // borders on texel borders, which the reference shader's texel walk assumes.
+    int size = options.integer("atlas-size");
+    if (size == 0) size = std::min(s.frames * s.resolution, k_grid_export_atlas_cap / s.frames * s.frames);
     if (size < s.frames)
         return error(StatusCode::invalid_argument, "--atlas-size " + std::to_string(size) + ": smaller than the " +
                                                        std::to_string(s.frames) + " frames per side");
