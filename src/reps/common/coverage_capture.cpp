@@ -4,7 +4,9 @@
 // Steps per texel: count the covered samples of its f x f block; alpha = that fraction, rounded, at
 // least 1 when any is covered; the other channels = the covered samples' mean; depth = the block's
 // nearest covered sample's (a separate geometry capture's depth may be 1 there: the minimum skips it
-// where another covered sample has one).
+// where another covered sample has one). With a front tolerance, samples farther than it behind the
+// nearest are left out as if empty: the texel is its front surface's, whose coverage, colour and
+// normal it then holds unmixed.
 #include "reps/common/coverage_capture.h"
 
 #include <algorithm>
@@ -25,7 +27,8 @@ int coverage_samples(const Mesh& mesh, int resolution, int preferred, const char
     return std::clamp(8192 / resolution, 1, samples);
 }
 
-void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> averaged, std::vector<float>* depth, int f)
+void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> averaged, std::vector<float>* depth, int f,
+                         float front_tolerance)
 {
     if (f == 1) return;
     const int big = color.width, n = big / f;
@@ -40,10 +43,17 @@ void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> a
             unsigned count = 0;
             std::fill(sums.begin(), sums.end(), 0u);
             float nearest = 1.0f;
+            const bool front_only = depth && front_tolerance >= 0.0f;
+            if (front_only)
+                for (int j = 0; j < f; ++j)
+                    for (int i = 0; i < f; ++i)
+                        if (color.at(x * f + i, y * f + j)[3] != 0)
+                            nearest = std::min(nearest, (*depth)[std::size_t(y * f + j) * big + x * f + i]);
             for (int j = 0; j < f; ++j)
                 for (int i = 0; i < f; ++i) {
                     int sx = x * f + i, sy = y * f + j;
                     if (color.at(sx, sy)[3] == 0) continue;
+                    if (front_only && (*depth)[std::size_t(sy) * big + sx] > nearest + front_tolerance) continue;
                     ++count;
                     if (depth) nearest = std::min(nearest, (*depth)[std::size_t(sy) * big + sx]);
                     for (std::size_t m = 0; m < images.size(); ++m)

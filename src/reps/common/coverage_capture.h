@@ -27,6 +27,11 @@ int coverage_samples(const Mesh& mesh, int resolution, int preferred, const char
 // the covered samples (their alpha 255); `depth` (window depths, smaller nearer, 1 where nothing was
 // drawn; may be null) = the nearest covered sample's, so a texel holding an edge keeps its front
 // surface. Texels without a covered sample are all 0, depth 1. f = 1 changes nothing.
-void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> averaged, std::vector<float>* depth, int f);
+// `front_tolerance` >= 0 (window-depth units, needs `depth`): only the samples within it of the
+// texel's nearest covered one count as covered, so that a texel over an edge between a near and a far
+// surface holds the near one's coverage, colour and normal, unmixed with the far one's (a texel
+// keeps one depth, so the far surface's samples cannot be stored there anyway).
+void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> averaged, std::vector<float>* depth, int f,
+                         float front_tolerance = -1.0f);
 
 } // namespace standin::reps

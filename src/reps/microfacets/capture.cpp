@@ -23,10 +23,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace standin::microfacets {
 
 namespace {
+
+// The depth range, in capture texels, of the samples a supersampled texel keeps (step 6); the
+// environment variable STANDIN_MICROFACETS_FRONT_TEXELS (negative: all samples) overrides it for
+// measurements.
+float front_tolerance_from_environment()
+{
+    if (const char* text = std::getenv("STANDIN_MICROFACETS_FRONT_TEXELS")) return float(std::atof(text));
+    return 2.0f;
+}
+const float front_tolerance_texels = front_tolerance_from_environment();
 
 Camera capture_camera(const BoundingSphere& sphere, glm::vec3 direction)
 {
@@ -106,9 +117,11 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " capturing a view");
-    if (samples_ > 1) // step 6
+    if (samples_ > 1) { // step 6: a texel holds its front surface's samples, within two texels of depth
+        const float texel = 2.0f * sphere_.radius / float(n);
         reps::downsample_coverage(out.albedo, {&out.normal, pbr_ ? &out.material.orm : nullptr, pbr_ ? &out.material.emission : nullptr},
-                                  &depth, samples_);
+                                  &depth, samples_, front_tolerance_texels * texel / (camera.far_plane - camera.near_plane));
+    }
 
     // heights: orthographic window depth is linear between the planes
     const float eye_distance = glm::dot(camera.eye_world - sphere_.center, out.direction);
