@@ -11,8 +11,8 @@
 //     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
 //     saw surface; quantise depth to 16 (or 8) bits; crop to the covered texels in whole cells;
 //     PBR models (issue #14) also get the ORM and emission of the same texels; alpha-tested models
-//     (issue #14) are captured at k_coverage_samples^2 samples per texel, so a texel's alpha is
-//     the fraction of it covered (reps/common/coverage_capture.h);
+//     (issue #14) may be captured at k_coverage_samples^2 samples per texel, so a texel's alpha is
+//     the fraction of it covered (reps/common/coverage_capture.h; 1 by default, microfacets.h);
 //  4. pack the crops into pages (reps::pack_views) and copy them in.
 // Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage; the
 // supersampled coverage of alpha-tested models stands for the paper's matted alpha at edges);

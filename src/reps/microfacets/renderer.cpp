@@ -36,6 +36,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace standin::microfacets {
 
@@ -351,7 +352,10 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1f(id, program->uniform("mf_radius"), package.radius);
         glProgramUniform1f(id, program->uniform("capture_resolution"), float(package.settings.resolution));
     }
-    const bool fractional = std::any_of(package.color_pages.begin(), package.color_pages.end(), has_fractional_coverage);
+    // STANDIN_MICROFACETS_FILTER_BINARY=1 (measurements only) filters binary coverage too
+    const char* filter_binary = std::getenv("STANDIN_MICROFACETS_FILTER_BINARY");
+    const bool fractional = (filter_binary && filter_binary[0] == '1') ||
+                            std::any_of(package.color_pages.begin(), package.color_pages.end(), has_fractional_coverage);
     for (const gpu::Program* program : {&r->quads_program_, &r->points_program_}) {
         GLuint id = program->id();
         glProgramUniform1i(id, program->uniform("fractional_coverage"), fractional ? 1 : 0);
