@@ -10,9 +10,12 @@
 //  3. per capture direction (the view atlas's sphere layouts, or the seed's turntable circle):
 //     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
 //     saw surface; quantise depth to 16 (or 8) bits; crop to the covered texels in whole cells;
-//     PBR models (issue #14) also get the ORM and emission of the same texels;
+//     PBR models (issue #14) also get the ORM and emission of the same texels; alpha-tested models
+//     (issue #14) may be captured at k_coverage_samples^2 samples per texel, so a texel's alpha is
+//     the fraction of it covered (reps/common/coverage_capture.h; 1 by default, microfacets.h);
 //  4. pack the crops into pages (reps::pack_views) and copy them in.
-// Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage);
+// Differences from the paper: no alpha matting (§5.2: synthetic captures have exact coverage; the
+// supersampled coverage of alpha-tested models stands for the paper's matted alpha at edges);
 // orthographic cameras (depth along the view is then affine over a facet, so eq. 1 is exact per
 // texel); 16-bit depth by default (the paper's 8 bits cap it at 256^3, §6.2).
 #include "reps/microfacets/capture.h"
@@ -20,6 +23,7 @@
 #include "reps/microfacets/microfacets.h"
 
 #include "gpu/gl.h"
+#include "reps/common/coverage_capture.h"
 
 #include <meshoptimizer.h>
 
@@ -78,7 +82,7 @@ struct Crop {
 
 // Step 3 for one capture: fill holes, quantise, crop. A texel is covered where the colour saw
 // surface and the range image has a depth (after filling); elsewhere every channel is 0.
-Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radius, bool degraded, View& view)
+Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radius, bool degraded, bool fractional, View& view)
 {
     const int n = capture.albedo.width;
     if (degraded && s.fill_holes) {
@@ -116,7 +120,8 @@ Crop encode_and_crop(SurfaceCapture& capture, const BakeSettings& s, float radiu
             if (sx < 0 || sy < 0 || sx >= n || sy >= n || !covered(sx, sy)) continue;
             std::size_t p = std::size_t(sy) * n + sx;
             std::memcpy(crop.color.at(x, y), capture.albedo.at(sx, sy), 3);
-            crop.color.at(x, y)[3] = 255;
+            // alpha: 255, or with coverage samples (alpha-tested models) the covered fraction
+            crop.color.at(x, y)[3] = fractional ? capture.albedo.at(sx, sy)[3] : std::uint8_t(255);
             if (pbr) reps::copy_material_texel(capture.material, sx, sy, crop.orm, crop.emission, x, y);
             std::uint16_t* nd = crop.normal_depth.at(x, y);
             // the capture's 8-bit normal expanded to 16 bits (reps::SurfaceImage's encoding, n * 0.5 +
@@ -174,8 +179,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         if (!made) return made.status();
         own_context = std::move(*made);
     }
+    const int samples = reps::coverage_samples(context.mesh, s.resolution, k_coverage_samples, "STANDIN_MICROFACETS_COVERAGE_SAMPLES");
     Result<std::unique_ptr<SurfaceCapturer>> capturer =
-        SurfaceCapturer::create(context.mesh, degraded ? &geometry : nullptr, sphere, s.resolution);
+        SurfaceCapturer::create(context.mesh, degraded ? &geometry : nullptr, sphere, s.resolution, samples);
     if (!capturer) return capturer.status();
 
     // capture, fill, quantise and crop every view
@@ -186,7 +192,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     for (std::size_t k = 0; k < directions.size(); ++k) {
         Result<SurfaceCapture> capture = (*capturer)->capture(directions[k]);
         if (!capture) return capture.status();
-        crops[k] = encode_and_crop(*capture, s, sphere.radius, degraded, package->views[k]);
+        crops[k] = encode_and_crop(*capture, s, sphere.radius, degraded, samples > 1, package->views[k]);
         context.progress.report("microfacets: capturing views", double(k + 1) / double(directions.size()));
     }
 

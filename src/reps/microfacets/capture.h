@@ -1,6 +1,7 @@
 // Reference images of a mesh: orthographic colour (albedo + coverage), world normal and depth from a
 // direction, rendered on the GPU by the ground-truth renderer. These are the seed's photographs and
-// range images (Yamazaki et al. 2002 §3.2.4), made from the mesh itself. The geometry the range
+// range images (Yamazaki et al. 2002 §3.2.4), made from the mesh itself; alpha-tested models are
+// captured with fractional coverage (reps/common/coverage_capture.h). The geometry the range
 // image comes from may be a different (degraded) mesh than the colour's, as a scan is worse than
 // photographs (§3.2.1).
 // Written for microfacets while src/reps/common/ does not yet hold a shared multi-view capture
@@ -24,7 +25,9 @@ struct SurfaceCapture {
     glm::vec3 direction{0, 0, 1}; // from the centre towards the camera
     glm::vec3 axis_u{1, 0, 0};    // image columns (camera right)
     glm::vec3 axis_v{0, -1, 0};   // image rows (camera down)
-    ImageRGBA8 albedo;            // sRGB albedo; A: coverage 0 / 255
+    // sRGB albedo; A: coverage 0 / 255, or with coverage samples the covered fraction (1..255 where
+    // any sample is covered)
+    ImageRGBA8 albedo;
     ImageRGBA8 normal;            // world shading normal * 0.5 + 0.5 where covered
     // Height of the geometry's surface above the centre plane along `direction` (object units),
     // valid where the geometry mesh covers the pixel.
@@ -35,13 +38,18 @@ struct SurfaceCapture {
 
 // Captures views of a sphere's content: the pixel (x, y) of a resolution^2 capture (continuous, y
 // down) lies on the plane through the centre at centre + (-r + x 2r / res) axis_u + (-r + y 2r /
-// res) axis_v. Needs a current GL context; holds the meshes' GPU copies.
+// res) axis_v. Needs a current GL context; holds the meshes' GPU copies. With `coverage_samples` f
+// > 1 (alpha-tested models, issue #14: reps::coverage_samples) every image is rendered at f x f
+// samples per pixel and box-filtered down (reps::downsample_coverage): the albedo's alpha is the
+// covered fraction, the normal and material the covered samples' mean, the range the nearest
+// covered sample's.
 class SurfaceCapturer {
 public:
     // `geometry` may be null (the range images come from `color_mesh` itself). Captures include the
     // material channels when `color_mesh` has PBR materials.
     static Result<std::unique_ptr<SurfaceCapturer>> create(const Mesh& color_mesh, const Mesh* geometry,
-                                                           const BoundingSphere& sphere, int resolution);
+                                                           const BoundingSphere& sphere, int resolution,
+                                                           int coverage_samples = 1);
     Result<SurfaceCapture> capture(glm::vec3 direction) const;
 
 private:
@@ -50,6 +58,7 @@ private:
     BoundingSphere sphere_;
     bool pbr_ = false;
     int resolution_ = 0;
+    int samples_ = 1; // capture samples per pixel side
 };
 
 } // namespace standin::microfacets

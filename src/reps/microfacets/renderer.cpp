@@ -17,7 +17,10 @@
 // per node (its §7 future work), blending weights that change continuously (its Fig. 13 popping),
 // lighting from stored normals (its lighting was fixed), 16-bit depth (its 8 bits cap it at 256^3),
 // and for PBR models (issue #14) ORM and emission pages read with the colour and lit by
-// shade_pbr_at; the programs are compiled with MF_PBR only for those packages.
+// shade_pbr_at; the programs are compiled with MF_PBR only for those packages. Packages of
+// alpha-tested models store fractional coverage (issue #14): their colour pages are premultiplied
+// here, and the walk keeps a surface where its filtered coverage reaches 1/2
+// (microfacets_sample.glsl hit_coverage); other packages render as before.
 #include "reps/microfacets/lod.h"
 #include "reps/microfacets/renderer.h"
 #include "reps/microfacets/view_lookup.h"
@@ -33,6 +36,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 namespace standin::microfacets {
 
@@ -116,6 +120,14 @@ struct DrawPlan {
     std::uint64_t capacity = 0;  // facets the lists may need (each instance: its finest level's count)
 };
 
+// Whether a page's coverage is fractional somewhere (alpha-tested models, issue #14: capture.h).
+bool has_fractional_coverage(const ImageRGBA8& page)
+{
+    for (std::size_t p = 3; p < page.pixels.size(); p += 4)
+        if (page.pixels[p] != 0 && page.pixels[p] != 255) return true;
+    return false;
+}
+
 // Colour pages, and the ORM and emission pages of PBR packages (same layout and coverage).
 Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package, const std::vector<ImageRGBA8>& pages, const char* what)
 {
@@ -125,10 +137,25 @@ Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package, const
     gpu::Texture texture(name);
     glTextureStorage3D(name, k_mip_levels, GL_RGBA8, size, size, layers);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    // coverage is 0 or 255 and empty texels are 0: the pages are already premultiplied by coverage,
-    // so mip levels average covered texels only once divided by their alpha (microfacets_sample.glsl)
-    for (std::size_t k = 0; k < pages.size(); ++k)
-        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, pages[k].pixels.data());
+    // the pages are uploaded premultiplied by their coverage, so that mip levels average covered
+    // texels only once divided by their alpha (microfacets_sample.glsl view_page). Where coverage is
+    // 0 or 255 and empty texels are 0 the stored pages already are; fractional coverage (alpha-tested
+    // models, issue #14) is multiplied in here, the package keeping straight colour.
+    std::vector<std::uint8_t> premultiplied;
+    for (std::size_t k = 0; k < pages.size(); ++k) {
+        const std::vector<std::uint8_t>& pixels = pages[k].pixels;
+        const std::uint8_t* data = pixels.data();
+        if (has_fractional_coverage(pages[k])) {
+            premultiplied.resize(pixels.size());
+            for (std::size_t p = 0; p < pixels.size(); p += 4) {
+                unsigned a = pixels[p + 3];
+                for (int c = 0; c < 3; ++c) premultiplied[p + c] = std::uint8_t((pixels[p + c] * a + 127) / 255);
+                premultiplied[p + 3] = std::uint8_t(a);
+            }
+            data = premultiplied.data();
+        }
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data);
+    }
     glGenerateTextureMipmap(name);
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST); // magnified: the exact texel eq. 1 tested
@@ -325,8 +352,13 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1f(id, program->uniform("mf_radius"), package.radius);
         glProgramUniform1f(id, program->uniform("capture_resolution"), float(package.settings.resolution));
     }
+    // STANDIN_MICROFACETS_FILTER_BINARY=1 (measurements only) filters binary coverage too
+    const char* filter_binary = std::getenv("STANDIN_MICROFACETS_FILTER_BINARY");
+    const bool fractional = (filter_binary && filter_binary[0] == '1') ||
+                            std::any_of(package.color_pages.begin(), package.color_pages.end(), has_fractional_coverage);
     for (const gpu::Program* program : {&r->quads_program_, &r->points_program_}) {
         GLuint id = program->id();
+        glProgramUniform1i(id, program->uniform("fractional_coverage"), fractional ? 1 : 0);
         glProgramUniform1f(id, program->uniform("page_size"), float(package.settings.page_size));
         glProgramUniform1i(id, program->uniform("max_color_lod"), k_mip_levels - 1);
         glProgramUniform1i(id, program->uniform("debug_view"), int(config.debug_view));

@@ -16,18 +16,18 @@
 //  - default 1280 views (k = 3) of 256² instead of 5120 of 512²: a bunny package stays well under
 //    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options;
 //  - models with alpha-tested materials (issue #14) are captured at k_coverage_samples times the
-//    resolution per side and box-filtered down (coverage_samples, downsample_capture): a texel's
+//    resolution per side and box-filtered down (reps/common/coverage_capture.h): a texel's
 //    alpha is the fraction of it the alpha-tested surface covers, so that the renderer can place a
 //    leaf's cut-out edge inside a texel (atlas.frag, hit_coverage) instead of on texel borders.
 //    Other models keep one sample per texel (binary coverage), so their packages do not change.
 #include "reps/view_atlas/view_atlas.h"
 
 #include "gpu/gl.h"
+#include "reps/common/coverage_capture.h"
 #include "reps/common/material_capture.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 
 namespace standin::view_atlas {
@@ -84,7 +84,7 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const reps::
             if (sx < 0 || sy < 0 || sx >= n || sy >= n) continue;
             const std::uint8_t* c = color.color.at(sx, sy);
             if (c[3] == 0) continue;
-            std::memcpy(out.color.at(x, y), c, 4); // alpha: 255, or the covered fraction (downsample_capture)
+            std::memcpy(out.color.at(x, y), c, 4); // alpha: 255, or the covered fraction (reps::downsample_coverage)
             if (material) reps::copy_material_texel(*material, sx, sy, out.orm, out.emission, x, y);
             if (!normals) continue;
             std::uint8_t* nd = out.normal_depth.at(x, y);
@@ -95,72 +95,6 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const reps::
             nd[3] = std::uint8_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * 255.0f));
         }
     }
-}
-
-// Capture samples per texel side: 1 for models without alpha-tested materials, else
-// k_coverage_samples (STANDIN_ATLAS_COVERAGE_SAMPLES, 1..8, overrides it for measurements), as far
-// as the capture stays within 8192² pixels.
-int coverage_samples(const Mesh& mesh, int resolution)
-{
-    bool masked = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                              [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
-    if (!masked) return 1;
-    int samples = k_coverage_samples;
-    if (const char* text = std::getenv("STANDIN_ATLAS_COVERAGE_SAMPLES")) {
-        int n = std::atoi(text);
-        if (n >= 1 && n <= 8) samples = n;
-    }
-    return std::clamp(8192 / resolution, 1, samples);
-}
-
-// Box-filters captures made at f times the resolution per side to one texel per f x f block:
-// alpha = the covered fraction (at least 1 where any sample is covered), colour, normal and
-// material = the mean of the covered samples, depth = the nearest covered sample's (the walk's
-// height field keeps the front surface of a texel that holds an edge).
-void downsample_capture(RenderedImage& color, RenderedImage* normals, reps::MaterialImages* material, int f)
-{
-    if (f == 1) return;
-    const int big = color.color.width, n = big / f;
-    RenderedImage small;
-    small.color = ImageRGBA8(n, n);
-    small.depth.assign(std::size_t(n) * n, 1.0f);
-    ImageRGBA8 normal(normals ? n : 0, normals ? n : 0);
-    reps::MaterialImages material_small;
-    if (material) material_small.orm = ImageRGBA8(n, n), material_small.emission = ImageRGBA8(n, n);
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            unsigned count = 0, sums[4][3] = {};
-            float nearest = 1.0f;
-            for (int j = 0; j < f; ++j)
-                for (int i = 0; i < f; ++i) {
-                    int sx = x * f + i, sy = y * f + j;
-                    const std::uint8_t* c = color.color.at(sx, sy);
-                    if (c[3] == 0) continue;
-                    ++count;
-                    nearest = std::min(nearest, color.depth[std::size_t(sy) * big + sx]);
-                    const std::uint8_t* sources[4] = {c, normals ? normals->color.at(sx, sy) : nullptr,
-                                                      material ? material->orm.at(sx, sy) : nullptr,
-                                                      material ? material->emission.at(sx, sy) : nullptr};
-                    for (int m = 0; m < 4; ++m)
-                        if (sources[m])
-                            for (int k = 0; k < 3; ++k) sums[m][k] += sources[m][k];
-                }
-            if (count == 0) continue;
-            std::uint8_t* targets[4] = {small.color.at(x, y), normals ? normal.at(x, y) : nullptr,
-                                        material ? material_small.orm.at(x, y) : nullptr,
-                                        material ? material_small.emission.at(x, y) : nullptr};
-            for (int m = 0; m < 4; ++m) {
-                if (!targets[m]) continue;
-                for (int k = 0; k < 3; ++k) targets[m][k] = std::uint8_t((sums[m][k] + count / 2) / count);
-                targets[m][3] = 255;
-            }
-            const unsigned samples = unsigned(f * f);
-            small.color.at(x, y)[3] = std::uint8_t(std::max(1u, (count * 255 + samples / 2) / samples));
-            small.depth[std::size_t(y) * n + x] = nearest;
-        }
-    color = std::move(small);
-    if (normals) normals->color = std::move(normal);
-    if (material) *material = std::move(material_small);
 }
 
 void copy_into_page(const ImageRGBA8& crop, ImageRGBA8& page, int x, int y)
@@ -191,7 +125,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const bool normals = s.maps == "surface";
     // lit maps hold the truth's shading, PBR included; only surface maps are relit
     const bool pbr = normals && context.mesh.has_pbr_materials();
-    const int samples = coverage_samples(context.mesh, s.resolution);
+    // STANDIN_ATLAS_COVERAGE_SAMPLES (1..8) overrides k_coverage_samples for measurements
+    const int samples = reps::coverage_samples(context.mesh, s.resolution, k_coverage_samples, "STANDIN_ATLAS_COVERAGE_SAMPLES");
     const int capture_size = s.resolution * samples;
     std::unique_ptr<RenderTarget> material_target; // one for every view's material capture
     if (pbr) {
@@ -242,7 +177,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
             if (!captured) return captured.status();
             material = std::move(*captured);
         }
-        downsample_capture(*color, normals ? &normal : nullptr, pbr ? &material : nullptr, samples);
+        reps::downsample_coverage(color->color, {normals ? &normal.color : nullptr, pbr ? &material.orm : nullptr, pbr ? &material.emission : nullptr},
+                                  &color->depth, samples);
         float eye_distance = glm::dot(camera.eye_world - sphere.center, view.direction);
         crop(*color, normals ? &normal : nullptr, pbr ? &material : nullptr, camera, eye_distance, sphere, view, captures[k]);
         context.progress.report("view atlas: capturing views", double(k + 1) / double(directions.size()));

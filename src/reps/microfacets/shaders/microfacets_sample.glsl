@@ -1,8 +1,11 @@
 // Microfacets: reading a captured view at a point of a facet, with the clipping rule of Yamazaki et
 // al. 2002 eq. 1 (a texel is kept where the view's stored surface lies within W/2 of the facet,
-// measured along the view, §3.3.3). Shared by the quads' fragment stage and the points' vertex
+// measured along the view, §3.3.3). Beyond the paper: packages of alpha-tested models store each
+// texel's covered fraction, and a surface point is kept where that coverage, filtered bilinearly,
+// reaches 1/2 (hit_coverage, issue #14), so cut-out edges fall inside texels. Shared by the quads' fragment stage and the points' vertex
 // stage. Include after microfacets.glsl.
 #include "reps/common/shaders/height_field.glsl"
+#include "reps/common/shaders/coverage.glsl"
 
 layout(binding = MF_COLOR_TEXTURE) uniform sampler2DArray color_pages;
 layout(binding = MF_NORMAL_DEPTH_TEXTURE) uniform sampler2DArray normal_depth_pages;
@@ -17,6 +20,10 @@ layout(binding = MF_EMISSION_TEXTURE) uniform sampler2DArray emission_pages;
 uniform float page_size;  // texels per page side
 uniform int max_color_lod; // mip levels of the colour pages that never mix two crops
 uniform int clip_rule;     // MF_CLIP_*
+// 1: the colour pages' alpha holds fractional coverage (alpha-tested models, issue #14): a surface
+// is kept where its filtered coverage reaches 1/2 (hit_coverage); 0: binary coverage, every covered
+// texel is surface (renderer.cpp sets it from the pages)
+uniform int fractional_coverage;
 
 uint g_fetches = 0u;
 
@@ -62,6 +69,41 @@ void view_material(ViewData view, ivec2 at, float lod, inout ViewSample s)
 }
 
 
+// The coverage of the view's surface at object-space point `surface` (issue #14): the colour pages'
+// alpha (the covered fraction of each texel, capture.h) of the four texels around the point,
+// filtered bilinearly among those holding the same surface (reps/common/shaders/coverage.glsl).
+float hit_coverage(ViewData view, vec3 surface)
+{
+    const float texel = 2.0 * mf_radius / capture_resolution, quantum = 2.0 * mf_radius / HF_DEPTH_CODES;
+    vec3 dir = view.direction.xyz;
+    vec2 p = capture_pixel(view, surface) - 0.5;
+    ivec2 base = ivec2(floor(p));
+    bvec4 covered = bvec4(false);
+    vec4 heights = vec4(0.0), tolerances = vec4(0.0), alphas = vec4(0.0);
+    for (int k = 0; k < 4; ++k) {
+        ivec2 cell = base + ivec2(k & 1, k >> 1);
+        if (any(lessThan(cell, view.crop.xy)) || any(greaterThanEqual(cell, view.crop.xy + view.crop.zw))) continue;
+        ivec3 at = ivec3(view.atlas.yz + cell - view.crop.xy, view.atlas.x);
+        vec4 nd = texelFetch(normal_depth_pages, at, 0);
+        g_fetches += 2u;
+        if (nd.r + nd.g + nd.b == 0.0) continue;
+        vec3 normal = decode_normal(nd.rgb);
+        covered[k] = true;
+        heights[k] = stored_height(nd.a);
+        tolerances[k] = hf_coverage_tolerance(hf_slope(dot(normal, view.axis_u.xyz), dot(normal, dir)),
+                                              hf_slope(dot(normal, view.axis_v.xyz), dot(normal, dir)), texel, quantum);
+        alphas[k] = texelFetch(color_pages, at, 0).a;
+    }
+    return hf_filtered_coverage(p - vec2(base), dot(surface - mf_center, dir), covered, heights, tolerances, alphas);
+}
+
+// Whether a surface point a view stored counts as surface: always with binary coverage, else where
+// its filtered coverage reaches 1/2, the truth's alpha-test rule.
+bool covered_enough(ViewData view, vec3 surface)
+{
+    return fractional_coverage == 0 || hit_coverage(view, surface) >= 0.5;
+}
+
 // The view's sample at facet point p (object space) for the facet of the voxel at `center` of size
 // w; `lod` is the colour's mip level (<= 0: the exact texel; above: the covered texels around it,
 // averaged through the pages' coverage-premultiplied mips).
@@ -82,6 +124,7 @@ ViewSample sample_view(ViewData view, vec3 p, vec3 center, float w, float lod)
     // surface point is drawn by one facet, not by every facet whose square reaches over it
     if (clip_rule == MF_CLIP_VOXEL && any(greaterThan(abs(s.surface - center), vec3(0.5 * w + 2.0 * mf_radius / capture_resolution))))
         return s;
+    if (lod <= 0.0 && !covered_enough(view, s.surface)) return s; // beside a cut-out's edge
     s.passed = true;
     s.normal = decode_normal(nd.rgb);
     s.color = view_color(view, at, lod);
@@ -158,7 +201,9 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
                 }
                 vec2 crossing = hf_cross_column(s_in, s_in, s_out, z0 + mf_radius, z1 - z0, top, linked, previous_top);
                 if (crossing.y == HF_UNDER) return RAY_HIDDEN;
-                if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
+                // a crossing where the surface's filtered coverage is under 1/2 is no hit: the ray
+                // passes beside a cut-out's edge there and walks on
+                if ((crossing.y == HF_TOP || crossing.y == HF_WALL) && covered_enough(view, mix(p0, p1, crossing.x))) {
                     s.passed = true;
                     s.surface = mix(p0, p1, crossing.x);
                     s.normal = normal;

@@ -20,6 +20,7 @@
 #include "gpu/shaders/common/lighting.glsl"
 #include "gpu/shaders/common/counters.glsl"
 #include "reps/common/shaders/height_field.glsl"
+#include "reps/common/shaders/coverage.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 flat in ivec3 v_views;
@@ -204,33 +205,28 @@ bool linked(vec4 a, vec4 b, int axis, float texel)
 
 // The coverage of the surface at height `height` at plane point `plane` of a view (issue #14): the
 // colour pages' alpha (for alpha-tested models the covered fraction of each texel, bake.cpp) of the
-// four texels around the point, filtered bilinearly as the truth's alpha test filters its texture,
-// so that a cut-out's edge falls where the filtered coverage crosses 1/2, inside a texel, instead of
-// on texel borders. A neighbour of the same surface (the link rule's step and a texel) adds its
-// alpha; an empty neighbour or one holding a surface behind adds none (the front surface would
-// have been stored there); one holding a nearer surface tells nothing about this one and is left
-// out of the weights. Binary packages get the contour half-way between covered and empty texel
-// centres (their old edge on texel borders, with corners cut).
+// four texels around the point, filtered bilinearly among those of the same surface as the truth's
+// alpha test filters its texture (reps/common/shaders/coverage.glsl, shared with microfacets), so
+// that a cut-out's edge falls where the filtered coverage crosses 1/2, inside a texel, instead of on
+// texel borders. Binary packages get the contour half-way between covered and empty texel centres
+// (their old edge on texel borders, with corners cut).
 float hit_coverage(ViewData view, vec2 plane, float height)
 {
     float texel = 2.0 * half_extent / resolution;
     vec2 p = capture_from_plane(plane) - 0.5;
     ivec2 base = ivec2(floor(p));
-    vec2 f = p - vec2(base);
-    float coverage = 0.0, weight_sum = 0.0;
+    bvec4 covered = bvec4(false);
+    vec4 heights = vec4(0.0), tolerances = vec4(0.0), alphas = vec4(0.0);
     for (int k = 0; k < 4; ++k) {
         ivec2 corner = ivec2(k & 1, k >> 1);
-        float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y);
         vec4 t = height_texel(view, base + corner);
-        if (t.x > 0.5) {
-            float tolerance = hf_link_tolerance(t.z, t.w, texel, depth_quantum()) + texel;
-            if (t.y > height + tolerance) continue;
-            if (t.y >= height - tolerance)
-                coverage += w * fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
-        }
-        weight_sum += w;
+        if (t.x <= 0.5) continue;
+        covered[k] = true;
+        heights[k] = t.y;
+        tolerances[k] = hf_coverage_tolerance(t.z, t.w, texel, depth_quantum());
+        alphas[k] = fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
     }
-    return weight_sum > 0.0 ? coverage / weight_sum : 1.0;
+    return hf_filtered_coverage(p - vec2(base), height, covered, heights, tolerances, alphas);
 }
 
 // Intersects ray o + t d (object space) with one view's height field: a digital walk over the
