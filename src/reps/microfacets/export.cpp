@@ -135,6 +135,16 @@ struct ExportFaceSums {
     std::int64_t point[3] = {0, 0, 0}; // surface point in grid units (voxels) * k_export_point_scale
 };
 
+// Per voxel, with --planes: the samples whose surface point it holds (count, linear colour and point
+// as in ExportFaceSums, unweighted) and the normals' second moments n n^T (xx yy zz xy xz yz, in
+// 1/32767): its principal direction is the plane's normal whatever side each view saw a leaf from.
+struct ExportCellSums {
+    std::int64_t count = 0;
+    std::int64_t color[3] = {0, 0, 0};
+    std::int64_t point[3] = {0, 0, 0};
+    std::int64_t tensor[6] = {0, 0, 0, 0, 0, 0};
+};
+
 void export_add(ExportFaceSums& sums, std::int64_t weight, const std::int64_t color[3], const std::int64_t normal[3],
                 const std::int64_t point[3])
 {
@@ -206,6 +216,9 @@ std::vector<OptionSpec> export_options()
                        "Coverage texels per face side: a double-sided alpha MASK texture keeps what the captured "
                        "views see of each face, so surfaces thinner than a voxel (leaves) are not drawn as whole "
                        "voxels (0: opaque faces, vertex colours only)"),
+        flag_option("planes", false,
+                    "One square per voxel in the plane of the surface its views saw, cut out by their coverage "
+                    "(foliage: no parallax between face and leaf), instead of the closed voxel surface"),
         flag_option("snap", true,
                     "Move each voxel corner onto the captured surface (the mean surface point its faces' "
                     "texels hit), so the silhouette follows the surface instead of standing up to a voxel proud of it"),
@@ -287,6 +300,8 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         linear_code[std::size_t(c)] = std::lround(v * k_export_color_scale);
     }
     std::vector<ExportFaceSums> sums(faces.size());
+    const bool planes = options.flag("planes");
+    std::vector<ExportCellSums> cell_sums(planes ? codes.size() : 0);
     const ExportWalk walk{outside, grid.origin, voxel};
     tbb::parallel_for(std::size_t(0), package.views.size(), [&](std::size_t k) {
         const View& view = package.views[k];
@@ -304,6 +319,28 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 glm::vec3 q = package.center + plane.x * view.axis_u + plane.y * view.axis_v + h * d;
                 auto [c, side] = walk.exit(q, d);
                 if (side < 0) continue;
+                if (planes) {
+                    // --planes: the sums go to the occupied voxel that holds the surface point
+                    const glm::ivec3 start = walk.cell_of(q);
+                    if (!walk.solid(start)) continue;
+                    auto at = std::lower_bound(codes.begin(), codes.end(), morton_encode(glm::uvec3(start)));
+                    if (at == codes.end() || *at != morton_encode(glm::uvec3(start))) continue;
+                    glm::vec3 sn = reps::decode_normal(nd);
+                    const std::int64_t colour_code[3] = {linear_code[rgba[0]], linear_code[rgba[1]], linear_code[rgba[2]]};
+                    glm::vec3 g = (q - grid.origin) / voxel * k_export_point_scale;
+                    const std::int64_t where[3] = {std::llround(g.x), std::llround(g.y), std::llround(g.z)};
+                    ExportCellSums& into = cell_sums[std::size_t(at - codes.begin())];
+                    std::atomic_ref<std::int64_t>(into.count).fetch_add(1, std::memory_order_relaxed);
+                    for (int a = 0; a < 3; ++a) {
+                        std::atomic_ref<std::int64_t>(into.color[a]).fetch_add(colour_code[a], std::memory_order_relaxed);
+                        std::atomic_ref<std::int64_t>(into.point[a]).fetch_add(where[a], std::memory_order_relaxed);
+                    }
+                    const int pairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+                    for (int e = 0; e < 6; ++e)
+                        std::atomic_ref<std::int64_t>(into.tensor[e]).fetch_add(
+                            std::llround(double(sn[pairs[e][0]]) * double(sn[pairs[e][1]]) * double(k_export_normal_scale)), std::memory_order_relaxed);
+                    continue;
+                }
                 auto it = std::lower_bound(codes.begin(), codes.end(), morton_encode(glm::uvec3(c)));
                 if (it == codes.end() || *it != morton_encode(glm::uvec3(c))) continue; // a cavity cell never borders the outside
                 std::int32_t f = face_of[std::size_t(it - codes.begin()) * 6 + std::size_t(side)];
@@ -368,6 +405,131 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         }
         return grid.origin + lattice * voxel;
     };
+
+    // --planes: one square per seen voxel in the plane of the surface its views saw (the mean surface
+    // point and the mean captured normal, normals of the voxel's faces sign-aligned so that the two
+    // sides of a leaf do not cancel), side sqrt(3) W about the voxel centre's projection (so the
+    // voxel's whole cross-section), textured with the coverage the views give each texel: covered
+    // where a view's texel there is covered at the texel's own depth (within half a voxel: the
+    // renderer's eq. 1 clip), empty where it is empty or deeper, silent where the surface is in
+    // front; texels more than half a voxel outside the voxel are empty (neighbours' squares overlap
+    // by that much, so that squares of differently tilted planes leave no cracks between them; the
+    // depth test keeps the overlap on the surface). The facets of the paper, frozen in one orientation
+    // per voxel: no parallax on flat surfaces (leaves), but not a closed surface.
+    if (planes) {
+        const int side = std::max(options.integer("cutout"), 1), tile_side = side + 2;
+        const std::size_t texels = std::size_t(side) * std::size_t(side);
+        std::vector<std::uint8_t> plane_coverage(codes.size() * texels, 0);
+        std::vector<glm::vec3> plane_center(codes.size()), plane_normal(codes.size()), plane_u(codes.size()), plane_v(codes.size());
+        std::vector<char> drawn(codes.size(), 0);
+        const float tolerance = k_export_cutout_depth_tolerance * voxel, half = 0.5f * std::sqrt(3.0f) * voxel;
+        tbb::parallel_for(std::size_t(0), codes.size(), [&](std::size_t v) {
+            const ExportCellSums& cs = cell_sums[v];
+            if (cs.count == 0) return;
+            const double m[6] = {double(cs.tensor[0]), double(cs.tensor[1]), double(cs.tensor[2]),
+                                 double(cs.tensor[3]), double(cs.tensor[4]), double(cs.tensor[5])};
+            // power iteration from the axis of the largest diagonal entry: the principal direction
+            glm::dvec3 e(0.0);
+            e[m[0] >= m[1] && m[0] >= m[2] ? 0 : (m[1] >= m[2] ? 1 : 2)] = 1.0;
+            for (int iteration = 0; iteration < 32; ++iteration) {
+                const glm::dvec3 next(m[0] * e.x + m[3] * e.y + m[4] * e.z, m[3] * e.x + m[1] * e.y + m[5] * e.z,
+                                      m[4] * e.x + m[5] * e.y + m[2] * e.z);
+                if (glm::length(next) == 0.0) return;
+                e = glm::normalize(next);
+            }
+            const glm::vec3 n(e);
+            const glm::vec3 mean = grid.origin + glm::vec3(double(cs.point[0]), double(cs.point[1]), double(cs.point[2])) /
+                                                     float(double(cs.count) * double(k_export_point_scale)) * voxel;
+            const glm::vec3 cell_center = grid.center(codes[v], level);
+            const glm::vec3 c = cell_center - glm::dot(cell_center - mean, n) * n;
+            const glm::vec3 helper = std::abs(n.x) < 0.6f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+            const glm::vec3 u = glm::normalize(glm::cross(n, helper)), w = glm::cross(n, u);
+            plane_center[v] = c, plane_normal[v] = n, plane_u[v] = u, plane_v[v] = w;
+            drawn[v] = 1;
+            const glm::vec3 lo = cell_center - voxel, hi = cell_center + voxel;
+            std::vector<float> covered(texels, 0.0f), voted(texels, 0.0f);
+            for (const View& view : package.views) {
+                const float cosine = std::abs(glm::dot(view.direction, n));
+                if (view.width == 0 || cosine < k_export_cutout_min_cosine) continue;
+                const ImageRGBA8& colors = package.color_pages[std::size_t(view.page)];
+                const ImageRGBA16& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
+                for (int j = 0; j < side; ++j)
+                    for (int i = 0; i < side; ++i) {
+                        const glm::vec3 x = c + half * ((2.0f * (float(i) + 0.5f) / float(side) - 1.0f) * u +
+                                                        (2.0f * (float(j) + 0.5f) / float(side) - 1.0f) * w);
+                        if (glm::any(glm::lessThan(x, lo)) || glm::any(glm::greaterThan(x, hi))) continue;
+                        const glm::vec3 rel = x - package.center;
+                        const float su = glm::dot(rel, view.axis_u), sv = glm::dot(rel, view.axis_v), height = glm::dot(rel, view.direction);
+                        const int px = int(std::floor((su + r) / texel)) - view.crop_x, py = int(std::floor((sv + r) / texel)) - view.crop_y;
+                        bool hit = false;
+                        if (px >= 0 && py >= 0 && px < view.width && py < view.height && colors.at(view.atlas_x + px, view.atlas_y + py)[3] != 0) {
+                            const float h = r - 2.0f * r * reps::decode_depth(normal_depth.at(view.atlas_x + px, view.atlas_y + py)[3]);
+                            hit = std::abs(h - height) <= tolerance;
+                            if (!hit && h > height) continue; // hidden from this view
+                        }
+                        const std::size_t t = std::size_t(j) * std::size_t(side) + std::size_t(i);
+                        voted[t] += cosine;
+                        if (hit) covered[t] += cosine;
+                    }
+            }
+            for (std::size_t t = 0; t < texels; ++t)
+                if (voted[t] > 0.0f) plane_coverage[v * texels + t] = std::uint8_t(std::lround(255.0f * covered[t] / voted[t]));
+        });
+        // tiles: one per drawn voxel with any covered texel; voxels with none are left out
+        std::vector<std::uint32_t> plane_tile(codes.size(), 0);
+        std::uint32_t plane_tiles = 0;
+        for (std::size_t v = 0; v < codes.size(); ++v) {
+            const std::uint8_t* a = &plane_coverage[v * texels];
+            if (drawn[v] && std::any_of(a, a + texels, [](std::uint8_t c) { return c >= 128; })) plane_tile[v] = plane_tiles++;
+            else drawn[v] = 0;
+        }
+        if (plane_tiles == 0) return error(StatusCode::bad_data, name + ": no view saw surface in the voxels of level " + std::to_string(level));
+        const int columns = int(std::ceil(std::sqrt(double(plane_tiles)))), rows = (int(plane_tiles) + columns - 1) / columns;
+        ImageRGBA8 plane_atlas(columns * tile_side, rows * tile_side);
+        ExportMesh planes;
+        planes.name = "microfacets";
+        planes.base_color_texture = 0;
+        planes.alpha_mode = "MASK";
+        planes.double_sided = true;
+        const float aw = float(columns * tile_side), ah = float(rows * tile_side);
+        for (std::size_t v = 0; v < codes.size(); ++v) {
+            if (!drawn[v]) continue;
+            const int ox = int(plane_tile[v]) % columns * tile_side, oy = int(plane_tile[v]) / columns * tile_side;
+            for (int y = 0; y < tile_side; ++y)
+                for (int x = 0; x < tile_side; ++x) {
+                    const int i = std::clamp(x - 1, 0, side - 1), j = std::clamp(y - 1, 0, side - 1);
+                    std::uint8_t* out = plane_atlas.at(ox + x, oy + y);
+                    out[0] = out[1] = out[2] = 255;
+                    out[3] = plane_coverage[v * texels + std::size_t(j) * std::size_t(side) + std::size_t(i)];
+                }
+            glm::vec4 colour(1.0f);
+            for (int c = 0; c < 3; ++c) colour[c] = float(double(cell_sums[v].color[c]) / double(cell_sums[v].count) / double(k_export_color_scale));
+            const auto first = std::uint32_t(planes.positions.size());
+            for (glm::vec2 corner : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
+                planes.positions.push_back(plane_center[v] + half * ((2.0f * corner.x - 1.0f) * plane_u[v] + (2.0f * corner.y - 1.0f) * plane_v[v]));
+                planes.normals.push_back(plane_normal[v]);
+                planes.colors.push_back(colour);
+                planes.uvs.push_back({(float(ox + 1) + corner.x * float(side)) / aw, (float(oy + 1) + corner.y * float(side)) / ah});
+            }
+            for (std::uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) planes.indices.push_back(first + k);
+        }
+        Result<ExportTexture> texture = make_export_texture("microfacets_coverage", plane_atlas);
+        if (!texture) return texture.status();
+        ExportScene plane_scene;
+        plane_scene.textures.push_back(std::move(*texture));
+        planes.extras["standin"] = {{"role", "mesh"},          {"level", level},         {"voxel_size", voxel},
+                                    {"grid_origin", {grid.origin.x, grid.origin.y, grid.origin.z}},
+                                    {"grid_size", grid.size},  {"voxels", codes.size()}, {"planes", plane_tiles},
+                                    {"cutout", side},          {"baked_levels", {s.min_level, s.level}},
+                                    {"views", package.views.size()}};
+        char plane_line[320];
+        std::snprintf(plane_line, sizeof plane_line,
+                      "microfacets level %d (%d^3, %s): %zu voxels as %u surface planes (a %dx%d coverage atlas, %d^2 texels each)", level,
+                      n, level_reason.c_str(), codes.size(), plane_tiles, columns * tile_side, rows * tile_side, side);
+        plane_scene.notes.push_back(plane_line);
+        plane_scene.meshes.push_back(std::move(planes));
+        return plane_scene;
+    }
 
     // step 6, cut-outs (--cutout T > 0): T x T coverage texels per face, each voted by the captured
     // views that face it (cosine at least k_export_cutout_min_cosine, weighted by it). A view says
