@@ -153,7 +153,7 @@ TEST(MicrofacetsExport, FacesKeepTheCutOutsTheCapturesSaw)
     for (std::size_t face = 0; face < 6; ++face) {
         // corners in the exported order: which lattice axis is x, so where the leaf's half lies
         const glm::vec3* p = &mesh.positions[face * 4];
-        const glm::vec3 normal = glm::cross(p[1] - p[0], p[3] - p[0]);
+        const glm::vec3 normal = glm::normalize(glm::cross(p[1] - p[0], p[3] - p[0]));
         const bool horizontal = std::abs(normal.z) > 0.5f;
         for (float s : {0.125f, 0.375f, 0.625f, 0.875f})
             for (float t : {0.125f, 0.375f, 0.625f, 0.875f}) {
@@ -161,6 +161,48 @@ TEST(MicrofacetsExport, FacesKeepTheCutOutsTheCapturesSaw)
                 EXPECT_EQ(covered(face, s, t), horizontal && x < 0.3125f) << "face " << face << " at " << s << ", " << t;
             }
     }
+}
+
+TEST(MicrofacetsExport, PlanesLieOnTheLeafAndKeepItsHalf)
+{
+    const MicrofacetsPackage package = export_leaf_package();
+    OptionValues given;
+    given.set("planes", "true");
+    given.set("cutout", "4");
+    const std::vector<OptionSpec> specs = export_options();
+    Result<Options> options = Options::parse(specs, given, "microfacets export");
+    ASSERT_TRUE(options) << options.status().message();
+    Result<ExportScene> scene = export_scene(package, *options);
+    ASSERT_TRUE(scene) << scene.status().message();
+    const ExportMesh& mesh = scene->meshes[0];
+    // one square, in the leaf's plane
+    ASSERT_EQ(mesh.positions.size(), 4u);
+    EXPECT_EQ(mesh.alpha_mode, "MASK");
+    for (const glm::vec3& p : mesh.positions) EXPECT_NEAR(p.z, 9.0f / 16.0f, 1e-3f);
+    const std::string png = test::fresh_directory("microfacets_export_plane") + "/coverage.png";
+    ASSERT_TRUE(write_file_atomic(png, scene->textures[0].png));
+    Result<ImageRGBA8> atlas = read_png_rgba8(png);
+    ASSERT_TRUE(atlas);
+    // covered over the leaf (x in [1/4, 5/16), y in the voxel), empty beside it: at the texel
+    // centres more than a capture texel (1/64) from the leaf's edges
+    int inside = 0, outside = 0;
+    const float margin = 1.0f / 64.0f;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const float s = (float(i) + 0.5f) / 4.0f, t = (float(j) + 0.5f) / 4.0f;
+            const glm::vec3 p = mesh.positions[0] + s * (mesh.positions[1] - mesh.positions[0]) + t * (mesh.positions[3] - mesh.positions[0]);
+            const glm::vec2 uv = mesh.uvs[0] + s * (mesh.uvs[1] - mesh.uvs[0]) + t * (mesh.uvs[3] - mesh.uvs[0]);
+            const bool covered = atlas->at(int(uv.x * float(atlas->width)), int(uv.y * float(atlas->height)))[3] >= 128;
+            if (p.x > 0.25f + margin && p.x < 0.3125f - margin && p.y > 0.25f + margin && p.y < 0.375f - margin) {
+                EXPECT_TRUE(covered) << p.x << ", " << p.y;
+                ++inside;
+            } else if (p.x > 0.3125f + margin || p.x < 0.25f - margin || p.y > 0.375f + margin || p.y < 0.25f - margin) {
+                EXPECT_FALSE(covered) << p.x << ", " << p.y;
+                ++outside;
+            }
+        }
+    EXPECT_GT(inside, 0);
+    EXPECT_GT(outside, 0);
 }
 
 } // namespace
