@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -260,6 +261,33 @@ double silhouette_iou(Renderer& truth, Renderer& standin, const Mesh& mesh)
     return sum / 3.0;
 }
 
+// The disc card's silhouette IoU baked at one capture sample per texel (binary coverage) and at
+// `fractional` samples (nullptr: the representation's default), set through the representation's
+// measurement switch `samples_variable`.
+std::array<double, 2> disc_iou_binary_and_fractional(const char* representation, const char* samples_variable,
+                                                     const char* fractional,
+                                                     const std::vector<std::pair<std::string, std::string>>& values)
+{
+    test::gpu_context();
+    const Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    auto truth = make_mesh_renderer(leaf);
+    EXPECT_TRUE(truth.is_ok());
+    std::array<double, 2> iou = {0.0, 0.0};
+    if (!truth.is_ok()) return iou;
+    for (int k = 0; k < 2; ++k) {
+        if (k == 0 || fractional) setenv(samples_variable, k == 0 ? "1" : fractional, 1);
+        std::unique_ptr<Package> package = test::bake(leaf, representation, values);
+        unsetenv(samples_variable);
+        EXPECT_TRUE(package);
+        if (!package) return iou;
+        auto standin = make_package_renderer(*package, {});
+        EXPECT_TRUE(standin.is_ok()) << standin.status().message();
+        if (!standin.is_ok()) return iou;
+        iou[std::size_t(k)] = silhouette_iou(**truth, **standin, leaf);
+    }
+    return iou;
+}
+
 // The view atlas places a cut-out's edge inside its capture texels (issue #14): alpha-tested models
 // are captured with 2 x 2 samples per texel, the texel's alpha is the covered fraction, and the
 // corrected walk filters it bilinearly at the hit and keeps the hit where it reaches 1/2. With one
@@ -267,21 +295,8 @@ double silhouette_iou(Renderer& truth, Renderer& standin, const Mesh& mesh)
 // contour is quantised to texels. Coarse 64^2 captures make the texel ~5 pixels on screen.
 TEST(AlphaViewAtlas, FractionalCoverageMovesTheCutOutEdgeInsideTexels)
 {
-    test::gpu_context();
-    const Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
-    const std::vector<std::pair<std::string, std::string>> values = {{"resolution", "64"}, {"subdivisions", "1"}, {"page-size", "512"}};
-    auto truth = make_mesh_renderer(leaf);
-    ASSERT_TRUE(truth.is_ok());
-    double iou[2] = {0.0, 0.0};
-    for (int k = 0; k < 2; ++k) {
-        if (k == 0) setenv("STANDIN_ATLAS_COVERAGE_SAMPLES", "1", 1);
-        std::unique_ptr<Package> package = test::bake(leaf, "view-atlas", values);
-        unsetenv("STANDIN_ATLAS_COVERAGE_SAMPLES");
-        ASSERT_TRUE(package);
-        auto standin = make_package_renderer(*package, {});
-        ASSERT_TRUE(standin.is_ok()) << standin.status().message();
-        iou[k] = silhouette_iou(**truth, **standin, leaf);
-    }
+    const std::array<double, 2> iou = disc_iou_binary_and_fractional(
+        "view-atlas", "STANDIN_ATLAS_COVERAGE_SAMPLES", nullptr, {{"resolution", "64"}, {"subdivisions", "1"}, {"page-size", "512"}});
     std::printf("[alpha view atlas] disc IoU: binary coverage %.4f, fractional %.4f\n", iou[0], iou[1]);
     // measured on llvmpipe: binary 0.9654, fractional 0.9824 (docs/RESULTS.md "Fractional coverage
     // in the view atlas"); main's binary walk read every texel as covered or not, like iou[0]
@@ -297,22 +312,9 @@ TEST(AlphaViewAtlas, FractionalCoverageMovesTheCutOutEdgeInsideTexels)
 // make the texel ~5 pixels on screen; 32^3 voxels.
 TEST(AlphaMicrofacets, FractionalCoverageMovesTheCutOutEdgeInsideTexels)
 {
-    test::gpu_context();
-    const Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
-    const std::vector<std::pair<std::string, std::string>> values = {
-        {"resolution", "64"}, {"subdivisions", "1"}, {"level", "5"}, {"page-size", "512"}};
-    auto truth = make_mesh_renderer(leaf);
-    ASSERT_TRUE(truth.is_ok());
-    double iou[2] = {0.0, 0.0};
-    for (int k = 0; k < 2; ++k) {
-        setenv("STANDIN_MICROFACETS_COVERAGE_SAMPLES", k == 0 ? "1" : "2", 1);
-        std::unique_ptr<Package> package = test::bake(leaf, "microfacets", values);
-        unsetenv("STANDIN_MICROFACETS_COVERAGE_SAMPLES");
-        ASSERT_TRUE(package);
-        auto standin = make_package_renderer(*package, {});
-        ASSERT_TRUE(standin.is_ok()) << standin.status().message();
-        iou[k] = silhouette_iou(**truth, **standin, leaf);
-    }
+    const std::array<double, 2> iou =
+        disc_iou_binary_and_fractional("microfacets", "STANDIN_MICROFACETS_COVERAGE_SAMPLES", "2",
+                                       {{"resolution", "64"}, {"subdivisions", "1"}, {"level", "5"}, {"page-size", "512"}});
     std::printf("[alpha microfacets] disc IoU: binary coverage %.4f, fractional %.4f\n", iou[0], iou[1]);
     // measured on llvmpipe: see docs/RESULTS.md "Fractional coverage in microfacets"
     EXPECT_GE(iou[1], 0.97);

@@ -77,9 +77,11 @@ const k_cases = [
     { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
     // foliage as one square per voxel in the leaf's plane, cut out by the captures' coverage (MASK);
     // below the 0.95 target (0.931 / 0.932 with these 256 px captures, which halve the case's time;
-    // 0.935 / 0.943 with the default 512: docs/RESULTS.md "Foliage in the web viewer"): its own floor
+    // 0.935 / 0.943 with the default 512: docs/RESULTS.md "Foliage in the web viewer"): its own floor,
+    // first camera only (the second adds 20 s of CI time for the same export path)
     { name: 'microfacets tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
-      bake: ['-r', 'microfacets', '--resolution', '256'], export: ['--planes', '--cutout', '6'], min_iou: 0.92 },
+      bake: ['-r', 'microfacets', '--resolution', '256'], export: ['--planes', '--cutout', '6'], min_iou: 0.92,
+      first_camera_only: true },
 ];
 
 function skip(message) {
@@ -176,6 +178,7 @@ try {
         let prepared = false;
         for (const [k, camera] of k_cameras.entries()) {
             if (camera.standins_only && !c.bake) continue;
+            if (k > 0 && c.first_camera_only) continue;
             const t0 = Date.now();
             const view = `${slug}.az${camera.azimuth}_el${camera.elevation}`;
             const row = { name: c.name, camera };
