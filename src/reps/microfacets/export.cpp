@@ -206,6 +206,39 @@ struct ExportWalk {
     }
 };
 
+// What a view captured along its ray through `point` (both cut-out votes, voxel faces and planes,
+// read the captures this way): the point's place on the view's plane and height along its
+// direction (from the package centre), and the height of the surface stored in the capture texel
+// under it, where that texel is covered.
+struct CapturedAlongRay {
+    bool covered = false;
+    float su = 0.0f, sv = 0.0f, point_height = 0.0f, surface_height = 0.0f;
+};
+
+CapturedAlongRay captured_along_ray(const MicrofacetsPackage& package, const View& view, glm::vec3 point, float texel)
+{
+    const float r = package.radius;
+    const glm::vec3 rel = point - package.center;
+    CapturedAlongRay result;
+    result.su = glm::dot(rel, view.axis_u), result.sv = glm::dot(rel, view.axis_v);
+    result.point_height = glm::dot(rel, view.direction);
+    const int x = int(std::floor((result.su + r) / texel)) - view.crop_x, y = int(std::floor((result.sv + r) / texel)) - view.crop_y;
+    if (x < 0 || y < 0 || x >= view.width || y >= view.height) return result;
+    if (package.color_pages[std::size_t(view.page)].at(view.atlas_x + x, view.atlas_y + y)[3] == 0) return result;
+    const ImageRGBA16& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
+    result.covered = true;
+    result.surface_height = r - 2.0f * r * reps::decode_depth(normal_depth.at(view.atlas_x + x, view.atlas_y + y)[3]);
+    return result;
+}
+
+// Texel coverage codes from the views' votes: the cosine-weighted share of the views that voted
+// (saw the texel's point, or nothing, there) and saw a surface at it; texels no view voted on stay.
+void store_votes(const std::vector<float>& covered, const std::vector<float>& voted, std::uint8_t* codes)
+{
+    for (std::size_t t = 0; t < voted.size(); ++t)
+        if (voted[t] > 0.0f) codes[t] = std::uint8_t(std::lround(255.0f * covered[t] / voted[t]));
+}
+
 std::string export_package_name(const Package& package)
 {
     return quoted(package.directory.empty() ? std::string("package") : package.directory);
@@ -460,29 +493,23 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             for (const View& view : package.views) {
                 const float cosine = std::abs(glm::dot(view.direction, n));
                 if (view.width == 0 || cosine < k_export_cutout_min_cosine) continue;
-                const ImageRGBA8& colors = package.color_pages[std::size_t(view.page)];
-                const ImageRGBA16& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
                 for (int j = 0; j < side; ++j)
                     for (int i = 0; i < side; ++i) {
                         const glm::vec3 x = c + half * ((2.0f * (float(i) + 0.5f) / float(side) - 1.0f) * u +
                                                         (2.0f * (float(j) + 0.5f) / float(side) - 1.0f) * w);
                         if (glm::any(glm::lessThan(x, lo)) || glm::any(glm::greaterThan(x, hi))) continue;
-                        const glm::vec3 rel = x - package.center;
-                        const float su = glm::dot(rel, view.axis_u), sv = glm::dot(rel, view.axis_v), height = glm::dot(rel, view.direction);
-                        const int px = int(std::floor((su + r) / texel)) - view.crop_x, py = int(std::floor((sv + r) / texel)) - view.crop_y;
+                        const CapturedAlongRay seen = captured_along_ray(package, view, x, texel);
                         bool hit = false;
-                        if (px >= 0 && py >= 0 && px < view.width && py < view.height && colors.at(view.atlas_x + px, view.atlas_y + py)[3] != 0) {
-                            const float h = r - 2.0f * r * reps::decode_depth(normal_depth.at(view.atlas_x + px, view.atlas_y + py)[3]);
-                            hit = std::abs(h - height) <= tolerance;
-                            if (!hit && h > height) continue; // hidden from this view
+                        if (seen.covered) {
+                            hit = std::abs(seen.surface_height - seen.point_height) <= tolerance;
+                            if (!hit && seen.surface_height > seen.point_height) continue; // hidden from this view
                         }
                         const std::size_t t = std::size_t(j) * std::size_t(side) + std::size_t(i);
                         voted[t] += cosine;
                         if (hit) covered[t] += cosine;
                     }
             }
-            for (std::size_t t = 0; t < texels; ++t)
-                if (voted[t] > 0.0f) plane_coverage[v * texels + t] = std::uint8_t(std::lround(255.0f * covered[t] / voted[t]));
+            store_votes(covered, voted, &plane_coverage[v * texels]);
         });
         // tiles: one per drawn voxel with any covered texel; voxels with none are left out
         std::vector<std::uint32_t> plane_tile(codes.size(), 0);
@@ -567,36 +594,31 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             for (const View& view : package.views) {
                 const float cosine = glm::dot(view.direction, axis_normal);
                 if (view.width == 0 || cosine < k_export_cutout_min_cosine) continue;
-                const ImageRGBA8& colors = package.color_pages[std::size_t(view.page)];
-                const ImageRGBA16& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
                 for (int j = 0; j < cutout; ++j)
                     for (int i = 0; i < cutout; ++i) {
                         const float u = (float(i) + 0.5f) / float(cutout), v = (float(j) + 0.5f) / float(cutout);
                         // on the triangle step 5 draws there (diagonal 0-2), so texel and drawn point agree
                         const glm::vec3 point = u >= v ? corner[0] + u * (corner[1] - corner[0]) + v * (corner[2] - corner[1])
                                                        : corner[0] + v * (corner[3] - corner[0]) + u * (corner[2] - corner[3]);
-                        const glm::vec3 rel = point - package.center;
-                        const float su = glm::dot(rel, view.axis_u), sv = glm::dot(rel, view.axis_v), height = glm::dot(rel, view.direction);
-                        const int x = int(std::floor((su + r) / texel)) - view.crop_x, y = int(std::floor((sv + r) / texel)) - view.crop_y;
+                        const CapturedAlongRay seen = captured_along_ray(package, view, point, texel);
                         const std::size_t t = std::size_t(j) * std::size_t(cutout) + std::size_t(i);
                         bool hit = false;
-                        if (x >= 0 && y >= 0 && x < view.width && y < view.height && colors.at(view.atlas_x + x, view.atlas_y + y)[3] != 0) {
-                            const float h = r - 2.0f * r * reps::decode_depth(normal_depth.at(view.atlas_x + x, view.atlas_y + y)[3]);
-                            glm::vec3 q = package.center + su * view.axis_u + sv * view.axis_v + h * view.direction;
-                            if (std::abs(h - height) <= tolerance) {
+                        if (seen.covered) {
+                            const float h = seen.surface_height;
+                            glm::vec3 q = package.center + seen.su * view.axis_u + seen.sv * view.axis_v + h * view.direction;
+                            if (std::abs(h - seen.point_height) <= tolerance) {
                                 hit = true;
                             } else {
                                 auto [c, side] = walk.exit(q, view.direction);
                                 hit = side == face.side && c == cell;
-                                if (!hit && h > height) continue; // hidden from this view
+                                if (!hit && h > seen.point_height) continue; // hidden from this view
                             }
                         }
                         voted[t] += cosine;
                         if (hit) covered[t] += cosine;
                     }
             }
-            for (std::size_t t = 0; t < texels; ++t)
-                if (voted[t] > 0.0f) coverage[f * texels + t] = std::uint8_t(std::lround(255.0f * covered[t] / voted[t]));
+            store_votes(covered, voted, &coverage[f * texels]);
         });
     }
 
