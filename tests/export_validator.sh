@@ -31,9 +31,12 @@ if ! cmp -s "$source_dir/tools/gltf/package-lock.json" "$tools/package-lock.json
     fi
 fi
 cp "$source_dir/tools/gltf/validate.mjs" "$tools/"
-# the KTX2 converter of the web viewer's folder, next to its encoder (ktx2-encoder, pinned in the same
-# lock file): ESM resolves packages from the script's own folder
-cp "$source_dir/examples/web/tools/ktx2.mjs" "$tools/"
+# the KTX2 converter of the web viewer's folder and the PNG module it imports (../png.mjs), in the
+# same layout under the validator's folder, whose node_modules holds its encoder (ktx2-encoder,
+# pinned in the same lock file): ESM resolves packages from the script's folder and its parents
+mkdir -p "$tools/web/tools"
+cp "$source_dir/examples/web/png.mjs" "$tools/web/"
+cp "$source_dir/examples/web/tools/ktx2.mjs" "$tools/web/tools/"
 
 out=$work/packages
 rm -rf "$out"
@@ -93,8 +96,8 @@ refused "exporting microfacets at a level the package lacks" "$out/bad_level.glb
 ktx2() { # NAME SUFFIX MIN_CONVERTED TOOL_ARGS...
     local name=$1 suffix=$2 min=$3
     shift 3
-    node "$tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" --quiet "$@"
-    node "$source_dir/tests/export_ktx2_check.mjs" "$tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" "$min"
+    node "$tools/web/tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" --quiet "$@"
+    node "$source_dir/tests/export_ktx2_check.mjs" "$tools/web/tools/ktx2.mjs" "$out/$name.glb" "$out/$name.$suffix.glb" "$min"
 }
 ktx2 bunny_atlas etc1s 1
 ktx2 box_atlas uastc 1 --uastc
@@ -104,7 +107,7 @@ ktx2 box_billboards etc1s 1 # every billboard colour map: the export pads them t
 # bad input to the converter: one line, exit 2, no file
 head -c 1000 "$out/bunny_atlas.glb" >"$out/truncated.glb"
 refused "converting a truncated .glb to KTX2" "$out/bad_ktx2.glb" \
-    node "$tools/ktx2.mjs" "$out/truncated.glb" "$out/bad_ktx2.glb"
+    node "$tools/web/tools/ktx2.mjs" "$out/truncated.glb" "$out/bad_ktx2.glb"
 rm "$out/truncated.glb"
 
 node "$tools/validate.mjs" "$out"/*.glb

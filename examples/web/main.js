@@ -27,6 +27,7 @@ import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
 import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { parse_png, unfilter_png, expand_rgba16 } from './png.mjs';
 
 const params = new URLSearchParams(location.search);
 const number = (name, fallback) => {
@@ -214,59 +215,21 @@ const camera_uniforms = () => ({
 
 // The PNG image of glTF texture `index` decoded to 16-bit codes (8-bit ones scaled by 257): the
 // browser's own decoder gives WebGL 8 bits of a 16-bit PNG, which would move the billboards' depths
-// by up to half an 8-bit code. Inflate is the browser's (DecompressionStream, zlib format); RGBA or
-// RGB, 8 or 16 bits, not interlaced, as standin writes its maps. Returns { data (Uint16Array, RGBA),
-// width, height, bits }.
+// by up to half an 8-bit code. The chunk walk and unfiltering are png.mjs's (shared with
+// tools/ktx2.mjs); inflate is the browser's (DecompressionStream, zlib format). Returns { data
+// (Uint16Array, RGBA), width, height, bits }.
 async function decode_png_codes(parser, index) {
     const image = parser.json.images[parser.json.textures[index].source];
     let bytes;
     if (image.bufferView !== undefined) bytes = new Uint8Array(await parser.getDependency('bufferView', image.bufferView));
     else bytes = new Uint8Array(await (await fetch(new URL(image.uri, new URL(parser.options.path || '', location.href)))).arrayBuffer());
-    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-    if (view.getUint32(0) !== 0x89504e47) throw new Error(`texture ${index}: not a PNG`);
-    let width = 0, height = 0, bits = 0, channels = 0;
-    const idat = [];
-    for (let at = 8; at + 8 <= bytes.length;) {
-        const length = view.getUint32(at), type = String.fromCharCode(...bytes.subarray(at + 4, at + 8));
-        const body = bytes.subarray(at + 8, at + 8 + length);
-        if (type === 'IHDR') {
-            width = view.getUint32(at + 8);
-            height = view.getUint32(at + 12);
-            bits = body[8];
-            channels = { 2: 3, 6: 4 }[body[9]];
-            if (!channels || !(bits === 8 || bits === 16) || body[12] !== 0)
-                throw new Error(`texture ${index}: PNG colour type ${body[9]}, ${bits} bits, interlace ${body[12]}: not supported`);
-        } else if (type === 'IDAT') idat.push(body);
-        at += 12 + length;
+    try {
+        const png = parse_png(bytes);
+        const inflated = new Uint8Array(await new Response(new Blob(png.idat).stream().pipeThrough(new DecompressionStream('deflate'))).arrayBuffer());
+        return { data: expand_rgba16(png, unfilter_png(png, inflated)), width: png.width, height: png.height, bits: png.bits };
+    } catch (error) {
+        throw new Error(`texture ${index}: ${error.message}`);
     }
-    const inflated = new Uint8Array(await new Response(new Blob(idat).stream().pipeThrough(new DecompressionStream('deflate'))).arrayBuffer());
-    const bpp = (channels * bits) / 8, stride = width * bpp;
-    if (inflated.length < height * (stride + 1)) throw new Error(`texture ${index}: PNG data too short`);
-    const raw = new Uint8Array(height * stride);
-    for (let y = 0; y < height; ++y) {
-        const filter = inflated[y * (stride + 1)], line = inflated.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
-        const out = y * stride, up = out - stride;
-        for (let x = 0; x < stride; ++x) {
-            const a = x >= bpp ? raw[out + x - bpp] : 0, b = y > 0 ? raw[up + x] : 0, c = x >= bpp && y > 0 ? raw[up + x - bpp] : 0;
-            let p = 0;
-            if (filter === 1) p = a;
-            else if (filter === 2) p = b;
-            else if (filter === 3) p = (a + b) >> 1;
-            else if (filter === 4) {
-                const pa = Math.abs(b - c), pb = Math.abs(a - c), pc = Math.abs(a + b - 2 * c);
-                p = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
-            }
-            raw[out + x] = (line[x] + p) & 255;
-        }
-    }
-    const data = new Uint16Array(width * height * 4);
-    for (let i = 0; i < width * height; ++i)
-        for (let k = 0; k < 4; ++k) {
-            const channel = k < channels ? k : -1;
-            data[4 * i + k] = channel < 0 ? 65535 : bits === 16 ? (raw[i * bpp + 2 * channel] << 8) | raw[i * bpp + 2 * channel + 1]
-                                                                : raw[i * bpp + channel] * 257;
-        }
-    return { data, width, height, bits };
 }
 
 // The alpha channel of the top-left width x height texels of an image texture (the export pads its

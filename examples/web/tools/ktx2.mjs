@@ -35,6 +35,7 @@ import { closeSync, fsyncSync, openSync, readFileSync, renameSync, rmSync, write
 import { basename, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { inflateSync } from 'node:zlib';
+import { parse_png, unfilter_png, expand_rgba8 } from '../png.mjs';
 
 const k_usage = 'usage: node tools/ktx2.mjs IN.glb OUT.glb [--etc1s | --uastc] [--quality 1..255] [--keep-png] [--quiet]';
 const k_glb_magic = 0x46546c67, k_json_chunk = 0x4e4f534a, k_bin_chunk = 0x004e4942;
@@ -42,64 +43,15 @@ const k_glb_magic = 0x46546c67, k_json_chunk = 0x4e4f534a, k_bin_chunk = 0x004e4
 export class InputError extends Error {}
 const fail = (what, message) => { throw new InputError(`${what}: ${message}`); };
 
-// ---- PNG (8-bit, non-interlaced; standin writes RGBA8 colour maps) ----
-function paeth(a, b, c) {
-    const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
-    return pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
-}
-
+// ---- PNG (8-bit, non-interlaced; standin writes RGBA8 colour maps): ../png.mjs, inflated here ----
 export function decode_png(bytes, what) {
-    const sig = [137, 80, 78, 71, 13, 10, 26, 10];
-    if (bytes.length < 8 || sig.some((v, i) => bytes[i] !== v)) fail(what, 'not a PNG');
-    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
-    let width = 0, height = 0, depth = 0, type = -1, interlace = 0;
-    const idat = [];
-    for (let at = 8; at + 12 <= bytes.length;) {
-        const length = view.getUint32(at);
-        const name = String.fromCharCode(...bytes.subarray(at + 4, at + 8));
-        if (at + 12 + length > bytes.length) fail(what, `PNG chunk ${name} runs past the end`);
-        const data = bytes.subarray(at + 8, at + 8 + length);
-        if (name === 'IHDR') {
-            width = view.getUint32(at + 8);
-            height = view.getUint32(at + 12);
-            depth = data[8];
-            type = data[9];
-            interlace = data[12];
-        } else if (name === 'IDAT') idat.push(data);
-        else if (name === 'IEND') break;
-        at += 12 + length;
-    }
-    const channels = { 0: 1, 2: 3, 4: 2, 6: 4 }[type];
-    if (!channels || depth !== 8 || interlace !== 0)
-        fail(what, `PNG colour type ${type}, ${depth}-bit${interlace ? ', interlaced' : ''}: only 8-bit grey/RGB/RGBA non-interlaced colour maps are converted`);
-    if (!(width > 0 && height > 0 && width <= 16384 && height <= 16384)) fail(what, `PNG size ${width}x${height} out of range`);
-    let raw;
-    try { raw = inflateSync(Buffer.concat(idat)); } catch (e) { fail(what, `PNG data does not inflate (${e.message})`); }
-    const stride = width * channels;
-    if (raw.length < (stride + 1) * height) fail(what, 'PNG data is shorter than its size');
-    const pixels = new Uint8Array(stride * height);
-    for (let y = 0; y < height; ++y) {
-        const filter = raw[y * (stride + 1)];
-        const src = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
-        const row = pixels.subarray(y * stride, (y + 1) * stride);
-        const up = y ? pixels.subarray((y - 1) * stride, y * stride) : new Uint8Array(stride);
-        for (let x = 0; x < stride; ++x) {
-            const a = x >= channels ? row[x - channels] : 0, b = up[x], c = x >= channels ? up[x - channels] : 0;
-            const p = filter === 0 ? 0 : filter === 1 ? a : filter === 2 ? b : filter === 3 ? (a + b) >> 1 : filter === 4 ? paeth(a, b, c) : -1;
-            if (p < 0) fail(what, `PNG row filter ${filter} is invalid`);
-            row[x] = (src[x] + p) & 255;
-        }
-    }
-    const rgba = new Uint8Array(width * height * 4);
-    for (let i = 0; i < width * height; ++i) {
-        const s = pixels.subarray(i * channels, (i + 1) * channels);
-        const grey = channels <= 2;
-        rgba[i * 4] = s[0];
-        rgba[i * 4 + 1] = grey ? s[0] : s[1];
-        rgba[i * 4 + 2] = grey ? s[0] : s[2];
-        rgba[i * 4 + 3] = channels === 2 ? s[1] : channels === 4 ? s[3] : 255;
-    }
-    return { width, height, data: rgba };
+    let png, raw;
+    try { png = parse_png(bytes); } catch (e) { fail(what, e.message); }
+    if (png.bits !== 8) fail(what, `PNG is ${png.bits}-bit: only 8-bit colour maps are converted`);
+    let inflated;
+    try { inflated = inflateSync(Buffer.concat(png.idat)); } catch (e) { fail(what, `PNG data does not inflate (${e.message})`); }
+    try { raw = unfilter_png(png, inflated); } catch (e) { fail(what, e.message); }
+    return { width: png.width, height: png.height, data: expand_rgba8(png, raw) };
 }
 
 // ---- GLB ----
