@@ -29,7 +29,7 @@
 //     views facing it (is the surface there at the texel, or in the solid run behind it?), in an
 //     atlas read by a double-sided MASK material, so a leaf thinner than a voxel is not drawn as
 //     whole faces (this is what the renderer's per-pixel depth clip does, frozen for all views).
-// Planes (the default; --no-planes gives steps 2-6) replace steps 2-6: one square per voxel in the
+// Planes (the default; --no-planes gives steps 2-6) replace steps 2-6 after step 3's capture walk: one square per voxel in the
 // plane of the surface it holds (mean point, principal direction of the captured normals), cut out
 // by the views' coverage at the texel's own depth. Faces at the voxel boundary see a leaf with up to
 // a voxel of parallax, which a per-face mask cannot undo for every view (generated tree in the web
@@ -149,7 +149,7 @@ struct ExportFaceSums {
     std::int64_t point[3] = {0, 0, 0}; // surface point in grid units (voxels) * k_export_point_scale
 };
 
-// Per voxel, with --planes: the samples whose surface point it holds (count, linear colour and point
+// Per voxel, with planes (the default): the samples whose surface point it holds (count, linear colour and point
 // as in ExportFaceSums, unweighted) and the normals' second moments n n^T (xx yy zz xy xz yz, in
 // 1/32767): its principal direction is the plane's normal whatever side each view saw a leaf from.
 struct ExportCellSums {
@@ -368,7 +368,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 auto [c, side] = walk.exit(q, d);
                 if (side < 0) continue;
                 if (planes) {
-                    // --planes: the sums go to the occupied voxel that holds the surface point
+                    // planes: the sums go to the occupied voxel that holds the surface point
                     const glm::ivec3 start = walk.cell_of(q);
                     if (!walk.solid(start)) continue;
                     auto at = std::lower_bound(codes.begin(), codes.end(), morton_encode(glm::uvec3(start)));
@@ -454,7 +454,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         return grid.origin + lattice * voxel;
     };
 
-    // --planes: one square per seen voxel in the plane of the surface its views saw (the mean of the
+    // planes (the default; --no-planes: the faces): one square per seen voxel in the plane of the surface its views saw (the mean of the
     // surface points it holds, and the principal direction of their captured normals, so that the
     // two sides of a leaf do not cancel), side sqrt(3) W about the voxel centre's projection (so the
     // voxel's whole cross-section), textured with the coverage the views give each texel: covered
