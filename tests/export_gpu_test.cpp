@@ -311,6 +311,7 @@ TEST(Export, MicrofacetsExportAClosedVoxelSurface)
     for (int level = 3; level <= 6; ++level)
     for (bool snap : {false, true}) {
         OptionValues options;
+        options.set("planes", "false"); // the closed voxel faces, not the default planes
         options.set("level", std::to_string(level));
         options.set("snap", snap ? "true" : "false");
         ExportScene scene;
@@ -362,9 +363,22 @@ TEST(Export, MicrofacetsExportAClosedVoxelSurface)
     }
     // the same package exports the same bytes
     OptionValues six;
+    six.set("planes", "false");
     six.set("level", "6");
     ASSERT_TRUE(export_package(*package, six, dir + "/again.glb"));
     EXPECT_EQ(*read_file(dir + "/level6s.glb"), *read_file(dir + "/again.glb"));
+    // the default: one cut-out square per seen voxel in its surface's plane, the same bytes again
+    OptionValues plain;
+    plain.set("level", "6");
+    ExportScene planes_scene;
+    ParsedGlb planes_glb = export_and_parse(*package, plain, dir + "/planes.glb", 0.6f, &planes_scene);
+    ASSERT_EQ(planes_scene.meshes.size(), 1u);
+    const auto& planes_extras = planes_glb.json["nodes"][1]["extras"]["standin"];
+    EXPECT_GT(planes_extras["planes"].get<std::size_t>(), 0u);
+    EXPECT_EQ(planes_scene.meshes[0].indices.size(), 6 * planes_extras["planes"].get<std::size_t>());
+    EXPECT_EQ(planes_scene.meshes[0].alpha_mode, "MASK");
+    ASSERT_TRUE(export_package(*package, plain, dir + "/planes_again.glb"));
+    EXPECT_EQ(*read_file(dir + "/planes.glb"), *read_file(dir + "/planes_again.glb"));
     // --pixels: a small screen takes a coarse level, a large one the finest
     auto level_at = [&](int pixels) {
         OptionValues options;

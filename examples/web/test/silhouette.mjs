@@ -76,12 +76,15 @@ const k_cases = [
     // the finest baked level (7: 128^3) as a plain voxel-face mesh
     { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
     // foliage as one square per voxel in the leaf's plane, cut out by the captures' coverage (MASK);
-    // below the 0.95 target (0.931 / 0.932 with these 256 px captures, which halve the case's time;
-    // 0.935 / 0.943 with the default 512: docs/RESULTS.md "Foliage in the web viewer"): its own floor,
-    // first camera only (the second adds 20 s of CI time for the same export path)
+    // below the 0.95 target against `standin render` of the package (0.931 / 0.932 with these 256 px
+    // captures, which halve the case's time; 0.935 / 0.943 with the default 512), because that render
+    // has holes where its nearest views saw the branches and inner leaves hidden (it is itself 0.933
+    // / 0.929 against the model): its own floor there, and the same web picture must reach 0.95
+    // against `standin render` of the model (0.972 / 0.967; docs/RESULTS.md "Microfacets planes
+    // against the model"). First camera only (the second adds 20 s of CI time for the same export path)
     { name: 'microfacets tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
-      bake: ['-r', 'microfacets', '--resolution', '256'], export: ['--planes', '--cutout', '6'], min_iou: 0.92,
-      first_camera_only: true },
+      bake: ['-r', 'microfacets', '--resolution', '256'], export: [], min_iou: 0.925,
+      model_min_iou: 0.95, first_camera_only: true },
 ];
 
 function skip(message) {
@@ -142,7 +145,7 @@ const camera_args = (c) => ['--azimuth', String(c.azimuth), '--elevation', Strin
 const camera_query = (c) => `azimuth=${c.azimuth}&elevation=${c.elevation}&distance=${c.distance}` +
     `&fov=${c.fov}&size=${k_size}&still=1`;
 
-async function view_in_browser(query, truth_png, screenshot) {
+async function view_in_browser(query, truth_png, screenshot, model_png = null) {
     const [w, h] = k_size.split('x').map(Number);
     const page = await browser.newPage({ viewport: { width: w, height: h } });
     const messages = [];
@@ -156,7 +159,9 @@ async function view_in_browser(query, truth_png, screenshot) {
         // (a frame of the tree's 35 billboard boxes takes ~13 s on SwiftShader on a loaded 2-core machine)
         await page.locator('#view').screenshot({ path: screenshot, omitBackground: true, timeout: 120000 });
         const iou = await page.evaluate((url) => window.standin.silhouette_iou(url), truth_png);
-        return { ...iou, info: state.info };
+        // the same picture against a second truth (the model's own render), no second drawing
+        const model = model_png ? await page.evaluate((url) => window.standin.silhouette_iou(url), model_png) : null;
+        return { ...iou, info: state.info, model };
     } catch (error) {
         throw new Error(`${error.message}${messages.length ? `\n  browser: ${messages.join('\n  browser: ')}` : ''}`);
     } finally {
@@ -205,9 +210,19 @@ try {
                     // framed by the model's box, as standin render frames a package by its source's bounds
                     query = `model=${model_url}&standin=/work/${slug}.glb&view=standin&${camera_query(camera)}`;
                 }
-                const r = await view_in_browser(query, `/work/${view}.standin.png`, join(options.work, `${view}.web.png`));
+                let model_png = null;
+                if (c.model_min_iou) {
+                    cli(['render', model_path, '-o', join(options.work, `${view}.model.png`), ...camera_args(camera)]);
+                    model_png = `/work/${view}.model.png`;
+                }
+                const r = await view_in_browser(query, `/work/${view}.standin.png`, join(options.work, `${view}.web.png`), model_png);
                 Object.assign(row, { iou: r.iou, web_pixels: r.web_pixels, standin_pixels: r.standin_pixels, info: r.info });
                 row.status = r.iou >= Math.min(c.min_iou ?? 1, options.min_iou) ? 'pass' : 'FAIL'; // a case may hold a lower floor
+                if (r.model) {
+                    row.model_iou = r.model.iou;
+                    row.model_pixels = r.model.standin_pixels;
+                    if (r.model.iou < Math.min(c.model_min_iou, options.min_iou)) row.status = 'FAIL';
+                }
                 if (c.proxy && r.info.impostor_proxy !== c.proxy) {
                     row.status = 'FAIL';
                     row.error = `the impostor was drawn on the ${r.info.impostor_proxy}, not the ${c.proxy}`;
@@ -239,6 +254,8 @@ try {
             results.push(row);
             const iou = row.iou !== undefined ? `IoU ${row.iou.toFixed(4)} (${row.web_pixels} web / ${row.standin_pixels} standin pixels)` : '';
             console.log(`${row.status.padEnd(5)} ${c.name}, azimuth ${camera.azimuth} elevation ${camera.elevation}: ${iou} ${row.seconds.toFixed(1)} s${row.error ? `\n  ${row.error}` : ''}`);
+            if (row.model_iou !== undefined)
+                console.log(`      ${c.name} against the model: IoU ${row.model_iou.toFixed(4)} (${row.model_pixels} model pixels)`);
             if (row.ktx2)
                 console.log(`      ${c.name} as KTX2 (${row.ktx2.color_texture}; ${row.ktx2.bytes_png} -> ${row.ktx2.bytes_ktx2} bytes): ` +
                     `IoU ${row.ktx2.iou.toFixed(4)} (${row.ktx2.web_pixels} web pixels) ${row.ktx2.seconds.toFixed(1)} s`);

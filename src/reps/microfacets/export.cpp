@@ -29,11 +29,16 @@
 //     views facing it (is the surface there at the texel, or in the solid run behind it?), in an
 //     atlas read by a double-sided MASK material, so a leaf thinner than a voxel is not drawn as
 //     whole faces (this is what the renderer's per-pixel depth clip does, frozen for all views).
-// --planes replaces steps 2-6 for foliage: one square per voxel in the plane of the surface it
-// holds (mean point, principal direction of the captured normals), cut out by the views' coverage
-// at the texel's own depth. Faces at the voxel boundary see a leaf with up to a voxel of parallax,
-// which a per-face mask cannot undo for every view (generated tree in the web viewer: IoU 0.83 /
-// 0.78 with cut faces, 0.935 / 0.943 with planes); planes are not a closed surface.
+// Planes (the default; --no-planes gives steps 2-6) replace steps 2-6 after step 3's capture walk: one square per voxel in the
+// plane of the surface it holds (mean point, principal direction of the captured normals), cut out
+// by the views' coverage at the texel's own depth. Faces at the voxel boundary see a leaf with up to
+// a voxel of parallax, which a per-face mask cannot undo for every view (generated tree in the web
+// viewer against standin render: IoU 0.83 / 0.78 with cut faces, 0.934 / 0.942 with planes), and
+// squares in the surface's plane follow a closed surface's silhouette closer than snapped faces
+// (bunny: 0.995 / 0.996 against 0.989 / 0.991); planes are not a closed surface. The tree's planes
+// stay under 0.95 against standin render because that render has holes where its nearest views saw
+// the surface hidden (it is 0.941 / 0.946 against the model, the planes 0.973 / 0.967:
+// docs/RESULTS.md "Microfacets planes against the model").
 // Departs from the paper: its facets are view-facing and clipped per pixel by depth, so their
 // silhouette follows the surface exactly; the exported faces follow it only as closely as snapping
 // a voxel's corners can, and a face has one colour instead of a texture. Faces no view saw (inside concavities) take the mean of
@@ -144,7 +149,7 @@ struct ExportFaceSums {
     std::int64_t point[3] = {0, 0, 0}; // surface point in grid units (voxels) * k_export_point_scale
 };
 
-// Per voxel, with --planes: the samples whose surface point it holds (count, linear colour and point
+// Per voxel, with planes (the default): the samples whose surface point it holds (count, linear colour and point
 // as in ExportFaceSums, unweighted) and the normals' second moments n n^T (xx yy zz xy xz yz, in
 // 1/32767): its principal direction is the plane's normal whatever side each view saw a leaf from.
 struct ExportCellSums {
@@ -255,12 +260,13 @@ std::vector<OptionSpec> export_options()
                        "The screen size, pixels, the bounding sphere's diameter spans: the coarsest level whose "
                        "voxels span at most 4 pixels there (1 with --no-snap; 0: not used)"),
         integer_option("cutout", 4, 0, 16,
-                       "Coverage texels per face side: a double-sided alpha MASK texture keeps what the captured "
-                       "views see of each face, so surfaces thinner than a voxel (leaves) are not drawn as whole "
-                       "voxels (0: opaque faces, vertex colours only)"),
-        flag_option("planes", false,
-                    "One square per voxel in the plane of the surface its views saw, cut out by their coverage "
-                    "(foliage: no parallax between face and leaf), instead of the closed voxel surface"),
+                       "Coverage texels per plane (or face) side: a double-sided alpha MASK texture keeps what the "
+                       "captured views see of each, so surfaces thinner than a voxel (leaves) are not drawn as whole "
+                       "voxels (0: with --no-planes opaque faces, vertex colours only; planes keep one texel)"),
+        flag_option("planes", true,
+                    "One square per voxel in the plane of the surface its views saw, cut out by their coverage (no "
+                    "parallax between square and leaf; the default: closer to standin render than the faces on the "
+                    "bunny and on foliage); --no-planes: the closed surface of the voxels' exposed faces"),
         flag_option("snap", true,
                     "Move each voxel corner onto the captured surface (the mean surface point its faces' "
                     "texels hit), so the silhouette follows the surface instead of standing up to a voxel proud of it"),
@@ -362,7 +368,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 auto [c, side] = walk.exit(q, d);
                 if (side < 0) continue;
                 if (planes) {
-                    // --planes: the sums go to the occupied voxel that holds the surface point
+                    // planes: the sums go to the occupied voxel that holds the surface point
                     const glm::ivec3 start = walk.cell_of(q);
                     if (!walk.solid(start)) continue;
                     auto at = std::lower_bound(codes.begin(), codes.end(), morton_encode(glm::uvec3(start)));
@@ -448,7 +454,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         return grid.origin + lattice * voxel;
     };
 
-    // --planes: one square per seen voxel in the plane of the surface its views saw (the mean of the
+    // planes (the default; --no-planes: the faces): one square per seen voxel in the plane of the surface its views saw (the mean of the
     // surface points it holds, and the principal direction of their captured normals, so that the
     // two sides of a leaf do not cancel), side sqrt(3) W about the voxel centre's projection (so the
     // voxel's whole cross-section), textured with the coverage the views give each texel: covered

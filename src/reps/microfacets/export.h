@@ -1,5 +1,5 @@
-// `standin export` of microfacets (export.cpp): the octree's voxels at one level as a closed,
-// vertex-coloured triangle mesh. Declared here rather than in microfacets.h so that the export
+// `standin export` of microfacets (export.cpp): the octree's voxels at one level as cut-out squares
+// in their surface's plane (the default), or as a closed, vertex-coloured mesh of their faces. Declared here rather than in microfacets.h so that the export
 // stays one file and one registry line (representation.cpp).
 #pragma once
 

@@ -126,6 +126,7 @@ TEST(MicrofacetsExport, FacesKeepTheCutOutsTheCapturesSaw)
 {
     const MicrofacetsPackage package = export_leaf_package();
     OptionValues given;
+    given.set("planes", "false");
     given.set("snap", "false");
     const std::vector<OptionSpec> specs = export_options();
     Result<Options> options = Options::parse(specs, given, "microfacets export");
@@ -167,8 +168,7 @@ TEST(MicrofacetsExport, PlanesLieOnTheLeafAndKeepItsHalf)
 {
     const MicrofacetsPackage package = export_leaf_package();
     OptionValues given;
-    given.set("planes", "true");
-    given.set("cutout", "4");
+    given.set("cutout", "4"); // planes are the default
     const std::vector<OptionSpec> specs = export_options();
     Result<Options> options = Options::parse(specs, given, "microfacets export");
     ASSERT_TRUE(options) << options.status().message();
