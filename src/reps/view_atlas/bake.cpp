@@ -113,7 +113,9 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const bool masked = std::any_of(context.mesh.materials.begin(), context.mesh.materials.end(),
                                     [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
     // alpha-tested models at the default resolution: more texels rather than more samples per texel
-    const bool alpha_resolution = masked && !parameters.given("resolution");
+    // (where the pages hold such a view; a smaller --page-size keeps the default's 2 x 2 samples)
+    const bool alpha_resolution = masked && !parameters.given("resolution") &&
+                                  k_alpha_resolution + 2 * k_cell <= parameters.integer("page-size");
     if (alpha_resolution) parameters.set_integer("resolution", k_alpha_resolution);
     const BakeSettings s = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(check_settings(s));
