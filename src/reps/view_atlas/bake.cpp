@@ -20,6 +20,8 @@
 //    alpha is the fraction of it the alpha-tested surface covers, so that the renderer can place a
 //    leaf's cut-out edge inside a texel (atlas.frag, hit_coverage) instead of on texel borders.
 //    Other models keep one sample per texel (binary coverage), so their packages do not change.
+//    Without --resolution such models are captured at k_alpha_resolution (512) with one sample
+//    per texel instead: a leaf's edge, gaps and colour need the texels more than the fractions.
 #include "reps/view_atlas/view_atlas.h"
 
 #include "gpu/gl.h"
@@ -107,7 +109,15 @@ void copy_into_page(const ImageRGBA8& crop, ImageRGBA8& page, int x, int y)
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    const BakeSettings s = settings_from(context.parameters);
+    Options parameters = context.parameters;
+    const bool masked = std::any_of(context.mesh.materials.begin(), context.mesh.materials.end(),
+                                    [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+    // alpha-tested models at the default resolution: more texels rather than more samples per texel
+    // (where the pages hold such a view; a smaller --page-size keeps the default's 2 x 2 samples)
+    const bool alpha_resolution = masked && !parameters.given("resolution") &&
+                                  k_alpha_resolution + 2 * k_cell <= parameters.integer("page-size");
+    if (alpha_resolution) parameters.set_integer("resolution", k_alpha_resolution);
+    const BakeSettings s = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "view atlas"));
 
@@ -126,7 +136,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // lit maps hold the truth's shading, PBR included; only surface maps are relit
     const bool pbr = normals && context.mesh.has_pbr_materials();
     // STANDIN_ATLAS_COVERAGE_SAMPLES (1..8) overrides k_coverage_samples for measurements
-    const int samples = reps::coverage_samples(context.mesh, s.resolution, k_coverage_samples, "STANDIN_ATLAS_COVERAGE_SAMPLES");
+    const int samples = reps::coverage_samples(context.mesh, s.resolution, alpha_resolution ? 1 : k_coverage_samples,
+                                               "STANDIN_ATLAS_COVERAGE_SAMPLES");
     const int capture_size = s.resolution * samples;
     std::unique_ptr<RenderTarget> material_target; // one for every view's material capture
     if (pbr) {
@@ -137,7 +148,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 
     auto package = std::make_unique<ViewAtlasPackage>();
     package->source = context.source;
-    package->parameters = context.parameters;
+    package->parameters = parameters;
     package->settings = s;
     BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;
