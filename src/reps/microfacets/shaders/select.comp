@@ -52,6 +52,7 @@ uniform float point_pixels;     // auto: facets narrower than this many pixels a
 uniform uint lookup_list;       // index in `lookup` of the per-draw list (count, then views)
 uniform uint seen_words;        // words per node in `seen`; 0: no culling of unseen nodes
 uniform int clip_rule;          // MF_CLIP_*: far facets of the ray clip walk one view
+uniform int prefer_seen;        // 1: blend the nearest views that saw surface in the node (step 4)
 const float k_far_error_pixels = 1.0; // the paper's bound (§4.1): under a pixel
 
 shared uint s_ranks[MF_GROUP_SIZE];
@@ -90,23 +91,22 @@ int lookup_cell(vec3 d)
     return (face * MF_LOOKUP_SIDE + cell.y) * MF_LOOKUP_SIDE + cell.x;
 }
 
-// step 4: the blend_count nearest views by cosine (ties to the lower index: candidates ascend) and
-// weights cos_k - cos_(blend_count + 1), normalised; the nearest alone gets 1
-void select_views(vec3 e, out uvec4 ids, out vec4 weights)
+bool node_seen_by(uint index, uint view)
 {
-    int best[MF_MAX_BLEND + 1] = int[](-1, -1, -1, -1, -1);
-    float cosines[MF_MAX_BLEND + 1] = float[](-2.0, -2.0, -2.0, -2.0, -2.0);
-    uint first, count;
-    if (select_mode == MF_SELECT_LOOKUP) {
-        uint cell = lookup.entries[lookup_cell(e)];
-        first = cell >> 8;
-        count = cell & 255u;
-    } else {
-        first = lookup_list + 1u;
-        count = lookup.entries[lookup_list];
-    }
+    return (seen.words[index * seen_words + view / 32u] & (1u << (view % 32u))) != 0u;
+}
+
+// The blend_count + 1 nearest views to e among `count` candidates from lookup.entries[first], by
+// cosine (ties to the lower index: candidates ascend); with `only_seen`, views that saw no surface
+// in node `index` are skipped. Returns how many were found.
+int nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, inout int best[MF_MAX_BLEND + 1],
+                  inout float cosines[MF_MAX_BLEND + 1])
+{
+    int found = 0;
     for (uint i = 0u; i < count; ++i) {
         int view = int(lookup.entries[first + i]);
+        if (only_seen && !node_seen_by(index, uint(view))) continue;
+        ++found;
         float c = dot(views.items[view].direction.xyz, e);
         for (int slot = 0; slot <= blend_count; ++slot) {
             if (c > cosines[slot]) {
@@ -119,6 +119,38 @@ void select_views(vec3 e, out uvec4 ids, out vec4 weights)
                 break;
             }
         }
+    }
+    return found;
+}
+
+// step 4: the blend_count nearest views by cosine and weights cos_k - cos_(blend_count + 1),
+// normalised; the nearest alone gets 1. With the ray clip's seen bits (seen_views > 0 and
+// prefer_seen), the nearest views that saw surface in node `index`: a view that saw none there
+// can only abstain or miss (its walk passes under nearer leaves), so in a crown a leaf the four
+// nearest views all had hidden behind others was a hole, though a view a little farther saw it.
+// The lookup cell's candidates are tried first; when fewer than blend_count of them saw the node,
+// every view is (the per-draw list holds them all in lookup mode).
+void select_views(vec3 e, uint index, out uvec4 ids, out vec4 weights)
+{
+    int best[MF_MAX_BLEND + 1] = int[](-1, -1, -1, -1, -1);
+    float cosines[MF_MAX_BLEND + 1] = float[](-2.0, -2.0, -2.0, -2.0, -2.0);
+    uint first, count;
+    if (select_mode == MF_SELECT_LOOKUP) {
+        uint cell = lookup.entries[lookup_cell(e)];
+        first = cell >> 8;
+        count = cell & 255u;
+    } else {
+        first = lookup_list + 1u;
+        count = lookup.entries[lookup_list];
+    }
+    bool only_seen = seen_words > 0u && prefer_seen != 0;
+    int found = nearest_views(e, first, count, only_seen, index, best, cosines);
+    if (only_seen && found < blend_count && select_mode == MF_SELECT_LOOKUP) {
+        for (int k = 0; k <= MF_MAX_BLEND; ++k) {
+            best[k] = -1;
+            cosines[k] = -2.0;
+        }
+        found = nearest_views(e, lookup_list + 1u, lookup.entries[lookup_list], true, index, best, cosines);
     }
     float floor_cosine = best[blend_count] >= 0 ? cosines[blend_count] : -1.0;
     weights = vec4(0.0);
@@ -159,7 +191,7 @@ uint select_facet(uint w, out Facet f)
     // step 4
     uvec4 ids;
     vec4 weights;
-    select_views(to_eye_object(lod, c), ids, weights);
+    select_views(to_eye_object(lod, c), index, ids, weights);
     // a facet whose eq. 2 error is under a pixel needs no blend: its nearest view alone is walked
     // (far facets, most of a crowd). Projecting that view instead (eq. 1) was cheaper still but
     // brought back eq. 1's slab holes: Luv 3.2 against 0.6 at a fixed 128^3 (docs/failure_cases.md)
@@ -171,7 +203,7 @@ uint select_facet(uint w, out Facet f)
         bool any_seen = false;
         for (int k = 0; k < blend_count; ++k) {
             uint view = ids[k];
-            any_seen = any_seen || (weights[k] > 0.0 && (seen.words[index * seen_words + view / 32u] & (1u << (view % 32u))) != 0u);
+            any_seen = any_seen || (weights[k] > 0.0 && node_seen_by(index, view));
         }
         if (!any_seen) return MF_KIND_NONE;
     }
