@@ -98,15 +98,13 @@ bool node_seen_by(uint index, uint view)
 
 // The blend_count + 1 nearest views to e among `count` candidates from lookup.entries[first], by
 // cosine (ties to the lower index: candidates ascend); with `only_seen`, views that saw no surface
-// in node `index` are skipped. Returns how many were found.
-int nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, inout int best[MF_MAX_BLEND + 1],
+// in node `index` are skipped.
+void nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, inout int best[MF_MAX_BLEND + 1],
                   inout float cosines[MF_MAX_BLEND + 1])
 {
-    int found = 0;
     for (uint i = 0u; i < count; ++i) {
         int view = int(lookup.entries[first + i]);
         if (only_seen && !node_seen_by(index, uint(view))) continue;
-        ++found;
         float c = dot(views.items[view].direction.xyz, e);
         for (int slot = 0; slot <= blend_count; ++slot) {
             if (c > cosines[slot]) {
@@ -120,7 +118,6 @@ int nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, in
             }
         }
     }
-    return found;
 }
 
 // step 4: the blend_count nearest views by cosine and weights cos_k - cos_(blend_count + 1),
@@ -128,8 +125,10 @@ int nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, in
 // prefer_seen), the nearest views that saw surface in node `index`: a view that saw none there
 // can only abstain or miss (its walk passes under nearer leaves), so in a crown a leaf the four
 // nearest views all had hidden behind others was a hole, though a view a little farther saw it.
-// The lookup cell's candidates are tried first; when fewer than blend_count of them saw the node,
-// every view is (the per-draw list holds them all in lookup mode).
+// The candidates' nearest views are found first; when one of the blend_count + 1 nearest (the
+// blend and its floor) did not see the node, the nearest seen views are searched again among every
+// view in lookup mode (the per-draw list holds them all: the cell's candidates are exact only for
+// the 5 nearest views), else among the per-draw list, so lookup and "all" still pick the same.
 void select_views(vec3 e, uint index, out uvec4 ids, out vec4 weights)
 {
     int best[MF_MAX_BLEND + 1] = int[](-1, -1, -1, -1, -1);
@@ -143,14 +142,20 @@ void select_views(vec3 e, uint index, out uvec4 ids, out vec4 weights)
         first = lookup_list + 1u;
         count = lookup.entries[lookup_list];
     }
-    bool only_seen = seen_words > 0u && prefer_seen != 0;
-    int found = nearest_views(e, first, count, only_seen, index, best, cosines);
-    if (only_seen && found < blend_count && select_mode == MF_SELECT_LOOKUP) {
+    nearest_views(e, first, count, false, index, best, cosines);
+    bool all_seen = true;
+    if (seen_words > 0u && prefer_seen != 0)
+        for (int k = 0; k <= blend_count; ++k) all_seen = all_seen && (best[k] < 0 || node_seen_by(index, uint(best[k])));
+    if (!all_seen) {
         for (int k = 0; k <= MF_MAX_BLEND; ++k) {
             best[k] = -1;
             cosines[k] = -2.0;
         }
-        found = nearest_views(e, lookup_list + 1u, lookup.entries[lookup_list], true, index, best, cosines);
+        if (select_mode == MF_SELECT_LOOKUP) {
+            first = lookup_list + 1u;
+            count = lookup.entries[lookup_list];
+        }
+        nearest_views(e, first, count, true, index, best, cosines);
     }
     float floor_cosine = best[blend_count] >= 0 ? cosines[blend_count] : -1.0;
     weights = vec4(0.0);
