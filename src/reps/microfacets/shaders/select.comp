@@ -53,7 +53,7 @@ uniform uint lookup_list;       // index in `lookup` of the per-draw list (count
 uniform uint seen_words;        // words per node in `seen`; 0: no culling of unseen nodes
 uniform int clip_rule;          // MF_CLIP_*: far facets of the ray clip walk one view
 uniform int prefer_seen;        // 1: blend the nearest views that saw surface in the node (step 4)
-const float k_far_error_pixels = 1.0; // the paper's bound (§4.1): under a pixel
+uniform float far_error_pixels; // the ray clip walks one view under this eq. 2 error (renderer.cpp)
 
 shared uint s_ranks[MF_GROUP_SIZE];
 
@@ -200,7 +200,7 @@ uint select_facet(uint w, out Facet f)
     // a facet whose eq. 2 error is under a pixel needs no blend: its nearest view alone is walked
     // (far facets, most of a crowd). Projecting that view instead (eq. 1) was cheaper still but
     // brought back eq. 1's slab holes: Luv 3.2 against 0.6 at a fixed 128^3 (docs/failure_cases.md)
-    bool far = clip_rule == MF_CLIP_RAY && node_error(lod, c, level) <= k_far_error_pixels;
+    bool far = clip_rule == MF_CLIP_RAY && node_error(lod, c, level) <= far_error_pixels;
     if (far) weights = vec4(1.0, 0.0, 0.0, 0.0);
     // step 4b (--clip ray): a node none of its views saw surface in draws nothing (every walk misses
     // or is hidden), so it is not drawn at all: the far side of closed surfaces, the inside of a crown
