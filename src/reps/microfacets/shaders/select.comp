@@ -7,7 +7,8 @@
 //  4. the views for its texture: the blend_count nearest to the direction towards the eye, from the
 //     lookup cell's candidates, or from the per-draw list (the seed's cone, or every view), with
 //     weights that change continuously (view_lookup.h select_views is the CPU reference); with the
-//     ray clip, a node none of them saw surface in is dropped (visibility.h);
+//     ray clip (beyond the paper, issue #14), the nearest of those that saw surface in the node
+//     (visibility.h), and a node none of them saw surface in is dropped;
 //  5. quad or point by its size on screen;
 //  6. its rank among its group's quads and points (a scan in shared memory), so that scatter.comp
 //     writes the kept facets in work order: draws do not depend on thread timing.
