@@ -389,11 +389,11 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     // STANDIN_MICROFACETS_PREFER_SEEN=0 (measurements only): the nearest views whether or not they
     // saw the node, as before
     const char* prefer_seen = std::getenv("STANDIN_MICROFACETS_PREFER_SEEN");
+    glProgramUniform1i(select, r->select_.uniform("prefer_seen"), prefer_seen && prefer_seen[0] == '0' ? 0 : 1);
     // facets under this eq. 2 error walk one view (select.comp): the paper's bound (§4.1), a pixel;
     // STANDIN_MICROFACETS_FAR_ERROR=E (measurements only) sets E
     const char* far_error = std::getenv("STANDIN_MICROFACETS_FAR_ERROR");
     glProgramUniform1f(select, r->select_.uniform("far_error_pixels"), far_error ? std::strtof(far_error, nullptr) : 1.0f);
-    glProgramUniform1i(select, r->select_.uniform("prefer_seen"), prefer_seen && prefer_seen[0] == '0' ? 0 : 1);
     glProgramUniform1i(select, r->select_.uniform("clip_rule"), r->codes_.clip);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");
