@@ -352,9 +352,13 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1f(id, program->uniform("mf_radius"), package.radius);
         glProgramUniform1f(id, program->uniform("capture_resolution"), float(package.settings.resolution));
     }
-    // STANDIN_MICROFACETS_FILTER_BINARY=1 (measurements only) filters binary coverage too
+    // every package's coverage is filtered at the hit, binary coverage too: a cut-out's or a
+    // silhouette's edge then runs half-way between covered and empty texel centres with the corners
+    // cut, instead of along texel borders (measured better on the tree and on the bunny,
+    // docs/RESULTS.md "Holes and colour in microfacets' foliage");
+    // STANDIN_MICROFACETS_FILTER_BINARY=0 (measurements only) reads binary pages' texels as before
     const char* filter_binary = std::getenv("STANDIN_MICROFACETS_FILTER_BINARY");
-    const bool fractional = (filter_binary && filter_binary[0] == '1') ||
+    const bool fractional = !(filter_binary && filter_binary[0] == '0') ||
                             std::any_of(package.color_pages.begin(), package.color_pages.end(), has_fractional_coverage);
     for (const gpu::Program* program : {&r->quads_program_, &r->points_program_}) {
         GLuint id = program->id();
@@ -382,6 +386,14 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     glProgramUniform1f(select, r->select_.uniform("tan_delta"), std::tan(package.max_view_angle));
     glProgramUniform1ui(select, r->select_.uniform("lookup_list"), r->lookup_list_);
     glProgramUniform1ui(select, r->select_.uniform("seen_words"), seen_words);
+    // STANDIN_MICROFACETS_PREFER_SEEN=0 (measurements only): the nearest views whether or not they
+    // saw the node, as before
+    const char* prefer_seen = std::getenv("STANDIN_MICROFACETS_PREFER_SEEN");
+    glProgramUniform1i(select, r->select_.uniform("prefer_seen"), prefer_seen && prefer_seen[0] == '0' ? 0 : 1);
+    // facets under this eq. 2 error walk one view (select.comp): the paper's bound (§4.1), a pixel;
+    // STANDIN_MICROFACETS_FAR_ERROR=E (measurements only) sets E
+    const char* far_error = std::getenv("STANDIN_MICROFACETS_FAR_ERROR");
+    glProgramUniform1f(select, r->select_.uniform("far_error_pixels"), far_error ? std::strtof(far_error, nullptr) : 1.0f);
     glProgramUniform1i(select, r->select_.uniform("clip_rule"), r->codes_.clip);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");

@@ -62,7 +62,7 @@ void main()
         }
         if (!s.passed) continue;
         color += wk * s.color;
-        normal += wk * s.normal;
+        normal += wk * facing(s.normal, -ray);
         orm += wk * s.orm;
         emission += wk * s.emission;
         weight += wk;

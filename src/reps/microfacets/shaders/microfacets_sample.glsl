@@ -20,9 +20,9 @@ layout(binding = MF_EMISSION_TEXTURE) uniform sampler2DArray emission_pages;
 uniform float page_size;  // texels per page side
 uniform int max_color_lod; // mip levels of the colour pages that never mix two crops
 uniform int clip_rule;     // MF_CLIP_*
-// 1: the colour pages' alpha holds fractional coverage (alpha-tested models, issue #14): a surface
-// is kept where its filtered coverage reaches 1/2 (hit_coverage); 0: binary coverage, every covered
-// texel is surface (renderer.cpp sets it from the pages)
+// 1 (the default, binary pages too): a surface is kept where the colour pages' coverage (alpha),
+// filtered at the hit, reaches 1/2 (hit_coverage, issue #14); 0: every covered texel is surface
+// (renderer.cpp: STANDIN_MICROFACETS_FILTER_BINARY=0, for measurements)
 uniform int fractional_coverage;
 
 uint g_fetches = 0u;
@@ -38,6 +38,14 @@ struct ViewSample {
     vec3 normal;    // object space, unnormalised
     vec3 surface;   // the stored surface point: the facet point moved along the view to its depth
 };
+
+// A view's stored normal turned towards `to_eye` (object space) before it is blended: captures turn
+// each normal towards their own camera (capture.cpp step 3), so two views on either side of a
+// double-sided leaf card store opposite normals, whose sum cancels into whatever the views' other
+// differences leave. The truth turns a double-sided face's normal towards the eye (lighting.glsl
+// shade_pbr), so each view's normal is turned the same way before the blend; for a surface every
+// view sees from its front the turn changes nothing.
+vec3 facing(vec3 normal, vec3 to_eye) { return dot(normal, to_eye) < 0.0 ? -normal : normal; }
 
 // The colour of a view's texel `at` (page coordinates), straight (not premultiplied); at lod > 0
 // filtered with the footprint kept inside the crop (crops sit on cells of 2^max_color_lod texels).

@@ -42,7 +42,7 @@ void main()
         ViewSample s = sample_view(views.items[facet_view(f, k)], c, c, w, color_lod(1.7320508 * w));
         if (!s.passed) continue;
         color += wk * s.color;
-        normal += wk * s.normal;
+        normal += wk * facing(s.normal, to_eye_object(lod, c));
         orm += wk * s.orm;
         emission += wk * s.emission;
         weight += wk;

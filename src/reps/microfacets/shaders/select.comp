@@ -7,7 +7,8 @@
 //  4. the views for its texture: the blend_count nearest to the direction towards the eye, from the
 //     lookup cell's candidates, or from the per-draw list (the seed's cone, or every view), with
 //     weights that change continuously (view_lookup.h select_views is the CPU reference); with the
-//     ray clip, a node none of them saw surface in is dropped (visibility.h);
+//     ray clip (beyond the paper, issue #14), the nearest of those that saw surface in the node
+//     (visibility.h), and a node none of them saw surface in is dropped;
 //  5. quad or point by its size on screen;
 //  6. its rank among its group's quads and points (a scan in shared memory), so that scatter.comp
 //     writes the kept facets in work order: draws do not depend on thread timing.
@@ -52,7 +53,8 @@ uniform float point_pixels;     // auto: facets narrower than this many pixels a
 uniform uint lookup_list;       // index in `lookup` of the per-draw list (count, then views)
 uniform uint seen_words;        // words per node in `seen`; 0: no culling of unseen nodes
 uniform int clip_rule;          // MF_CLIP_*: far facets of the ray clip walk one view
-const float k_far_error_pixels = 1.0; // the paper's bound (§4.1): under a pixel
+uniform int prefer_seen;        // 1: blend the nearest views that saw surface in the node (step 4)
+uniform float far_error_pixels; // the ray clip walks one view under this eq. 2 error (renderer.cpp)
 
 shared uint s_ranks[MF_GROUP_SIZE];
 
@@ -90,23 +92,20 @@ int lookup_cell(vec3 d)
     return (face * MF_LOOKUP_SIDE + cell.y) * MF_LOOKUP_SIDE + cell.x;
 }
 
-// step 4: the blend_count nearest views by cosine (ties to the lower index: candidates ascend) and
-// weights cos_k - cos_(blend_count + 1), normalised; the nearest alone gets 1
-void select_views(vec3 e, out uvec4 ids, out vec4 weights)
+bool node_seen_by(uint index, uint view)
 {
-    int best[MF_MAX_BLEND + 1] = int[](-1, -1, -1, -1, -1);
-    float cosines[MF_MAX_BLEND + 1] = float[](-2.0, -2.0, -2.0, -2.0, -2.0);
-    uint first, count;
-    if (select_mode == MF_SELECT_LOOKUP) {
-        uint cell = lookup.entries[lookup_cell(e)];
-        first = cell >> 8;
-        count = cell & 255u;
-    } else {
-        first = lookup_list + 1u;
-        count = lookup.entries[lookup_list];
-    }
+    return (seen.words[index * seen_words + view / 32u] & (1u << (view % 32u))) != 0u;
+}
+
+// The blend_count + 1 nearest views to e among `count` candidates from lookup.entries[first], by
+// cosine (ties to the lower index: candidates ascend); with `only_seen`, views that saw no surface
+// in node `index` are skipped.
+void nearest_views(vec3 e, uint first, uint count, bool only_seen, uint index, inout int best[MF_MAX_BLEND + 1],
+                  inout float cosines[MF_MAX_BLEND + 1])
+{
     for (uint i = 0u; i < count; ++i) {
         int view = int(lookup.entries[first + i]);
+        if (only_seen && !node_seen_by(index, uint(view))) continue;
         float c = dot(views.items[view].direction.xyz, e);
         for (int slot = 0; slot <= blend_count; ++slot) {
             if (c > cosines[slot]) {
@@ -119,6 +118,45 @@ void select_views(vec3 e, out uvec4 ids, out vec4 weights)
                 break;
             }
         }
+    }
+}
+
+// step 4: the blend_count nearest views by cosine and weights cos_k - cos_(blend_count + 1),
+// normalised; the nearest alone gets 1. With the ray clip's seen bits (seen_views > 0 and
+// prefer_seen), the nearest views that saw surface in node `index`: a view that saw none there
+// can only abstain or miss (its walk passes under nearer leaves), so in a crown a leaf the four
+// nearest views all had hidden behind others was a hole, though a view a little farther saw it.
+// The candidates' nearest views are found first; when one of the blend_count + 1 nearest (the
+// blend and its floor) did not see the node, the nearest seen views are searched again among every
+// view in lookup mode (the per-draw list holds them all: the cell's candidates are exact only for
+// the 5 nearest views), else among the per-draw list, so lookup and "all" still pick the same.
+void select_views(vec3 e, uint index, out uvec4 ids, out vec4 weights)
+{
+    int best[MF_MAX_BLEND + 1] = int[](-1, -1, -1, -1, -1);
+    float cosines[MF_MAX_BLEND + 1] = float[](-2.0, -2.0, -2.0, -2.0, -2.0);
+    uint first, count;
+    if (select_mode == MF_SELECT_LOOKUP) {
+        uint cell = lookup.entries[lookup_cell(e)];
+        first = cell >> 8;
+        count = cell & 255u;
+    } else {
+        first = lookup_list + 1u;
+        count = lookup.entries[lookup_list];
+    }
+    nearest_views(e, first, count, false, index, best, cosines);
+    bool all_seen = true;
+    if (seen_words > 0u && prefer_seen != 0)
+        for (int k = 0; k <= blend_count; ++k) all_seen = all_seen && (best[k] < 0 || node_seen_by(index, uint(best[k])));
+    if (!all_seen) {
+        for (int k = 0; k <= MF_MAX_BLEND; ++k) {
+            best[k] = -1;
+            cosines[k] = -2.0;
+        }
+        if (select_mode == MF_SELECT_LOOKUP) {
+            first = lookup_list + 1u;
+            count = lookup.entries[lookup_list];
+        }
+        nearest_views(e, first, count, true, index, best, cosines);
     }
     float floor_cosine = best[blend_count] >= 0 ? cosines[blend_count] : -1.0;
     weights = vec4(0.0);
@@ -159,11 +197,11 @@ uint select_facet(uint w, out Facet f)
     // step 4
     uvec4 ids;
     vec4 weights;
-    select_views(to_eye_object(lod, c), ids, weights);
+    select_views(to_eye_object(lod, c), index, ids, weights);
     // a facet whose eq. 2 error is under a pixel needs no blend: its nearest view alone is walked
     // (far facets, most of a crowd). Projecting that view instead (eq. 1) was cheaper still but
     // brought back eq. 1's slab holes: Luv 3.2 against 0.6 at a fixed 128^3 (docs/failure_cases.md)
-    bool far = clip_rule == MF_CLIP_RAY && node_error(lod, c, level) <= k_far_error_pixels;
+    bool far = clip_rule == MF_CLIP_RAY && node_error(lod, c, level) <= far_error_pixels;
     if (far) weights = vec4(1.0, 0.0, 0.0, 0.0);
     // step 4b (--clip ray): a node none of its views saw surface in draws nothing (every walk misses
     // or is hidden), so it is not drawn at all: the far side of closed surfaces, the inside of a crown
@@ -171,7 +209,7 @@ uint select_facet(uint w, out Facet f)
         bool any_seen = false;
         for (int k = 0; k < blend_count; ++k) {
             uint view = ids[k];
-            any_seen = any_seen || (weights[k] > 0.0 && (seen.words[index * seen_words + view / 32u] & (1u << (view % 32u))) != 0u);
+            any_seen = any_seen || (weights[k] > 0.0 && node_seen_by(index, view));
         }
         if (!any_seen) return MF_KIND_NONE;
     }
