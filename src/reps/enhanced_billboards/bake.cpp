@@ -244,7 +244,8 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
 // volume by its oriented face normals) shows only its back: its faces are replaced by reversed ones.
 // Returns false (nothing added, `out` untouched) for models of closed, outward surfaces, so their
 // packages are unchanged; `piece_of` maps out's faces to mesh's.
-bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vector<std::uint32_t>& piece_of)
+bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vector<std::uint32_t>& piece_of,
+                    std::vector<std::uint8_t>& open_edges)
 {
     std::size_t n = mesh.triangle_count();
     if (n == 0) return false;
@@ -276,12 +277,20 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
         }
     std::sort(edges.begin(), edges.end());
     std::vector<std::uint8_t> open_part(mesh.vertex_count(), 0);
+    std::vector<std::uint64_t> boundary; // edges used by one face, ascending
     for (std::size_t k = 0; k < edges.size();) {
         std::size_t end = k;
         while (end < edges.size() && edges[end] == edges[k]) ++end;
-        if (end - k == 1) open_part[root(std::uint32_t(edges[k] >> 32))] = 1;
+        if (end - k == 1) {
+            open_part[root(std::uint32_t(edges[k] >> 32))] = 1;
+            boundary.push_back(edges[k]);
+        }
         k = end;
     }
+    auto open_edge = [&](std::size_t f, int k) {
+        std::uint32_t a = weld[mesh.indices[f * 3 + k]], b = weld[mesh.indices[f * 3 + (k + 1) % 3]];
+        return std::binary_search(boundary.begin(), boundary.end(), std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+    };
     // signed volume of every part by its oriented normals (divergence theorem)
     glm::dvec3 centre(mesh.bounds().center());
     std::vector<double> volume(mesh.vertex_count(), 0.0);
@@ -304,6 +313,7 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
     out.indices.clear();
     out.face_materials.clear();
     piece_of.clear();
+    open_edges.clear();
     bool has_uv = mesh.has_texture_coordinates();
     std::vector<std::uint32_t> reversed(mesh.vertex_count(), k_no_vertex);
     auto reversed_vertex = [&](std::uint32_t v) {
@@ -322,8 +332,15 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
             bool take = pass == 0 ? side[f] != back : side[f] != front;
             if (!take) continue;
             const std::uint32_t* idx = &mesh.indices[f * 3];
-            if (pass == 0) out.indices.insert(out.indices.end(), idx, idx + 3);
-            else for (int k : {0, 2, 1}) out.indices.push_back(reversed_vertex(idx[k]));
+            bool e01 = open_edge(f, 0), e12 = open_edge(f, 1), e20 = open_edge(f, 2);
+            if (pass == 0) {
+                out.indices.insert(out.indices.end(), idx, idx + 3);
+                open_edges.push_back(std::uint8_t((e01 ? 1 : 0) | (e12 ? 2 : 0) | (e20 ? 4 : 0)));
+            } else {
+                // corners 0, 2, 1: edges (0, 2), (2, 1), (1, 0)
+                for (int k : {0, 2, 1}) out.indices.push_back(reversed_vertex(idx[k]));
+                open_edges.push_back(std::uint8_t((e20 ? 1 : 0) | (e12 ? 2 : 0) | (e01 ? 4 : 0)));
+            }
             out.face_materials.push_back(mesh.face_materials[f]);
             piece_of.push_back(std::uint32_t(f));
         }
@@ -422,9 +439,14 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // both sides of open surfaces (sheets), the outside of inverted closed parts
     Mesh sided;
     std::vector<std::uint32_t> piece_of;
-    bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of);
+    std::vector<std::uint8_t> open_edges;
+    bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of, open_edges);
     if (two_sided) {
         faces = compute_face_data(sided);
+        // --sheet-edges overlap (capture.cpp, write_maps): measured on the sheet assembly, holes
+        // 0.10% -> 0.016% but spill 0.65% -> 0.96% and Luv 1.62 -> 1.96 (docs/RESULTS.md), so not
+        // the default
+        if (settings.sheet_edges == "overlap") faces.open_edges = std::move(open_edges);
         for (std::uint32_t& piece : piece_of) piece = source_face.empty() ? piece : source_face[piece];
         source_face = std::move(piece_of);
     }
