@@ -23,6 +23,9 @@
 //   at --max-billboards, or when the best billboard would capture less than --min-coverage of the
 //   surface: the seed drops such billboards (§4.3), and every later one would be as small. What was
 //   left is recorded with its reason; the coarse mesh covers it.
+// - sheets (issue #17): the seed's models are closed; open surfaces (zero-thickness CAD sheets)
+//   show both sides in the ground truth, so their faces also get reversed copies baked from the
+//   other side, and closed parts wound inside out are reversed (see add_back_sides).
 // - resolution per billboard: instead of the seed's 512² or 256², every billboard keeps the model's
 //   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
 #include "reps/enhanced_billboards/billboards.h"

@@ -30,6 +30,9 @@
 // - seams: a one-texel rim of the front-most surface around the captured texels is written and
 //   marked covered, where its depth continues that of the captured neighbour, so that billboards
 //   meeting at a seam overlap by a texel instead of leaving a crack.
+// - sheet edges (issue #17, --sheet-edges overlap): a texel next to a captured face that the face
+//   overlaps only across an edge of an open surface is covered too (the edge has no wall beyond
+//   it for another billboard to capture).
 // - alpha (issue #14): a face of a mask or blend material exists only at the texel centres that
 //   pass its alpha test (Mesh::covered_at): cut-out texels are neither put in the item buffer nor
 //   tested, so leaf cards become their leaves (holes where the texture is cut) and do not hide what
