@@ -18,6 +18,7 @@ struct GenerateArgs {
     float radius = 1.0f;
     float noise = 0.08f;
     std::uint32_t seed = 1;
+    bool sheets = false;
     std::string output;
 };
 
@@ -28,8 +29,9 @@ static int run_generate(const GenerateArgs& args)
         {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball},
         {"tree", GeneratedShape::tree}};
     Result<Mesh> mesh = Mesh{};
+    if (args.sheets && args.shape != "assembly") return fail("--sheets: applies to the assembly only");
     if (args.shape == "assembly") {
-        mesh = generate_assembly(args.triangles, args.radius);
+        mesh = generate_assembly(args.triangles, args.radius, args.sheets);
     } else {
         GenerateOptions options;
         options.shape = shapes.at(args.shape);
@@ -70,6 +72,9 @@ CommandRun add_generate_command(CLI::App& root)
     command->add_option("--noise", args->noise, "noisy-sphere: displacement amplitude relative to the radius")
         ->capture_default_str();
     command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball, tree: random seed")->capture_default_str();
+    command->add_flag("--sheets", args->sheets,
+                      "assembly: casing, liners and flanges as zero-thickness sheets, some parts inside out (CAD "
+                      "sheet-metal exports)");
     return [args] { return run_generate(*args); };
 }
 

@@ -8,6 +8,8 @@
 
 namespace standin {
 
-Result<Mesh> generate_assembly(std::size_t target_triangles, float radius = 1.0f);
+// sheets: the casing, liners and flanges as zero-thickness sheets, some parts inside out, as CAD
+// exports of sheet-metal parts are (issue #17); otherwise every part has thickness.
+Result<Mesh> generate_assembly(std::size_t target_triangles, float radius = 1.0f, bool sheets = false);
 
 } // namespace standin

@@ -637,19 +637,116 @@ static void build_assembly(Mesh& mesh, int detail)
     }
 }
 
-Result<Mesh> generate_assembly(std::size_t target_triangles, float radius)
+// A zero-thickness tube (one sheet, open at both ends), normals pointing away from the axis.
+static void add_sheet_tube(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
+{
+    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
+    auto first = std::uint32_t(mesh.positions.size());
+    for (int r = 0; r <= rings; ++r) {
+        glm::vec3 centre = glm::mix(a, b, float(r) / float(rings));
+        for (int k = 0; k < sides; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+            glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+            add_vertex(mesh, centre + radius * out, out, color);
+        }
+    }
+    for (int r = 0; r < rings; ++r) {
+        for (int k = 0; k < sides; ++k) {
+            std::uint32_t a0 = first + std::uint32_t(r * sides + k), a1 = first + std::uint32_t(r * sides + (k + 1) % sides);
+            std::uint32_t b0 = a0 + std::uint32_t(sides), b1 = a1 + std::uint32_t(sides);
+            mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
+        }
+    }
+}
+
+// A flat zero-thickness ring about `axis` through `centre`, facing +axis.
+static void add_annulus(Mesh& mesh, glm::vec3 centre, glm::vec3 axis, float inner, float outer, int sides, glm::vec4 color)
+{
+    glm::vec3 u = perpendicular_to(axis), v = glm::cross(axis, u);
+    auto first = std::uint32_t(mesh.positions.size());
+    for (int k = 0; k < sides; ++k) {
+        float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+        glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+        add_vertex(mesh, centre + outer * out, axis, color);
+        add_vertex(mesh, centre + inner * out, axis, color);
+    }
+    for (int k = 0; k < sides; ++k) {
+        std::uint32_t o0 = first + 2 * std::uint32_t(k), i0 = o0 + 1;
+        std::uint32_t o1 = first + 2 * std::uint32_t((k + 1) % sides), i1 = o1 + 1;
+        std::uint32_t tri[6] = {o0, o1, i1, o0, i1, i0};
+        // keep the winding counter-clockwise about the normal whatever perpendicular_to chose
+        glm::vec3 n = glm::cross(mesh.positions[o1] - mesh.positions[o0], mesh.positions[i1] - mesh.positions[o0]);
+        if (glm::dot(n, axis) < 0.0f) std::swap(tri[1], tri[2]), std::swap(tri[4], tri[5]);
+        mesh.indices.insert(mesh.indices.end(), tri, tri + 6);
+    }
+}
+
+// Turns the part built since (first vertex, first index) inside out, as CAD exports sometimes
+// wind a part: reversed winding, normals negated.
+static void invert_part(Mesh& mesh, std::size_t first_vertex, std::size_t first_index)
+{
+    for (std::size_t k = first_vertex; k < mesh.normals.size(); ++k) mesh.normals[k] = -mesh.normals[k];
+    for (std::size_t k = first_index; k + 2 < mesh.indices.size(); k += 3) std::swap(mesh.indices[k + 1], mesh.indices[k + 2]);
+}
+
+// The assembly as a CAD export of sheet parts gives it (issue #17): the casing, liners and flanges
+// are single zero-thickness sheets, the camshaft, every other liner and one flange inside out; the
+// rest as in build_assembly. The truth shows both sides of a sheet (double-sided material), the
+// inside of the casing through its open ends.
+static void build_sheet_assembly(Mesh& mesh, int detail)
+{
+    const glm::vec4 steel(0.62f, 0.64f, 0.68f, 1.0f), dark(0.25f, 0.26f, 0.3f, 1.0f), brass(0.78f, 0.6f, 0.25f, 1.0f),
+        red(0.7f, 0.18f, 0.15f, 1.0f), blue(0.2f, 0.35f, 0.7f, 1.0f), green(0.25f, 0.55f, 0.3f, 1.0f);
+    int big = std::max(8, 4 * detail), small = std::max(6, detail), rings = std::max(1, detail);
+    auto inverted = [&](auto&& build) {
+        std::size_t v = mesh.positions.size(), i = mesh.indices.size();
+        build();
+        invert_part(mesh, v, i);
+    };
+    add_sheet_tube(mesh, {-1.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.0f}, 0.6f, 2 * big, 4 * rings, blue); // casing
+    add_cylinder(mesh, {-1.25f, 0.0f, 0.0f}, {1.25f, 0.0f, 0.0f}, 0.06f, 2 * small, 2 * rings, steel); // crankshaft
+    inverted([&] { add_cylinder(mesh, {-1.1f, 0.42f, 0.0f}, {1.1f, 0.42f, 0.0f}, 0.03f, 2 * small, 2 * rings, steel); }); // camshaft
+    for (int c = 0; c < 6; ++c) {
+        float x = -0.75f + 0.3f * float(c), phase = float(c % 3) * 0.05f;
+        auto liner = [&] { add_sheet_tube(mesh, {x, -0.15f, 0.0f}, {x, 0.5f, 0.0f}, 0.1f, 4 * small, rings, green); };
+        if (c % 2 == 1) inverted(liner);
+        else liner();
+        add_cylinder(mesh, {x, 0.12f + phase, 0.0f}, {x, 0.3f + phase, 0.0f}, 0.095f, 4 * small, rings, dark); // piston
+        add_box(mesh, {x - 0.02f, 0.0f, -0.025f}, {x + 0.02f, 0.18f + phase, 0.025f}, steel); // rod
+        add_cylinder(mesh, {x - 0.08f, 0.18f + phase, 0.0f}, {x + 0.08f, 0.18f + phase, 0.0f}, 0.015f, small, 1, brass); // pin
+    }
+    for (int side = 0; side < 2; ++side) {
+        float x = side == 0 ? -1.0f : 1.0f, out = side == 0 ? -0.03f : 0.03f;
+        auto flange = [&] { add_annulus(mesh, {x, 0.0f, 0.0f}, {out > 0.0f ? 1.0f : -1.0f, 0.0f, 0.0f}, 0.45f, 0.72f, 2 * big, red); };
+        if (side == 0) inverted(flange);
+        else flange();
+        for (int k = 0; k < 12; ++k) {
+            float angle = 2.0f * std::numbers::pi_v<float> * (float(k) + 0.5f) / 12.0f;
+            glm::vec3 p(x + out, 0.66f * std::cos(angle), 0.66f * std::sin(angle));
+            add_cylinder(mesh, p, p + glm::vec3(2.0f * out, 0.0f, 0.0f), 0.025f, small, 1, brass); // bolt
+        }
+        add_cylinder(mesh, {x + 4.0f * out, 0.0f, 0.0f}, {x + 6.0f * out, 0.0f, 0.0f}, 0.25f, 2 * big, rings, dark); // pulley
+    }
+    for (int foot = 0; foot < 4; ++foot) {
+        float x = foot < 2 ? -0.7f : 0.5f, z = foot % 2 == 0 ? -0.45f : 0.25f;
+        add_box(mesh, {x, -0.75f, z}, {x + 0.2f, -0.55f, z + 0.2f}, steel);
+    }
+}
+
+Result<Mesh> generate_assembly(std::size_t target_triangles, float radius, bool sheets)
 {
     GenerateOptions options;
     options.target_triangles = target_triangles;
     options.radius = radius;
     STANDIN_RETURN_IF_ERROR(check_options(options));
     // the triangle count grows with detail squared: measure once, then scale
+    auto build = sheets ? build_sheet_assembly : build_assembly;
     Mesh probe;
-    build_assembly(probe, 8);
+    build(probe, 8);
     double per_detail2 = double(probe.triangle_count()) / 64.0;
     int detail = std::max(1, int(std::lround(std::sqrt(double(target_triangles) / per_detail2))));
     Mesh mesh;
-    build_assembly(mesh, detail);
+    build(mesh, detail);
     fit_into_sphere(mesh, radius);
     Material material;
     material.name = "generated";

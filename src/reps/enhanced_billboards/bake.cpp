@@ -23,6 +23,9 @@
 //   at --max-billboards, or when the best billboard would capture less than --min-coverage of the
 //   surface: the seed drops such billboards (§4.3), and every later one would be as small. What was
 //   left is recorded with its reason; the coarse mesh covers it.
+// - sheets (issue #17): the seed's models are closed; open surfaces (zero-thickness CAD sheets)
+//   show both sides in the ground truth, so their faces also get reversed copies baked from the
+//   other side, and closed parts wound inside out are reversed (see add_back_sides).
 // - resolution per billboard: instead of the seed's 512² or 256², every billboard keeps the model's
 //   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
 #include "reps/enhanced_billboards/billboards.h"
@@ -48,6 +51,7 @@ constexpr float k_candidate_separation_degrees = 15.0f;
 constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
 constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels
+constexpr std::uint32_t k_no_vertex = 0xffffffffu;
 
 // The checks between parameters that their declarations cannot express; resolves the direction
 // count of the fixed sets.
@@ -231,6 +235,121 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
     return true;
 }
 
+// Sheets (issue #17): the ground truth draws both sides of a double-sided face, but a capture takes
+// a face from its front only, and a face facing away from a direction neither is captured nor hides
+// anything there. A closed surface never shows its back, but an open one (a CAD sheet-metal part,
+// a shell, a liner: zero thickness) shows it wherever its inside or underside is in view, and it
+// had no billboard there: the back of the front's height field was drawn in its place, marked a
+// near miss, and the coarse mesh z-fought it. So the faces of every open surface (a connected part,
+// vertices welded by position, with an edge used by one face) of a double-sided material get a
+// reversed copy (winding and normals flipped), captured like any face: the back is baked from its
+// own side and hides what is behind it from that side. A closed part wound inside out (negative
+// volume by its oriented face normals) shows only its back: its faces are replaced by reversed ones.
+// Returns false (nothing added, `out` untouched) for models of closed, outward surfaces, so their
+// packages are unchanged; `piece_of` maps out's faces to mesh's.
+bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vector<std::uint32_t>& piece_of,
+                    std::vector<std::uint8_t>& open_edges)
+{
+    std::size_t n = mesh.triangle_count();
+    if (n == 0) return false;
+    // weld by position: CAD exports split vertices at creases and part boundaries of one surface
+    std::vector<std::uint32_t> order(mesh.vertex_count()), weld(mesh.vertex_count());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(k);
+    auto less = [&](std::uint32_t a, std::uint32_t b) {
+        const glm::vec3 &p = mesh.positions[a], &q = mesh.positions[b];
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z != q.z ? p.z < q.z : a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t k = 0; k < order.size(); ++k)
+        weld[order[k]] = k > 0 && mesh.positions[order[k]] == mesh.positions[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    // connected parts (union-find over welded vertices)
+    std::vector<std::uint32_t> parent(mesh.vertex_count());
+    for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = std::uint32_t(k);
+    auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::vector<std::uint64_t> edges; // (lower, higher welded vertex): one entry per face side
+    edges.reserve(3 * n);
+    for (std::size_t f = 0; f < n; ++f)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = weld[mesh.indices[f * 3 + k]], b = weld[mesh.indices[f * 3 + (k + 1) % 3]];
+            std::uint32_t ra = root(a), rb = root(b);
+            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+            if (a != b) edges.push_back(std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::uint8_t> open_part(mesh.vertex_count(), 0);
+    std::vector<std::uint64_t> boundary; // edges used by one face, ascending
+    for (std::size_t k = 0; k < edges.size();) {
+        std::size_t end = k;
+        while (end < edges.size() && edges[end] == edges[k]) ++end;
+        if (end - k == 1) {
+            open_part[root(std::uint32_t(edges[k] >> 32))] = 1;
+            boundary.push_back(edges[k]);
+        }
+        k = end;
+    }
+    auto open_edge = [&](std::size_t f, int k) {
+        std::uint32_t a = weld[mesh.indices[f * 3 + k]], b = weld[mesh.indices[f * 3 + (k + 1) % 3]];
+        return std::binary_search(boundary.begin(), boundary.end(), std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+    };
+    // signed volume of every part by its oriented normals (divergence theorem)
+    glm::dvec3 centre(mesh.bounds().center());
+    std::vector<double> volume(mesh.vertex_count(), 0.0);
+    for (std::size_t f = 0; f < n; ++f) {
+        glm::dvec3 c = (glm::dvec3(mesh.positions[mesh.indices[f * 3]]) + glm::dvec3(mesh.positions[mesh.indices[f * 3 + 1]]) +
+                        glm::dvec3(mesh.positions[mesh.indices[f * 3 + 2]])) / 3.0 - centre;
+        volume[root(weld[mesh.indices[f * 3]])] += faces.area[f] * glm::dot(c, glm::dvec3(faces.normal[f])) / 3.0;
+    }
+    enum Side : std::uint8_t { front, both, back };
+    std::vector<std::uint8_t> side(n, front);
+    bool any = false;
+    for (std::size_t f = 0; f < n; ++f) {
+        if (!mesh.materials[mesh.face_materials[f]].double_sided) continue;
+        std::uint32_t part = root(weld[mesh.indices[f * 3]]);
+        side[f] = open_part[part] ? both : volume[part] < 0.0 ? back : front;
+        any = any || side[f] != front;
+    }
+    if (!any) return false;
+    out = mesh;
+    out.indices.clear();
+    out.face_materials.clear();
+    piece_of.clear();
+    open_edges.clear();
+    bool has_uv = mesh.has_texture_coordinates();
+    std::vector<std::uint32_t> reversed(mesh.vertex_count(), k_no_vertex);
+    auto reversed_vertex = [&](std::uint32_t v) {
+        if (reversed[v] == k_no_vertex) {
+            reversed[v] = std::uint32_t(out.positions.size());
+            out.positions.push_back(mesh.positions[v]);
+            out.normals.push_back(-mesh.normals[v]);
+            out.colors.push_back(mesh.colors[v]);
+            if (has_uv) out.uvs.push_back(mesh.uvs[v]);
+        }
+        return reversed[v];
+    };
+    // the reversed copies come after all front faces, in face order (deterministic)
+    for (int pass = 0; pass < 2; ++pass)
+        for (std::size_t f = 0; f < n; ++f) {
+            bool take = pass == 0 ? side[f] != back : side[f] != front;
+            if (!take) continue;
+            const std::uint32_t* idx = &mesh.indices[f * 3];
+            bool e01 = open_edge(f, 0), e12 = open_edge(f, 1), e20 = open_edge(f, 2);
+            if (pass == 0) {
+                out.indices.insert(out.indices.end(), idx, idx + 3);
+                open_edges.push_back(std::uint8_t((e01 ? 1 : 0) | (e12 ? 2 : 0) | (e20 ? 4 : 0)));
+            } else {
+                // corners 0, 2, 1: edges (0, 2), (2, 1), (1, 0)
+                for (int k : {0, 2, 1}) out.indices.push_back(reversed_vertex(idx[k]));
+                open_edges.push_back(std::uint8_t((e20 ? 1 : 0) | (e12 ? 2 : 0) | (e01 ? 4 : 0)));
+            }
+            out.face_materials.push_back(mesh.face_materials[f]);
+            piece_of.push_back(std::uint32_t(f));
+        }
+    return true;
+}
+
 // Faces of `from` (ascending) not in `taken` (ascending).
 std::vector<std::uint32_t> without(const std::vector<std::uint32_t>& from, const std::vector<std::uint32_t>& taken)
 {
@@ -318,8 +437,23 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // split faces longer than a few texels, so that partial occlusion costs only a piece
     Mesh split;
     std::vector<std::uint32_t> source_face; // piece -> source face; empty when nothing was split
-    const Mesh& work = split_long_edges(mesh, k_split_texels * texel, split, source_face) ? split : mesh;
-    FaceData faces = compute_face_data(work);
+    const Mesh& split_or_source = split_long_edges(mesh, k_split_texels * texel, split, source_face) ? split : mesh;
+    FaceData faces = compute_face_data(split_or_source);
+    // both sides of open surfaces (sheets), the outside of inverted closed parts
+    Mesh sided;
+    std::vector<std::uint32_t> piece_of;
+    std::vector<std::uint8_t> open_edges;
+    bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of, open_edges);
+    if (two_sided) {
+        faces = compute_face_data(sided);
+        // --sheet-edges overlap (capture.cpp, write_maps): measured on the sheet assembly, holes
+        // 0.10% -> 0.016% but spill 0.65% -> 0.96% and Luv 1.62 -> 1.96 (docs/RESULTS.md), so not
+        // the default
+        if (settings.sheet_edges == "overlap") faces.open_edges = std::move(open_edges);
+        for (std::uint32_t& piece : piece_of) piece = source_face.empty() ? piece : source_face[piece];
+        source_face = std::move(piece_of);
+    }
+    const Mesh& work = two_sided ? sided : split_or_source;
     for (double a : faces.area) package->area_total += a;
     std::vector<glm::vec3> directions = make_directions(settings);
     CaptureSettings capture_settings;

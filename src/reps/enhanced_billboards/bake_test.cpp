@@ -40,6 +40,13 @@ void add_square(Mesh& mesh, float z, float lo = 0.0f, float hi = 1.0f)
     if (mesh.materials.empty()) mesh.materials.push_back(Material{"red", {1, 0, 0, 1}, -1});
 }
 
+// These tests are about one side of a surface: a single-sided material keeps the back of an open
+// square out of the bake (a double-sided one gets a billboard per side, OpenSheetIsBakedFromBothSides).
+void one_sided(Mesh& mesh)
+{
+    for (Material& material : mesh.materials) material.double_sided = false;
+}
+
 struct Baked {
     Status status;
     std::unique_ptr<EnhancedBillboardsPackage> package;
@@ -85,6 +92,7 @@ TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
 {
     Mesh mesh;
     add_square(mesh, 0.0f);
+    one_sided(mesh);
     Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "16"}, {"coarse-ratio", "0"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
     const EnhancedBillboardsPackage& p = *baked.package;
@@ -123,6 +131,7 @@ TEST(BakeBillboards, OccludedSurfaceGoesToASecondBillboard)
     Mesh mesh;
     add_square(mesh, 0.0f);
     add_square(mesh, 0.5f, 0.25f, 0.75f); // in front of the middle of the first, seen from +z
+    one_sided(mesh);
     Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
     const EnhancedBillboardsPackage& p = *baked.package;
@@ -134,10 +143,53 @@ TEST(BakeBillboards, OccludedSurfaceGoesToASecondBillboard)
     expect_accounted(p);
 }
 
+TEST(BakeBillboards, OpenSheetIsBakedFromBothSides)
+{
+    // issue #17: the truth shows both sides of a double-sided sheet; each side gets its billboard,
+    // and the back of the hidden square is captured from below
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    add_square(mesh, 0.5f, 0.25f, 0.75f);
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const EnhancedBillboardsPackage& p = *baked.package;
+    EXPECT_NEAR(p.area_total, 2.0 * (1.0 + 0.25), 1e-6); // both sides of both squares
+    EXPECT_NEAR(p.area_captured / p.area_total, 1.0, 1e-9);
+    int down = 0, up = 0;
+    for (const Billboard& b : p.billboards) {
+        down += b.direction == glm::vec3(0, 0, -1);
+        up += b.direction == glm::vec3(0, 0, 1);
+    }
+    EXPECT_EQ(down, 2); // the top, then the hidden middle of the lower square
+    EXPECT_EQ(up, 2);   // the bottom, then the hidden middle of the upper square's underside
+    expect_accounted(p);
+}
+
+TEST(BakeBillboards, InsideOutClosedPartIsBakedFromOutside)
+{
+    // a closed part wound inside out shows only what its normals call its back: it is baked as
+    // its reversed copy, one side only (the area of one side)
+    Result<Mesh> sphere = generate_mesh(GenerateOptions{});
+    ASSERT_TRUE(sphere.is_ok());
+    Mesh mesh = *sphere;
+    for (glm::vec3& n : mesh.normals) n = -n;
+    for (std::size_t k = 0; k < mesh.indices.size(); k += 3) std::swap(mesh.indices[k + 1], mesh.indices[k + 2]);
+    Baked inverted = bake_mesh(mesh, {{"coarse-ratio", "0"}}), plain = bake_mesh(*sphere, {{"coarse-ratio", "0"}});
+    ASSERT_TRUE(inverted.status && plain.status);
+    EXPECT_NEAR(inverted.package->area_total, plain.package->area_total, 1e-9 * plain.package->area_total);
+    EXPECT_GT(inverted.package->area_captured / inverted.package->area_total, 0.99);
+    ASSERT_EQ(inverted.package->billboards.size(), plain.package->billboards.size());
+    // the outside, facing the billboards: the same normals as the outward sphere's
+    const Billboard &a = inverted.package->billboards[0], &b = plain.package->billboards[0];
+    EXPECT_EQ(a.direction, b.direction);
+    EXPECT_EQ(a.normal_depth.pixels, b.normal_depth.pixels);
+}
+
 TEST(BakeBillboards, IntersectingFacesBypassTheOcclusionTest)
 {
     // two large triangles crossing each other along x = 0.5: each hides part of the other from +z
     Mesh mesh = make_mesh({{0, 0, 0.2f}, {1, 0, -0.2f}, {0.5f, 1, 0}, {0, 0, -0.2f}, {1, 0, 0.2f}, {0.5f, 1, 0}}, {0, 1, 2, 3, 4, 5});
+    one_sided(mesh);
     Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
     EXPECT_NEAR(baked.package->area_captured / baked.package->area_total, 1.0, 1e-9);

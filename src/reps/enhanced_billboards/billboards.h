@@ -52,6 +52,7 @@ struct BakeSettings {
     int depth_bits = 16;
     float coarse_ratio = 0.1f;
     std::string compression = "bc"; // "bc": KTX2 block-compressed maps; "none": PNG (package.cpp)
+    std::string sheet_edges = "centre"; // "overlap": cover every texel an open edge crosses (capture.cpp)
 };
 
 class EnhancedBillboardsPackage final : public Package {

@@ -30,6 +30,9 @@
 // - seams: a one-texel rim of the front-most surface around the captured texels is written and
 //   marked covered, where its depth continues that of the captured neighbour, so that billboards
 //   meeting at a seam overlap by a texel instead of leaving a crack.
+// - sheet edges (issue #17, --sheet-edges overlap): a texel next to a captured face that the face
+//   overlaps only across an edge of an open surface is covered too (the edge has no wall beyond
+//   it for another billboard to capture).
 // - alpha (issue #14): a face of a mask or blend material exists only at the texel centres that
 //   pass its alpha test (Mesh::covered_at): cut-out texels are neither put in the item buffer nor
 //   tested, so leaf cards become their leaves (holes where the texture is cut) and do not hide what
@@ -434,7 +437,29 @@ std::vector<std::uint8_t> decide_captured(const Sets& sets, const std::vector<Vi
 }
 
 // Writes the maps of the captured texels (and their rim), cropped to the content plus one texel.
-Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::uint32_t>& slot,
+// Whether the square of texel (i, j) overlaps face f (corners c) but its centre lies outside it, and
+// only across edges of an open surface (bits of `open`): the texels a sheet's edge crosses.
+bool across_open_edge(const Corners& c, std::uint8_t open, int i, int j)
+{
+    std::int64_t area2 = edge(c, 0, 1, c.x[2], c.y[2]);
+    if (area2 == 0) return false;
+    std::int64_t sign = area2 > 0 ? 1 : -1;
+    std::int64_t px = std::int64_t(i) * k_subtexel + k_subtexel / 2, py = std::int64_t(j) * k_subtexel + k_subtexel / 2;
+    bool outside_open = false;
+    for (int k = 0; k < 3; ++k) {
+        int a = k, b = (k + 1) % 3;
+        std::int64_t e = sign * edge(c, a, b, px, py); // edge length x signed distance inside
+        if (e >= 0) continue;
+        if (!(open & (1 << k))) return false;
+        // a unit square meets the edge's line within half its extent along the edge's normal
+        std::int64_t reach = (std::abs(c.x[b] - c.x[a]) + std::abs(c.y[b] - c.y[a])) * (k_subtexel / 2);
+        if (-e > reach) return false;
+        outside_open = true;
+    }
+    return outside_open;
+}
+
+Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, const std::vector<std::uint32_t>& slot,
                      const std::vector<std::uint8_t>& captured)
 {
     int width = grid.width, height = grid.height;
@@ -463,7 +488,32 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
             }
         }
     });
-    for (std::size_t t = 0; t < covered.size(); ++t) covered[t] |= rim[t];
+    // sheet edges (issue #17): texels are covered where their centre is on the surface, and a
+    // closed part's edge is a wall that other billboards capture and overlap, but nothing lies
+    // beyond the edge of a sheet, so its outline lost about half the texels the edge crosses: holes
+    // along every rim seen at an angle. Those texels are covered too, by the captured face next to
+    // them that overlaps them across an open edge (its attributes at its nearest point).
+    std::vector<std::uint32_t> grown(faces.open_edges.empty() ? 0 : covered.size(), k_none);
+    if (!grown.empty()) {
+        parallel_over(covered.size(), [&](std::size_t t) {
+            if (covered[t] || rim[t]) return;
+            int i = int(t % width), j = int(t / width);
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    int ni = i + di, nj = j + dj;
+                    if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
+                    std::size_t n = std::size_t(nj) * width + ni;
+                    if (!covered[n]) continue;
+                    std::uint32_t f = winner_at(n);
+                    if (faces.open_edges[f] && across_open_edge(corners(mesh, grid, f), faces.open_edges[f], i, j)) {
+                        grown[t] = f;
+                        return;
+                    }
+                }
+        });
+    }
+    for (std::size_t t = 0; t < covered.size(); ++t) covered[t] |= rim[t] | std::uint8_t(!grown.empty() && grown[t] != k_none);
+    auto face_at = [&](std::size_t t) { return !grown.empty() && grown[t] != k_none ? grown[t] : winner_at(t); };
 
     // crop to the covered texels plus one empty texel of margin
     int lo_i = width, hi_i = -1, lo_j = height, hi_j = -1;
@@ -491,7 +541,7 @@ Billboard write_maps(const Mesh& mesh, const Grid& grid, const std::vector<std::
         int i = lo_i + int(k % board.width), j = lo_j + int(k / board.width);
         std::size_t t = std::size_t(j) * width + i;
         if (!covered[t]) return;
-        std::uint32_t f = winner_at(t);
+        std::uint32_t f = face_at(t);
         Corners c = corners(mesh, grid, f);
         float wt[3];
         clamped_weights(c, i, j, wt);
@@ -616,7 +666,7 @@ Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::ve
             capture.area += faces.area[sets.candidates[r]];
         }
     if (settings.write_maps && !capture.faces.empty()) {
-        capture.billboard = write_maps(mesh, grid, slot, captured);
+        capture.billboard = write_maps(mesh, faces, grid, slot, captured);
         capture.billboard.captured_faces = capture.faces.size();
         capture.billboard.captured_area = capture.area;
     }

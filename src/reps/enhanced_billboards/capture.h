@@ -18,6 +18,10 @@ namespace standin::billboards {
 struct FaceData {
     std::vector<glm::vec3> normal; // unit geometric normal, oriented to agree with the vertex normals
     std::vector<double> area;      // world units squared; 0 for degenerate faces
+    // Per face, bit k set when its edge (k, k+1) is the edge of an open surface (no other face
+    // there; bake.cpp, add_back_sides); empty when the model has none. Captures grow the coverage
+    // across such edges by the texels the face overlaps (capture.cpp, write_maps).
+    std::vector<std::uint8_t> open_edges;
 };
 FaceData compute_face_data(const Mesh& mesh);
 

@@ -90,6 +90,21 @@ TEST(BillboardPackage, RoundTripKeepsEverything)
     EXPECT_EQ(summary["representation"], "enhanced-billboards");
 }
 
+// Packages from before --sheet-edges (no bake.sheet_edges) read as centre-covered, as they were baked.
+TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
+{
+    auto baked = baked_sphere();
+    std::string directory = test::fresh_directory("billboard_no_sheet_edges") + "/sphere.standin";
+    ASSERT_TRUE(write_package(*baked, directory));
+    nlohmann::json manifest = read_manifest(directory);
+    ASSERT_EQ(manifest["bake"]["sheet_edges"], "centre");
+    manifest["bake"].erase("sheet_edges");
+    write_manifest(directory, manifest);
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.sheet_edges, "centre");
+}
+
 // --compression bc: KTX2 maps, coverage and depth exact, normals within BC5's error, smaller.
 TEST(BillboardPackage, BcPackagesRoundTrip)
 {

@@ -41,6 +41,9 @@ std::vector<OptionSpec> bake_options()
                       "colour PNG) or none (PNG only, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
                       "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
+        choice_option("sheet-edges", "centre", {"centre", "overlap"},
+                      "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
+                      "it, as everywhere) or overlap (every texel it overlaps: fewer holes along rims, more spill)"),
     };
 }
 
@@ -114,6 +117,7 @@ BakeSettings settings_from(const Options& parameters)
     s.depth_bits = parameters.integer("depth-bits");
     s.coarse_ratio = parameters.number("coarse-ratio");
     s.compression = parameters.choice("compression");
+    s.sheet_edges = parameters.choice("sheet-edges");
     return s;
 }
 
