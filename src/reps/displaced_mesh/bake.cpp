@@ -14,6 +14,8 @@
 //  5. rebuild Ms and measure ∆_f and d against the original;
 //  6. encode shading normals (octahedral) and albedo (RGBA8); for models with alpha-masked
 //     materials, the samples' coverage (issue #14: sample.cpp sees through cut-outs).
+// Boundary loops keep k_min_loop_vertices in the control mesh (control_mesh.cpp), so a model of
+// many open parts may stop above the target face count.
 // Deterministic for any thread count: the decimator is sequential; everything else writes fixed
 // slots from TBB loops.
 #include "reps/displaced_mesh/control_mesh.h"
@@ -101,6 +103,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     simplify.target_faces = target_faces(mesh.triangle_count(), settings);
     simplify.cone_angle_degrees = settings.cone_angle;
     simplify.keep_cutout_faces = has_cutouts(mesh);
+    simplify.min_loop_vertices = k_min_loop_vertices;
     Result<ControlMesh> control = build_control_mesh(mesh, simplify);
     if (!control) return control.status();
     package->positions = std::move(control->positions);

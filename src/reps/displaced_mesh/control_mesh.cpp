@@ -7,14 +7,19 @@
 //     keep_cutout_faces, lock the vertices of faces of alpha-masked materials (departure, issue
 //     #14: leaf cards are the surface the cut-outs live on, and a card collapsed to one triangle
 //     loses half its leaves; the rest of the model is simplified as before);
-//  2. find boundary and non-manifold edges (vertices on non-manifold edges never move);
+//  2. find boundary and non-manifold edges (vertices on non-manifold edges never move), and the
+//     boundary loops the boundary edges form;
 //  3. one quadric per vertex: area-weighted face planes plus a perpendicular plane per boundary
 //     edge (Garland & Heckbert 1997);
 //  4. one normal cone per vertex holding the normals of its faces;
 //  5. repeatedly collapse the cheapest edge (half-edge collapse: the endpoint of lower quadric error
 //     is kept, so control vertices lie on the input) if it is valid: topology (link condition, no
 //     boundary pinching), no face turning by more than 90 degrees, and no cone of the kept vertex or
-//     of its neighbours reaching the cone angle (the paper: "exceeds a half-sphere");
+//     of its neighbours reaching the cone angle (the paper: "exceeds a half-sphere"), and no
+//     boundary loop falling below min_loop_vertices (departure: on a model of many small open
+//     sheets, a flange, a tube rim, the quadrics alone took round holes and outlines down to
+//     triangles, which no displacement along the normal can bring back; the paper's models are
+//     closed);
 //  6. stop at the target face count or when no valid collapse remains (reported);
 //  7. compact, and give every control vertex the area-weighted normal of its faces.
 //
@@ -159,6 +164,9 @@ private:
     std::vector<NormalCone> cones_;
     std::vector<std::uint32_t> version_;
     std::vector<bool> vertex_alive_, locked_, boundary_, waiting_;
+    // boundary loops: each boundary vertex's loop (joined through boundary edges) and how many
+    // live vertices each loop has
+    std::vector<std::uint32_t> loop_of_, loop_size_;
     std::priority_queue<Candidate, std::vector<Candidate>, CostOrder> heap_;
     std::size_t live_faces_ = 0;
     ControlMesh stats_;
@@ -239,13 +247,28 @@ void Simplifier::classify_edges()
             edges.push_back({std::min(a, b), std::max(a, b)});
         }
     std::sort(edges.begin(), edges.end());
+    // boundary loops by union-find over boundary edges (a vertex where two loops touch joins them)
+    std::vector<std::uint32_t> parent(positions_.size());
+    for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+    auto root = [&](std::uint32_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
     for (std::size_t i = 0; i < edges.size();) {
         std::size_t j = i;
         while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if (j - i == 1) boundary_[edges[i].lo] = boundary_[edges[i].hi] = true;
+        if (j - i == 1) {
+            boundary_[edges[i].lo] = boundary_[edges[i].hi] = true;
+            std::uint32_t a = root(edges[i].lo), b = root(edges[i].hi);
+            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
         if (j - i > 2) locked_[edges[i].lo] = locked_[edges[i].hi] = true;
         i = j;
     }
+    loop_of_.assign(positions_.size(), UINT32_MAX);
+    loop_size_.assign(positions_.size(), 0);
+    for (std::uint32_t v = 0; v < positions_.size(); ++v)
+        if (boundary_[v]) ++loop_size_[loop_of_[v] = root(v)];
 }
 
 void Simplifier::build_quadrics_and_cones()
@@ -334,6 +357,8 @@ Refusal Simplifier::try_collapse(std::uint32_t from, std::uint32_t to, bool comm
     if (shared.empty()) return Refusal::stale; // the edge is gone
     if (shared.size() > 2) return Refusal::topology;
     if (boundary_[from] && shared.size() != 1) return Refusal::topology; // would pull the boundary inside
+    // a loop at its floor keeps its outline (a collapse along the boundary removes one of its vertices)
+    if (boundary_[from] && loop_size_[loop_of_[from]] <= options_.min_loop_vertices) return Refusal::topology;
     for (std::uint32_t f : faces_of_[to])
         for (int k = 0; k < 3; ++k)
             if (std::uint32_t w = faces_[3 * std::size_t(f) + k]; w != to) ring_to.push_back(w);
@@ -411,6 +436,7 @@ Refusal Simplifier::try_collapse(std::uint32_t from, std::uint32_t to, bool comm
     cones_[to] = kept;
     for (const auto& [w, c] : neighbours) cones_[w] = c;
     vertex_alive_[from] = false;
+    if (boundary_[from]) --loop_size_[loop_of_[from]];
     boundary_[to] = boundary_[to] || boundary_[from];
     ++version_[to];
     kept_ = to;

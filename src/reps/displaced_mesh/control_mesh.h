@@ -53,6 +53,11 @@ struct ControlMeshOptions {
     // stays whole in the control mesh and its displacement samples lie on it; collapsing a card
     // to one triangle would cut away the half of its leaves no coverage can bring back.
     bool keep_cutout_faces = false;
+    // A boundary loop (the outline of an open sheet, the rim of a tube, the hole of an annulus) keeps
+    // at least this many vertices (or all it has, when fewer): collapses along a loop that has
+    // reached it are refused. Displacement moves points along the normal only, so a sheet's
+    // outline is the loop's polygon; 0 lets a loop shrink to a triangle (the old behaviour).
+    std::size_t min_loop_vertices = 0;
     // Called after every executed collapse; for tests (slow). May be empty.
     std::function<void(const CollapseView&)> observer;
 };

@@ -1,5 +1,6 @@
 // The control mesh: cone merging, the cone invariant after every collapse, reaching the target,
-// stopping early (reported) when the cones allow no coarser mesh, determinism.
+// stopping early (reported) when the cones allow no coarser mesh, determinism, boundary loops
+// keeping their floor of vertices.
 #include "reps/displaced_mesh/control_mesh.h"
 
 #include <gtest/gtest.h>
@@ -159,6 +160,60 @@ TEST(DisplacedMeshControl, KeepCutoutFacesKeepsEveryLeafCardWhole)
     EXPECT_EQ(leaf_faces_kept(*kept), 1.0);
     EXPECT_LT(leaf_faces_kept(*plain), 0.6);
     EXPECT_GT(kept->face_count(), plain->face_count());
+}
+
+// A flat annulus (a flange: one open sheet with two boundary loops), `segments` around, `rings`
+// across, radii 0.5 and 1.
+Mesh annulus(int segments, int rings)
+{
+    Mesh mesh;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            float radius = 0.5f + 0.5f * float(r) / float(rings), a = 2.0f * std::numbers::pi_v<float> * float(s) / float(segments);
+            mesh.positions.push_back({radius * std::cos(a), radius * std::sin(a), 0.0f});
+            mesh.colors.push_back({0.8f, 0.8f, 0.8f, 1.0f});
+        }
+    auto at = [&](int r, int s) { return std::uint32_t(r * segments + (s % segments)); };
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s)
+            mesh.indices.insert(mesh.indices.end(), {at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s), at(r + 1, s + 1), at(r, s + 1)});
+    mesh.materials.push_back(Material{});
+    mesh.face_materials.assign(mesh.triangle_count(), 0);
+    compute_smooth_normals(mesh);
+    return mesh;
+}
+
+// A flat sheet's outline is its boundary loops' polygon (displacement moves along the normal
+// only): without a floor the quadrics take an annulus's round hole down to a triangle; with
+// min_loop_vertices each loop keeps that many vertices, and the mesh still ends on input vertices.
+TEST(DisplacedMeshControl, BoundaryLoopsKeepTheirFloorOfVertices)
+{
+    Mesh mesh = annulus(48, 6);
+    auto loop_vertices = [](const ControlMesh& control, bool inner) {
+        std::size_t count = 0;
+        for (glm::vec3 p : control.positions) {
+            float radius = glm::length(p);
+            count += inner ? std::abs(radius - 0.5f) < 1e-4f : std::abs(radius - 1.0f) < 1e-4f;
+        }
+        return count;
+    };
+    ControlMeshOptions options;
+    options.target_faces = 4;
+    Result<ControlMesh> free = build_control_mesh(mesh, options);
+    ASSERT_TRUE(free.is_ok());
+    EXPECT_LE(loop_vertices(*free, true), 6u);
+    options.min_loop_vertices = 12;
+    Result<ControlMesh> kept = build_control_mesh(mesh, options);
+    ASSERT_TRUE(kept.is_ok());
+    EXPECT_EQ(loop_vertices(*kept, true), 12u);
+    EXPECT_EQ(loop_vertices(*kept, false), 12u);
+    EXPECT_FALSE(kept->reached_target);
+    // a loop with fewer vertices than the floor keeps them all
+    options.min_loop_vertices = 100;
+    Result<ControlMesh> all = build_control_mesh(mesh, options);
+    ASSERT_TRUE(all.is_ok());
+    EXPECT_EQ(loop_vertices(*all, true), 48u);
+    EXPECT_EQ(loop_vertices(*all, false), 48u);
 }
 
 } // namespace

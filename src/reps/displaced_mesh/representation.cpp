@@ -72,7 +72,7 @@ PackageSummary summarise(const Package& base)
     char line[200];
     std::snprintf(line, sizeof line, "%zu control faces x %d^2 pattern (%llu triangles at full detail), %d-bit elevations%s",
                   p.face_count(), l.segments, (unsigned long long)refined, p.settings.elevation_bits,
-                  p.control.reached_target ? "" : "; the cones stopped simplification early");
+                  p.control.reached_target ? "" : "; the cones or boundary loops stopped simplification early");
     summary.headline = line;
     return summary;
 }
