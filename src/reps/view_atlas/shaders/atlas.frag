@@ -65,6 +65,34 @@ layout(location = 0) out vec4 out_color;
 // can reject fragments behind what is drawn (crowds).
 layout(depth_greater) out float gl_FragDepth;
 
+// Early rejection (issue #17, crowds): llvmpipe runs this stage before the depth test, since it
+// writes gl_FragDepth, so a fragment behind what is already drawn still walked and shaded (5.85
+// fragments per covered pixel at 1000 copies). Every fragment that is drawn records its depth in
+// nearest_depth (atomic minimum of the float's bits: depths are non-negative, so the bits order as
+// the values), and every style's depth is at or behind its proxy's, so a fragment whose proxy depth
+// is already behind that record would fail the draw's GL_LESS test whatever it computes: it stops
+// at once, and after the walk, a fragment whose nearest hit is behind it stops before shading. The
+// record only holds depths this draw wrote, so it is never nearer than the depth buffer: the picture
+// is exactly the one without it. llvmpipe shades each screen tile's fragments on one thread in
+// draw order, so the record and the counters are deterministic there; on a GPU the record may lag
+// (fewer rejections, same picture). renderer.cpp turns it on (early_reject) only for a GL_LESS test
+// with depth writes into a single-sampled target.
+uniform int early_reject; // 1: nearest_depth is bound, cleared for this draw
+layout(binding = ATLAS_NEAREST_IMAGE, r32ui) uniform coherent uimage2D nearest_depth;
+
+// Whether a fragment at window depth z would fail the depth test against what this draw drew.
+bool behind_drawn(float z)
+{
+    return early_reject != 0 && floatBitsToUint(z) > imageLoad(nearest_depth, ivec2(gl_FragCoord.xy)).r;
+}
+
+// gl_FragDepth, and its record for behind_drawn.
+void write_depth(float z)
+{
+    gl_FragDepth = z;
+    if (early_reject != 0) imageAtomicMin(nearest_depth, ivec2(gl_FragCoord.xy), floatBitsToUint(z));
+}
+
 // A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
 // sampler is chosen by branching (indices into sampler arrays must be dynamically uniform).
 #define ATLAS_READ(i) if (array == i) return ATLAS_MAP_READ(i);
@@ -463,6 +491,10 @@ void main()
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
         if (fade_discards()) discard; // after the derivatives, as below
+        if (behind_drawn(gl_FragCoord.z)) {
+            count_this_fragment();
+            discard;
+        }
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : (ATLAS_PBR != 0 ? 4u : 2u);
         count_this_fragment();
@@ -475,7 +507,7 @@ void main()
             color = shade_surface(color, orm, emission, n, direction_world, fragment_world_position());
         }
         out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        gl_FragDepth = gl_FragCoord.z;
+        write_depth(gl_FragCoord.z);
         return;
     }
 
@@ -486,8 +518,12 @@ void main()
     vec2 plane_texel = capture_from_plane(vec2(dot(on_plane, first.axis_u.xyz), dot(on_plane, first.axis_v.xyz)));
     float lod = log2(max(max(length(dFdx(plane_texel)), length(dFdy(plane_texel))), 1e-8));
     // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
-    // need the whole 2x2 quad alive
+    // need the whole 2x2 quad alive; so is a fragment behind what this draw drew
     if (fade_discards()) discard;
+    if (behind_drawn(gl_FragCoord.z)) {
+        count_this_fragment();
+        discard;
+    }
 
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
     vec3 orm_sum = vec3(0.0), emission_sum = vec3(0.0); // premultiplied (baseline) or weighted (corrected)
@@ -527,7 +563,7 @@ void main()
         vec3 emission = emission_sum / color_sum.a;
         vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission, n, direction_world, fragment_world_position());
         out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        gl_FragDepth = gl_FragCoord.z;
+        write_depth(gl_FragCoord.z);
         return;
     }
 
@@ -553,6 +589,11 @@ void main()
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) {
+        count_this_fragment();
+        discard;
+    }
+    // the depth written is the blend's, at or behind the nearest hit's
+    if (behind_drawn(max(window_depth((world_from_object * vec4(o + t_min * d, 1.0)).xyz), gl_FragCoord.z))) {
         count_this_fragment();
         discard;
     }
@@ -589,6 +630,7 @@ void main()
     vec3 albedo = color_sum.rgb / t_weight;
     vec3 orm = ATLAS_PBR != 0 ? orm_sum / t_weight : SHADING_DEFAULT_ORM;
     vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission_sum / t_weight, normal_sum.xyz, direction_world, p_world);
-    gl_FragDepth = max(window_depth(p_world), gl_FragCoord.z);
-    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
+    float z = max(window_depth(p_world), gl_FragCoord.z);
+    write_depth(z);
+    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, z), 1.0);
 }
