@@ -479,6 +479,17 @@ vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
 
 void main()
 {
+    // a whole 2x2 quad behind what is drawn stops before any work (behind_drawn); a quad only partly
+    // behind goes on to its derivatives, which need every lane (below). The quad test reads the
+    // neighbours' flags by fine derivatives, in uniform control flow: the row pair's, then the column's.
+    if (early_reject != 0) {
+        float behind = behind_drawn(gl_FragCoord.z) ? 1.0 : 0.0;
+        float pair = behind > 0.5 && dFdxFine(behind) == 0.0 ? 1.0 : 0.0;
+        if (pair > 0.5 && dFdyFine(pair) == 0.0) {
+            count_this_fragment();
+            discard;
+        }
+    }
     mat4 world_from_object = instances.world_from_object[v_instance];
     mat4 object_from_world = inverse(world_from_object);
     vec3 origin_world, direction_world;
