@@ -193,19 +193,27 @@ vec4 fetch_array(int map, int array, ivec3 texel)
 
 // One texel of a view's height field at level 0: x: covered (0/1), y: height, zw: the normal's
 // slope along axis_u and axis_v (height per unit of plane distance, capped).
-vec4 height_texel(ViewData view, ivec2 capture_texel)
+// nd: the texel as read (zero where none was read), for callers that need it too.
+vec4 height_texel(ViewData view, ivec2 capture_texel, out vec4 nd)
 {
+    nd = vec4(0.0);
     ivec2 local = capture_texel - view.crop.xy;
     if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, view.crop.zw))) return vec4(0.0);
     // one read: level 0 of the normal-depth pages holds the stored values on every covered texel
     // (however little covered) and zero on empty ones (renderer.cpp, upload_pages), while a unit
     // normal encoded as n * 0.5 + 0.5 has a component of at least 0.21
-    vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
+    nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
     if (max(nd.r, max(nd.g, nd.b)) < 0.1) return vec4(0.0);
     vec3 n = nd.rgb * 2.0 - 1.0;
     vec3 n_view = vec3(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz), dot(n, view.direction.xyz));
     vec2 slope = vec2(hf_slope(n_view.x, n_view.z), hf_slope(n_view.y, n_view.z));
     return vec4(1.0, atlas_radius - 2.0 * atlas_radius * nd.a, slope);
+}
+
+vec4 height_texel(ViewData view, ivec2 capture_texel)
+{
+    vec4 nd;
+    return height_texel(view, capture_texel, nd);
 }
 
 layout(binding = ATLAS_CELL_TEXTURE) uniform sampler2DArray cell_tops;
@@ -390,7 +398,8 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     if (lod < 1.0) {
         for (int k = 0; k < 4; ++k) {
             ivec2 corner = ivec2(k & 1, k >> 1);
-            vec4 t = height_texel(view, base + corner);
+            vec4 texel_nd; // the normal-depth texel, read once for the height and the blend
+            vec4 t = height_texel(view, base + corner, texel_nd);
             if (t.x < 0.5) continue;
             // the link rule's step, and a texel more: the hit may lie anywhere on its texel
             float tolerance = hf_link_tolerance(t.z, t.w, texel, depth_quantum()) + texel;
@@ -401,7 +410,7 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
             color += w * texel_color;
             // level 0 of the normal-depth pages is not premultiplied (renderer.cpp, upload_pages):
             // weight it by the colour's coverage like the other maps
-            normal_depth += w * texel_color.a * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+            normal_depth += w * texel_color.a * texel_nd;
 #if ATLAS_PBR
             orm += w * fetch_array(MAP_ORM, view.atlas.w, at);
             emission += w * fetch_array(MAP_EMISSION, view.atlas.w, at);
