@@ -11,8 +11,10 @@
 // fragment counter, `standin bench`).
 // Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
 // corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
-// seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth
-// tests reject hidden instances' fragments before they walk.
+// seed's quad under --seed-below; by default 48 px for packages of whole coverage, off for
+// alpha-tested captures), and instances drawn front to back (draw) so that early depth tests reject
+// hidden instances' fragments before they walk; llvmpipe tests depth only after this fragment stage,
+// so the stage rejects them itself against a record of the depths drawn (bind_early_reject).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell). Coverage may be fractional (alpha-tested
