@@ -11,8 +11,7 @@
 // fragment counter, `standin bench`).
 // Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
 // corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
-// seed's quad under --seed-below; by default 48 px for packages of whole coverage, off for
-// alpha-tested captures), and instances drawn front to back (draw) so that early depth tests reject
+// seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth tests reject
 // hidden instances' fragments before they walk; llvmpipe tests depth only after this fragment stage,
 // so the stage rejects them itself against a record of the depths drawn (bind_early_reject).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
@@ -65,7 +64,6 @@ static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed o
 // the range over its crop's cells (crops sit on whole cells).
 struct CellDepths {
     int cells = 0;                         // per page side
-    bool partial = false;                  // some texel is partly covered (alpha-tested captures)
     std::vector<std::uint8_t> nearest, farthest; // page-major, then row-major cells
 };
 
@@ -84,7 +82,6 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x)
                 if (color.at(x, y)[3] != 0) { // any coverage: the walk meets every covered texel
-                    depths.partial = depths.partial || color.at(x, y)[3] != 255;
                     std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
                     std::uint8_t code = normal_depth.at(x, y)[3];
                     depths.nearest[cell] = std::min(depths.nearest[cell], code);
@@ -485,11 +482,8 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
     glProgramUniform1i(id, renderer->program_.uniform("style"), style);
     glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
-    // --baseline-below given, or by the package: on for whole coverage, off for alpha-tested captures
-    const float baseline_below = settings.options.given("baseline-below") ? settings.options.number("baseline-below")
-                                 : depths.partial                          ? 0.0f
-                                                                           : k_solid_baseline_below;
-    glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"), baseline_below);
+    glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"),
+                       float(settings.options.number("baseline-below")));
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);

@@ -103,8 +103,8 @@ TEST(ViewAtlasRenderer, CorrectedBeatsSeedBetweenViews)
     EXPECT_LT(error[2], error[1]);
 }
 
-// The walk itself: the level-of-detail ladder pinned off (its default depends on the package and
-// would shade these tests' small instances as the baseline; the ladder has its own test below).
+// The walk itself: the level-of-detail ladder pinned off, whatever its default (it would shade these
+// tests' small instances as the baseline; the ladder has its own test below).
 Result<std::unique_ptr<Renderer>> atlas_renderer(const Package& package, const char* style)
 {
     RenderOptions options;
@@ -564,7 +564,7 @@ TEST(ViewAtlasRenderer, LevelOfDetailLadderMatchesCorrectedAtTheSwitchSizes)
     const Mesh meshes[2] = {std::move(*noisy), torus()};
     const char* names[2] = {"noisy sphere", "torus"};
     const double seed_below = render_option_default("seed-below");
-    // the default of packages of whole coverage (these test models), by the package
+    // the value measured for crowds of solid models (off by default)
     const double baseline_below = double(view_atlas::k_solid_baseline_below);
     ASSERT_GT(baseline_below, seed_below) << "the ladder: corrected, then baseline, then seed";
     OrbitView views[3];

@@ -45,11 +45,10 @@ std::vector<OptionSpec> render_options()
         number_option("seed-below", "8", 0.0, 1.0e6,
                       "Corrected style, level of detail: an instance whose bounding sphere is under this many "
                       "pixels in radius is drawn as the seed's nearest view (one quad, no walk; 0: never)"),
-        number_option("baseline-below", "", 0.0, 1.0e6,
+        number_option("baseline-below", "0", 0.0, 1.0e6,
                       "Corrected style, level of detail: an instance under this many pixels in radius (and not "
                       "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
-                      "one parallax step, no walk; 0: never). Default: 48 for packages of whole coverage, 0 for "
-                      "alpha-tested (partly covered) captures, docs/RESULTS.md"),
+                      "one parallax step, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
         flag_option("early-reject", true,
                     "Stop a fragment before its walk when it lies behind a depth this draw already wrote (the "
                     "picture is the same; llvmpipe runs the shader before its depth test, issue #17)"),
