@@ -11,8 +11,9 @@
 // fragment counter, `standin bench`).
 // Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
 // corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
-// seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth
-// tests reject hidden instances' fragments before they walk.
+// seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth tests reject
+// hidden instances' fragments before they walk; llvmpipe tests depth only after this fragment stage,
+// so the stage rejects them itself against a record of the depths drawn (bind_early_reject).
 // Differences from the paper: the seed's mip maps bled the background (§5); here pages are
 // premultiplied by coverage before mip-mapping and divided by the filtered coverage, and levels stop
 // where two crops would mix (view_atlas.h, k_cell). Coverage may be fractional (alpha-tested
@@ -351,9 +352,14 @@ private:
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     std::vector<gpu::Texture> orm_arrays_, emission_arrays_;       // PBR packages only
     gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
+    gpu::Texture nearest_;   // early rejection's record (atlas.frag nearest_depth), grown to the viewport
+    glm::ivec2 nearest_size_{0, 0};
+    bool early_reject_ = true; // the run-time option
+    GLint early_reject_at_ = -1;
     gpu::Buffer views_, index_;
     gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
+    bool bind_early_reject();
     glm::vec3 center_{0.0f};                // the package's bounding sphere centre (object space)
     std::vector<glm::mat4> sorted_;         // this frame's instances, front to back (draw)
     std::vector<std::pair<float, std::uint32_t>> order_; // (view depth, index), reused across frames
@@ -462,6 +468,8 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->style_ = style;
     renderer->center_ = package.center;
     renderer->counting_at_ = renderer->program_.uniform("counting");
+    renderer->early_reject_at_ = renderer->program_.uniform("early_reject");
+    renderer->early_reject_ = settings.options.flag("early-reject");
 
     GLuint id = renderer->program_.id();
     glProgramUniform3fv(id, renderer->program_.uniform("atlas_center"), 1, &package.center.x);
@@ -482,6 +490,33 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
+}
+
+// Early rejection (atlas.frag behind_drawn): only where a fragment that fails the draw's depth test
+// is one behind a depth this draw wrote, i.e. a GL_LESS test that writes into a target of one sample
+// per pixel (with several, a pixel's record would mix samples' depths); then the record is cleared
+// to "nothing drawn" and bound for this draw.
+bool AtlasRenderer::bind_early_reject()
+{
+    if (!early_reject_) return false;
+    GLint func = 0, samples = 0, viewport[4] = {0, 0, 0, 0};
+    GLboolean mask = GL_FALSE;
+    glGetIntegerv(GL_DEPTH_FUNC, &func);
+    glGetBooleanv(GL_DEPTH_WRITEMASK, &mask);
+    glGetIntegerv(GL_SAMPLES, &samples);
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    if (func != GL_LESS || mask != GL_TRUE || samples > 1) return false;
+    glm::ivec2 size(viewport[0] + viewport[2], viewport[1] + viewport[3]);
+    if (size.x <= 0 || size.y <= 0) return false;
+    if (size.x > nearest_size_.x || size.y > nearest_size_.y) {
+        nearest_size_ = glm::max(size, nearest_size_);
+        nearest_ = gpu::make_texture_2d(GL_R32UI, nearest_size_.x, nearest_size_.y);
+    }
+    const GLuint nothing = 0xffffffffu;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT); // the previous draw's image writes, before the clear
+    glClearTexImage(nearest_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &nothing);
+    glBindImageTexture(ATLAS_NEAREST_IMAGE, nearest_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    return true;
 }
 
 // Instances front to back: each one's bounding-sphere centre by its depth along the camera's view
@@ -521,6 +556,7 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         }
     }
     if (cell_tops_.get() != 0) glBindTextureUnit(ATLAS_CELL_TEXTURE, cell_tops_.get());
+    glProgramUniform1i(program_.id(), early_reject_at_, bind_early_reject() ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);

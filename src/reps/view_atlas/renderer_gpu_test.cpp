@@ -103,10 +103,13 @@ TEST(ViewAtlasRenderer, CorrectedBeatsSeedBetweenViews)
     EXPECT_LT(error[2], error[1]);
 }
 
+// The walk itself: the level-of-detail ladder pinned off, whatever its default (it would shade these
+// tests' small instances as the baseline; the ladder has its own test below).
 Result<std::unique_ptr<Renderer>> atlas_renderer(const Package& package, const char* style)
 {
     RenderOptions options;
     options.values.set("style", style);
+    options.values.set("baseline-below", "0");
     return make_package_renderer(package, options);
 }
 
@@ -307,6 +310,7 @@ TEST(ViewAtlasRenderer, DebugViewsShowPerPixelViewsAndNormals)
     Camera camera = orbit_camera(sphere->bounding_sphere(), view, 1.0f);
     auto render = [&](DebugView debug) {
         RenderOptions options;
+        options.values.set("baseline-below", "0"); // the walk's per-pixel views, not the ladder's
         options.debug_view = debug;
         Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*package, options);
         EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
@@ -560,9 +564,8 @@ TEST(ViewAtlasRenderer, LevelOfDetailLadderMatchesCorrectedAtTheSwitchSizes)
     const Mesh meshes[2] = {std::move(*noisy), torus()};
     const char* names[2] = {"noisy sphere", "torus"};
     const double seed_below = render_option_default("seed-below");
-    // off by default (the walk's own tests assume it below 48 px); then the value RESULTS recommends
-    // for crowds, measured here
-    const double baseline_below = render_option_default("baseline-below") > 0.0 ? render_option_default("baseline-below") : 48.0;
+    // the value measured for crowds of solid models (off by default)
+    const double baseline_below = double(view_atlas::k_solid_baseline_below);
     ASSERT_GT(baseline_below, seed_below) << "the ladder: corrected, then baseline, then seed";
     OrbitView views[3];
     views[0].azimuth_degrees = 23.0f, views[0].elevation_degrees = 41.0f;

@@ -49,7 +49,10 @@ std::vector<OptionSpec> render_options()
         number_option("baseline-below", "0", 0.0, 1.0e6,
                       "Corrected style, level of detail: an instance under this many pixels in radius (and not "
                       "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
-                      "one parallax step, no walk; 0: never; 48 for crowds, docs/RESULTS.md)"),
+                      "one parallax step, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
+        flag_option("early-reject", true,
+                    "Stop a fragment before its walk when it lies behind a depth this draw already wrote (the "
+                    "picture is the same; llvmpipe runs the shader before its depth test, issue #17)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),

@@ -65,6 +65,34 @@ layout(location = 0) out vec4 out_color;
 // can reject fragments behind what is drawn (crowds).
 layout(depth_greater) out float gl_FragDepth;
 
+// Early rejection (issue #17, crowds): llvmpipe runs this stage before the depth test, since it
+// writes gl_FragDepth, so a fragment behind what is already drawn still walked and shaded (5.85
+// fragments per covered pixel at 1000 copies). Every fragment that is drawn records its depth in
+// nearest_depth (atomic minimum of the float's bits: depths are non-negative, so the bits order as
+// the values), and every style's depth is at or behind its proxy's, so a fragment whose proxy depth
+// is already behind that record would fail the draw's GL_LESS test whatever it computes: it stops
+// at once, and after the walk, a fragment whose nearest hit is behind it stops before shading. The
+// record only holds depths this draw wrote, so it is never nearer than the depth buffer: the picture
+// is exactly the one without it. llvmpipe shades each screen tile's fragments on one thread in
+// draw order, so the record and the counters are deterministic there; on a GPU the record may lag
+// (fewer rejections, same picture). renderer.cpp turns it on (early_reject) only for a GL_LESS test
+// with depth writes into a single-sampled target.
+uniform int early_reject; // 1: nearest_depth is bound, cleared for this draw
+layout(binding = ATLAS_NEAREST_IMAGE, r32ui) uniform coherent uimage2D nearest_depth;
+
+// Whether a fragment at window depth z would fail the depth test against what this draw drew.
+bool behind_drawn(float z)
+{
+    return early_reject != 0 && floatBitsToUint(z) > imageLoad(nearest_depth, ivec2(gl_FragCoord.xy)).r;
+}
+
+// gl_FragDepth, and its record for behind_drawn.
+void write_depth(float z)
+{
+    gl_FragDepth = z;
+    if (early_reject != 0) imageAtomicMin(nearest_depth, ivec2(gl_FragCoord.xy), floatBitsToUint(z));
+}
+
 // A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
 // sampler is chosen by branching (indices into sampler arrays must be dynamically uniform).
 #define ATLAS_READ(i) if (array == i) return ATLAS_MAP_READ(i);
@@ -165,19 +193,27 @@ vec4 fetch_array(int map, int array, ivec3 texel)
 
 // One texel of a view's height field at level 0: x: covered (0/1), y: height, zw: the normal's
 // slope along axis_u and axis_v (height per unit of plane distance, capped).
-vec4 height_texel(ViewData view, ivec2 capture_texel)
+// nd: the texel as read (zero where none was read), for callers that need it too.
+vec4 height_texel(ViewData view, ivec2 capture_texel, out vec4 nd)
 {
+    nd = vec4(0.0);
     ivec2 local = capture_texel - view.crop.xy;
     if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, view.crop.zw))) return vec4(0.0);
     // one read: level 0 of the normal-depth pages holds the stored values on every covered texel
     // (however little covered) and zero on empty ones (renderer.cpp, upload_pages), while a unit
     // normal encoded as n * 0.5 + 0.5 has a component of at least 0.21
-    vec4 nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
+    nd = fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, ivec3(view.atlas.yz + local, view.atlas.x));
     if (max(nd.r, max(nd.g, nd.b)) < 0.1) return vec4(0.0);
     vec3 n = nd.rgb * 2.0 - 1.0;
     vec3 n_view = vec3(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz), dot(n, view.direction.xyz));
     vec2 slope = vec2(hf_slope(n_view.x, n_view.z), hf_slope(n_view.y, n_view.z));
     return vec4(1.0, atlas_radius - 2.0 * atlas_radius * nd.a, slope);
+}
+
+vec4 height_texel(ViewData view, ivec2 capture_texel)
+{
+    vec4 nd;
+    return height_texel(view, capture_texel, nd);
 }
 
 layout(binding = ATLAS_CELL_TEXTURE) uniform sampler2DArray cell_tops;
@@ -362,7 +398,8 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     if (lod < 1.0) {
         for (int k = 0; k < 4; ++k) {
             ivec2 corner = ivec2(k & 1, k >> 1);
-            vec4 t = height_texel(view, base + corner);
+            vec4 texel_nd; // the normal-depth texel, read once for the height and the blend
+            vec4 t = height_texel(view, base + corner, texel_nd);
             if (t.x < 0.5) continue;
             // the link rule's step, and a texel more: the hit may lie anywhere on its texel
             float tolerance = hf_link_tolerance(t.z, t.w, texel, depth_quantum()) + texel;
@@ -373,7 +410,7 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
             color += w * texel_color;
             // level 0 of the normal-depth pages is not premultiplied (renderer.cpp, upload_pages):
             // weight it by the colour's coverage like the other maps
-            normal_depth += w * texel_color.a * fetch_array(MAP_NORMAL_DEPTH, view.atlas.w, at);
+            normal_depth += w * texel_color.a * texel_nd;
 #if ATLAS_PBR
             orm += w * fetch_array(MAP_ORM, view.atlas.w, at);
             emission += w * fetch_array(MAP_EMISSION, view.atlas.w, at);
@@ -451,6 +488,17 @@ vec3 debug_color(vec3 shaded, int view, vec3 normal_world, float window_z)
 
 void main()
 {
+    // a whole 2x2 quad behind what is drawn stops before any work (behind_drawn); a quad only partly
+    // behind goes on to its derivatives, which need every lane (below). The quad test reads the
+    // neighbours' flags by fine derivatives, in uniform control flow: the row pair's, then the column's.
+    if (early_reject != 0) {
+        float behind = behind_drawn(gl_FragCoord.z) ? 1.0 : 0.0;
+        float pair = behind > 0.5 && dFdxFine(behind) == 0.0 ? 1.0 : 0.0;
+        if (pair > 0.5 && dFdyFine(pair) == 0.0) {
+            count_this_fragment();
+            discard;
+        }
+    }
     mat4 world_from_object = instances.world_from_object[v_instance];
     mat4 object_from_world = inverse(world_from_object);
     vec3 origin_world, direction_world;
@@ -463,6 +511,10 @@ void main()
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
         if (fade_discards()) discard; // after the derivatives, as below
+        if (behind_drawn(gl_FragCoord.z)) {
+            count_this_fragment();
+            discard;
+        }
         vec4 c = sample_page(MAP_COLOR, view, v_atlas_texel, lod);
         g_fetches = lit_maps != 0 ? 1u : (ATLAS_PBR != 0 ? 4u : 2u);
         count_this_fragment();
@@ -475,7 +527,7 @@ void main()
             color = shade_surface(color, orm, emission, n, direction_world, fragment_world_position());
         }
         out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        gl_FragDepth = gl_FragCoord.z;
+        write_depth(gl_FragCoord.z);
         return;
     }
 
@@ -486,8 +538,12 @@ void main()
     vec2 plane_texel = capture_from_plane(vec2(dot(on_plane, first.axis_u.xyz), dot(on_plane, first.axis_v.xyz)));
     float lod = log2(max(max(length(dFdx(plane_texel)), length(dFdy(plane_texel))), 1e-8));
     // a cross-fade's other renderer owns this pixel; dropped after the derivatives above, which
-    // need the whole 2x2 quad alive
+    // need the whole 2x2 quad alive; so is a fragment behind what this draw drew
     if (fade_discards()) discard;
+    if (behind_drawn(gl_FragCoord.z)) {
+        count_this_fragment();
+        discard;
+    }
 
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
     vec3 orm_sum = vec3(0.0), emission_sum = vec3(0.0); // premultiplied (baseline) or weighted (corrected)
@@ -527,7 +583,7 @@ void main()
         vec3 emission = emission_sum / color_sum.a;
         vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission, n, direction_world, fragment_world_position());
         out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        gl_FragDepth = gl_FragCoord.z;
+        write_depth(gl_FragCoord.z);
         return;
     }
 
@@ -553,6 +609,11 @@ void main()
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) {
+        count_this_fragment();
+        discard;
+    }
+    // the depth written is the blend's, at or behind the nearest hit's
+    if (behind_drawn(max(window_depth((world_from_object * vec4(o + t_min * d, 1.0)).xyz), gl_FragCoord.z))) {
         count_this_fragment();
         discard;
     }
@@ -589,6 +650,7 @@ void main()
     vec3 albedo = color_sum.rgb / t_weight;
     vec3 orm = ATLAS_PBR != 0 ? orm_sum / t_weight : SHADING_DEFAULT_ORM;
     vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission_sum / t_weight, normal_sum.xyz, direction_world, p_world);
-    gl_FragDepth = max(window_depth(p_world), gl_FragCoord.z);
-    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, gl_FragDepth), 1.0);
+    float z = max(window_depth(p_world), gl_FragCoord.z);
+    write_depth(z);
+    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, z), 1.0);
 }

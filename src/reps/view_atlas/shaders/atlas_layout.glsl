@@ -22,6 +22,9 @@
 #define ATLAS_ORM_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 17)      // PBR packages (ATLAS_PBR): occlusion, roughness,
                                                                     // metallic, premultiplied by coverage
 #define ATLAS_EMISSION_TEXTURE (BINDING_FIRST_RENDERER_TEXTURE + 25) // PBR packages: emission (sRGB), premultiplied by coverage
+// image units (gpu/shaders/common/bindings.h)
+#define ATLAS_NEAREST_IMAGE (BINDING_FIRST_RENDERER_IMAGE + 0) // R32UI, viewport-sized: the nearest depth this draw
+                                     // wrote per pixel (float bits), so later fragments behind it stop before the walk
 #define ATLAS_CELL 16                // texels per cell side: view_atlas.h k_cell, crops sit on cells
 
 // styles (the run-time option "style")
