@@ -24,17 +24,7 @@
 namespace standin {
 namespace {
 
-constexpr int k_size = 128;
-
-const Mesh& bunny()
-{
-    static const Mesh mesh = [] {
-        Result<Mesh> m = import_mesh(test::source_dir() + "/data/bunny.ply");
-        EXPECT_TRUE(m.is_ok()) << m.status().message();
-        return m ? std::move(*m) : Mesh();
-    }();
-    return mesh;
-}
+constexpr int k_fade_size = 128;
 
 // The rank 0..63 of fade.glsl's 8x8 Bayer matrix at a GL pixel (x right, y up).
 int bayer_rank(int x, int y)
@@ -45,7 +35,7 @@ int bayer_rank(int x, int y)
 // Whether the incoming renderer owns an image pixel (row 0 at the top) at `amount`.
 bool incoming_owns(int x, int row, float amount)
 {
-    float t = (float(bayer_rank(x, k_size - 1 - row)) + 0.5f) / 64.0f;
+    float t = (float(bayer_rank(x, k_fade_size - 1 - row)) + 0.5f) / 64.0f;
     return t < amount;
 }
 
@@ -70,13 +60,13 @@ Camera test_camera()
     OrbitView view;
     view.azimuth_degrees = 30.0f;
     view.elevation_degrees = 15.0f;
-    return orbit_camera(bunny().bounding_sphere(), view, 1.0f);
+    return orbit_camera(test::bunny().bounding_sphere(), view, 1.0f);
 }
 
 RenderedImage render(Renderer& renderer)
 {
     Camera camera = test_camera();
-    Result<RenderedImage> image = render_offscreen(renderer, camera, default_light(camera), k_size, k_size);
+    Result<RenderedImage> image = render_offscreen(renderer, camera, default_light(camera), k_fade_size, k_fade_size);
     EXPECT_TRUE(image.is_ok()) << image.status().message();
     return image ? std::move(*image) : RenderedImage{};
 }
@@ -108,13 +98,13 @@ Renderer& renderer(const std::string& name)
     if (r) return *r;
     test::gpu_context();
     if (name == "mesh") {
-        Result<std::unique_ptr<Renderer>> mesh = make_mesh_renderer(bunny());
+        Result<std::unique_ptr<Renderer>> mesh = make_mesh_renderer(test::bunny());
         EXPECT_TRUE(mesh.is_ok());
         if (mesh) r = std::move(*mesh);
     } else {
         SourceInfo source;
-        source.bounds = bunny().bounds();
-        Result<std::unique_ptr<Package>> baked = bake_package(*find_representation(name), bunny(), source, {}, {}, 2);
+        source.bounds = test::bunny().bounds();
+        Result<std::unique_ptr<Package>> baked = bake_package(*find_representation(name), test::bunny(), source, {}, {}, 2);
         EXPECT_TRUE(baked.is_ok()) << name << ": " << baked.status().message();
         if (baked) {
             Result<std::unique_ptr<Renderer>> made_renderer = make_package_renderer(**baked, {});
@@ -154,7 +144,7 @@ void expect_complementary_draws_split_the_picture(Renderer& r, const std::string
             if ((ca || cb) != covered(plain, i)) ++wrong; // a hole, or a pixel the plain draw lacks
             if (ca && !same_pixel(a, plain, i)) ++wrong;
             if (cb && !same_pixel(b, plain, i)) ++wrong;
-            bool owner_in = incoming_owns(int(i) % k_size, int(i) / k_size, amount);
+            bool owner_in = incoming_owns(int(i) % k_fade_size, int(i) / k_fade_size, amount);
             if ((ca && owner_in) || (cb && !owner_in)) ++wrong; // not the dither's choice
             union_pixels += covered(plain, i) ? 1 : 0;
             drawn_by_in += cb ? 1 : 0;
@@ -176,7 +166,7 @@ void expect_cross_fade_shows_one_per_pixel(Renderer& from, Renderer& to, const s
         RenderedImage mixed = render(fade);
         std::size_t wrong = 0, owned_by_to = 0, union_pixels = 0;
         for (std::size_t i = 0; i < mixed.depth.size(); ++i) {
-            bool to_owns = incoming_owns(int(i) % k_size, int(i) / k_size, amount);
+            bool to_owns = incoming_owns(int(i) % k_fade_size, int(i) / k_fade_size, amount);
             const RenderedImage& owner = to_owns ? plain_to : plain_from;
             if (!same_pixel(mixed, owner, i)) ++wrong;
             if (covered(plain_from, i) || covered(plain_to, i)) {
@@ -233,13 +223,13 @@ TEST(CrossFade, ShadowMapDrawnThroughACrossFadeHasNoHoles)
     Camera camera = test_camera();
     ShadowOptions shadows;
     shadows.enabled = true;
-    shadows.scene = bunny().bounding_sphere();
+    shadows.scene = test::bunny().bounding_sphere();
     shadows.resolution = 512;
-    Result<RenderedImage> plain = render_offscreen(mesh, camera, default_light(camera), k_size, k_size, {}, shadows);
+    Result<RenderedImage> plain = render_offscreen(mesh, camera, default_light(camera), k_fade_size, k_fade_size, {}, shadows);
     ASSERT_TRUE(plain.is_ok());
     CrossFade fade(mesh, mesh);
     fade.set_amount(0.5f);
-    Result<RenderedImage> faded = render_offscreen(fade, camera, default_light(camera), k_size, k_size, {}, shadows);
+    Result<RenderedImage> faded = render_offscreen(fade, camera, default_light(camera), k_fade_size, k_fade_size, {}, shadows);
     ASSERT_TRUE(faded.is_ok());
     EXPECT_TRUE(identical(*plain, *faded));
 }

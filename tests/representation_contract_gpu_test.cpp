@@ -27,21 +27,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Mesh& bunny()
-{
-    static const Mesh mesh = [] {
-        Result<Mesh> m = import_mesh(test::source_dir() + "/data/bunny.ply");
-        EXPECT_TRUE(m.is_ok()) << m.status().message();
-        return m ? std::move(*m) : Mesh();
-    }();
-    return mesh;
-}
-
 std::unique_ptr<Package> bake(const Representation& representation, const OptionValues& parameters, int threads = 1)
 {
-    Result<SourceInfo> source = describe_source(test::source_dir() + "/data/bunny.ply", bunny());
+    Result<SourceInfo> source = describe_source(test::source_dir() + "/data/bunny.ply", test::bunny());
     EXPECT_TRUE(source.is_ok());
-    Result<std::unique_ptr<Package>> package = bake_package(representation, bunny(), *source, parameters, {}, threads);
+    Result<std::unique_ptr<Package>> package = bake_package(representation, test::bunny(), *source, parameters, {}, threads);
     EXPECT_TRUE(package.is_ok()) << package.status().message();
     return package ? std::move(*package) : nullptr;
 }
@@ -174,7 +164,7 @@ TEST_P(RepresentationContract, EveryOptionIsAcceptedAtItsDefaultAndRefusedOutsid
     RenderOptions given;
     for (const OptionSpec& spec : representation().render_options)
         if (!spec.default_value.empty()) given.values.set(spec.name, spec.default_value); // empty: derived
-    Camera camera = orbit_camera(bunny().bounding_sphere(), OrbitView{}, 1.0f);
+    Camera camera = orbit_camera(test::bunny().bounding_sphere(), OrbitView{}, 1.0f);
     auto picture = [&](const RenderOptions& options) {
         Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(package(), options);
         EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
@@ -197,8 +187,8 @@ TEST_P(RepresentationContract, EveryOptionIsAcceptedAtItsDefaultAndRefusedOutsid
     for (const OptionSpec& spec : representation().bake_options) {
         OptionValues bad;
         bad.set(spec.name, outside(spec));
-        Result<SourceInfo> source = describe_source("", bunny());
-        Result<std::unique_ptr<Package>> refused = bake_package(representation(), bunny(), *source, bad);
+        Result<SourceInfo> source = describe_source("", test::bunny());
+        Result<std::unique_ptr<Package>> refused = bake_package(representation(), test::bunny(), *source, bad);
         ASSERT_FALSE(refused.is_ok()) << spec.name;
         EXPECT_EQ(refused.status().code(), StatusCode::invalid_argument) << spec.name;
         EXPECT_NE(refused.status().message().find("--" + spec.name), std::string::npos) << refused.status().message();
@@ -226,14 +216,14 @@ TEST_P(RepresentationContract, EveryOptionIsAcceptedAtItsDefaultAndRefusedOutsid
 TEST_P(RepresentationContract, SilhouetteMatchesTheMeshFromFourteenDirections)
 {
     test::gpu_context();
-    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(bunny());
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(test::bunny());
     Result<std::unique_ptr<Renderer>> standin = make_package_renderer(package(), {});
     ASSERT_TRUE(truth.is_ok() && standin.is_ok()) << standin.status().message();
     for (glm::vec2 direction : fourteen_directions()) {
         OrbitView view;
         view.azimuth_degrees = direction.x;
         view.elevation_degrees = direction.y;
-        Camera camera = orbit_camera(bunny().bounding_sphere(), view, 1.0f);
+        Camera camera = orbit_camera(test::bunny().bounding_sphere(), view, 1.0f);
         Result<RenderedImage> t = render_offscreen(**truth, camera, default_light(camera), 256, 256);
         Result<RenderedImage> s = render_offscreen(**standin, camera, default_light(camera), 256, 256);
         ASSERT_TRUE(t.is_ok() && s.is_ok());
@@ -247,7 +237,7 @@ TEST_P(RepresentationContract, WritesTrueDepth)
     test::gpu_context();
     // a plane through the bounding sphere's centre, facing the camera at an angle: half the model
     // is in front of it, half behind
-    BoundingSphere sphere = bunny().bounding_sphere();
+    BoundingSphere sphere = test::bunny().bounding_sphere();
     OrbitView view;
     view.azimuth_degrees = 40.0f;
     view.elevation_degrees = 15.0f;
@@ -255,7 +245,7 @@ TEST_P(RepresentationContract, WritesTrueDepth)
     glm::vec3 normal = glm::normalize(-camera.forward_world + glm::vec3(0.3f, 0.0f, 0.0f));
     const glm::vec4 blue(0.0f, 0.0f, 1.0f, 1.0f);
     Mesh wall = plate(sphere.center, sphere.radius * 1.5f, blue, normal);
-    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(merged(bunny(), wall));
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(merged(test::bunny(), wall));
     Result<std::unique_ptr<Renderer>> wall_renderer = make_mesh_renderer(wall);
     Result<std::unique_ptr<Renderer>> standin = make_package_renderer(package(), {});
     ASSERT_TRUE(truth.is_ok() && wall_renderer.is_ok() && standin.is_ok());
@@ -286,11 +276,11 @@ TEST_P(RepresentationContract, WritesTrueDepth)
 TEST_P(RepresentationContract, CastsTheMeshShadow)
 {
     test::gpu_context();
-    BoundingSphere sphere = bunny().bounding_sphere();
-    Bounds box = bunny().bounds();
+    BoundingSphere sphere = test::bunny().bounding_sphere();
+    Bounds box = test::bunny().bounds();
     const glm::vec4 grey(0.8f, 0.8f, 0.8f, 1.0f);
     Mesh ground = plate({sphere.center.x, box.min.y - 0.02f * sphere.radius, sphere.center.z}, sphere.radius * 2.0f, grey);
-    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(merged(bunny(), ground));
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(merged(test::bunny(), ground));
     Result<std::unique_ptr<Renderer>> ground_renderer = make_mesh_renderer(ground);
     Result<std::unique_ptr<Renderer>> standin = make_package_renderer(package(), {});
     ASSERT_TRUE(truth.is_ok() && ground_renderer.is_ok() && standin.is_ok());

@@ -113,6 +113,16 @@ Mesh generated(GeneratedShape shape, std::size_t triangles)
     return mesh.is_ok() ? std::move(*mesh) : Mesh{};
 }
 
+const Mesh& bunny()
+{
+    static const Mesh mesh = [] {
+        Result<Mesh> m = import_mesh(source_dir() + "/data/bunny.ply");
+        EXPECT_TRUE(m.is_ok()) << (m.is_ok() ? "" : m.status().message());
+        return m.is_ok() ? std::move(*m) : Mesh{};
+    }();
+    return mesh;
+}
+
 std::string base64(const std::string& bytes)
 {
     static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

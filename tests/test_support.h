@@ -48,6 +48,9 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
 // fails the test (and returns an empty mesh) when the generator refuses.
 Mesh generated(GeneratedShape shape, std::size_t triangles);
 
+// data/bunny.ply, imported once per process; fails the test (and is empty) when it cannot be read.
+const Mesh& bunny();
+
 // Standard base64 (RFC 4648, padded): the data URIs of glTF fixtures tests write.
 std::string base64(const std::string& bytes);
 
