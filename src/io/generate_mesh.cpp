@@ -500,8 +500,8 @@ static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
     fit_into_sphere(mesh, options.radius);
 }
 
-// A closed cylinder from a to b: `sides` around, `rings` along, flat caps (fans), outward normals.
-static void add_cylinder(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
+// A zero-thickness tube (one sheet, open at both ends), normals pointing away from the axis.
+static void add_sheet_tube(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
 {
     glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
     auto first = std::uint32_t(mesh.positions.size());
@@ -520,6 +520,13 @@ static void add_cylinder(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int
             mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
         }
     }
+}
+
+// A closed cylinder from a to b: `sides` around, `rings` along, flat caps (fans), outward normals.
+static void add_cylinder(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
+{
+    add_sheet_tube(mesh, a, b, radius, sides, rings, color);
+    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
     for (int end = 0; end < 2; ++end) {
         glm::vec3 centre = end == 0 ? a : b, normal = end == 0 ? -axis : axis;
         auto hub = std::uint32_t(mesh.positions.size());
@@ -634,28 +641,6 @@ static void build_assembly(Mesh& mesh, int detail)
     for (int foot = 0; foot < 4; ++foot) {
         float x = foot < 2 ? -0.7f : 0.5f, z = foot % 2 == 0 ? -0.45f : 0.25f;
         add_box(mesh, {x, -0.75f, z}, {x + 0.2f, -0.55f, z + 0.2f}, steel);
-    }
-}
-
-// A zero-thickness tube (one sheet, open at both ends), normals pointing away from the axis.
-static void add_sheet_tube(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int sides, int rings, glm::vec4 color)
-{
-    glm::vec3 axis = glm::normalize(b - a), u = perpendicular_to(axis), v = glm::cross(axis, u);
-    auto first = std::uint32_t(mesh.positions.size());
-    for (int r = 0; r <= rings; ++r) {
-        glm::vec3 centre = glm::mix(a, b, float(r) / float(rings));
-        for (int k = 0; k < sides; ++k) {
-            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
-            glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
-            add_vertex(mesh, centre + radius * out, out, color);
-        }
-    }
-    for (int r = 0; r < rings; ++r) {
-        for (int k = 0; k < sides; ++k) {
-            std::uint32_t a0 = first + std::uint32_t(r * sides + k), a1 = first + std::uint32_t(r * sides + (k + 1) % sides);
-            std::uint32_t b0 = a0 + std::uint32_t(sides), b1 = a1 + std::uint32_t(sides);
-            mesh.indices.insert(mesh.indices.end(), {a0, a1, b1, a0, b1, b0});
-        }
     }
 }
 
