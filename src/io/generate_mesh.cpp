@@ -543,6 +543,26 @@ static void add_cylinder(Mesh& mesh, glm::vec3 a, glm::vec3 b, float radius, int
     }
 }
 
+// A flat ring of `sides` quads between radii inner and outer in the plane of u and v, every vertex
+// with `normal`; quads wind counter-clockwise from u towards v, or the other way when `reversed`.
+static void add_ring(Mesh& mesh, glm::vec3 centre, glm::vec3 u, glm::vec3 v, glm::vec3 normal, float inner, float outer,
+                     int sides, glm::vec4 color, bool reversed)
+{
+    auto first = std::uint32_t(mesh.positions.size());
+    for (int k = 0; k < sides; ++k) {
+        float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
+        glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
+        add_vertex(mesh, centre + outer * out, normal, color);
+        add_vertex(mesh, centre + inner * out, normal, color);
+    }
+    for (int k = 0; k < sides; ++k) {
+        std::uint32_t o0 = first + 2 * std::uint32_t(k), i0 = o0 + 1;
+        std::uint32_t o1 = first + 2 * std::uint32_t((k + 1) % sides), i1 = o1 + 1;
+        if (reversed) mesh.indices.insert(mesh.indices.end(), {o0, i1, o1, o0, i0, i1});
+        else mesh.indices.insert(mesh.indices.end(), {o0, o1, i1, o0, i1, i0});
+    }
+}
+
 // A thin-walled tube from a to b (a hollow part: outer wall, inner wall facing the axis, annular
 // ends), open at both ends so that what it holds shows only through them.
 static void add_shell(Mesh& mesh, glm::vec3 a, glm::vec3 b, float outer, float inner, int sides, int rings, glm::vec4 color)
@@ -568,22 +588,8 @@ static void add_shell(Mesh& mesh, glm::vec3 a, glm::vec3 b, float outer, float i
             }
         }
     }
-    for (int end = 0; end < 2; ++end) {
-        glm::vec3 centre = end == 0 ? a : b, normal = end == 0 ? -axis : axis;
-        auto first = std::uint32_t(mesh.positions.size());
-        for (int k = 0; k < sides; ++k) {
-            float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
-            glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
-            add_vertex(mesh, centre + outer * out, normal, color);
-            add_vertex(mesh, centre + inner * out, normal, color);
-        }
-        for (int k = 0; k < sides; ++k) {
-            std::uint32_t o0 = first + 2 * std::uint32_t(k), i0 = o0 + 1;
-            std::uint32_t o1 = first + 2 * std::uint32_t((k + 1) % sides), i1 = o1 + 1;
-            if (end == 0) mesh.indices.insert(mesh.indices.end(), {o0, i1, o1, o0, i0, i1});
-            else mesh.indices.insert(mesh.indices.end(), {o0, o1, i1, o0, i1, i0});
-        }
-    }
+    for (int end = 0; end < 2; ++end)
+        add_ring(mesh, end == 0 ? a : b, u, v, end == 0 ? -axis : axis, inner, outer, sides, color, end == 0);
 }
 
 // An axis-aligned box, four vertices per face (flat normals).
@@ -648,22 +654,10 @@ static void build_assembly(Mesh& mesh, int detail)
 static void add_annulus(Mesh& mesh, glm::vec3 centre, glm::vec3 axis, float inner, float outer, int sides, glm::vec4 color)
 {
     glm::vec3 u = perpendicular_to(axis), v = glm::cross(axis, u);
-    auto first = std::uint32_t(mesh.positions.size());
-    for (int k = 0; k < sides; ++k) {
-        float angle = 2.0f * std::numbers::pi_v<float> * float(k) / float(sides);
-        glm::vec3 out = std::cos(angle) * u + std::sin(angle) * v;
-        add_vertex(mesh, centre + outer * out, axis, color);
-        add_vertex(mesh, centre + inner * out, axis, color);
-    }
-    for (int k = 0; k < sides; ++k) {
-        std::uint32_t o0 = first + 2 * std::uint32_t(k), i0 = o0 + 1;
-        std::uint32_t o1 = first + 2 * std::uint32_t((k + 1) % sides), i1 = o1 + 1;
-        std::uint32_t tri[6] = {o0, o1, i1, o0, i1, i0};
-        // keep the winding counter-clockwise about the normal whatever perpendicular_to chose
-        glm::vec3 n = glm::cross(mesh.positions[o1] - mesh.positions[o0], mesh.positions[i1] - mesh.positions[o0]);
-        if (glm::dot(n, axis) < 0.0f) std::swap(tri[1], tri[2]), std::swap(tri[4], tri[5]);
-        mesh.indices.insert(mesh.indices.end(), tri, tri + 6);
-    }
+    // keep the winding counter-clockwise about the normal whatever perpendicular_to chose
+    float angle = 2.0f * std::numbers::pi_v<float> / float(sides);
+    glm::vec3 o0 = outer * u, o1 = outer * (std::cos(angle) * u + std::sin(angle) * v), i1 = inner / outer * o1;
+    add_ring(mesh, centre, u, v, axis, inner, outer, sides, color, glm::dot(glm::cross(o1 - o0, i1 - o0), axis) < 0.0f);
 }
 
 // Turns the part built since (first vertex, first index) inside out, as CAD exports sometimes
