@@ -5,7 +5,7 @@
 // Steps:
 //  1. the settings (declared in representation.cpp); the target control-face count is the
 //     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
-//     paper's 0.4% and 0.1%);
+//     paper's 0.4% and 0.1%); alpha-masked models default to degree 33 (k_alpha_degree, issue #14);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
 //     alpha-masked materials keeps its leaf cards whole in it (issue #14);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
@@ -87,13 +87,16 @@ Mesh sampled_mesh(const DisplacedMeshPackage& package)
 Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, const SourceInfo& source,
                                                             const Options& parameters, const Progress& progress)
 {
-    // the settings: the paper's target is the input's faces over (k - 1)^2
-    const BakeSettings settings = settings_from(parameters);
+    // the settings: the paper's target is the input's faces over (k - 1)^2; alpha-masked models at
+    // the default degree take k_alpha_degree (the leaf texture's detail lives in the samples' colours)
+    Options effective = parameters;
+    if (has_cutouts(mesh) && !effective.given("degree")) effective.set_integer("degree", k_alpha_degree);
+    const BakeSettings settings = settings_from(effective);
     STANDIN_RETURN_IF_ERROR(check_settings(settings));
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "displaced mesh bake"));
     auto package = std::make_unique<DisplacedMeshPackage>();
     package->source = source;
-    package->parameters = parameters;
+    package->parameters = effective;
     package->settings = settings;
     const PatternLayout layout(settings.degree);
 

@@ -34,6 +34,11 @@ struct BakeSettings {
 // Control faces wanted at least (all the input's when it has fewer): small models would otherwise
 // get a handful of faces whose patches cannot follow the surface.
 constexpr std::size_t k_min_control_faces = 256;
+// The default pattern degree of models with alpha-masked materials (issue #14). A leaf card stays
+// whole in the control mesh and its texture's detail lives in the samples' colours: degree 17 left
+// 2 or more pixels per sample on the generated tree's cards at distance 1 (foliage Luv 3.40 there,
+// 2.74 at 33; docs/RESULTS.md "Displaced mesh on foliage: colour"), at 3.6x the package bytes.
+constexpr int k_alpha_degree = 33;
 // Vertices a boundary loop of the control mesh keeps (ControlMeshOptions::min_loop_vertices): a
 // round rim or hole as a 12-gon is within 3.5% of its radius, where a triangle (what the quadrics
 // alone reach on a model of many small open parts) is 50% off.

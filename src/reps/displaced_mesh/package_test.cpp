@@ -104,6 +104,39 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
     EXPECT_EQ(file_text(dir + "/opaque.standin/manifest.json").find("coverage"), std::string::npos);
 }
 
+// Issue #14: the cut-out texels of most leaf textures are black. Samples on the cut-out take their
+// covered neighbours' colour, and covered samples average only covered texels of their cell, so the
+// interpolated colour never darkens towards the cut-out: every sample of the disc quad keeps the
+// disc's green. Alpha-masked models default to degree 33 (k_alpha_degree); others keep 17.
+TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampleFiner)
+{
+    Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    for (std::size_t t = 0; t < leaf.textures[0].rgba.size(); t += 4)
+        if (leaf.textures[0].rgba[t + 3] < 128) leaf.textures[0].rgba[t] = leaf.textures[0].rgba[t + 1] = leaf.textures[0].rgba[t + 2] = 0;
+    std::unique_ptr<Package> masked = test::bake(leaf, "displaced-mesh", {{"degree", "9"}});
+    ASSERT_TRUE(masked);
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(*masked);
+    ASSERT_EQ(p.albedo.size(), p.coverage.size());
+    const glm::vec3 green(40.0f / 255.0f, 200.0f / 255.0f, 60.0f / 255.0f);
+    // black is 0.84 from the green; a covered point on the disc's rim reads a bilinear mix of its
+    // texels (as the truth does there), at most half black
+    float worst = 0.0f, sum = 0.0f;
+    for (std::uint32_t packed : p.albedo) {
+        glm::vec3 rgb = glm::vec3(packed & 255u, (packed >> 8) & 255u, (packed >> 16) & 255u) / 255.0f;
+        worst = std::max(worst, glm::length(rgb - green));
+        sum += glm::length(rgb - green);
+    }
+    EXPECT_LT(worst, 0.3f) << "a sample's colour is the cut-out's black";
+    EXPECT_LT(sum / float(p.albedo.size()), 0.02f) << "the samples' colours are darkened towards the cut-out's black";
+
+    std::unique_ptr<Package> masked_default = test::bake(leaf, "displaced-mesh", {});
+    ASSERT_TRUE(masked_default);
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*masked_default).settings.degree, k_alpha_degree);
+    std::unique_ptr<Package> opaque_default = test::bake(test::alpha_quad(AlphaMode::opaque, 0.5f, true), "displaced-mesh", {});
+    ASSERT_TRUE(opaque_default);
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 17);
+}
+
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
 {
     Mesh mesh = small_sphere();

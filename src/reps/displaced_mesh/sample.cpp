@@ -21,7 +21,8 @@
 //     "roughly equal cells" weighted by distance, with a kernel that vanishes at the ring so
 //     neighbouring samples share the work. Rings cross control edges and corners; their sums are
 //     gathered per edge and per vertex in increasing face order, so both sides agree;
-//  3. every face's finest array is assembled by copying the edge and corner samples in.
+//  3. every face's finest array is assembled by copying the edge and corner samples in; on models
+//     with cut-outs, cut-out samples take their covered neighbours' colour (bleed_into_cutouts).
 // Then Ms (the sampled mesh) is rebuilt and measured against the original: ∆_f and d.
 #include "reps/displaced_mesh/sample.h"
 
@@ -221,6 +222,114 @@ void ring_sums(const Mesh& original, const RayScene& scene, const ControlGeometr
         }
 }
 
+// Sub-points per side of a sample's cell whose colours are averaged (step 3, prefiltering).
+constexpr int k_colour_subsamples = 3;
+
+// The albedo of samples that lie on the original (a leaf card kept whole in the control mesh),
+// averaged over the sample's cell: k x k points spread over one pattern step around it, each the
+// point of the original it lies on, weighted by whether it survives the alpha test. A point
+// sample of the texture aliases once a face holds more texels than samples (a 256-texel leaf
+// texture on a card of 33 samples a side), while the truth reads coverage-weighted mips: this is
+// the box filter a mip level applies, at the sample spacing. Samples off the surface (rays that
+// travelled) keep their point sample. Returns per sample whether it holds a covered colour.
+std::vector<std::uint8_t> prefilter_surface_colour(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
+                                                   int n, std::size_t per_face, float range, SampledSurface& out)
+{
+    const std::size_t faces = control.face_count();
+    std::vector<std::uint8_t> has_colour(out.coverage.begin(), out.coverage.end());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t face = r.begin(); face != r.end(); ++face) {
+            const std::uint32_t* corner = &control.indices[3 * face];
+            const glm::vec3 p0 = control.positions[corner[0]], p1 = control.positions[corner[1]], p2 = control.positions[corner[2]];
+            auto point_at = [&](float i, float j) {
+                float w1 = j / float(n), w2 = i / float(n);
+                return (1.0f - w1 - w2) * p0 + w1 * p1 + w2 * p2;
+            };
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n - i; ++j) {
+                    std::size_t at = face * per_face + triangle_index(n, i, j);
+                    SurfacePoint centre = scene.closest(point_at(float(i), float(j)), k_on_surface * range);
+                    if (!centre.found) continue;
+                    // most sub-points lie on the centre's triangle: a projection finds them without
+                    // a scene query
+                    const std::uint32_t* t = &original.indices[3 * std::size_t(centre.triangle)];
+                    const glm::vec3 a0 = original.positions[t[0]], a1 = original.positions[t[1]], a2 = original.positions[t[2]];
+                    auto on_surface = [&](glm::vec3 q) {
+                        SurfacePoint on;
+                        glm::vec3 nearest = closest_point_in_triangle(q, a0, a1, a2, on.b1, on.b2);
+                        if (glm::length(nearest - q) <= k_on_surface * range) {
+                            on.found = true, on.triangle = centre.triangle;
+                            return on;
+                        }
+                        return scene.closest(q, k_on_surface * range);
+                    };
+                    glm::vec3 sum(0.0f);
+                    int covered = 0;
+                    for (int a = 0; a < k_colour_subsamples; ++a)
+                        for (int b = 0; b < k_colour_subsamples; ++b) {
+                            float di = (float(a) + 0.5f) / float(k_colour_subsamples) - 0.5f;
+                            float dj = (float(b) + 0.5f) / float(k_colour_subsamples) - 0.5f;
+                            float si = std::clamp(float(i) + di, 0.0f, float(n)), sj = std::clamp(float(j) + dj, 0.0f, float(n) - si);
+                            SurfacePoint on = on_surface(point_at(si, sj));
+                            if (!on.found || !original.covered_at(on.triangle, on.b1, on.b2)) continue;
+                            sum += glm::vec3(original.albedo_at(on.triangle, on.b1, on.b2));
+                            ++covered;
+                        }
+                    if (covered == 0) continue;
+                    out.albedo[at] = glm::vec4(sum / float(covered), out.albedo[at].w);
+                    has_colour[at] = 1;
+                }
+        }
+    });
+    return has_colour;
+}
+
+// Cut-out samples take the colour of the covered samples around them (issue #14). A sample on a
+// kept leaf card takes the albedo of the point it lies on, and a texture's cut-out texels are
+// usually black; the renderer interpolates colour and coverage alike between samples, so a pixel
+// whose interpolated coverage passes 1/2 next to a cut-out sample came out darkened towards black
+// (the tree's leaves were 9% darker than the truth's, whose mips are coverage-weighted for the same
+// reason). Each pass gives every still-uncoloured cut-out sample the mean of its coloured pattern
+// neighbours in the same face (alpha kept), as texture tools bleed colour into transparent texels;
+// per face, so it is independent of the order faces are visited in.
+void bleed_into_cutouts(int n, std::size_t per_face, std::size_t face, const std::vector<std::uint8_t>& has_colour,
+                        std::vector<glm::vec4>& albedo)
+{
+    const std::size_t base = face * per_face;
+    std::vector<std::uint8_t> coloured(per_face);
+    bool any_cut = false, any_covered = false;
+    for (std::size_t k = 0; k < per_face; ++k) {
+        coloured[k] = has_colour[base + k];
+        any_cut |= coloured[k] == 0;
+        any_covered |= coloured[k] != 0;
+    }
+    if (!any_cut || !any_covered) return;
+    static constexpr int k_neighbours[6][2] = {{0, 1}, {0, -1}, {1, 0}, {-1, 0}, {1, -1}, {-1, 1}};
+    std::vector<std::pair<std::size_t, glm::vec3>> fills;
+    for (int pass = 0; pass < 2 * n; ++pass) {
+        fills.clear();
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; j <= n - i; ++j) {
+                std::size_t k = triangle_index(n, i, j);
+                if (coloured[k]) continue;
+                glm::vec3 sum(0.0f);
+                int count = 0;
+                for (const auto& d : k_neighbours) {
+                    int ni = i + d[0], nj = j + d[1];
+                    if (ni < 0 || nj < 0 || ni + nj > n) continue;
+                    std::size_t m = triangle_index(n, ni, nj);
+                    if (coloured[m]) sum += glm::vec3(albedo[base + m]), ++count;
+                }
+                if (count > 0) fills.emplace_back(k, sum / float(count));
+            }
+        if (fills.empty()) break;
+        for (const auto& [k, colour] : fills) {
+            albedo[base + k] = glm::vec4(colour, albedo[base + k].w);
+            coloured[k] = 1;
+        }
+    }
+}
+
 } // namespace
 
 bool has_cutouts(const Mesh& mesh)
@@ -287,6 +396,12 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                 missed[at] = kind == VertexKind::interior && s.missed;
             }
     });
+    if (cutouts) {
+        std::vector<std::uint8_t> has_colour = prefilter_surface_colour(original, scene, control, n, per_face, range, out);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t f = r.begin(); f != r.end(); ++f) bleed_into_cutouts(n, per_face, f, has_colour, out.albedo);
+        });
+    }
     std::size_t interior_per_face = per_face - 3 * std::size_t(n);
     out.rays = 2 * (corners.size() + edge_samples.size() + faces * interior_per_face);
     for (const Sample& s : corners) out.misses += s.missed;
