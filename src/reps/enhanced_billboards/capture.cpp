@@ -161,9 +161,8 @@ void centroid_texel(const Corners& c, int& i, int& j, float& depth)
 
 // Barycentric weights of the point of the face nearest (in weights) to texel centre (i, j); used
 // to read attributes of a face that won a texel by its centroid splat.
-void clamped_weights(const Corners& c, int i, int j, float weights[3])
+void clamped_weights_at(const Corners& c, std::int64_t px, std::int64_t py, float weights[3])
 {
-    std::int64_t px = std::int64_t(i) * k_subtexel + k_subtexel / 2, py = std::int64_t(j) * k_subtexel + k_subtexel / 2;
     std::int64_t area2 = edge(c, 0, 1, c.x[2], c.y[2]);
     if (area2 == 0) {
         weights[0] = weights[1] = weights[2] = 1.0f / 3.0f;
@@ -176,6 +175,41 @@ void clamped_weights(const Corners& c, int i, int j, float weights[3])
         sum += x;
     }
     for (int k = 0; k < 3; ++k) weights[k] = sum > 0.0 ? float(e[k] / sum) : 1.0f / 3.0f;
+}
+
+void clamped_weights(const Corners& c, int i, int j, float weights[3])
+{
+    clamped_weights_at(c, std::int64_t(i) * k_subtexel + k_subtexel / 2, std::int64_t(j) * k_subtexel + k_subtexel / 2, weights);
+}
+
+// Sub-points per side of a texel whose colours a textured face's texel averages.
+constexpr int k_colour_subsamples = 3;
+
+// The albedo of texel (i, j) on textured face f: the mean over k x k points spread over the texel
+// (barycentrics clamped to the face), counting only points that survive an alpha test (issue #14).
+// A point sample at the texel centre aliases once a texel spans several texture texels (a leaf
+// texture on a billboard of the whole tree), while the truth reads (coverage-weighted) mips: this
+// is the box filter a mip level applies, at the billboard's texel. Untextured faces' colour is
+// linear over the face, so their centre sample is kept.
+glm::vec4 texel_albedo(const Mesh& mesh, std::uint32_t f, const Corners& c, int i, int j, const float centre[3])
+{
+    const Material& material = mesh.materials[mesh.face_materials[f]];
+    glm::vec4 at_centre = mesh.albedo_at(f, centre[1], centre[2]);
+    if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return at_centre;
+    const bool alpha_tested = alpha_test_cutoff(material) > 0.0f;
+    glm::vec3 sum(0.0f);
+    int count = 0;
+    for (int a = 0; a < k_colour_subsamples; ++a)
+        for (int b = 0; b < k_colour_subsamples; ++b) {
+            std::int64_t px = std::int64_t(i) * k_subtexel + (2 * a + 1) * k_subtexel / (2 * k_colour_subsamples);
+            std::int64_t py = std::int64_t(j) * k_subtexel + (2 * b + 1) * k_subtexel / (2 * k_colour_subsamples);
+            float w[3];
+            clamped_weights_at(c, px, py, w);
+            if (alpha_tested && !mesh.covered_at(f, w[1], w[2])) continue;
+            sum += glm::vec3(mesh.albedo_at(f, w[1], w[2]));
+            ++count;
+        }
+    return count > 0 ? glm::vec4(sum / float(count), at_centre.w) : at_centre;
 }
 
 void atomic_min(std::uint64_t& slot, std::uint64_t value)
@@ -550,7 +584,7 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
         for (int v = 0; v < 3; ++v) sum += wt[v] * mesh.normals[mesh.indices[std::size_t(f) * 3 + v]];
         float length = glm::length(sum);
         normal[k] = length > 0.0f ? sum / length : glm::vec3(-grid.w);
-        albedo[k] = mesh.albedo_at(f, wt[1], wt[2]);
+        albedo[k] = texel_albedo(mesh, f, c, i, j, wt);
         if (pbr) {
             surface[k] = mesh.pbr_at(f, wt[1], wt[2]);
             if (mesh.materials[mesh.face_materials[f]].normal_texture >= 0) normal[k] = mesh.shading_normal_at(f, wt[1], wt[2]);
