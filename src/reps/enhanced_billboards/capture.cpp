@@ -37,6 +37,8 @@
 //   pass its alpha test (Mesh::covered_at): cut-out texels are neither put in the item buffer nor
 //   tested, so leaf cards become their leaves (holes where the texture is cut) and do not hide what
 //   their holes show. A sub-texel face's centroid splat is not tested (it stands for a texel).
+// - colour: a textured face's texel averages the texture over the texel (texel_albedo), covered
+//   points only, where the seed read one point: the truth's mips filter, a point sample aliases.
 #include "reps/enhanced_billboards/capture.h"
 
 #include <tbb/parallel_for.h>
