@@ -17,7 +17,10 @@
 // per node (its §7 future work), blending weights that change continuously (its Fig. 13 popping),
 // lighting from stored normals (its lighting was fixed), 16-bit depth (its 8 bits cap it at 256^3),
 // and for PBR models (issue #14) ORM and emission pages read with the colour and lit by
-// shade_pbr_at; the programs are compiled with MF_PBR only for those packages. Packages of
+// shade_pbr_at; the programs are compiled with MF_PBR only for those packages.
+// Where every blended view of a facet abstains at a pixel (the ray passes under surface each saw,
+// deep in a crown), up to k_fallback_views more views that saw surface in the node are walked,
+// nearest first, the first that can tell deciding (facets.frag; issues #14 and #16). Packages of
 // alpha-tested models store fractional coverage (issue #14): their colour pages are premultiplied
 // here, and the walk keeps a surface where its filtered coverage reaches 1/2
 // (microfacets_sample.glsl hit_coverage); other packages render as before.
