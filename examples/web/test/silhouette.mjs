@@ -76,14 +76,15 @@ const k_cases = [
     // the finest baked level (7: 128^3) as a plain voxel-face mesh
     { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
     // foliage as one square per voxel in the leaf's plane, cut out by the captures' coverage (MASK);
-    // below the 0.95 target against `standin render` of the package (0.931 / 0.932 with these 256 px
-    // captures, which halve the case's time; 0.935 / 0.943 with the default 512), because that render
-    // has holes where its nearest views saw the branches and inner leaves hidden (it is itself 0.933
-    // / 0.929 against the model): its own floor there, and the same web picture must reach 0.95
-    // against `standin render` of the model (0.972 / 0.967; docs/RESULTS.md "Microfacets planes
-    // against the model"). First camera only (the second adds 20 s of CI time for the same export path)
+    // against `standin render` of the package 0.9584 with these 256 px captures (which halve the
+    // case's time), since the renderer walks fallback views where its blend abstains (it was 0.931
+    // when that render had holes where its nearest views saw branches and inner leaves hidden;
+    // docs/RESULTS.md "Fallback views where the blend abstains"), so the 0.95 target holds; the same
+    // web picture must also reach 0.95 against `standin render` of the model (0.971; "Microfacets
+    // planes against the model"). First camera only (the second adds 20 s of CI time for the same
+    // export path)
     { name: 'microfacets tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
-      bake: ['-r', 'microfacets', '--resolution', '256'], export: [], min_iou: 0.925,
+      bake: ['-r', 'microfacets', '--resolution', '256'], export: [], min_iou: 0.95,
       model_min_iou: 0.95, first_camera_only: true },
 ];
 

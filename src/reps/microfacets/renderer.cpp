@@ -17,7 +17,10 @@
 // per node (its §7 future work), blending weights that change continuously (its Fig. 13 popping),
 // lighting from stored normals (its lighting was fixed), 16-bit depth (its 8 bits cap it at 256^3),
 // and for PBR models (issue #14) ORM and emission pages read with the colour and lit by
-// shade_pbr_at; the programs are compiled with MF_PBR only for those packages. Packages of
+// shade_pbr_at; the programs are compiled with MF_PBR only for those packages.
+// Where every blended view of a facet abstains at a pixel (the ray passes under surface each saw,
+// deep in a crown), up to k_fallback_views more views that saw surface in the node are walked,
+// nearest first, the first that can tell deciding (facets.frag; issues #14 and #16). Packages of
 // alpha-tested models store fractional coverage (issue #14): their colour pages are premultiplied
 // here, and the walk keeps a surface where its filtered coverage reaches 1/2
 // (microfacets_sample.glsl hit_coverage); other packages render as before.
@@ -65,6 +68,7 @@ constexpr std::size_t k_facet_bytes = 32;          // Facet: two uvec4
 constexpr std::uint64_t k_max_work = 8u << 20;     // work items per draw: 256 MiB of selected facets
 constexpr std::uint64_t k_texture_budget = 960ull << 20; // bytes per texture (llvmpipe refuses 1 GiB)
 constexpr GLuint k_max_groups_x = 65535;
+constexpr int k_fallback_views = 8; // facets.frag: views walked where every blended one abstained
 
 struct Codes {
     int select = MF_SELECT_LOOKUP, facet = MF_FACET_BILLBOARD, primitive = MF_PRIMITIVE_AUTO;
@@ -395,6 +399,13 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     const char* far_error = std::getenv("STANDIN_MICROFACETS_FAR_ERROR");
     glProgramUniform1f(select, r->select_.uniform("far_error_pixels"), far_error ? std::strtof(far_error, nullptr) : 1.0f);
     glProgramUniform1i(select, r->select_.uniform("clip_rule"), r->codes_.clip);
+    // where every blended view of a facet abstains at a pixel, up to this many more views that saw
+    // surface in its node are walked (facets.frag); STANDIN_MICROFACETS_FALLBACK=N (measurements
+    // only) sets N, 0 turning the fallback off
+    const char* fallback = std::getenv("STANDIN_MICROFACETS_FALLBACK");
+    GLuint quads = r->quads_program_.id();
+    glProgramUniform1ui(quads, r->quads_program_.uniform("seen_words"), seen_words);
+    glProgramUniform1i(quads, r->quads_program_.uniform("fallback_views"), fallback ? std::atoi(fallback) : k_fallback_views);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(r));

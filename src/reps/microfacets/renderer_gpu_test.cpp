@@ -17,6 +17,8 @@
 
 #include <tbb/task_arena.h>
 
+#include <array>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
@@ -272,10 +274,16 @@ TEST(MicrofacetRenderer, DroppingUnseenNodesChangesNoPixel)
     all.cull_unseen = false;
     // the seen bits also steer the view selection towards views that saw each node, which changes
     // pixels on purpose (select.comp step 4); dropping the nodes is what is exact, so the selection
-    // is the nearest views' here, as without the bits
+    // is the nearest views' here, as without the bits; so do the fallback views walked where every
+    // blended view abstains (facets.frag), which are off here
     setenv("STANDIN_MICROFACETS_PREFER_SEEN", "0", 1);
+    setenv("STANDIN_MICROFACETS_FALLBACK", "0", 1);
     struct Unset {
-        ~Unset() { unsetenv("STANDIN_MICROFACETS_PREFER_SEEN"); }
+        ~Unset()
+        {
+            unsetenv("STANDIN_MICROFACETS_PREFER_SEEN");
+            unsetenv("STANDIN_MICROFACETS_FALLBACK");
+        }
     } unset;
     std::unique_ptr<Renderer> a = renderer_for(*package, all), b = renderer_for(*package, culled);
     ASSERT_TRUE(a && b);
@@ -298,6 +306,49 @@ TEST(MicrofacetRenderer, DroppingUnseenNodesChangesNoPixel)
     params.light = default_light(params.camera);
     params.viewport = {128, 128};
     EXPECT_LT(double(draw_offscreen(*b, params).primitives), 0.75 * double(draw_offscreen(*a, params).primitives));
+}
+
+// Where every blended view of a facet abstains at a pixel (the ray passes under surface each of
+// them saw nearer its camera: a leaf inside a crown), the nearest other views that saw surface in
+// the node are walked (facets.frag). On a small generated tree the holes against the truth (pixels
+// the mesh covers and the stand-in does not) fall, and the silhouette IoU rises.
+TEST(MicrofacetRenderer, FallbackViewsCloseTheCrownsHoles)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::tree;
+    options.target_triangles = 2000;
+    options.seed = 3;
+    Result<Mesh> tree = generate_mesh(options);
+    ASSERT_TRUE(tree.is_ok());
+    std::unique_ptr<Package> package = bake_small(*tree);
+    ASSERT_TRUE(package);
+    auto truth = make_mesh_renderer(*tree);
+    ASSERT_TRUE(truth.is_ok());
+    std::array<std::size_t, 2> holes{}, spill{}, both{};
+    for (int k = 0; k < 2; ++k) {
+        setenv("STANDIN_MICROFACETS_FALLBACK", k == 0 ? "0" : "8", 1);
+        std::unique_ptr<Renderer> standin = renderer_for(*package);
+        unsetenv("STANDIN_MICROFACETS_FALLBACK");
+        ASSERT_TRUE(standin);
+        for (float azimuth : {30.0f, 200.0f}) {
+            OrbitView view;
+            view.azimuth_degrees = azimuth;
+            view.elevation_degrees = 20.0f;
+            Camera camera = orbit_camera(tree->bounding_sphere(), view, 1.0f);
+            RenderedImage t = render(**truth, camera, 256), s = render(*standin, camera, 256);
+            for (std::size_t i = 3; i < t.color.pixels.size(); i += 4) {
+                bool a = t.color.pixels[i] > 0, b = s.color.pixels[i] > 0;
+                holes[std::size_t(k)] += a && !b;
+                spill[std::size_t(k)] += b && !a;
+                both[std::size_t(k)] += a && b;
+            }
+        }
+    }
+    auto iou = [&](int k) { return double(both[std::size_t(k)]) / double(both[std::size_t(k)] + holes[std::size_t(k)] + spill[std::size_t(k)]); };
+    std::printf("[microfacets fallback] holes %zu -> %zu, spill %zu -> %zu, IoU %.4f -> %.4f\n", holes[0], holes[1], spill[0],
+                spill[1], iou(0), iou(1));
+    EXPECT_LT(double(holes[1]), 0.8 * double(holes[0]));
+    EXPECT_GT(iou(1), iou(0));
 }
 
 TEST(MicrofacetRenderer, InstancesDrawAsTheSingleModel)

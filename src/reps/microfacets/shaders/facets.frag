@@ -22,14 +22,53 @@ flat in uint v_instance;
 flat in int v_level;
 flat in uvec4 v_views;
 flat in vec4 v_weights;
+flat in uint v_node; // the facet's node, in the order of `seen` (select.comp)
+
+layout(std430, binding = MF_SEEN_SSBO) readonly buffer SeenBlock {
+    uint words[]; // seen_words per node, bit k of word k / 32: view k saw surface in the node (visibility.h)
+} seen;
 
 uniform int debug_view;    // DEBUG_VIEW_*
 uniform int counting;      // 1: add this fragment and its texture reads to the counters
 uniform int coverage_rule; // MF_COVERAGE_*
 uniform int min_level, max_level;
+uniform uint seen_words;    // words per node in `seen`; 0: no seen bits (clips other than the ray's)
+uniform int fallback_views; // views walked, nearest first, where every blended view abstained
+
+// Whether view `view` saw surface in the facet's node.
+bool seen_here(uint view) { return (seen.words[v_node * seen_words + view / 32u] & (1u << (view % 32u))) != 0u; }
 
 layout(location = 0) out vec4 out_color;
 layout(depth_greater) out float gl_FragDepth;
+
+#define MF_MAX_FALLBACK 8
+
+// The fallback_views (at most MF_MAX_FALLBACK) nearest views to `to_eye` that saw surface in the
+// facet's node and are not among its blended views, nearest first (ties to the lower index): one
+// pass over the views, an insertion into a short sorted list (select.comp nearest_views' rule).
+int fallback_list(vec3 to_eye, out int list[MF_MAX_FALLBACK])
+{
+    float cosines[MF_MAX_FALLBACK];
+    int count = 0, wanted = min(fallback_views, MF_MAX_FALLBACK);
+    if (wanted <= 0) return 0;
+    for (int v = 0; v < views.items.length(); ++v) {
+        if (!seen_here(uint(v))) continue;
+        bool blended = false;
+        for (int k = 0; k < MF_MAX_BLEND; ++k) blended = blended || (v_weights[k] > 0.0 && int(v_views[k]) == v);
+        float c = dot(views.items[v].direction.xyz, to_eye);
+        if (blended || c <= 0.05 || (count == wanted && c <= cosines[wanted - 1])) continue; // 0.05: walk_view's edge-on limit
+        int slot = min(count, wanted - 1);
+        while (slot > 0 && c > cosines[slot - 1]) {
+            cosines[slot] = cosines[slot - 1];
+            list[slot] = list[slot - 1];
+            --slot;
+        }
+        cosines[slot] = c;
+        list[slot] = v;
+        count = min(count + 1, wanted);
+    }
+    return count;
+}
 
 void main()
 {
@@ -70,6 +109,30 @@ void main()
             best = wk;
             surface = s.surface;
             best_view = int(v_views[k]);
+        }
+    }
+    // Beyond the paper (issues #14, #16): where every blended view abstained (the pixel's ray passed
+    // under surface each of them saw nearer their camera: a leaf or branch inside a crown that the
+    // nearest views saw hidden behind others), the views that saw surface in the node are walked
+    // nearest first, and the first that can tell decides: its hit is drawn, its miss leaves the pixel
+    // empty. The blend's views were picked per node, not per pixel, so a view a little farther off
+    // often saw what this pixel's ray meets; eq. 1's clip alone leaves a hole there.
+    if (clip_rule == MF_CLIP_RAY && weight <= 0.0 && abstained >= 0.999 && seen_words > 0u) {
+        int list[MF_MAX_FALLBACK];
+        int count = fallback_list(-ray, list);
+        for (int k = 0; k < count; ++k) {
+            ViewSample s;
+            if (walk_view(views.items[list[k]], ray_origin, ray, v_center, w, color_level, s) == RAY_HIDDEN) continue;
+            if (s.passed) {
+                color = s.color;
+                normal = facing(s.normal, -ray);
+                orm = s.orm;
+                emission = s.emission;
+                weight = 1.0;
+                surface = s.surface;
+                best_view = list[k];
+            }
+            break;
         }
     }
     if (counting != 0) count_fragment(g_fetches);

@@ -27,6 +27,7 @@ flat out uint v_instance;
 flat out int v_level;
 flat out uvec4 v_views;
 flat out vec4 v_weights;
+flat out uint v_node; // index of the facet's node (select.comp), for the seen bits
 
 // The square's half side and in-plane axes for a facet at c of voxel size w.
 void facet_frame(InstanceLod lod, vec3 c, float w, out vec3 side, out vec3 up, out float half_side, out float reach)
@@ -85,6 +86,7 @@ void main()
     v_level = level;
     v_views = uvec4(uint(facet_view(f, 0)), uint(facet_view(f, 1)), uint(facet_view(f, 2)), uint(facet_view(f, 3)));
     v_weights = vec4(facet_weight(f, 0), facet_weight(f, 1), facet_weight(f, 2), facet_weight(f, 3));
+    v_node = f.b.w;
     v_center = c;
     v_corner = corner;
     if (facet_shape == MF_FACET_BOX) {

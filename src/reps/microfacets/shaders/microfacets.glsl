@@ -30,7 +30,8 @@ layout(std430, binding = MF_INSTANCES_SSBO) readonly buffer InstanceLodBlock {
 
 // A selected facet. a.x: instance (bits 0..23), level (24..27), kind (28..29); a.y: Morton code;
 // a.z, a.w: view ids 0|1 and 2|3 (16 bits each); b.x, b.y: their weights, unorm16 pairs; b.z: in
-// MF_SELECTED_SSBO, the rank among the group's quads (0..15) and points (16..31).
+// MF_SELECTED_SSBO, the rank among the group's quads (0..15) and points (16..31); b.w: the node's
+// index (nodes' order), whose seen bits facets.frag reads for its fallback views.
 struct Facet {
     uvec4 a;
     uvec4 b;

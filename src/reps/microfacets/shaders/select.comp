@@ -214,7 +214,8 @@ uint select_facet(uint w, out Facet f)
         if (!any_seen) return MF_KIND_NONE;
     }
     f.a = uvec4(i | (uint(level) << 24), code, ids.x | (ids.y << 16), ids.z | (ids.w << 16));
-    f.b = uvec4(packUnorm2x16(weights.xy), packUnorm2x16(weights.zw), 0u, 0u);
+    // b.w: the node, whose seen bits the fragment stage reads for its fallback views (facets.frag)
+    f.b = uvec4(packUnorm2x16(weights.xy), packUnorm2x16(weights.zw), 0u, index);
     // step 5
     if (primitive == MF_PRIMITIVE_POINTS) return MF_KIND_POINT;
     if (primitive == MF_PRIMITIVE_QUADS) return MF_KIND_QUAD;
