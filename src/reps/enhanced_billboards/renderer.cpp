@@ -131,7 +131,7 @@ public:
 
 private:
     Status upload_billboards(const EnhancedBillboardsPackage& package);
-    void upload_coarse_mesh(const Mesh& mesh);
+    void upload_coarse_mesh(const Mesh& mesh, bool rims);
     void upload_box_lines(const EnhancedBillboardsPackage& package);
     void draw_box_lines(DrawStats& stats);
     void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
@@ -269,7 +269,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
 
     // upload maps and accelerations, then the coarse mesh
     STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
-    if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
+    if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh, package.coarse_rims);
     if (renderer->box_lines_) renderer->upload_box_lines(package);
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
@@ -395,9 +395,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
 // open edge crosses are lost: a staircase of holes along every rim seen at an angle, where the ray
 // passes no covered texel and so marks no near miss for the coarse mesh to fill. The coarse mesh
 // keeps open boundaries where they are (make_coarse_mesh locks them), so its triangles that touch
-// one cover the rim's true outline: they are drawn first, wherever no front hit is nearer, without
-// the near-miss test. Returns the number of their indices (they lead `mesh.indices`); closed coarse
-// meshes have none and are drawn as before.
+// one cover the rim's true outline: they are drawn first, wherever no front hit is at the pixel,
+// without the near-miss test. Returns the number of their indices (they lead `mesh.indices`); closed
+// coarse meshes have none. Only for packages whose baker asked for it (coarse_rims: open opaque
+// parts; leaf cards' outlines are not their leaves'); others are drawn as before.
 std::size_t rims_first(Mesh& mesh)
 {
     std::size_t n = mesh.triangle_count();
@@ -443,10 +444,10 @@ std::size_t rims_first(Mesh& mesh)
     return rim_count;
 }
 
-void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
+void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh, bool rims)
 {
-    Mesh ordered = mesh;
-    coarse_rim_index_count_ = GLsizei(rims_first(ordered));
+    Mesh ordered = rims ? mesh : Mesh{};
+    coarse_rim_index_count_ = rims ? GLsizei(rims_first(ordered)) : 0;
     coarse_mesh_ = gpu::MeshBuffers::upload(coarse_rim_index_count_ > 0 ? ordered : mesh);
     coarse_index_count_ = coarse_mesh_.index_count();
 }
