@@ -16,7 +16,9 @@ namespace standin::reps {
 // QEM simplification (meshoptimizer) on the position-welded topology, falling back to sloppy
 // simplification when QEM stops early at locked borders. Vertex colours carry the albedo (textures
 // sampled at the kept corners); smooth normals. ratio <= 0: an empty mesh. Deterministic.
-Mesh make_coarse_mesh(const Mesh& mesh, float ratio);
+// lock_borders (issue #17): open boundaries keep every vertex, so the outline of a sheet stays
+// where it is (closed meshes have none: the result is the same either way).
+Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders = false);
 
 // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one triangle,
 // which fills no hole at all.

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -53,6 +54,71 @@ std::vector<CoarseCorners> coarse_triangle_keys(const Mesh& mesh, const Bounds& 
     }
     std::sort(keys.begin(), keys.end());
     return keys;
+}
+
+// A zero-thickness sheet (issue #17): a wavy square of n x n quads, open along its four sides.
+Mesh wavy_sheet(int n)
+{
+    Mesh mesh;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            float x = float(i) / float(n), y = float(j) / float(n);
+            mesh.positions.push_back(glm::vec3(x, y, 0.05f * std::sin(9.0f * x) * std::cos(7.0f * y)));
+            mesh.colors.push_back(glm::vec4(0.8f, 0.8f, 0.8f, 1.0f));
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+            mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+        }
+    mesh.face_materials.assign(mesh.triangle_count(), 0);
+    mesh.materials.push_back(Material{});
+    compute_smooth_normals(mesh);
+    return mesh;
+}
+
+// The renderer fills a sheet rim's staircase of holes with the coarse triangles along its open
+// boundary (enhanced_billboards/renderer.cpp, rims_first), so the simplifier must keep the outline:
+// every boundary vertex of the source stays, and the coarse mesh's boundary is as long as the source's.
+TEST(CoarseMesh, OpenBoundariesKeepTheirOutline)
+{
+    const int n = 60;
+    Mesh sheet = wavy_sheet(n);
+    Mesh coarse = make_coarse_mesh(sheet, 0.1f, true);
+    ASSERT_GT(coarse.triangle_count(), 0u);
+    EXPECT_LT(coarse.triangle_count(), sheet.triangle_count() / 4) << "still simplified";
+    auto key = [](glm::vec3 p) { return std::array<float, 3>{p.x, p.y, p.z}; };
+    std::map<std::array<float, 3>, int> kept;
+    for (glm::vec3 p : coarse.positions) kept[key(p)] = 1;
+    int border = 0, missing = 0;
+    for (glm::vec3 p : sheet.positions) {
+        if (p.x != 0.0f && p.x != 1.0f && p.y != 0.0f && p.y != 1.0f) continue;
+        ++border;
+        missing += kept.count(key(p)) ? 0 : 1;
+    }
+    EXPECT_EQ(border, 4 * n);
+    EXPECT_EQ(missing, 0);
+    // boundary length: edges used by one triangle
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (std::size_t f = 0; f < coarse.triangle_count(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = coarse.indices[f * 3 + std::size_t(k)], b = coarse.indices[f * 3 + std::size_t(k + 1) % 3];
+            ++uses[{std::min(a, b), std::max(a, b)}];
+        }
+    double length = 0.0;
+    for (const auto& [edge, count] : uses)
+        if (count == 1) length += double(glm::length(coarse.positions[edge.first] - coarse.positions[edge.second]));
+    double expected = 0.0; // the source's four wavy sides
+    for (int i = 0; i < n; ++i)
+        for (int side = 0; side < 4; ++side) {
+            auto at = [&](int k) {
+                int i2 = side == 0 ? k : side == 1 ? n : side == 2 ? k : 0;
+                int j2 = side == 0 ? 0 : side == 1 ? k : side == 2 ? n : k;
+                return sheet.positions[std::size_t(j2 * (n + 1) + i2)];
+            };
+            expected += double(glm::length(at(i + 1) - at(i)));
+        }
+    EXPECT_NEAR(length, expected, 1e-4 * expected);
 }
 
 TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)

@@ -63,6 +63,11 @@ public:
     BakeSettings settings; // settings_from(parameters)
     std::vector<Billboard> billboards;
     Mesh coarse_mesh;                       // hole filling (seed §3.4); may be empty
+    // The coarse mesh's open boundaries are sheet rims to fill without the near-miss test
+    // (renderer.cpp, rims_first; manifest coarse_mesh.rims): set by the baker for models with open
+    // double-sided parts and no alpha-tested material (a leaf card's outline is not its leaf's).
+    // Packages without it (older ones, closed models) render as before.
+    bool coarse_rims = false;
     // The compact coarse-mesh file as read from a bc package (coarse_mesh.h), written back as it is:
     // quantising and reordering again would not give the same bytes (read, write: byte-identical).
     std::string coarse_file;

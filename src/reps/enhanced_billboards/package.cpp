@@ -217,6 +217,7 @@ Status write(const Package& base, const std::string& directory)
                   {"triangles", package.coarse_mesh.triangle_count()},
                   {"vertices", package.coarse_mesh.vertex_count()}};
         if (compressed) coarse["format"] = "meshopt-q16";
+        if (package.coarse_rims) coarse["rims"] = true; // only then: other packages keep their bytes
     }
     nlohmann::json left = nlohmann::json::object();
     for (const auto& [reason, what] : package.left)
@@ -287,6 +288,10 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             }
             if (!mesh) throw manifest_io::BadField{mesh.status().message()};
             package->coarse_mesh = std::move(*mesh);
+            if (coarse.contains("rims")) { // absent in older packages and those without sheet rims
+                if (!coarse["rims"].is_boolean()) in.fail("coarse_mesh.rims", "is not true or false");
+                package->coarse_rims = coarse["rims"].get<bool>();
+            }
         }
         if (package->billboards.empty() && package->coarse_mesh.triangle_count() == 0)
             in.fail("billboards", "is empty and there is no coarse mesh: the package draws nothing");

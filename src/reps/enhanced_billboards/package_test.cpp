@@ -5,6 +5,7 @@
 
 #include "../../../tests/test_support.h"
 
+#include <standin/assembly.h>
 #include <standin/files.h>
 #include <standin/image.h>
 #include <standin/mesh.h>
@@ -103,6 +104,38 @@ TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
     Result<std::unique_ptr<Package>> read = read_package(directory);
     ASSERT_TRUE(read) << read.status().message();
     EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.sheet_edges, "centre");
+}
+
+// Sheet rims (issue #17): a model with open opaque parts gets coarse_mesh.rims (the renderer fills
+// rim holes with the coarse triangles along open boundaries); closed models' manifests do not
+// change; the flag survives the round trip, and a flag that is not a boolean is refused.
+TEST(BillboardPackage, SheetPackagesMarkTheirCoarseRims)
+{
+    auto sphere = baked_sphere();
+    EXPECT_FALSE(sphere->coarse_rims);
+    std::string base = test::fresh_directory("billboard_coarse_rims");
+    ASSERT_TRUE(write_package(*sphere, base + "/sphere.standin"));
+    EXPECT_FALSE(read_manifest(base + "/sphere.standin")["coarse_mesh"].contains("rims"));
+
+    Result<Mesh> mesh = generate_assembly(3000, 1.0f, true);
+    ASSERT_TRUE(mesh) << mesh.status().message();
+    Result<SourceInfo> source = describe_source("", *mesh);
+    OptionValues parameters;
+    parameters.set("compression", "none");
+    Result<std::unique_ptr<Package>> baked = bake_package(registration(), *mesh, *source, parameters);
+    ASSERT_TRUE(baked) << baked.status().message();
+    const auto& sheet = static_cast<const EnhancedBillboardsPackage&>(**baked);
+    EXPECT_TRUE(sheet.coarse_rims);
+    std::string directory = base + "/sheet.standin";
+    ASSERT_TRUE(write_package(sheet, directory));
+    nlohmann::json manifest = read_manifest(directory);
+    EXPECT_EQ(manifest["coarse_mesh"]["rims"], true);
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    EXPECT_TRUE(static_cast<const EnhancedBillboardsPackage&>(**read).coarse_rims);
+    manifest["coarse_mesh"]["rims"] = "yes";
+    write_manifest(directory, manifest);
+    expect_refused(directory, "coarse_mesh.rims");
 }
 
 // --compression bc: KTX2 maps, coverage and depth exact, normals within BC5's error, smaller.

@@ -41,6 +41,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 
 namespace standin::billboards {
@@ -130,7 +131,7 @@ public:
 
 private:
     Status upload_billboards(const EnhancedBillboardsPackage& package);
-    void upload_coarse_mesh(const Mesh& mesh);
+    void upload_coarse_mesh(const Mesh& mesh, bool rims);
     void upload_box_lines(const EnhancedBillboardsPackage& package);
     void draw_box_lines(DrawStats& stats);
     void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
@@ -164,6 +165,7 @@ private:
     gpu::VertexArray empty_vertex_array_;
     gpu::MeshBuffers coarse_mesh_;
     GLsizei coarse_index_count_ = 0;
+    GLsizei coarse_rim_index_count_ = 0; // leading indices: triangles on a sheet's rim (rims_first)
     gpu::Texture pixel_flags_, pixel_depth_;
     glm::ivec2 pixel_images_size_{0};
     gpu::FrameResources frame_;
@@ -267,7 +269,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
 
     // upload maps and accelerations, then the coarse mesh
     STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
-    if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh);
+    if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh, package.coarse_rims);
     if (renderer->box_lines_) renderer->upload_box_lines(package);
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
@@ -388,9 +390,65 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     return Status::ok();
 }
 
-void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh)
+// Sheet rims (issue #17): a billboard texel is covered where its centre lies on the surface, and
+// nothing lies beyond a sheet's edge for another billboard to overlap, so about half the texels an
+// open edge crosses are lost: a staircase of holes along every rim seen at an angle, where the ray
+// passes no covered texel and so marks no near miss for the coarse mesh to fill. The coarse mesh
+// keeps open boundaries where they are (make_coarse_mesh locks them), so its triangles that touch
+// one cover the rim's true outline: they are drawn first, wherever no front hit is at the pixel,
+// without the near-miss test. Returns the number of their indices (they lead `mesh.indices`); closed
+// coarse meshes have none. Only for packages whose baker asked for it (coarse_rims: open opaque
+// parts; leaf cards' outlines are not their leaves'); others are drawn as before.
+std::size_t rims_first(Mesh& mesh)
 {
-    coarse_mesh_ = gpu::MeshBuffers::upload(mesh);
+    std::size_t n = mesh.triangle_count();
+    // weld by position (a coarse mesh is welded already; older or foreign files need not be)
+    std::vector<std::uint32_t> order(mesh.vertex_count()), weld(mesh.vertex_count());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(k);
+    auto less = [&](std::uint32_t a, std::uint32_t b) {
+        const glm::vec3 &p = mesh.positions[a], &q = mesh.positions[b];
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z != q.z ? p.z < q.z : a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t k = 0; k < order.size(); ++k)
+        weld[order[k]] = k > 0 && mesh.positions[order[k]] == mesh.positions[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    std::vector<std::uint64_t> edges;
+    edges.reserve(3 * n);
+    for (std::size_t f = 0; f < n; ++f)
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = weld[mesh.indices[f * 3 + k]], b = weld[mesh.indices[f * 3 + (k + 1) % 3]];
+            if (a != b) edges.push_back(std::uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::uint8_t> on_rim(mesh.vertex_count(), 0);
+    bool any = false;
+    for (std::size_t k = 0; k < edges.size();) {
+        std::size_t end = k;
+        while (end < edges.size() && edges[end] == edges[k]) ++end;
+        if (end - k == 1) {
+            on_rim[std::size_t(edges[k] >> 32)] = on_rim[std::size_t(edges[k] & 0xffffffffu)] = 1;
+            any = true;
+        }
+        k = end;
+    }
+    if (!any) return 0;
+    std::vector<std::uint32_t> rim, rest;
+    for (std::size_t f = 0; f < n; ++f) {
+        const std::uint32_t* t = &mesh.indices[f * 3];
+        bool touches = on_rim[weld[t[0]]] || on_rim[weld[t[1]]] || on_rim[weld[t[2]]];
+        (touches ? rim : rest).insert((touches ? rim : rest).end(), t, t + 3);
+    }
+    std::size_t rim_count = rim.size();
+    rim.insert(rim.end(), rest.begin(), rest.end());
+    mesh.indices = std::move(rim);
+    return rim_count;
+}
+
+void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh, bool rims)
+{
+    Mesh ordered = rims ? mesh : Mesh{};
+    coarse_rim_index_count_ = rims ? GLsizei(rims_first(ordered)) : 0;
+    coarse_mesh_ = gpu::MeshBuffers::upload(coarse_rim_index_count_ > 0 ? ordered : mesh);
     coarse_index_count_ = coarse_mesh_.index_count();
 }
 
@@ -635,7 +693,16 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         coarse_.use();
         coarse_mesh_.bind();
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
-        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_, GL_UNSIGNED_INT, nullptr, coarse_count);
+        if (coarse_rim_index_count_ > 0) {
+            // sheet rims (rims_first): without the near-miss test
+            glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 0);
+            glDrawElementsInstanced(GL_TRIANGLES, coarse_rim_index_count_, GL_UNSIGNED_INT, nullptr, coarse_count);
+            glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
+            stats.draw_calls += 1;
+        }
+        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_ - coarse_rim_index_count_, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(std::uintptr_t(coarse_rim_index_count_) * sizeof(std::uint32_t)),
+                                coarse_count);
         stats.draw_calls += 1;
         stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
     }

@@ -43,7 +43,8 @@ std::vector<OptionSpec> bake_options()
                       "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
         choice_option("sheet-edges", "centre", {"centre", "overlap"},
                       "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
-                      "it, as everywhere) or overlap (every texel it overlaps: fewer holes along rims, more spill)"),
+                      "it, as everywhere) or overlap (every texel it overlaps: fewer holes along rims where the coarse "
+                      "mesh does not fill them, more spill)"),
     };
 }
 

@@ -2,7 +2,8 @@
 // liners and flanges single sheets, some parts inside out; `standin generate assembly --sheets`),
 // baked with the defaults (and with --sheet-edges overlap) and compared with the ground truth from the oblique views where the
 // inside of the open casing and the flanges' backs show. Before the backs of open surfaces were
-// baked from their own side, these views lost 0.5-0.7% of the truth's pixels to holes.
+// baked from their own side, these views lost 0.5-0.7% of the truth's pixels to holes; before the
+// coarse mesh filled sheet rims, 0.20-0.24%.
 #include "test_support.h"
 
 #include <standin/assembly.h>
@@ -67,17 +68,19 @@ TEST(BillboardSheets, SheetAssemblyHasFewHolesFromObliqueViews)
     test::gpu_context();
     Result<Mesh> mesh = generate_assembly(30000, 1.0f, true);
     ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
-    // measured: 0.55-0.68% holes per view before, 0.20-0.24% with the backs baked (the rest is the
-    // texel staircase along sheet rims, which nothing behind covers)
+    // measured: 0.55-0.68% holes per view before, 0.20-0.24% with the backs baked (the rest was the
+    // texel staircase along sheet rims, which nothing behind covers), 0.000-0.025% since the coarse
+    // mesh keeps open boundaries and its rim triangles fill without the near-miss test
+    // (renderer.cpp, rims_first); Luv per view 1.8-2.4 before them, 1.6-1.9 with them
     SheetFigures centre = evaluate_sheets(*mesh, {});
-    EXPECT_LT(centre.worst_holes, 0.0035);
-    EXPECT_LT(centre.spill, 0.006);
+    EXPECT_LT(centre.worst_holes, 0.0006);
+    EXPECT_LT(centre.spill, 0.004);
     // back hits pushed behind the other side's front hit (march.frag): 2.0-2.4 with, 7.3-7.9 without
-    EXPECT_LT(centre.worst_luv, 4.0);
-    // --sheet-edges overlap covers the texels a rim crosses: 0.04-0.05% holes, spill about doubled
+    EXPECT_LT(centre.worst_luv, 2.5);
+    // --sheet-edges overlap covers the texels a rim crosses: the same holes now (the coarse rim
+    // fills them), spill about doubled (0.59-0.69% per view against 0.26-0.30%)
     SheetFigures overlap = evaluate_sheets(*mesh, {{"sheet-edges", "overlap"}});
     EXPECT_LT(overlap.worst_holes, 0.001);
-    EXPECT_LT(overlap.holes, 0.5 * centre.holes);
     EXPECT_LT(overlap.spill, 0.012);
 }
 
