@@ -235,6 +235,27 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
     return true;
 }
 
+} // namespace
+
+// Each vertex's representative among the vertices at exactly its position (the lowest index), so
+// that parts split at creases and part boundaries (CAD exports) are joined again. Also the
+// renderer's, for the coarse mesh's open edges.
+std::vector<std::uint32_t> weld_by_position(const Mesh& mesh)
+{
+    std::vector<std::uint32_t> order(mesh.vertex_count()), weld(mesh.vertex_count());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(k);
+    auto less = [&](std::uint32_t a, std::uint32_t b) {
+        const glm::vec3 &p = mesh.positions[a], &q = mesh.positions[b];
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z != q.z ? p.z < q.z : a < b;
+    };
+    std::sort(order.begin(), order.end(), less);
+    for (std::size_t k = 0; k < order.size(); ++k)
+        weld[order[k]] = k > 0 && mesh.positions[order[k]] == mesh.positions[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    return weld;
+}
+
+namespace {
+
 // Sheets (issue #17): the ground truth draws both sides of a double-sided face, but a capture takes
 // a face from its front only, and a face facing away from a direction neither is captured nor hides
 // anything there. A closed surface never shows its back, but an open one (a CAD sheet-metal part,
@@ -253,15 +274,7 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
     std::size_t n = mesh.triangle_count();
     if (n == 0) return false;
     // weld by position: CAD exports split vertices at creases and part boundaries of one surface
-    std::vector<std::uint32_t> order(mesh.vertex_count()), weld(mesh.vertex_count());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(k);
-    auto less = [&](std::uint32_t a, std::uint32_t b) {
-        const glm::vec3 &p = mesh.positions[a], &q = mesh.positions[b];
-        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z != q.z ? p.z < q.z : a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t k = 0; k < order.size(); ++k)
-        weld[order[k]] = k > 0 && mesh.positions[order[k]] == mesh.positions[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    std::vector<std::uint32_t> weld = weld_by_position(mesh);
     // connected parts (union-find over welded vertices)
     std::vector<std::uint32_t> parent(mesh.vertex_count());
     for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = std::uint32_t(k);

@@ -78,6 +78,8 @@ public:
 };
 
 BakeSettings settings_from(const Options& parameters);
+// Each vertex's representative among the vertices at exactly its position (bake.cpp).
+std::vector<std::uint32_t> weld_by_position(const Mesh& mesh);
 
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();

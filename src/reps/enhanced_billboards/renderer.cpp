@@ -403,15 +403,7 @@ std::size_t rims_first(Mesh& mesh)
 {
     std::size_t n = mesh.triangle_count();
     // weld by position (a coarse mesh is welded already; older or foreign files need not be)
-    std::vector<std::uint32_t> order(mesh.vertex_count()), weld(mesh.vertex_count());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = std::uint32_t(k);
-    auto less = [&](std::uint32_t a, std::uint32_t b) {
-        const glm::vec3 &p = mesh.positions[a], &q = mesh.positions[b];
-        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z != q.z ? p.z < q.z : a < b;
-    };
-    std::sort(order.begin(), order.end(), less);
-    for (std::size_t k = 0; k < order.size(); ++k)
-        weld[order[k]] = k > 0 && mesh.positions[order[k]] == mesh.positions[order[k - 1]] ? weld[order[k - 1]] : order[k];
+    std::vector<std::uint32_t> weld = weld_by_position(mesh);
     std::vector<std::uint64_t> edges;
     edges.reserve(3 * n);
     for (std::size_t f = 0; f < n; ++f)
