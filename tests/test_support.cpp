@@ -103,11 +103,12 @@ std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representatio
     return package.is_ok() ? std::move(*package) : nullptr;
 }
 
-Mesh generated(GeneratedShape shape, std::size_t triangles)
+Mesh generated(GeneratedShape shape, std::size_t triangles, std::optional<std::uint32_t> seed)
 {
     GenerateOptions options;
     options.shape = shape;
     options.target_triangles = triangles;
+    if (seed) options.seed = *seed;
     Result<Mesh> mesh = generate_mesh(options);
     EXPECT_TRUE(mesh.is_ok()) << (mesh.is_ok() ? "" : mesh.status().message());
     return mesh.is_ok() ? std::move(*mesh) : Mesh{};

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -44,9 +45,9 @@ GpuContext& gpu_context();
 std::unique_ptr<Package> bake(const Mesh& mesh, const std::string& representation,
                               const std::vector<std::pair<std::string, std::string>>& values);
 
-// generate_mesh of `shape` with about `triangles` triangles and the other options at their defaults;
-// fails the test (and returns an empty mesh) when the generator refuses.
-Mesh generated(GeneratedShape shape, std::size_t triangles);
+// generate_mesh of `shape` with about `triangles` triangles (and `seed`, where given) and the other
+// options at their defaults; fails the test (and returns an empty mesh) when the generator refuses.
+Mesh generated(GeneratedShape shape, std::size_t triangles, std::optional<std::uint32_t> seed = std::nullopt);
 
 // data/bunny.ply, imported once per process; fails the test (and is empty) when it cannot be read.
 const Mesh& bunny();

@@ -314,15 +314,11 @@ TEST(MicrofacetRenderer, DroppingUnseenNodesChangesNoPixel)
 // the mesh covers and the stand-in does not) fall, and the silhouette IoU rises.
 TEST(MicrofacetRenderer, FallbackViewsCloseTheCrownsHoles)
 {
-    GenerateOptions options;
-    options.shape = GeneratedShape::tree;
-    options.target_triangles = 2000;
-    options.seed = 3;
-    Result<Mesh> tree = generate_mesh(options);
-    ASSERT_TRUE(tree.is_ok());
-    std::unique_ptr<Package> package = bake_small(*tree);
+    const Mesh tree = test::generated(GeneratedShape::tree, 2000, 3);
+    ASSERT_GT(tree.triangle_count(), 0u);
+    std::unique_ptr<Package> package = bake_small(tree);
     ASSERT_TRUE(package);
-    auto truth = make_mesh_renderer(*tree);
+    auto truth = make_mesh_renderer(tree);
     ASSERT_TRUE(truth.is_ok());
     std::array<std::size_t, 2> holes{}, spill{}, both{};
     for (int k = 0; k < 2; ++k) {
@@ -334,7 +330,7 @@ TEST(MicrofacetRenderer, FallbackViewsCloseTheCrownsHoles)
             OrbitView view;
             view.azimuth_degrees = azimuth;
             view.elevation_degrees = 20.0f;
-            Camera camera = orbit_camera(tree->bounding_sphere(), view, 1.0f);
+            Camera camera = orbit_camera(tree.bounding_sphere(), view, 1.0f);
             RenderedImage t = render(**truth, camera, 256), s = render(*standin, camera, 256);
             for (std::size_t i = 3; i < t.color.pixels.size(); i += 4) {
                 bool a = t.color.pixels[i] > 0, b = s.color.pixels[i] > 0;
