@@ -2,6 +2,8 @@
 // Lambert intensity at its centre, and byte-identical repeated renders.
 #include "test_support.h"
 
+#include "gpu/gl.h"
+
 #include <standin/camera.h>
 #include <standin/mesh.h>
 #include <standin/render.h>
@@ -35,6 +37,16 @@ std::size_t covered_pixels(const ImageRGBA8& image)
     std::size_t n = 0;
     for (std::size_t i = 3; i < image.pixels.size(); i += 4) n += image.pixels[i] > 0;
     return n;
+}
+
+// Every renderer reports a GL error through gl_error_text: the code, and for GL_OUT_OF_MEMORY (a
+// package too large for the device, as a 4096-texel foliage bake is for llvmpipe) what to do.
+TEST(GlErrors, OutOfMemorySaysWhatToDo)
+{
+    EXPECT_EQ(gpu::gl_error_text(GL_INVALID_OPERATION), "OpenGL error 1282");
+    std::string oom = gpu::gl_error_text(GL_OUT_OF_MEMORY);
+    EXPECT_EQ(oom.rfind("OpenGL error 1285 (out of GPU memory", 0), 0u) << oom;
+    EXPECT_NE(oom.find("--resolution"), std::string::npos) << oom;
 }
 
 TEST(ReferenceRenderer, SphereSilhouetteRadiusMatchesPerspectiveProjection)

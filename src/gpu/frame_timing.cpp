@@ -83,7 +83,7 @@ Result<FrameTimes> time_frames(Renderer& renderer, const DrawParams& params, int
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum gl_error = glGetError();
     if (gl_error != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "frame timing: OpenGL error " + std::to_string(gl_error));
+        return error(StatusCode::gpu_error, "frame timing: " + gpu::gl_error_text(gl_error));
     return result;
 }
 

@@ -41,6 +41,15 @@ std::string_view find_embedded_shader_locked(const ShaderTable& table, std::stri
 
 } // namespace
 
+std::string gl_error_text(GLenum error)
+{
+    std::string text = "OpenGL error " + std::to_string(error);
+    if (error == GL_OUT_OF_MEMORY)
+        text += " (out of GPU memory: what this draws does not fit on this device; a package baked with a smaller "
+                "--resolution or --page-size, or a smaller image, needs less)";
+    return text;
+}
+
 std::string_view find_embedded_shader(std::string_view name)
 {
     ShaderTable& table = shader_table();

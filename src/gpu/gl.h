@@ -13,6 +13,10 @@
 
 namespace standin::gpu {
 
+// "OpenGL error N" for a status message; GL_OUT_OF_MEMORY also says what to do about it (a
+// package's maps or pages, or an image, larger than the device, or llvmpipe, will hold).
+std::string gl_error_text(GLenum error);
+
 // Owns one GL name; Deleter is a function deleting one name.
 template <void (*Delete)(GLuint)>
 class GlHandle {

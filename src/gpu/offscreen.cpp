@@ -64,7 +64,7 @@ Result<RenderedImage> render_offscreen(Renderer& renderer, const Camera& camera,
     result.depth = target->read_depth();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum gl_error = glGetError();
-    if (gl_error != GL_NO_ERROR) return error(StatusCode::gpu_error, "render: OpenGL error " + std::to_string(gl_error));
+    if (gl_error != GL_NO_ERROR) return error(StatusCode::gpu_error, "render: " + gpu::gl_error_text(gl_error));
     return result;
 }
 

@@ -107,7 +107,7 @@ Status ShadowMap::render(Renderer& casters, const Light& light, const BoundingSp
     glBindFramebuffer(GL_FRAMEBUFFER, GLuint(previous_fbo));
     glViewport(previous_viewport[0], previous_viewport[1], previous_viewport[2], previous_viewport[3]);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "shadow map: OpenGL error " + std::to_string(e));
+        return error(StatusCode::gpu_error, "shadow map: " + gpu::gl_error_text(e));
     return Status::ok();
 }
 

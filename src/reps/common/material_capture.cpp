@@ -21,7 +21,7 @@ Result<MaterialImages> capture_material(Renderer& truth, const RenderTarget& tar
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "material capture: OpenGL error " + std::to_string(e));
+        return error(StatusCode::gpu_error, "material capture: " + gpu::gl_error_text(e));
     return out;
 }
 

@@ -227,7 +227,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     empty_vertex_array_ = gpu::make_vertex_array();
     ensure_capacity(k_initial_records, k_initial_records);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "displaced mesh: OpenGL error " + std::to_string(e) + " while uploading");
+        return error(StatusCode::gpu_error, "displaced mesh: " + gpu::gl_error_text(e) + " while uploading");
     return Status::ok();
 }
 

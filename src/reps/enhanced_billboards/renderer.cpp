@@ -273,7 +273,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     if (renderer->box_lines_) renderer->upload_box_lines(package);
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "enhanced billboards: OpenGL error " + std::to_string(e) + " while uploading");
+        return error(StatusCode::gpu_error, "enhanced billboards: " + gpu::gl_error_text(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
 }
 

@@ -118,7 +118,7 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " capturing a view");
+        return error(StatusCode::gpu_error, "microfacets: " + gpu::gl_error_text(e) + " capturing a view");
     if (samples_ > 1) { // step 6
         const float texel = 2.0f * sphere_.radius / float(n);
         reps::downsample_coverage(out.albedo, {&out.normal, pbr_ ? &out.material.orm : nullptr, pbr_ ? &out.material.emission : nullptr},

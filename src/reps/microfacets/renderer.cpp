@@ -166,7 +166,7 @@ Result<gpu::Texture> upload_color_pages(const MicrofacetsPackage& package, const
     glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " uploading " + what + " pages");
+        return error(StatusCode::gpu_error, "microfacets: " + gpu::gl_error_text(e) + " uploading " + what + " pages");
     return texture;
 }
 
@@ -184,7 +184,7 @@ Result<gpu::Texture> upload_normal_depth_pages(const MicrofacetsPackage& package
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " uploading normal-depth pages");
+        return error(StatusCode::gpu_error, "microfacets: " + gpu::gl_error_text(e) + " uploading normal-depth pages");
     return texture;
 }
 
@@ -407,7 +407,7 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     glProgramUniform1ui(quads, r->quads_program_.uniform("seen_words"), seen_words);
     glProgramUniform1i(quads, r->quads_program_.uniform("fallback_views"), fallback ? std::atoi(fallback) : k_fallback_views);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "microfacets: OpenGL error " + std::to_string(e) + " while uploading");
+        return error(StatusCode::gpu_error, "microfacets: " + gpu::gl_error_text(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(r));
 }
 

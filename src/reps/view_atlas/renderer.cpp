@@ -234,7 +234,7 @@ Result<gpu::Texture> upload_cell_tops(const CellDepths& depths, int pages)
         glTextureSubImage3D(name, 0, 0, 0, page, depths.cells, depths.cells, 1, GL_RED, GL_UNSIGNED_BYTE,
                             depths.nearest.data() + std::size_t(page) * per_page);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " uploading cell heights");
+        return error(StatusCode::gpu_error, "view atlas: " + gpu::gl_error_text(e) + " uploading cell heights");
     return texture;
 }
 
@@ -247,7 +247,7 @@ Result<gpu::Texture> allocate_page_array(GLenum format, int size, int count)
     gpu::Texture texture(name);
     glTextureStorage3D(name, k_mip_levels, format, size, size, GLsizei(std::max(count, 1)));
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " allocating " + std::to_string(count) +
+        return error(StatusCode::gpu_error, gpu::gl_error_text(e) + " allocating " + std::to_string(count) +
                                                 " layers of " + std::to_string(size) + "²");
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -281,7 +281,7 @@ Result<gpu::Texture> upload_compressed_color_pages(const ViewAtlasPackage& packa
         }
     }
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " uploading DXT5 pages");
+        return error(StatusCode::gpu_error, gpu::gl_error_text(e) + " uploading DXT5 pages");
     return texture;
 }
 
@@ -312,7 +312,7 @@ Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const st
         glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
     }
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "OpenGL error " + std::to_string(e) + " uploading pages");
+        return error(StatusCode::gpu_error, gpu::gl_error_text(e) + " uploading pages");
     return texture;
 }
 
@@ -488,7 +488,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
-        return error(StatusCode::gpu_error, "view atlas: OpenGL error " + std::to_string(e) + " while uploading");
+        return error(StatusCode::gpu_error, "view atlas: " + gpu::gl_error_text(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
 }
 
