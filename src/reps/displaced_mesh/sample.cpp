@@ -271,8 +271,12 @@ std::vector<std::uint8_t> prefilter_surface_colour(const Mesh& original, const R
                             float dj = (float(b) + 0.5f) / float(k_colour_subsamples) - 0.5f;
                             float si = std::clamp(float(i) + di, 0.0f, float(n)), sj = std::clamp(float(j) + dj, 0.0f, float(n) - si);
                             SurfacePoint on = on_surface(point_at(si, sj));
-                            if (!on.found || !original.covered_at(on.triangle, on.b1, on.b2)) continue;
-                            sum += glm::vec3(original.albedo_at(on.triangle, on.b1, on.b2));
+                            if (!on.found) continue;
+                            // one texture lookup gives colour and alpha (Mesh::covered_at's test)
+                            glm::vec4 colour = original.albedo_at(on.triangle, on.b1, on.b2);
+                            float cutoff = alpha_test_cutoff(original.materials[original.face_materials[on.triangle]]);
+                            if (cutoff > 0.0f && colour.w < cutoff) continue;
+                            sum += glm::vec3(colour);
                             ++covered;
                         }
                     if (covered == 0) continue;

@@ -198,7 +198,7 @@ glm::vec4 texel_albedo(const Mesh& mesh, std::uint32_t f, const Corners& c, int 
     const Material& material = mesh.materials[mesh.face_materials[f]];
     glm::vec4 at_centre = mesh.albedo_at(f, centre[1], centre[2]);
     if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return at_centre;
-    const bool alpha_tested = alpha_test_cutoff(material) > 0.0f;
+    const float cutoff = alpha_test_cutoff(material);
     glm::vec3 sum(0.0f);
     int count = 0;
     for (int a = 0; a < k_colour_subsamples; ++a)
@@ -207,8 +207,10 @@ glm::vec4 texel_albedo(const Mesh& mesh, std::uint32_t f, const Corners& c, int 
             std::int64_t py = std::int64_t(j) * k_subtexel + (2 * b + 1) * k_subtexel / (2 * k_colour_subsamples);
             float w[3];
             clamped_weights_at(c, px, py, w);
-            if (alpha_tested && !mesh.covered_at(f, w[1], w[2])) continue;
-            sum += glm::vec3(mesh.albedo_at(f, w[1], w[2]));
+            // one texture lookup gives colour and alpha (Mesh::covered_at's test, without a second lookup)
+            glm::vec4 colour = mesh.albedo_at(f, w[1], w[2]);
+            if (cutoff > 0.0f && colour.w < cutoff) continue;
+            sum += glm::vec3(colour);
             ++count;
         }
     return count > 0 ? glm::vec4(sum / float(count), at_centre.w) : at_centre;
