@@ -23,6 +23,7 @@
 //    Without --resolution such models are captured at k_alpha_resolution (512) with one sample
 //    per texel instead: a leaf's edge, gaps and colour need the texels more than the fractions.
 #include "reps/view_atlas/view_atlas.h"
+#include "reps/view_atlas/hull.h"
 
 #include "gpu/gl.h"
 #include "reps/common/coverage_capture.h"
@@ -154,6 +155,10 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     package->center = sphere.center;
     package->radius = sphere.radius;
     std::vector<glm::vec3> directions = layout_directions(s.layout, s.subdivisions, s.frames);
+    // the proxy (hull.h): planes tangent to the model along the views' directions, a millionth of the
+    // radius out so that the renderer's floats never cut a vertex
+    for (const HalfSpace& h : proxy_planes(context.mesh.positions, directions, source_box(*package), 1e-6 * sphere.radius))
+        package->proxy_planes.push_back(glm::vec4(glm::vec3(h.normal), float(h.offset)));
 
     // render every view and crop it
     std::vector<Capture> captures(directions.size());

@@ -192,6 +192,18 @@ double ConvexPolytope::volume() const
     return v / 6.0;
 }
 
+double ConvexPolytope::surface_area() const
+{
+    double area = 0.0;
+    for (const std::vector<std::uint32_t>& f : faces) {
+        glm::dvec3 sum(0.0);
+        for (std::size_t i = 1; i + 1 < f.size(); ++i)
+            sum += glm::cross(vertices[f[i]] - vertices[f[0]], vertices[f[i + 1]] - vertices[f[0]]);
+        area += 0.5 * glm::length(sum);
+    }
+    return area;
+}
+
 std::size_t ConvexPolytope::triangle_count() const
 {
     std::size_t n = 0;
@@ -324,12 +336,69 @@ std::vector<HalfSpace> atlas_half_spaces(const ViewAtlasPackage& package)
     return out;
 }
 
-ConvexPolytope atlas_hull(const ViewAtlasPackage& package, ClipStats* stats)
+ConvexPolytope source_box(const ViewAtlasPackage& package)
 {
     const double t = capture_texel(package);
     const Bounds& b = package.source.bounds;
-    ConvexPolytope box = box_polytope(glm::dvec3(b.min) - 0.5 * t, glm::dvec3(b.max) + 0.5 * t);
-    return clip_polytope(box, atlas_half_spaces(package), 0.25 * t, stats);
+    return box_polytope(glm::dvec3(b.min) - 0.5 * t, glm::dvec3(b.max) + 0.5 * t);
+}
+
+ConvexPolytope atlas_hull(const ViewAtlasPackage& package, ClipStats* stats)
+{
+    return clip_polytope(source_box(package), atlas_half_spaces(package), 0.25 * capture_texel(package), stats);
+}
+
+std::vector<HalfSpace> fewest_planes(const std::vector<HalfSpace>& candidates, const ConvexPolytope& enclosing,
+                                     int max_planes, double min_gain)
+{
+    std::vector<HalfSpace> chosen;
+    std::vector<bool> taken(candidates.size(), false);
+    ConvexPolytope current = enclosing;
+    double area = current.surface_area();
+    for (int step = 0; step < max_planes; ++step) {
+        std::size_t best = candidates.size();
+        ConvexPolytope best_polytope;
+        double best_area = area;
+        for (std::size_t c = 0; c < candidates.size(); ++c) {
+            if (taken[c]) continue;
+            ClipStats stats;
+            ConvexPolytope clipped = clip_polytope(current, {candidates[c]}, 0.0, &stats);
+            if (stats.cut == 0) {
+                taken[c] = true; // cuts nothing now, so nothing later either (the polytope only shrinks)
+                continue;
+            }
+            const double a = clipped.surface_area();
+            if (a < best_area) best = c, best_area = a, best_polytope = std::move(clipped);
+        }
+        if (best == candidates.size() || area - best_area <= min_gain * area) break;
+        current = std::move(best_polytope);
+        area = best_area;
+        taken[best] = true;
+        chosen.push_back(candidates[best]);
+    }
+    return chosen;
+}
+
+std::vector<HalfSpace> proxy_planes(const std::vector<glm::vec3>& points, const std::vector<glm::vec3>& directions,
+                                    const ConvexPolytope& box, double margin, int max_planes)
+{
+    std::vector<HalfSpace> candidates;
+    for (const glm::vec3& direction : directions)
+        for (double sign : {1.0, -1.0}) {
+            const glm::dvec3 d = sign * glm::normalize(glm::dvec3(direction));
+            double support = -std::numeric_limits<double>::max();
+            for (const glm::vec3& p : points) support = std::max(support, glm::dot(d, glm::dvec3(p)));
+            if (!points.empty()) candidates.push_back({d, support + margin});
+        }
+    return fewest_planes(candidates, box, max_planes, 0.002);
+}
+
+ConvexPolytope proxy_polytope(const ViewAtlasPackage& package)
+{
+    if (package.proxy_planes.empty()) return {};
+    std::vector<HalfSpace> planes;
+    for (const glm::vec4& p : package.proxy_planes) planes.push_back({glm::dvec3(glm::vec3(p)), double(p.w)});
+    return clip_polytope(source_box(package), planes, 0.0);
 }
 
 } // namespace standin::view_atlas

@@ -31,6 +31,9 @@ struct ConvexPolytope {
     // true when p lies inside every face's plane or at most `tolerance` outside it
     bool contains(glm::dvec3 p, double tolerance) const;
     double volume() const;                 // divergence theorem over the faces
+    // the sum of the faces' areas; for a convex body, 4x its orthographic screen area averaged over
+    // all directions (Cauchy's surface area formula)
+    double surface_area() const;
     std::size_t triangle_count() const;    // of a fan triangulation: sum of (corners - 2)
     // the area of its orthographic projection along `direction` (unit): half the sum over the faces
     // of area x |normal . direction| (convex: every covered point is covered twice)
@@ -68,8 +71,34 @@ std::vector<HalfSpace> atlas_half_spaces(const ViewAtlasPackage& package);
 // The capture texel on the plane through the centre, object units (2 half_extent / resolution).
 double capture_texel(const ViewAtlasPackage& package);
 
+// The source's bounding box grown by half a capture texel: what the atlas hull and the proxy cut.
+ConvexPolytope source_box(const ViewAtlasPackage& package);
+
 // The atlas hull: the source's bounding box grown by half a capture texel, clipped by
 // atlas_half_spaces, cuts shallower than a quarter texel skipped.
 ConvexPolytope atlas_hull(const ViewAtlasPackage& package, ClipStats* stats = nullptr);
+
+// The renderer's proxy (issue #17, crowds and single instances): fewer fragments than the nearest
+// view's crop prism, from a few planes that bound the model. The atlas hull above is no such bound
+// for a sheet thinner than a texel seen edge on (it covers no texel there, and the hull cuts it off),
+// so the proxy is built from the model's own points at bake time and stored in the package.
+
+// Of `candidates` (half-spaces that each hold the model), at most `max_planes`, chosen greedily:
+// starting from `enclosing`, each step takes the one whose cut leaves the least surface area (so
+// the least screen area on average, Cauchy: the fragments a proxy starts), until none takes off
+// more than `min_gain` of the area left. Returned in the order taken; deterministic (ties: the
+// first candidate).
+std::vector<HalfSpace> fewest_planes(const std::vector<HalfSpace>& candidates, const ConvexPolytope& enclosing,
+                                     int max_planes, double min_gain);
+
+// The supporting half-spaces of `points` along each of `directions` and its opposite ({p : dot(d, p)
+// <= max over the points of dot(d, point) + margin}), reduced by fewest_planes from `box`.
+constexpr int k_proxy_planes = 24;
+std::vector<HalfSpace> proxy_planes(const std::vector<glm::vec3>& points, const std::vector<glm::vec3>& directions,
+                                    const ConvexPolytope& box, double margin, int max_planes = k_proxy_planes);
+
+// The package's proxy: its source's bounding box, grown by half a capture texel, clipped by its
+// proxy_planes; empty when the package has none (packages from before issue #17's proxy).
+ConvexPolytope proxy_polytope(const ViewAtlasPackage& package);
 
 } // namespace standin::view_atlas

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 
 namespace standin::view_atlas {
@@ -219,6 +220,48 @@ TEST(AtlasHull, SphereHullLiesBetweenTheSphereAndItsBox)
         EXPECT_GT(hull.volume(), ball);
         EXPECT_LT(hull.volume(), 0.5 * (ball + box));
     }
+}
+
+// The renderer's proxy: a few supporting planes of the model's points, chosen by surface area. A
+// box's surface area is exact; the proxy holds every point (never cuts the model), keeps to its
+// budget, and takes most of the way from the box to the points' convex hull with 24 planes.
+TEST(AtlasHull, ProxyPlanesHoldEveryPointWithinTheirBudget)
+{
+    EXPECT_NEAR(box_polytope(glm::dvec3(0.0), glm::dvec3(1.0, 2.0, 3.0)).surface_area(), 22.0, 1e-12);
+    const Solid sphere{true, {0.4, -0.3, 0.2}, 0.8};
+    ViewAtlasPackage p = capture(sphere, 8, 128, false); // for its box and its 128 view directions
+    std::vector<glm::vec3> points, directions;
+    for (const glm::dvec3& q : surface_points(sphere)) points.push_back(glm::vec3(q));
+    for (const View& v : p.views) directions.push_back(v.direction);
+    const ConvexPolytope box = source_box(p);
+    const double ball = 4.0 * k_pi * sphere.size * sphere.size;
+    double previous = box.surface_area();
+    for (int budget : {0, 6, 24}) {
+        SCOPED_TRACE(budget);
+        std::vector<HalfSpace> planes = proxy_planes(points, directions, box, 0.0, budget);
+        EXPECT_LE(planes.size(), std::size_t(budget));
+        ConvexPolytope proxy = clip_polytope(box, planes, 0.0);
+        ASSERT_FALSE(proxy.empty());
+        for (const glm::vec3& q : points) EXPECT_TRUE(proxy.contains(glm::dvec3(q), 1e-9));
+        EXPECT_LE(proxy.surface_area(), previous * (1.0 + 1e-12));
+        previous = proxy.surface_area();
+        std::printf("%d planes: area / sphere %.3f (%zu faces)\n", budget, proxy.surface_area() / ball, proxy.faces.size());
+    }
+    // the box has 6 / pi = 1.91 times the sphere's area; 24 planes come within 15% of the sphere
+    EXPECT_LT(previous, 1.15 * ball);
+    // deterministic, and the order taken is the greedy one (each plane cuts the most area left)
+    EXPECT_EQ(proxy_planes(points, directions, box, 0.0).size(), proxy_planes(points, directions, box, 0.0).size());
+    std::vector<HalfSpace> a = proxy_planes(points, directions, box, 0.0), b = proxy_planes(points, directions, box, 0.0);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a[k].normal, b[k].normal);
+        EXPECT_EQ(a[k].offset, b[k].offset);
+    }
+    // a flat sheet seen edge on stays whole (the captured views' hull would cut it: it covers no
+    // texel there), as every proxy plane is tangent to the points themselves
+    std::vector<glm::vec3> sheet = {{-1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, 1.0f}, {-1.0f, 0.0f, 1.0f}};
+    const ConvexPolytope sheet_box = box_polytope(glm::dvec3(-1.01, -0.01, -1.01), glm::dvec3(1.01, 0.01, 1.01));
+    const ConvexPolytope sheet_proxy = clip_polytope(sheet_box, proxy_planes(sheet, directions, sheet_box, 0.0), 0.0);
+    for (const glm::vec3& q : sheet) EXPECT_TRUE(sheet_proxy.contains(glm::dvec3(q), 1e-9));
 }
 
 TEST(AtlasHull, Deterministic)

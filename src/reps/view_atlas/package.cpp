@@ -155,6 +155,11 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters, new_layout ? k_package_format_version : 1);
     manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
     manifest["half_extent"] = package.half_extent();
+    if (!package.proxy_planes.empty()) {
+        nlohmann::json planes = nlohmann::json::array();
+        for (const glm::vec4& p : package.proxy_planes) planes.push_back({p.x, p.y, p.z, p.w});
+        manifest["proxy_planes"] = planes;
+    }
     manifest["pages"] = pages;
     manifest["views"] = views;
     manifest["files"] = files;
@@ -177,6 +182,22 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& sphere = in.member(manifest, "sphere", "");
         package->center = in.vec3(sphere, "center", "sphere.");
         package->radius = float(in.number(sphere, "radius", "sphere.", 1e-30, 1e30));
+        if (manifest.contains("proxy_planes")) { // optional (issue #17): without it the renderer draws the prism
+            const nlohmann::json& planes = manifest["proxy_planes"];
+            if (!planes.is_array() || planes.size() > 64) in.fail("proxy_planes", "is not an array of at most 64 planes");
+            for (std::size_t k = 0; k < planes.size(); ++k) {
+                const std::string where = "proxy_planes[" + std::to_string(k) + "]";
+                if (!planes[k].is_array() || planes[k].size() != 4 ||
+                    !std::all_of(planes[k].begin(), planes[k].end(), [](const nlohmann::json& v) { return v.is_number(); }))
+                    in.fail(where, "is not [nx, ny, nz, offset]");
+                const glm::vec4 p(planes[k][0].get<float>(), planes[k][1].get<float>(), planes[k][2].get<float>(),
+                                  planes[k][3].get<float>());
+                if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.w) ||
+                    std::abs(glm::length(glm::vec3(p)) - 1.0f) > 1e-3f)
+                    in.fail(where, "is not a finite plane with a unit normal");
+                package->proxy_planes.push_back(p);
+            }
+        }
         const nlohmann::json& files = in.member(manifest, "files", "");
         if (!files.is_object()) in.fail("files", "is not an object");
         const nlohmann::json& pages = in.member(manifest, "pages", "");

@@ -45,6 +45,7 @@ ViewAtlasPackage small_package()
         v.atlas_x = 16 * k;
         p.views.push_back(v);
     }
+    p.proxy_planes = {{0.0f, 0.6f, 0.8f, 1.25f}, {-1.0f, 0.0f, 0.0f, 0.75f}};
     p.color_pages.assign(1, ImageRGBA8(256, 256));
     p.normal_depth_pages.assign(1, ImageRGBA8(256, 256));
     for (int y = 0; y < 32; ++y)
@@ -228,6 +229,14 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     EXPECT_EQ(q.normal_depth_pages[0].pixels, p.normal_depth_pages[0].pixels);
     EXPECT_FLOAT_EQ(q.radius, p.radius);
     EXPECT_FLOAT_EQ(q.half_extent(), p.radius); // orthographic
+    EXPECT_EQ(q.proxy_planes, p.proxy_planes);
+    // packages from before the proxy hull have no planes: read as none (the renderer draws prisms)
+    nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/a.standin/manifest.json"));
+    manifest.erase("proxy_planes");
+    std::ofstream(dir + "/a.standin/manifest.json") << manifest.dump(1);
+    Result<std::unique_ptr<Package>> older = read_package(dir + "/a.standin");
+    ASSERT_TRUE(older.is_ok()) << older.status().message();
+    EXPECT_TRUE(dynamic_cast<const ViewAtlasPackage&>(**older).proxy_planes.empty());
     EXPECT_EQ(summarise_package(q).details["views"], 2);
 }
 
@@ -302,6 +311,10 @@ TEST(ViewAtlasPackage, RefusesDamage)
         {"axis_u", [](nlohmann::json& m) { m["views"][0]["axis_u"] = {2.0, 0.0, 0.0}; }},
         {"projection", [](nlohmann::json& m) { m["bake"]["projection"] = "fisheye"; }},
         {"page", [](nlohmann::json& m) { m["views"][0]["page"] = 3; }},
+        // proxy planes that are not planes
+        {"proxy_planes[1]", [](nlohmann::json& m) { m["proxy_planes"][1] = {2.0, 0.0, 0.0, 1.0}; }},
+        {"proxy_planes[0]", [](nlohmann::json& m) { m["proxy_planes"][0] = {0.0, 1.0, 0.0}; }},
+        {"proxy_planes", [](nlohmann::json& m) { m["proxy_planes"] = "all of them"; }},
         // a package that draws nothing
         {"pages", [](nlohmann::json& m) { m["pages"] = nlohmann::json::array(); }},
         {"views", [](nlohmann::json& m) {

@@ -6,9 +6,11 @@
 // one parallax step, as impostor bakers do; "corrected" (default) picks the three views around each
 // pixel's own ray, intersects each view's height field exactly (texel tops and the walls between
 // neighbours of one surface, never across a depth edge), votes on coverage, blends the hits on the
-// nearest surface, lights the stored normals and writes true depth. Its proxy is a cut-out hull:
-// the nearest view's crop prism instead of the bounding sphere's quad (overdraw measured by the
-// fragment counter, `standin bench`).
+// nearest surface, lights the stored normals and writes true depth. Its proxy is the source box cut
+// by the package's proxy planes (hull.h proxy_polytope: a few planes tangent to the model, baked),
+// drawn with back faces culled; where the near plane would clip it, for mirroring transforms, for
+// packages without proxy planes, or with --proxy prism, the nearest view's crop prism (overdraw
+// measured by the fragment counter, `standin bench`).
 // Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
 // corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
 // seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth tests reject
@@ -30,6 +32,7 @@
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
 #include "reps/common/package_cast.h"
+#include "reps/view_atlas/hull.h"
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
@@ -56,6 +59,7 @@ struct ViewGpu {
     glm::vec4 depth_range;
 };
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
+
 static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
 // Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth codes of its
@@ -357,12 +361,23 @@ private:
     bool early_reject_ = true; // the run-time option
     GLint early_reject_at_ = -1;
     gpu::Buffer views_, index_;
+    // the proxy hull (hull.h proxy_hull): vertices (SSBO), fan triangles (element buffer), face
+    // corners for the near-plane test; empty: the prism for every instance
+    gpu::Buffer hull_vertices_, hull_indices_;
+    gpu::VertexArray hull_vertex_array_;
+    GLsizei hull_index_count_ = 0;
+    std::vector<glm::vec4> hull_corners_;
+    float seed_below_ = 0.0f, hull_above_ = 0.0f;
+    GLint hull_pass_at_ = -1, instance_offset_at_ = -1;
+    bool on_hull(const glm::mat4& world_from_object, const DrawParams& params) const;
     gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
     bool bind_early_reject();
     glm::vec3 center_{0.0f};                // the package's bounding sphere centre (object space)
+    float radius_ = 0.0f;                   // and radius
     std::vector<glm::mat4> sorted_;         // this frame's instances, front to back (draw)
     std::vector<std::pair<float, std::uint32_t>> order_; // (view depth, index), reused across frames
+    std::vector<char> hull_chosen_;                      // per instance: on_hull, this frame
     GLint counting_at_ = -1;
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
@@ -467,11 +482,36 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     renderer->style_ = style;
     renderer->center_ = package.center;
+    renderer->radius_ = package.radius;
     renderer->counting_at_ = renderer->program_.uniform("counting");
     renderer->early_reject_at_ = renderer->program_.uniform("early_reject");
     renderer->early_reject_ = settings.options.flag("early-reject");
 
     GLuint id = renderer->program_.id();
+    if (style == STYLE_CORRECTED) {
+        const ConvexPolytope proxy = proxy_polytope(package);
+        std::vector<glm::vec4> vertices;
+        for (const glm::dvec3& v : proxy.vertices) vertices.push_back(glm::vec4(glm::vec3(v), 1.0f));
+        std::vector<std::uint32_t> indices;
+        std::vector<glm::vec4>& corners = renderer->hull_corners_;
+        for (std::size_t f = 0; f < proxy.faces.size(); ++f) {
+            const std::vector<std::uint32_t>& face = proxy.faces[f]; // counter-clockwise from outside
+            for (std::size_t i = 1; i + 1 < face.size(); ++i) indices.insert(indices.end(), {face[0], face[i], face[i + 1]});
+            for (std::uint32_t v : face) // the corners faces use (welding may leave unused ones)
+                if (std::find(corners.begin(), corners.end(), vertices[v]) == corners.end()) corners.push_back(vertices[v]);
+        }
+        if (!indices.empty()) {
+            renderer->hull_vertices_ = gpu::make_buffer(vertices);
+            renderer->hull_indices_ = gpu::make_buffer(indices);
+            renderer->hull_vertex_array_ = gpu::make_vertex_array();
+            glVertexArrayElementBuffer(renderer->hull_vertex_array_.get(), renderer->hull_indices_.get());
+            renderer->hull_index_count_ = GLsizei(indices.size());
+        }
+    }
+    renderer->seed_below_ = float(settings.options.number("seed-below"));
+    renderer->hull_above_ = float(settings.options.number("hull-above"));
+    renderer->hull_pass_at_ = renderer->program_.uniform("hull_pass");
+    renderer->instance_offset_at_ = renderer->program_.uniform("instance_offset");
     glProgramUniform3fv(id, renderer->program_.uniform("atlas_center"), 1, &package.center.x);
     glProgramUniform1f(id, renderer->program_.uniform("atlas_radius"), package.radius);
     glProgramUniform1f(id, renderer->program_.uniform("half_extent"), package.half_extent());
@@ -519,31 +559,76 @@ bool AtlasRenderer::bind_early_reject()
     return true;
 }
 
+// Whether an instance is drawn on the proxy hull: only where the hull's front faces bound every
+// ray into it, i.e. the near plane clips none of it (so the eye is outside it), where the transform
+// keeps the winding (the pass culls back faces), and where the instance is at least --hull-above
+// pixels in radius (and not under --seed-below, whose level draws a quad). llvmpipe shades whole
+// 4x4 blocks along every triangle's edges, so on a small instance the hull's tens of triangles
+// cost more than the prism's few large ones save (docs/RESULTS.md, "Proxy hull"). The others take
+// the prism, which also handles an eye inside. The size mirrors sphere_pixels in
+// shaders/atlas.vert; where the two round differently the instance is drawn either way, correctly.
+bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams& params) const
+{
+    if (hull_index_count_ == 0 || glm::determinant(glm::mat3(world_from_object)) <= 0.0f) return false;
+    const Camera& camera = params.camera;
+    const float scale = std::max({glm::length(glm::vec3(world_from_object[0])), glm::length(glm::vec3(world_from_object[1])),
+                                  glm::length(glm::vec3(world_from_object[2]))});
+    if (std::max(seed_below_, hull_above_) > 0.0f) {
+        const glm::vec3 c(world_from_object * glm::vec4(center_, 1.0f));
+        const glm::vec3 up(camera.view_from_world[0][1], camera.view_from_world[1][1], camera.view_from_world[2][1]);
+        const glm::mat4 clip_from_world = camera.clip_from_world();
+        const glm::vec4 a = clip_from_world * glm::vec4(c, 1.0f), b = clip_from_world * glm::vec4(c + up * (radius_ * scale), 1.0f);
+        if (a.w > 0.0f && b.w > 0.0f &&
+            glm::length(glm::vec2(b) / b.w - glm::vec2(a) / a.w) * 0.5f * float(params.viewport.y) < std::max(seed_below_, hull_above_))
+            return false;
+    }
+    // every corner beyond the near plane: then the whole hull is (it is convex), the eye outside it
+    const glm::mat4 view_from_object = camera.view_from_world * world_from_object;
+    for (const glm::vec4& corner : hull_corners_)
+        if (!(-(view_from_object * corner).z > camera.near_plane * 1.001f)) return false;
+    return true;
+}
+
 // Instances front to back: each one's bounding-sphere centre by its depth along the camera's view
 // axis, ties by index, so the order (and so the picture where two hits share a depth) does not
 // depend on the sort. Every style writes a depth at or behind its proxy's (depth_greater in
 // atlas.frag), so a GPU's early depth test can reject the fragments of instances hidden behind
 // nearer ones before they walk; drawn back to front, each would walk and then be overwritten.
+// Corrected style: the instances on the proxy hull (on_hull) first, in that order, as one indexed
+// draw with back faces culled; then the rest on the prism.
 DrawStats AtlasRenderer::draw(const DrawParams& params)
 {
-    DrawParams sorted_params = params;
-    if (params.world_from_object.size() > 1) {
-        const glm::mat4& view = params.camera.view_from_world;
-        order_.resize(params.world_from_object.size());
-        for (std::size_t i = 0; i < order_.size(); ++i) {
-            glm::vec4 center = view * (params.world_from_object[i] * glm::vec4(center_, 1.0f));
-            float depth = -center.z; // the camera looks down -z
-            order_[i] = {std::isnan(depth) ? std::numeric_limits<float>::max() : depth, std::uint32_t(i)};
-        }
-        std::sort(order_.begin(), order_.end());
-        sorted_.resize(order_.size());
-        for (std::size_t i = 0; i < order_.size(); ++i) sorted_[i] = params.world_from_object[order_[i].second];
-        sorted_params.world_from_object = sorted_;
+    static const glm::mat4 identity(1.0f);
+    std::span<const glm::mat4> transforms = params.world_from_object;
+    if (transforms.empty()) transforms = std::span<const glm::mat4>(&identity, 1); // as FrameResources::bind
+    const std::size_t count = transforms.size();
+    const glm::mat4& view = params.camera.view_from_world;
+    order_.resize(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        glm::vec4 center = view * (transforms[i] * glm::vec4(center_, 1.0f));
+        float depth = -center.z; // the camera looks down -z
+        order_[i] = {std::isnan(depth) ? std::numeric_limits<float>::max() : depth, std::uint32_t(i)};
     }
+    std::sort(order_.begin(), order_.end());
+    sorted_.clear();
+    std::size_t hull_instances = 0;
+    if (style_ == STYLE_CORRECTED) {
+        hull_chosen_.resize(count);
+        for (const auto& [depth, i] : order_)
+            if ((hull_chosen_[i] = on_hull(transforms[i], params))) sorted_.push_back(transforms[i]);
+        hull_instances = sorted_.size();
+        for (const auto& [depth, i] : order_)
+            if (!hull_chosen_[i]) sorted_.push_back(transforms[i]);
+    } else {
+        for (const auto& [depth, i] : order_) sorted_.push_back(transforms[i]);
+    }
+    DrawParams sorted_params = params;
+    sorted_params.world_from_object = sorted_;
     frame_.bind(sorted_params);
     GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
+    if (hull_index_count_ > 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_HULL_SSBO, hull_vertices_.get());
     counters_.bind();
     glProgramUniform1i(program_.id(), counting_at_, counters_.counting() ? 1 : 0);
     for (std::size_t a = 0; a < color_arrays_.size(); ++a) {
@@ -557,18 +642,38 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     }
     if (cell_tops_.get() != 0) glBindTextureUnit(ATLAS_CELL_TEXTURE, cell_tops_.get());
     glProgramUniform1i(program_.id(), early_reject_at_, bind_early_reject() ? 1 : 0);
-    glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     program_.use();
-    if (style_ == STYLE_CORRECTED) { // the cut-out hull: a box, 36 vertices (shaders/atlas.vert)
-        glDrawArraysInstanced(GL_TRIANGLES, 0, 36, instances);
-    } else {
-        glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+    DrawStats stats{0, 0};
+    const GLsizei hull_count = GLsizei(hull_instances);
+    if (hull_count > 0) {
+        glProgramUniform1i(program_.id(), hull_pass_at_, 1);
+        glProgramUniform1i(program_.id(), instance_offset_at_, 0);
+        glBindVertexArray(hull_vertex_array_.get());
+        glEnable(GL_CULL_FACE);
+        glFrontFace(GL_CCW);
+        glCullFace(GL_BACK);
+        glDrawElementsInstanced(GL_TRIANGLES, hull_index_count_, GL_UNSIGNED_INT, nullptr, hull_count);
+        glDisable(GL_CULL_FACE);
+        stats.draw_calls += 1;
+        stats.primitives += std::uint64_t(hull_count) * std::uint64_t(hull_index_count_ / 3);
+    }
+    glProgramUniform1i(program_.id(), hull_pass_at_, 0);
+    glProgramUniform1i(program_.id(), instance_offset_at_, hull_count);
+    glBindVertexArray(empty_vertex_array_.get());
+    if (instances > hull_count) {
+        if (style_ == STYLE_CORRECTED) { // the prism: a box, 36 vertices (shaders/atlas.vert)
+            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, instances - hull_count);
+        } else {
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+        }
+        stats.draw_calls += 1;
+        stats.primitives += std::uint64_t(instances - hull_count) * (style_ == STYLE_CORRECTED ? 12u : 2u);
     }
     glBindVertexArray(0);
     if (counters_.counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    return {1, std::uint64_t(instances) * (style_ == STYLE_CORRECTED ? 12u : 2u)};
+    return stats;
 }
 
 } // namespace

@@ -276,6 +276,77 @@ TEST(ViewAtlasRenderer, CutOutHullLimitsOverdraw)
     EXPECT_LT(overdraw[0], 0.5 * overdraw[1]);
 }
 
+// The proxy hull (issue #17) starts fewer fragments than the nearest view's prism and draws as
+// well: the walk is the pixel's own, so the pictures differ only where a hit outside the prism's
+// front face had its depth clamped to it (the hull, bounded by every view's nearest depth, clamps
+// less), which decides between overlapping instances. A mirrored instance (which the hull's culled
+// pass leaves to the prism) and an eye beside the model (the near plane would clip its hull) draw
+// exactly as on the prism.
+TEST(ViewAtlasRenderer, ProxyHullDrawsAsWellWithFewerFragments)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "2"}, {"resolution", "96"}, {"page-size", "2048"}});
+    ASSERT_TRUE(package);
+    const BoundingSphere sphere = mesh.bounding_sphere();
+    auto render = [&](const char* proxy, const Camera& camera, const std::vector<glm::mat4>& transforms, std::uint64_t* fragments) {
+        RenderOptions options;
+        options.values.set("hull-above", std::string(proxy) == "hull" ? "0" : "1e6");
+        options.values.set("baseline-below", "0");
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*package, options);
+        EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+        (*renderer)->set_counting(true);
+        Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 320, 240, transforms);
+        EXPECT_TRUE(image.is_ok());
+        if (fragments) *fragments = (*renderer)->read_counter(Counter::fragments);
+        return image->color;
+    };
+    const float r = sphere.radius;
+    const glm::vec3 c = sphere.center;
+    // three instances seen from 4 radii, and a mirrored one
+    std::vector<glm::mat4> transforms = {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(2.2f * r, 0.0f, -1.5f * r)),
+                                         glm::translate(glm::mat4(1.0f), glm::vec3(-2.2f * r, 0.3f * r, -0.5f * r)) *
+                                             glm::rotate(glm::mat4(1.0f), glm::radians(40.0f), glm::vec3(1, 0, 0))};
+    Camera camera = look_at_camera(c + glm::vec3(0.8f, 1.5f, 4.0f) * r, c, {0, 1, 0}, 60.0f, 4.0f / 3.0f, 0.05f * r, 20.0f * r);
+    std::uint64_t on_hull = 0, on_prism = 0;
+    ImageRGBA8 hull = render("hull", camera, transforms, &on_hull);
+    ImageRGBA8 prism = render("prism", camera, transforms, &on_prism);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(mesh);
+    ASSERT_TRUE(truth.is_ok());
+    Result<RenderedImage> truth_image = render_offscreen(**truth, camera, default_light(camera), 320, 240, transforms);
+    ASSERT_TRUE(truth_image.is_ok());
+    ImageMetrics between = compare_images(prism, hull), m_hull = compare_images(truth_image->color, hull),
+                 m_prism = compare_images(truth_image->color, prism);
+    std::printf("fragments: hull %llu, prism %llu; hull vs prism IoU %.5f, Luv %.4f; against the mesh: hull %.4f / %.3f, "
+                "prism %.4f / %.3f\n",
+                (unsigned long long)on_hull, (unsigned long long)on_prism, between.iou, between.luv_mean, m_hull.iou,
+                m_hull.luv_mean, m_prism.iou, m_prism.luv_mean);
+    EXPECT_GT(m_hull.truth_pixels, 4000u);
+    EXPECT_GT(between.iou, 0.999);
+    EXPECT_GT(m_hull.iou, m_prism.iou - 0.001);
+    EXPECT_LT(m_hull.luv_mean, m_prism.luv_mean + 0.05);
+    EXPECT_LT(double(on_hull), 0.8 * double(on_prism));
+
+    // a mirrored instance: the prism either way
+    const std::vector<glm::mat4> mirrored = {glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f))}, one = {glm::mat4(1.0f)};
+    ImageMetrics same = compare_images(render("prism", camera, mirrored, nullptr), render("hull", camera, mirrored, nullptr));
+    EXPECT_GT(same.truth_pixels, 1000u);
+    EXPECT_EQ(same.iou, 1.0);
+    EXPECT_EQ(same.luv_mean, 0.0);
+    // the eye just outside the torus's hole, and inside the proxy (the prism then): as good as the
+    // prism against the mesh
+    for (const glm::vec3 eye : {glm::vec3(0.3f, 0.2f, 1.2f), glm::vec3(0.05f, 0.3f, 0.1f)}) {
+        const Camera beside = look_at_camera(c + eye * r, c, {0, 1, 0}, 60.0f, 4.0f / 3.0f, 0.02f * r, 20.0f * r);
+        Result<RenderedImage> t = render_offscreen(**truth, beside, default_light(beside), 320, 240, one);
+        ASSERT_TRUE(t.is_ok());
+        ImageMetrics a = compare_images(t->color, render("hull", beside, one, nullptr));
+        ImageMetrics b = compare_images(t->color, render("prism", beside, one, nullptr));
+        std::printf("eye beside: hull IoU %.4f Luv %.3f, prism IoU %.4f Luv %.3f\n", a.iou, a.luv_mean, b.iou, b.luv_mean);
+        EXPECT_GT(a.truth_pixels, 5000u);
+        EXPECT_GT(a.iou, b.iou - 0.002);
+        EXPECT_LT(a.luv_mean, b.luv_mean + 0.1);
+    }
+}
+
 // An eye inside the hull (close to the model) still draws the model: the hull turns into the screen.
 TEST(ViewAtlasRenderer, CorrectedDrawsWithTheEyeInsideTheHull)
 {

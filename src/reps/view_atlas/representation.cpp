@@ -50,6 +50,11 @@ std::vector<OptionSpec> render_options()
                       "Corrected style, level of detail: an instance under this many pixels in radius (and not "
                       "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
                       "one parallax step, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
+        number_option("hull-above", "40", 0.0, 1.0e6,
+                      "Corrected style: an instance at least this many pixels in radius is drawn on the package's "
+                      "proxy hull (planes tangent to the model: the fewest fragments), a smaller one on its nearest "
+                      "view's crop prism (fewer, larger triangles; llvmpipe shades 4x4 blocks along every edge). 0: "
+                      "the hull at every size; 1e6: always the prism (packages baked before the hull have none)"),
         flag_option("early-reject", true,
                     "Stop a fragment before its walk when it lies behind a depth this draw already wrote (the "
                     "picture is the same; llvmpipe runs the shader before its depth test, issue #17)"),

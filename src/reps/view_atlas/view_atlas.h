@@ -81,6 +81,10 @@ public:
     BakeSettings settings; // settings_from(parameters)
     glm::vec3 center{0.0f}; // bounding sphere of the source (centre of the box, half its diagonal)
     float radius = 1.0f;
+    // The renderer's proxy (hull.h proxy_planes, issue #17): half-spaces {p : dot(xyz, p) <= w},
+    // object space, unit normals, that each hold every point of the source; the proxy is the source
+    // box cut by them. Empty in packages from before it (the renderer draws the prism).
+    std::vector<glm::vec4> proxy_planes;
     std::vector<View> views;
     // RGB: lit colour ("lit") or albedo ("surface"), sRGB-encoded; A: coverage 0 / 255, or for
     // models with alpha-tested materials the covered fraction of the texel (1..255 where covered).

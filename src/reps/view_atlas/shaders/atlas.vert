@@ -2,8 +2,11 @@
 // View atlas: one proxy per instance. Style seed (Saraiva et al. §3): the crop rectangle of the nearest
 // view on the plane through the sphere's centre, turned to face the camera (a 4-vertex strip).
 // Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
-// Corrected: the cut-out hull below (36 vertices). The fragment stage casts the rays; with the eye
-// inside the proxy, the whole screen.
+// Corrected: the proxy hull (hull.h proxy_hull, issue #17: the atlas hull cut to its most useful
+// planes; an indexed draw of its own, back faces culled, hull_pass 1), or, for the instances
+// renderer.cpp keeps off it (the eye inside or near the hull, a mirroring transform, the seed's
+// level) and with --proxy prism, the nearest view's crop prism below (36 vertices). The fragment
+// stage casts the rays; with the eye inside the prism, the whole screen.
 // Level of detail (beyond the paper, for crowds), by the radius in pixels of the instance's bounding
 // sphere, corrected style only: under baseline_below_pixels an instance keeps its cut-out hull but is
 // shaded as the octahedral baseline (three views around its direction, one parallax step: no walk);
@@ -18,6 +21,12 @@
 uniform int style;
 uniform float seed_below_pixels;     // corrected style: radius in pixels under which the seed's quad is drawn
 uniform float baseline_below_pixels; // corrected style: radius in pixels under which the baseline shades the hull
+// The proxy hull's vertices (object space, xyz), indexed by the hull pass's element buffer.
+layout(std430, binding = ATLAS_HULL_SSBO) readonly buffer HullBlock {
+    vec4 vertices[];
+} hull;
+uniform int hull_pass;       // 1: this draw is the proxy hull's (never the seed's level)
+uniform int instance_offset; // this draw's first instance in the frame's instance block
 
 // Radius in pixels of the instance's bounding sphere (largest axis scale), measured along the
 // camera's up vector so that orthographic and perspective cameras are treated alike.
@@ -39,19 +48,38 @@ out vec2 v_atlas_texel; // seed: atlas texel position (level 0) on the nearest v
 
 void main()
 {
-    mat4 world_from_object = instances.world_from_object[gl_InstanceID];
+    int instance = gl_InstanceID + instance_offset;
+    mat4 world_from_object = instances.world_from_object[instance];
     mat4 object_from_world = inverse(world_from_object);
     vec3 eye_object = (object_from_world * vec4(frame.eye_world.xyz, 1.0)).xyz;
     vec3 e = frame.forward_world.w > 0.5 ? -normalize(mat3(object_from_world) * frame.forward_world.xyz)
                                          : normalize(eye_object - atlas_center);
     vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
-    v_instance = gl_InstanceID;
+    v_instance = instance;
     v_lod = ATLAS_LOD_CORRECTED;
     if (style == STYLE_CORRECTED && max(seed_below_pixels, baseline_below_pixels) > 0.0) {
         float pixels = sphere_pixels(world_from_object);
-        v_lod = pixels < seed_below_pixels ? ATLAS_LOD_SEED : pixels < baseline_below_pixels ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
+        v_lod = pixels < seed_below_pixels && hull_pass == 0 ? ATLAS_LOD_SEED
+              : pixels < baseline_below_pixels              ? ATLAS_LOD_BASELINE
+                                                            : ATLAS_LOD_CORRECTED;
     }
     bool lod_seed = v_lod == ATLAS_LOD_SEED;
+    bool ortho = frame.forward_world.w > 0.5;
+    if (hull_pass != 0) { // every vertex may be a triangle's provoking one: each writes the views
+        gl_Position = frame.clip_from_world * (world_from_object * vec4(hull.vertices[gl_VertexID].xyz, 1.0));
+        v_atlas_texel = vec2(0.0);
+        if (v_lod == ATLAS_LOD_BASELINE) {
+            blend_views(e, v_views, v_weights);
+        } else {
+            v_views = ivec3(nearest_view(e), 0, 0);
+            v_weights = vec3(1.0, 0.0, 0.0);
+        }
+        return;
+    }
+    if (lod_seed && gl_VertexID >= 6) { // the seed's quad is the prism draw's first 6 vertices
+        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+        return;
+    }
     if (lod_seed) {
         const int strip_corner[6] = int[6](0, 1, 3, 0, 3, 2); // the strip's quad as two triangles
         int c = strip_corner[min(gl_VertexID, 5)];
@@ -68,14 +96,12 @@ void main()
         mat3 turn = rotation_between(view.direction.xyz, e);
         vec3 p = atlas_center + turn * (plane.x * view.axis_u.xyz + plane.y * view.axis_v.xyz);
         v_atlas_texel = vec2(view.atlas.yz) + corner * vec2(view.crop.zw);
-        gl_Position = lod_seed && gl_VertexID >= 6 ? vec4(2.0, 2.0, 2.0, 1.0)
-                                                   : frame.clip_from_world * (world_from_object * vec4(p, 1.0));
+        gl_Position = frame.clip_from_world * (world_from_object * vec4(p, 1.0));
         return;
     }
 
     v_atlas_texel = vec2(0.0);
     float distance_to_center = length(eye_object - atlas_center);
-    bool ortho = frame.forward_world.w > 0.5;
 
     if (style == STYLE_CORRECTED) {
         // The cut-out hull: the prism of the nearest view's crop, from its nearest stored height down
@@ -92,6 +118,7 @@ void main()
         }
         int k = v_views.x;
         ViewData view = views.items[k];
+        bool nothing_seen = view.crop.z == 0 || view.depth_range.x < view.depth_range.y;
         vec3 lo = vec3(plane_from_capture(vec2(view.crop.xy)), -atlas_radius);
         vec3 hi = vec3(plane_from_capture(vec2(view.crop.xy + view.crop.zw)),
                        min(view.depth_range.x + 2.0 * atlas_radius / 255.0, atlas_radius));
@@ -111,7 +138,7 @@ void main()
         vec3 e_view = transpose(view_to_object) * e;
         bool faces_eye = ortho ? dot(normal, e_view) > 0.0 : dot(normal, eye_view - at) > 0.0;
         bool inside = !ortho && all(greaterThan(eye_view, lo)) && all(lessThan(eye_view, hi));
-        if (view.crop.z == 0 || view.depth_range.x < view.depth_range.y) {
+        if (nothing_seen) {
             gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // nothing seen: no fragments
         } else if (inside) {
             gl_Position = face == 0 ? vec4(ab * 2.0 - 1.0, -1.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);
