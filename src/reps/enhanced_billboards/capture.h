@@ -22,6 +22,9 @@ struct FaceData {
     // there; bake.cpp, add_back_sides); empty when the model has none. Captures grow the coverage
     // across such edges by the texels the face overlaps (capture.cpp, write_maps).
     std::vector<std::uint8_t> open_edges;
+    // Per face, its connected part (vertices welded by position), with open_edges: a sheet edge's
+    // line clips only texels of its own part (another part touching the rim keeps its texels).
+    std::vector<std::uint32_t> part;
 };
 FaceData compute_face_data(const Mesh& mesh);
 
@@ -30,6 +33,8 @@ struct CaptureSettings {
     float depth_limit = 1.0f;   // world units: captured faces lie within this depth of the plane
     float min_facing = 0.0f;    // sin(grazing angle): faces with -n.w below it are not projected
     bool write_maps = false;    // fill Capture::billboard (the final pass); off when only scoring
+    // --sheet-edges clip: texels an open edge crosses are covered and store its line (capture.cpp)
+    bool edge_lines = false;
 };
 
 struct Capture {
