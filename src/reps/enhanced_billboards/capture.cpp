@@ -538,8 +538,10 @@ std::vector<EdgeLine> nearest_open_edges(const Mesh& mesh, const FaceData& faces
             glm::dvec2 normal(along.y / length, -along.x / length);
             if (glm::dot(normal, po - pa) > 0.0) normal = -normal; // away from the face
             double reach = 0.5 * (std::abs(normal.x) + std::abs(normal.y));
-            int i0 = std::max(0, int(std::floor(std::min(pa.x, pb.x))) - 1), i1 = std::min(grid.width - 1, int(std::floor(std::max(pa.x, pb.x))) + 1);
-            int j0 = std::max(0, int(std::floor(std::min(pa.y, pb.y))) - 1), j1 = std::min(grid.height - 1, int(std::floor(std::max(pa.y, pb.y))) + 1);
+            int i0 = std::max(0, int(std::floor(std::min(pa.x, pb.x))) - 1);
+            int i1 = std::min(grid.width - 1, int(std::floor(std::max(pa.x, pb.x))) + 1);
+            int j0 = std::max(0, int(std::floor(std::min(pa.y, pb.y))) - 1);
+            int j1 = std::min(grid.height - 1, int(std::floor(std::max(pa.y, pb.y))) + 1);
             for (int j = j0; j <= j1; ++j)
                 for (int i = i0; i <= i1; ++i) {
                     glm::dvec2 centre(i + 0.5, j + 0.5);
@@ -611,6 +613,20 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
     // along every rim seen at an angle. Those texels are covered too, by the captured face next to
     // them that overlaps them across an open edge (its attributes at its nearest point).
     std::vector<std::uint32_t> grown(faces.open_edges.empty() ? 0 : covered.size(), k_none);
+    // the first captured face of the 8 neighbours (rows, then columns) overlapping texel (i, j) across
+    // an open edge, or k_none
+    auto neighbour_across_open_edge = [&](int i, int j) {
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                int ni = i + di, nj = j + dj;
+                if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
+                std::size_t n = std::size_t(nj) * width + ni;
+                if (!covered[n]) continue;
+                std::uint32_t f = winner_at(n);
+                if (faces.open_edges[f] && across_open_edge(corners(mesh, grid, f), faces.open_edges[f], i, j)) return f;
+            }
+        return k_none;
+    };
     // sheet edge lines: the texels an open edge crosses are covered, and clipped to its line
     // (march.frag); a texel another surface wins keeps that surface whole
     edge_lines = edge_lines && !faces.open_edges.empty();
@@ -625,8 +641,12 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
                 std::uint32_t f = winner_at(t);
                 if (f != line.face && std::abs(grid.depth_of_key(grid.items[t]) - line.depth) > rim_depth) return;
             } else {
-                if (!across_open_edge(corners(mesh, grid, line.face), faces.open_edges[line.face], i, j)) return;
-                grown[t] = line.face;
+                // the face the edge is on overlaps the texel across it, or else a captured
+                // neighbour does across one of its open edges (the rim turns within the texel)
+                bool across = across_open_edge(corners(mesh, grid, line.face), faces.open_edges[line.face], i, j);
+                std::uint32_t face = across ? line.face : neighbour_across_open_edge(i, j);
+                if (face == k_none) return;
+                grown[t] = face;
             }
             line_code[t] = edge_line_code(line.normal, line.offset);
         });
@@ -634,19 +654,7 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
     if (!grown.empty() && !edge_lines) {
         parallel_over(covered.size(), [&](std::size_t t) {
             if (covered[t] || rim[t]) return;
-            int i = int(t % width), j = int(t / width);
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    int ni = i + di, nj = j + dj;
-                    if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
-                    std::size_t n = std::size_t(nj) * width + ni;
-                    if (!covered[n]) continue;
-                    std::uint32_t f = winner_at(n);
-                    if (faces.open_edges[f] && across_open_edge(corners(mesh, grid, f), faces.open_edges[f], i, j)) {
-                        grown[t] = f;
-                        return;
-                    }
-                }
+            grown[t] = neighbour_across_open_edge(int(t % width), int(t / width));
         });
     }
     for (std::size_t t = 0; t < covered.size(); ++t) covered[t] |= rim[t] | std::uint8_t(!grown.empty() && grown[t] != k_none);
@@ -755,6 +763,16 @@ FaceData compute_face_data(const Mesh& mesh)
         data.normal[f] = glm::dot(normal, shading) < 0.0f ? -normal : normal;
     });
     return data;
+}
+
+bool edge_line_contains(std::uint8_t code, glm::vec2 p)
+{
+    if (code >= 255 || code < EDGE_LINE_FIRST_CODE) return true;
+    int k = code - EDGE_LINE_FIRST_CODE;
+    float angle = float(k / EDGE_LINE_OFFSETS) * (6.28318530718f / float(EDGE_LINE_ANGLES));
+    glm::vec2 n(std::cos(angle), std::sin(angle));
+    float e = ((float(k % EDGE_LINE_OFFSETS) + 0.5f) / float(EDGE_LINE_OFFSETS) * 2.0f - 1.0f) * 0.5f * (std::abs(n.x) + std::abs(n.y));
+    return glm::dot(n, p - glm::vec2(0.5f)) <= e;
 }
 
 void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v)

@@ -47,6 +47,11 @@ struct Capture {
 // world up (+Y, or +Z when w is nearly vertical) made orthogonal to w, u = v x w.
 void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v);
 
+// Whether point p of a texel (texel units: the texel is [0, 1]^2) is on the surface's side of the
+// sheet edge line coded in colour alpha `code` (128-254; billboard_layout.glsl, EDGE_LINE_*): the
+// decoding march.frag does (on_surface). 255 (a whole texel) contains every point.
+bool edge_line_contains(std::uint8_t code, glm::vec2 p);
+
 // Captures what a billboard along unit direction w can hold of `remaining` (face ids, ascending).
 // Results do not depend on the number of threads.
 Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining,
