@@ -7,7 +7,8 @@
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
 // depth, and linked neighbours (acceleration.h: same surface, jump within the normals' slope) are
 // joined by walls, so a surface has no gaps at any view, grazing included, and silhouettes are the
-// covered texels' outline. The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
+// covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
+// in its colour alpha (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
 // a node whose depth range the ray segment above it misses is skipped whole; at level 0 the
 // crossing of the texel's top and of the wall it was entered through is computed exactly.
 // Level of detail: where a pyramid node is no wider than half the pixel's footprint on the billboard,
