@@ -84,6 +84,7 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
             if (b.color.at(i, j)[3] == 0) continue;
             texel.depth = b.normal_depth.at(i, j)[3];
             texel.flags = k_texel_covered;
+            if (settings.edge_lines && b.color.at(i, j)[3] < 255) texel.flags |= k_texel_clipped;
         }
     }
 

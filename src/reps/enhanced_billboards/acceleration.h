@@ -18,6 +18,7 @@ enum : std::uint16_t {
     k_link_plus_u = 1u << 2,  // ... (i + 1, j)
     k_link_minus_v = 1u << 3, // ... (i, j - 1)
     k_link_plus_v = 1u << 4,  // ... (i, j + 1)
+    k_texel_clipped = 1u << 5, // holds a sheet edge line in its colour alpha (billboard_layout.glsl, EDGE_LINE_*)
 };
 
 // Level 0 of the march, one RGBA16UI texel. Depths are the package's 16-bit depth codes.
@@ -43,6 +44,8 @@ struct HeightFieldAcceleration {
 // stand-in shares (reps/common/shaders/height_field.h), with the package's depth quantisation.
 struct LinkSettings {
     int depth_bits = 16; // of the package: 8-bit depths quantise more coarsely
+    // packages of --sheet-edges clip: colour alphas below 255 are sheet edge lines (k_texel_clipped)
+    bool edge_lines = false;
 };
 
 // Builds the acceleration of one billboard, padded to width x height (multiples of 2^levels, at

@@ -269,7 +269,7 @@ namespace {
 // Returns false (nothing added, `out` untouched) for models of closed, outward surfaces, so their
 // packages are unchanged; `piece_of` maps out's faces to mesh's.
 bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vector<std::uint32_t>& piece_of,
-                    std::vector<std::uint8_t>& open_edges)
+                    std::vector<std::uint8_t>& open_edges, std::vector<std::uint32_t>& part_of)
 {
     std::size_t n = mesh.triangle_count();
     if (n == 0) return false;
@@ -330,6 +330,7 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
     out.face_materials.clear();
     piece_of.clear();
     open_edges.clear();
+    part_of.clear();
     bool has_uv = mesh.has_texture_coordinates();
     std::vector<std::uint32_t> reversed(mesh.vertex_count(), k_no_vertex);
     auto reversed_vertex = [&](std::uint32_t v) {
@@ -359,6 +360,7 @@ bool add_back_sides(const Mesh& mesh, const FaceData& faces, Mesh& out, std::vec
             }
             out.face_materials.push_back(mesh.face_materials[f]);
             piece_of.push_back(std::uint32_t(f));
+            part_of.push_back(root(weld[idx[0]]));
         }
     return true;
 }
@@ -456,14 +458,29 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     Mesh sided;
     std::vector<std::uint32_t> piece_of;
     std::vector<std::uint8_t> open_edges;
-    bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of, open_edges);
+    std::vector<std::uint32_t> part_of;
+    bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of, open_edges, part_of);
+    // sheet edges (issue #17): auto clips the texels open edges cross to the edges' lines on models
+    // with open double-sided parts, unless a material is alpha-tested (a leaf card's outline is not
+    // its leaf's); the package records what was done, so closed models' packages keep their bytes
+    bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
+                                    [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+    bool has_open_edges = std::any_of(open_edges.begin(), open_edges.end(), [](std::uint8_t bits) { return bits != 0; });
+    std::string sheet_edges = settings.sheet_edges;
+    if (sheet_edges == "auto") sheet_edges = two_sided && has_open_edges && !alpha_tested ? "clip" : "centre";
+    parameters.set_choice("sheet-edges", sheet_edges);
+    package->parameters = parameters;
+    package->settings = settings_from(parameters);
     if (two_sided) {
         faces = compute_face_data(sided);
         // --sheet-edges overlap (capture.cpp, write_maps): measured on the sheet assembly, holes
         // 0.10% -> 0.016% but spill 0.65% -> 0.96% and Luv 1.62 -> 1.96 (docs/RESULTS.md), so not
         // the default; since the coarse mesh fills rims (coarse_rims below) it helps only where
         // the coarse mesh is not drawn (--no-coarse: 0.25% -> 0.065%)
-        if (settings.sheet_edges == "overlap") faces.open_edges = std::move(open_edges);
+        if (sheet_edges == "overlap" || sheet_edges == "clip") {
+            faces.open_edges = std::move(open_edges);
+            faces.part = std::move(part_of);
+        }
         for (std::uint32_t& piece : piece_of) piece = source_face.empty() ? piece : source_face[piece];
         source_face = std::move(piece_of);
     }
@@ -474,6 +491,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     capture_settings.texel_size = texel;
     capture_settings.depth_limit = settings.depth_limit * diagonal;
     capture_settings.min_facing = std::sin(glm::radians(settings.grazing_angle));
+    capture_settings.edge_lines = sheet_edges == "clip";
     std::vector<std::uint32_t> remaining(work.triangle_count());
     for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
 
@@ -512,8 +530,6 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // staircase with the triangles along them (renderer.cpp, rims_first); not where a material is
     // alpha-tested: a leaf card's outline is not its leaf's (measured: the generated tree's IoU
     // fell from 0.954 to 0.896, the coarse cards drawn whole)
-    bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                                    [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
     package->coarse_rims = two_sided && !alpha_tested;
     package->coarse_mesh = reps::make_coarse_mesh(mesh, settings.coarse_ratio, package->coarse_rims);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);

@@ -52,7 +52,10 @@ struct BakeSettings {
     int depth_bits = 16;
     float coarse_ratio = 0.1f;
     std::string compression = "bc"; // "bc": KTX2 block-compressed maps; "none": PNG (package.cpp)
-    std::string sheet_edges = "centre"; // "overlap": cover every texel an open edge crosses (capture.cpp)
+    // "clip": texels an open edge crosses are covered and clipped to its line (capture.cpp,
+    // march.frag); "overlap": covered whole; "centre": by their centre; "auto" (the bake's
+    // default) is resolved by the baker to clip for sheet models, else centre
+    std::string sheet_edges = "centre";
 };
 
 class EnhancedBillboardsPackage final : public Package {

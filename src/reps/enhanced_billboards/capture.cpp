@@ -33,6 +33,11 @@
 // - sheet edges (issue #17, --sheet-edges overlap): a texel next to a captured face that the face
 //   overlaps only across an edge of an open surface is covered too (the edge has no wall beyond
 //   it for another billboard to capture).
+// - sheet edge lines (issue #17, --sheet-edges clip, the default for sheet models): those texels are
+//   covered too, and every covered texel an open edge crosses stores the edge's line within it
+//   (the nearest open edge, quantised into the colour map's alpha: billboard_layout.glsl,
+//   EDGE_LINE_*); the march clips its hits against it (march.frag), so the rim is neither a
+//   staircase of lost texels nor one of spilled ones.
 // - alpha (issue #14): a face of a mask or blend material exists only at the texel centres that
 //   pass its alpha test (Mesh::covered_at): cut-out texels are neither put in the item buffer nor
 //   tested, so leaf cards become their leaves (holes where the texture is cut) and do not hide what
@@ -40,6 +45,7 @@
 // - colour: a textured face's texel averages the texture over the texel (texel_albedo), covered
 //   points only, where the seed read one point: the truth's mips filter, a point sample aliases.
 #include "reps/enhanced_billboards/capture.h"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 #include <tbb/parallel_for.h>
 
@@ -497,8 +503,83 @@ bool across_open_edge(const Corners& c, std::uint8_t open, int i, int j)
     return outside_open;
 }
 
+// The open edge nearest a texel's centre among those whose line crosses the texel's square: the
+// outward unit normal (away from the face) in texel units, the line's signed distance from the
+// centre along it (positive: the centre is on the face's side), and the edge's depth there.
+struct EdgeLine {
+    double distance = std::numeric_limits<double>::max(); // from the texel centre to the edge segment
+    std::uint32_t face = k_none;
+    glm::dvec2 normal{0.0};
+    double offset = 0.0;
+    float depth = 0.0f;
+};
+
+// Every texel within reach of an open edge of a captured face, with the nearest such edge; on a
+// covered texel only edges of the part its winner belongs to (a casing's rim touching a flange does
+// not cut the flange). Serial over the faces in ascending order (ties keep the first), so the result
+// is deterministic.
+std::vector<EdgeLine> nearest_open_edges(const Mesh& mesh, const FaceData& faces, const Grid& grid,
+                                         const std::vector<std::uint32_t>& captured_faces,
+                                         const std::vector<std::uint8_t>& covered)
+{
+    std::vector<EdgeLine> lines(std::size_t(grid.width) * grid.height);
+    for (std::uint32_t f : captured_faces) {
+        if (!faces.open_edges[f]) continue;
+        Corners c = corners(mesh, grid, f);
+        for (int k = 0; k < 3; ++k) {
+            if (!(faces.open_edges[f] & (1 << k))) continue;
+            int a = k, b = (k + 1) % 3, opposite = (k + 2) % 3;
+            glm::dvec2 pa(double(c.x[a]) / k_subtexel, double(c.y[a]) / k_subtexel);
+            glm::dvec2 pb(double(c.x[b]) / k_subtexel, double(c.y[b]) / k_subtexel);
+            glm::dvec2 po(double(c.x[opposite]) / k_subtexel, double(c.y[opposite]) / k_subtexel);
+            glm::dvec2 along = pb - pa;
+            double length = glm::length(along);
+            if (!(length > 0.0)) continue;
+            glm::dvec2 normal(along.y / length, -along.x / length);
+            if (glm::dot(normal, po - pa) > 0.0) normal = -normal; // away from the face
+            double reach = 0.5 * (std::abs(normal.x) + std::abs(normal.y));
+            int i0 = std::max(0, int(std::floor(std::min(pa.x, pb.x))) - 1);
+            int i1 = std::min(grid.width - 1, int(std::floor(std::max(pa.x, pb.x))) + 1);
+            int j0 = std::max(0, int(std::floor(std::min(pa.y, pb.y))) - 1);
+            int j1 = std::min(grid.height - 1, int(std::floor(std::max(pa.y, pb.y))) + 1);
+            for (int j = j0; j <= j1; ++j)
+                for (int i = i0; i <= i1; ++i) {
+                    glm::dvec2 centre(i + 0.5, j + 0.5);
+                    double offset = glm::dot(normal, pa - centre);
+                    if (std::abs(offset) >= reach) continue; // the line misses the square
+                    double s = std::clamp(glm::dot(centre - pa, along) / (length * length), 0.0, 1.0);
+                    double distance = glm::length(pa + s * along - centre);
+                    std::size_t t = std::size_t(j) * grid.width + i;
+                    if (covered[t] && faces.part[std::uint32_t(grid.items[t] & 0xffffffffu)] != faces.part[f]) continue;
+                    EdgeLine& line = lines[t];
+                    if (distance >= line.distance || distance > 0.75) continue; // 0.75: about half the diagonal
+                    line = {distance, f, normal, offset, float((1.0 - s) * c.z[a] + s * c.z[b])};
+                }
+        }
+    }
+    return lines;
+}
+
+// The colour alpha code of an edge line (billboard_layout.glsl): EDGE_LINE_ANGLES directions of
+// the outward normal, EDGE_LINE_OFFSETS positions of the line across the square along it, from
+// -1 to 1 of the half-extent (|n.x| + |n.y|) / 2 where the line still meets the square.
+std::uint8_t edge_line_code(glm::dvec2 normal, double offset)
+{
+    const double step = 2.0 * 3.14159265358979323846 / EDGE_LINE_ANGLES;
+    long angle = std::lround(std::atan2(normal.y, normal.x) / step);
+    angle = ((angle % EDGE_LINE_ANGLES) + EDGE_LINE_ANGLES) % EDGE_LINE_ANGLES;
+    glm::dvec2 quantised(std::cos(double(angle) * step), std::sin(double(angle) * step));
+    // the point of the line nearest the centre stays on the line drawn with the quantised normal
+    double along = offset * glm::dot(quantised, normal);
+    double half_extent = 0.5 * (std::abs(quantised.x) + std::abs(quantised.y));
+    double position = std::clamp((along / half_extent + 1.0) * 0.5, 0.0, 1.0);
+    int level = std::clamp(int(position * EDGE_LINE_OFFSETS), 0, EDGE_LINE_OFFSETS - 1);
+    return std::uint8_t(EDGE_LINE_FIRST_CODE + angle * EDGE_LINE_OFFSETS + level);
+}
+
 Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, const std::vector<std::uint32_t>& slot,
-                     const std::vector<std::uint8_t>& captured)
+                     const std::vector<std::uint8_t>& captured, const std::vector<std::uint32_t>& captured_faces,
+                     bool edge_lines)
 {
     int width = grid.width, height = grid.height;
     std::vector<std::uint8_t> covered(std::size_t(width) * height, 0);
@@ -532,22 +613,48 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
     // along every rim seen at an angle. Those texels are covered too, by the captured face next to
     // them that overlaps them across an open edge (its attributes at its nearest point).
     std::vector<std::uint32_t> grown(faces.open_edges.empty() ? 0 : covered.size(), k_none);
-    if (!grown.empty()) {
+    // the first captured face of the 8 neighbours (rows, then columns) overlapping texel (i, j) across
+    // an open edge, or k_none
+    auto neighbour_across_open_edge = [&](int i, int j) {
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                int ni = i + di, nj = j + dj;
+                if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
+                std::size_t n = std::size_t(nj) * width + ni;
+                if (!covered[n]) continue;
+                std::uint32_t f = winner_at(n);
+                if (faces.open_edges[f] && across_open_edge(corners(mesh, grid, f), faces.open_edges[f], i, j)) return f;
+            }
+        return k_none;
+    };
+    // sheet edge lines: the texels an open edge crosses are covered, and clipped to its line
+    // (march.frag); a texel another surface wins keeps that surface whole
+    edge_lines = edge_lines && !faces.open_edges.empty();
+    std::vector<std::uint8_t> line_code(edge_lines ? covered.size() : 0, 0);
+    if (edge_lines) {
+        std::vector<EdgeLine> lines = nearest_open_edges(mesh, faces, grid, captured_faces, covered);
+        parallel_over(covered.size(), [&](std::size_t t) {
+            const EdgeLine& line = lines[t];
+            if (line.face == k_none || rim[t]) return;
+            int i = int(t % width), j = int(t / width);
+            if (covered[t]) {
+                std::uint32_t f = winner_at(t);
+                if (f != line.face && std::abs(grid.depth_of_key(grid.items[t]) - line.depth) > rim_depth) return;
+            } else {
+                // the face the edge is on overlaps the texel across it, or else a captured
+                // neighbour does across one of its open edges (the rim turns within the texel)
+                bool across = across_open_edge(corners(mesh, grid, line.face), faces.open_edges[line.face], i, j);
+                std::uint32_t face = across ? line.face : neighbour_across_open_edge(i, j);
+                if (face == k_none) return;
+                grown[t] = face;
+            }
+            line_code[t] = edge_line_code(line.normal, line.offset);
+        });
+    }
+    if (!grown.empty() && !edge_lines) {
         parallel_over(covered.size(), [&](std::size_t t) {
             if (covered[t] || rim[t]) return;
-            int i = int(t % width), j = int(t / width);
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    int ni = i + di, nj = j + dj;
-                    if ((di == 0 && dj == 0) || ni < 0 || nj < 0 || ni >= width || nj >= height) continue;
-                    std::size_t n = std::size_t(nj) * width + ni;
-                    if (!covered[n]) continue;
-                    std::uint32_t f = winner_at(n);
-                    if (faces.open_edges[f] && across_open_edge(corners(mesh, grid, f), faces.open_edges[f], i, j)) {
-                        grown[t] = f;
-                        return;
-                    }
-                }
+            grown[t] = neighbour_across_open_edge(int(t % width), int(t / width));
         });
     }
     for (std::size_t t = 0; t < covered.size(); ++t) covered[t] |= rim[t] | std::uint8_t(!grown.empty() && grown[t] != k_none);
@@ -617,7 +724,9 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
             std::size_t k = std::size_t(y) * board.width + x;
             if (!covered[std::size_t(lo_j + y) * width + lo_i + x]) continue;
             std::uint8_t* rgba = board.color.at(x, y);
-            rgba[0] = unorm8(albedo[k].x), rgba[1] = unorm8(albedo[k].y), rgba[2] = unorm8(albedo[k].z), rgba[3] = 255;
+            std::uint8_t code = line_code.empty() ? 0 : line_code[std::size_t(lo_j + y) * width + lo_i + x];
+            rgba[0] = unorm8(albedo[k].x), rgba[1] = unorm8(albedo[k].y), rgba[2] = unorm8(albedo[k].z);
+            rgba[3] = code != 0 ? code : 255;
             std::uint16_t* nd = board.normal_depth.at(x, y);
             for (int a = 0; a < 3; ++a) nd[a] = reps::encode_normal(normal[k][a]);
             nd[3] = reps::encode_depth((depth[k] - front) / board.depth_range);
@@ -654,6 +763,16 @@ FaceData compute_face_data(const Mesh& mesh)
         data.normal[f] = glm::dot(normal, shading) < 0.0f ? -normal : normal;
     });
     return data;
+}
+
+bool edge_line_contains(std::uint8_t code, glm::vec2 p)
+{
+    if (code >= 255 || code < EDGE_LINE_FIRST_CODE) return true;
+    int k = code - EDGE_LINE_FIRST_CODE;
+    float angle = float(k / EDGE_LINE_OFFSETS) * (6.28318530718f / float(EDGE_LINE_ANGLES));
+    glm::vec2 n(std::cos(angle), std::sin(angle));
+    float e = ((float(k % EDGE_LINE_OFFSETS) + 0.5f) / float(EDGE_LINE_OFFSETS) * 2.0f - 1.0f) * 0.5f * (std::abs(n.x) + std::abs(n.y));
+    return glm::dot(n, p - glm::vec2(0.5f)) <= e;
 }
 
 void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v)
@@ -704,7 +823,7 @@ Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::ve
             capture.area += faces.area[sets.candidates[r]];
         }
     if (settings.write_maps && !capture.faces.empty()) {
-        capture.billboard = write_maps(mesh, faces, grid, slot, captured);
+        capture.billboard = write_maps(mesh, faces, grid, slot, captured, capture.faces, settings.edge_lines);
         capture.billboard.captured_faces = capture.faces.size();
         capture.billboard.captured_area = capture.area;
     }

@@ -22,6 +22,9 @@ struct FaceData {
     // there; bake.cpp, add_back_sides); empty when the model has none. Captures grow the coverage
     // across such edges by the texels the face overlaps (capture.cpp, write_maps).
     std::vector<std::uint8_t> open_edges;
+    // Per face, its connected part (vertices welded by position), with open_edges: a sheet edge's
+    // line clips only texels of its own part (another part touching the rim keeps its texels).
+    std::vector<std::uint32_t> part;
 };
 FaceData compute_face_data(const Mesh& mesh);
 
@@ -30,6 +33,8 @@ struct CaptureSettings {
     float depth_limit = 1.0f;   // world units: captured faces lie within this depth of the plane
     float min_facing = 0.0f;    // sin(grazing angle): faces with -n.w below it are not projected
     bool write_maps = false;    // fill Capture::billboard (the final pass); off when only scoring
+    // --sheet-edges clip: texels an open edge crosses are covered and store its line (capture.cpp)
+    bool edge_lines = false;
 };
 
 struct Capture {
@@ -41,6 +46,11 @@ struct Capture {
 // The right-handed plane basis (u, v, w) of a projection direction w, deterministic in w: v is the
 // world up (+Y, or +Z when w is nearly vertical) made orthogonal to w, u = v x w.
 void plane_basis(glm::vec3 w, glm::vec3& u, glm::vec3& v);
+
+// Whether point p of a texel (texel units: the texel is [0, 1]^2) is on the surface's side of the
+// sheet edge line coded in colour alpha `code` (128-254; billboard_layout.glsl, EDGE_LINE_*): the
+// decoding march.frag does (on_surface). 255 (a whole texel) contains every point.
+bool edge_line_contains(std::uint8_t code, glm::vec2 p);
 
 // Captures what a billboard along unit direction w can hold of `remaining` (face ids, ascending).
 // Results do not depend on the number of threads.

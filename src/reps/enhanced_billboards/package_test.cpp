@@ -138,6 +138,40 @@ TEST(BillboardPackage, SheetPackagesMarkTheirCoarseRims)
     expect_refused(directory, "coarse_mesh.rims");
 }
 
+// Sheet edge lines (issue #17): the default bake of a sheet model records sheet_edges "clip" (a
+// closed model's stays "centre"), its rim texels hold line codes 128-254 in the colour alpha, and
+// both packagings give those codes back exactly.
+TEST(BillboardPackage, SheetEdgeLinesRoundTripInBothPackagings)
+{
+    EXPECT_EQ(baked_sphere()->settings.sheet_edges, "centre");
+    Result<Mesh> mesh = generate_assembly(3000, 1.0f, true);
+    ASSERT_TRUE(mesh) << mesh.status().message();
+    Result<SourceInfo> source = describe_source("", *mesh);
+    std::string base = test::fresh_directory("billboard_edge_lines");
+    for (const char* compression : {"none", "bc"}) {
+        OptionValues parameters;
+        parameters.set("compression", compression);
+        Result<std::unique_ptr<Package>> baked = bake_package(registration(), *mesh, *source, parameters);
+        ASSERT_TRUE(baked) << baked.status().message();
+        const auto& sheet = static_cast<const EnhancedBillboardsPackage&>(**baked);
+        EXPECT_EQ(sheet.settings.sheet_edges, "clip");
+        std::size_t lines = 0;
+        for (const Billboard& b : sheet.billboards)
+            for (std::size_t k = 0; k < b.color.pixels.size(); k += 4) lines += b.color.pixels[k + 3] >= 128 && b.color.pixels[k + 3] < 255;
+        EXPECT_GT(lines, 100u);
+        std::string directory = base + "/" + compression + ".standin";
+        ASSERT_TRUE(write_package(sheet, directory));
+        EXPECT_EQ(read_manifest(directory)["bake"]["sheet_edges"], "clip");
+        Result<std::unique_ptr<Package>> read = read_package(directory);
+        ASSERT_TRUE(read) << read.status().message();
+        const auto& back = static_cast<const EnhancedBillboardsPackage&>(**read);
+        ASSERT_EQ(back.billboards.size(), sheet.billboards.size());
+        for (std::size_t k = 0; k < sheet.billboards.size(); ++k)
+            for (std::size_t p = 3; p < sheet.billboards[k].color.pixels.size(); p += 4)
+                ASSERT_EQ(back.billboards[k].color.pixels[p], sheet.billboards[k].color.pixels[p]) << compression << " billboard " << k;
+    }
+}
+
 // --compression bc: KTX2 maps, coverage and depth exact, normals within BC5's error, smaller.
 TEST(BillboardPackage, BcPackagesRoundTrip)
 {

@@ -56,6 +56,7 @@ struct BillboardGpu {
     glm::vec4 box_min, box_max;
 };
 static_assert(sizeof(BillboardGpu) == 176, "std430 layout of BillboardData");
+static_assert(k_texel_clipped == TEXEL_CLIPPED && k_texel_covered == TEXEL_COVERED, "surface flags of march.frag");
 
 // std430 mirror of TileData in shaders/billboard.glsl
 struct TileGpu {
@@ -318,6 +319,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
 
     LinkSettings links;
     links.depth_bits = package.settings.depth_bits;
+    links.edge_lines = package.settings.sheet_edges == "clip";
     std::vector<BillboardGpu> gpu_billboards;
     std::vector<TileGpu> fine, whole;
     int tile_level = std::min(k_tile_level, levels);

@@ -41,10 +41,12 @@ std::vector<OptionSpec> bake_options()
                       "colour PNG) or none (PNG only, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
                       "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
-        choice_option("sheet-edges", "centre", {"centre", "overlap"},
+        choice_option("sheet-edges", "auto", {"auto", "centre", "clip", "overlap"},
                       "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
-                      "it, as everywhere) or overlap (every texel it overlaps: fewer holes along rims where the coarse "
-                      "mesh does not fill them, more spill)"),
+                      "it, as everywhere), clip (every texel it crosses, clipped by the march to the edge's line "
+                      "stored in the texel), overlap (every texel it overlaps, unclipped: more spill) or auto (clip "
+                      "for models with open double-sided parts and no alpha-tested material, else centre; the "
+                      "package records which)"),
     };
 }
 

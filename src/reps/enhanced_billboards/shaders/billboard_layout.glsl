@@ -48,5 +48,17 @@
 #define LINK_PLUS_U 4u
 #define LINK_MINUS_V 8u
 #define LINK_PLUS_V 16u
+#define TEXEL_CLIPPED 32u // the texel holds a sheet edge line: its colour alpha is a code below
+
+// sheet edge lines (issue #17, --sheet-edges clip; capture.cpp, edge_line_code): the colour alpha of
+// a covered texel an open edge crosses is EDGE_LINE_FIRST_CODE + angle * EDGE_LINE_OFFSETS + offset,
+// the surface being the texel's part where dot(n, p - centre) <= e, p in texel units, n the edge's
+// outward normal at angle * 360 / EDGE_LINE_ANGLES degrees from +u, e = ((offset + 0.5) /
+// EDGE_LINE_OFFSETS * 2 - 1) * (|n.x| + |n.y|) / 2. Codes stay at or above 128, so readers that take
+// alpha >= 128 as coverage (older ones, the BC encoders, glTF export's mask) see the texel covered;
+// 255 is a whole texel
+#define EDGE_LINE_FIRST_CODE 128
+#define EDGE_LINE_ANGLES 18
+#define EDGE_LINE_OFFSETS 7
 
 #endif

@@ -7,7 +7,8 @@
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
 // depth, and linked neighbours (acceleration.h: same surface, jump within the normals' slope) are
 // joined by walls, so a surface has no gaps at any view, grazing included, and silhouettes are the
-// covered texels' outline. The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
+// covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
+// in its colour alpha (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
 // a node whose depth range the ray segment above it misses is skipped whole; at level 0 the
 // crossing of the texel's top and of the wall it was entered through is computed exactly.
 // Level of detail: where a pyramid node is no wider than half the pixel's footprint on the billboard,
@@ -59,6 +60,20 @@ uvec4 fetch_surface(ivec2 texel, int layer)
     return texelFetch(surface_maps, ivec3(texel, layer), 0);
 }
 
+// Whether box-space point p (x, y in texels) is on the surface of covered texel `texel` (surface
+// map entry s): everywhere, unless the texel holds a sheet edge line (TEXEL_CLIPPED, issue #17:
+// capture.cpp, edge_line_code; the code layout in billboard_layout.glsl), which the surface ends at.
+bool on_surface(uvec4 s, ivec2 texel, vec2 p, int layer)
+{
+    if ((s.a & TEXEL_CLIPPED) == 0u) return true;
+    ++g_fetches;
+    uint code = uint(round(texelFetch(color_maps, ivec3(texel, layer), 0).a * 255.0)) - uint(EDGE_LINE_FIRST_CODE);
+    float angle = float(code / uint(EDGE_LINE_OFFSETS)) * (6.28318530718 / float(EDGE_LINE_ANGLES));
+    vec2 n = vec2(cos(angle), sin(angle));
+    float e = ((float(code % uint(EDGE_LINE_OFFSETS)) + 0.5) / float(EDGE_LINE_OFFSETS) * 2.0 - 1.0) * 0.5 * (abs(n.x) + abs(n.y));
+    return dot(n, p - vec2(texel) - 0.5) <= e;
+}
+
 vec3 safe_inverse(vec3 d)
 {
     const float tiny = 1e-20;
@@ -78,7 +93,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
     int level = clamp(start_level, pixel_level, top_level);
     // the last texel read at level 0: the one a wall crossing comes from, most of the time
     ivec2 last_texel = ivec2(-1);
-    uint last_depth = 0u;
+    uvec4 last_surface = uvec4(0u);
     float t = t0;
     vec2 p = o.xy + t * d.xy + vec2(dir) * 1e-3;
     ivec2 texel = clamp(ivec2(floor(p)), start_rect.xy, start_rect.zw - 1);
@@ -105,7 +120,8 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                     ivec2 first = cell << level;
                     ivec2 contact = clamp(ivec2(floor(o.xy + t_contact * d.xy)), first, first + (1 << level) - 1);
                     uvec4 c = fetch_surface(contact, layer);
-                    if ((c.a & TEXEL_COVERED) != 0u && float(c.y) <= z_hi + 0.5 && float(c.z) >= z_lo - 0.5) {
+                    if ((c.a & TEXEL_COVERED) != 0u && float(c.y) <= z_hi + 0.5 && float(c.z) >= z_lo - 0.5 &&
+                        on_surface(c, contact, o.xy + t_contact * d.xy, layer)) {
                         near = true;
                         t_hit = t_contact;
                         hit_texel = contact;
@@ -118,9 +134,9 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
         } else {
             uvec4 s = fetch_surface(texel, layer);
             ivec2 previous_texel = last_texel;
-            uint previous_depth = last_depth;
+            uvec4 previous_surface = last_surface;
             last_texel = texel;
-            last_depth = s.x;
+            last_surface = s;
             if ((s.a & TEXEL_COVERED) != 0u && float(s.y) <= z_hi + 0.5 && float(s.z) >= z_lo - 0.5) {
                 near = true;
                 // the wall to the texel the ray came from, if it continues this surface, then the top
@@ -133,11 +149,16 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                 bool from_linked = t_in >= t0 && (s.a & link) != 0u;
                 ivec2 from = texel;
                 from[entry_axis] -= dir[entry_axis];
-                float d_from = 0.0;
-                if (from_linked) d_from = float(from == previous_texel ? previous_depth : fetch_surface(from, layer).x) / k_codes;
+                uvec4 from_surface = uvec4(0u);
+                if (from_linked) from_surface = from == previous_texel ? previous_surface : fetch_surface(from, layer);
+                float d_from = float(from_surface.x) / k_codes;
                 float top = float(s.x) / k_codes;
                 vec2 crossing = hf_cross_column(t_in, t, t_exit, o.z, d.z, top, from_linked, d_from);
-                if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
+                // a sheet's edge line ends the top, and a wall, on the texels that hold one
+                vec2 p_cross = o.xy + crossing.x * d.xy;
+                bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross, layer)
+                        : crossing.y == HF_WALL && on_surface(s, texel, p_cross, layer) && on_surface(from_surface, from, p_cross, layer);
+                if (on) {
                     t_hit = crossing.x;
                     // on a wall, the texel whose top is nearer the crossing
                     float z_in = o.z + t_in * d.z;
