@@ -50,7 +50,7 @@ std::vector<OptionSpec> render_options()
                       "Corrected style, level of detail: an instance under this many pixels in radius (and not "
                       "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
                       "one parallax step, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
-        number_option("hull-above", "40", 0.0, 1.0e6,
+        number_option("hull-above", "80", 0.0, 1.0e6,
                       "Corrected style: an instance at least this many pixels in radius is drawn on the package's "
                       "proxy hull (planes tangent to the model: the fewest fragments), a smaller one on its nearest "
                       "view's crop prism (fewer, larger triangles; llvmpipe shades 4x4 blocks along every edge). 0: "
