@@ -28,6 +28,9 @@
 //   other side, and closed parts wound inside out are reversed (see add_back_sides).
 // - resolution per billboard: instead of the seed's 512² or 256², every billboard keeps the model's
 //   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
+// - alpha-tested models (leaf cards, issue #14) default to k_alpha_resolution texels along the
+//   diagonal instead of 512: at 512 a leaf's outline and the gaps between leaves are coarser than
+//   a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls under 0.95.
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
 #include "reps/common/coarse_mesh.h"
@@ -425,6 +428,11 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const Mesh& mesh = context.mesh;
     Options parameters = context.parameters;
     STANDIN_RETURN_IF_ERROR(resolve_parameters(parameters));
+    // alpha-tested models (leaf cards) at the default resolution: finer texels (k_alpha_resolution)
+    const bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
+                                          [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+    if (alpha_tested && !parameters.given("resolution") && !parameters.given("texel-size"))
+        parameters.set_integer("resolution", k_alpha_resolution);
     const BakeSettings settings = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
     std::optional<tbb::global_control> threads;
@@ -512,8 +520,6 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // staircase with the triangles along them (renderer.cpp, rims_first); not where a material is
     // alpha-tested: a leaf card's outline is not its leaf's (measured: the generated tree's IoU
     // fell from 0.954 to 0.896, the coarse cards drawn whole)
-    bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                                    [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
     package->coarse_rims = two_sided && !alpha_tested;
     package->coarse_mesh = reps::make_coarse_mesh(mesh, settings.coarse_ratio, package->coarse_rims);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);
