@@ -31,6 +31,9 @@
 // - alpha-tested models (leaf cards, issue #14) default to k_alpha_resolution texels along the
 //   diagonal instead of 512: at 512 a leaf's outline and the gaps between leaves are coarser than
 //   a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls under 0.95.
+//   Their faces are projected only onto billboards they face by at least k_alpha_grazing_angle
+//   (30 degrees instead of 10): a card captured edge-on is a streak of texels with walls, which
+//   rays from other directions hit where the truth shows another card.
 //   Their coarse mesh is made of the opaque faces only (trunk, branches): it cannot cut out a
 //   leaf card, and whole cards filled the near-miss ring around every leaf (see opaque_faces).
 #include "reps/enhanced_billboards/billboards.h"
@@ -456,6 +459,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
                                           [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
     if (alpha_tested && !parameters.given("resolution") && !parameters.given("texel-size"))
         parameters.set_integer("resolution", k_alpha_resolution);
+    // and faces more squarely facing their billboard (k_alpha_grazing_angle)
+    if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     const BakeSettings settings = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
     std::optional<tbb::global_control> threads;

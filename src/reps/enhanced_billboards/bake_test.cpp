@@ -345,9 +345,10 @@ Mesh card_and_sphere()
 }
 
 // Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal (opaque
-// ones keep 512; --resolution and --texel-size still decide), and their coarse mesh leaves the
-// cut-out faces out: whole cards would fill the ring of near-miss pixels around every leaf.
-TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
+// ones keep 512; --resolution and --texel-size still decide) and to k_alpha_grazing_angle (opaque
+// ones keep 10; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole
+// cards would fill the ring of near-miss pixels around every leaf.
+TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoarseMesh)
 {
     const Mesh mesh = card_and_sphere();
     const std::size_t sphere_triangles = mesh.triangle_count() - 2; // the card is 2
@@ -357,7 +358,8 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
     ASSERT_TRUE(masked.status) << masked.status.message();
     EXPECT_EQ(masked.package->settings.resolution, k_alpha_resolution);
     EXPECT_NEAR(masked.package->settings.texel_size, diagonal / float(k_alpha_resolution), 1e-6f * diagonal);
-    EXPECT_TRUE(masked.package->parameters.requested().empty()); // a default, not something asked for
+    EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, k_alpha_grazing_angle);
+    EXPECT_TRUE(masked.package->parameters.requested().empty()); // defaults, not something asked for
     // the coarse mesh: the sphere's triangles (small models keep all), none of the card's
     const Mesh& coarse = masked.package->coarse_mesh;
     EXPECT_EQ(coarse.triangle_count(), sphere_triangles);
@@ -366,6 +368,9 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
     Baked given = bake_mesh(mesh, {{"resolution", "300"}});
     ASSERT_TRUE(given.status) << given.status.message();
     EXPECT_EQ(given.package->settings.resolution, 300);
+    Baked grazing = bake_mesh(mesh, {{"grazing-angle", "10"}});
+    ASSERT_TRUE(grazing.status) << grazing.status.message();
+    EXPECT_FLOAT_EQ(grazing.package->settings.grazing_angle, 10.0f);
     Baked texel = bake_mesh(mesh, {{"texel-size", "0.01"}});
     ASSERT_TRUE(texel.status) << texel.status.message();
     EXPECT_FLOAT_EQ(texel.package->settings.texel_size, 0.01f);
@@ -375,6 +380,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
     Baked solid = bake_mesh(opaque);
     ASSERT_TRUE(solid.status) << solid.status.message();
     EXPECT_EQ(solid.package->settings.resolution, 512);
+    EXPECT_FLOAT_EQ(solid.package->settings.grazing_angle, 10.0f);
     EXPECT_EQ(solid.package->coarse_mesh.triangle_count(), mesh.triangle_count());
 }
 
