@@ -355,8 +355,11 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
     EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
 }
 
-// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.962, Luv 8.31, coverage 0.990
-// / 1.013; view atlas 0.972, 5.31, 0.996 / 0.993 with its alpha-tested default of 512² captures at
+// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.991, Luv 3.88, coverage 1.019
+// / 1.024 with their alpha-tested defaults (1024 texels along the diagonal, grazing angle 30, a
+// coarse mesh of the opaque faces only); IoU 0.987, Luv 4.50 at grazing angle 10; IoU 0.962, Luv
+// 8.31, coverage 0.990 / 1.013 at 512 with whole coarse cards, as before issue #14's session 11:
+// both fail these thresholds (docs/RESULTS.md "Billboards on foliage: resolution and coarse mesh"); view atlas 0.972, 5.31, 0.996 / 0.993 with its alpha-tested default of 512² captures at
 // one sample per texel (0.967, 6.55, 1.009 / 1.003 at 256² with 2 x 2 samples; 0.960, 6.40, 1.017 /
 // 1.008 with binary coverage; Luv 13.1 and 8.09 before the truth's coverage-weighted mips and the
 // coarse mesh's cut-out colours; its Luv threshold fails the 256² package). Luv is far over the issue's 3:
@@ -368,7 +371,7 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
 // colours averaged over each sample's cell): IoU 0.988, Luv 3.19, coverage 1.000 / 0.996 (38 s on
 // the loaded 2-core machine; IoU 0.980, Luv 8.19 at degree 17 with point-sampled colours).
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
-                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.94, 10.0, 0.06},
+                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.98, 4.4, 0.04},
                                            FoliageCase{"view-atlas", 0.96, 6.0, 0.03},
                                            FoliageCase{"displaced-mesh", 0.98, 4.5, 0.04}),
                          [](const ::testing::TestParamInfo<FoliageCase>& info) {

@@ -2,6 +2,7 @@
 // closed models for the issue's acceptance numbers (captured area, billboard counts, accounting).
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
+#include "test_support.h"
 
 #include <standin/mesh.h>
 #include <standin/package.h>
@@ -375,6 +376,68 @@ TEST(BakeBillboards, ResultDoesNotDependOnThreads)
         EXPECT_EQ(a.normal_depth.pixels, b.normal_depth.pixels);
     }
     EXPECT_EQ(one.package->coarse_mesh.indices, two.package->coarse_mesh.indices);
+}
+
+// A leaf card (the alpha quad: a disc cut out of it) beside an opaque closed sphere of about 48
+// triangles in x >= 1.5.
+Mesh card_and_sphere()
+{
+    Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    Mesh sphere = test::generated(GeneratedShape::sphere, 48);
+    const std::uint32_t base = std::uint32_t(mesh.positions.size()), material = std::uint32_t(mesh.materials.size());
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
+        mesh.positions.push_back(sphere.positions[v] * 0.25f + glm::vec3(2.0f, 0.0f, 0.0f));
+        mesh.normals.push_back(sphere.normals[v]);
+        mesh.colors.push_back(sphere.colors[v]);
+        mesh.uvs.push_back(glm::vec2(0.0f));
+    }
+    for (std::uint32_t i : sphere.indices) mesh.indices.push_back(base + i);
+    for (std::uint32_t m : sphere.face_materials) mesh.face_materials.push_back(material + m);
+    for (Material m : sphere.materials) {
+        m.base_color_texture = -1;
+        mesh.materials.push_back(m);
+    }
+    return mesh;
+}
+
+// Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal (opaque
+// ones keep 512; --resolution and --texel-size still decide) and to k_alpha_grazing_angle (opaque
+// ones keep 10; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole
+// cards would fill the ring of near-miss pixels around every leaf.
+TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoarseMesh)
+{
+    const Mesh mesh = card_and_sphere();
+    const std::size_t sphere_triangles = mesh.triangle_count() - 2; // the card is 2
+    ASSERT_GE(sphere_triangles, 40u);
+    const float diagonal = mesh.bounds().diagonal();
+    Baked masked = bake_mesh(mesh);
+    ASSERT_TRUE(masked.status) << masked.status.message();
+    EXPECT_EQ(masked.package->settings.resolution, k_alpha_resolution);
+    EXPECT_NEAR(masked.package->settings.texel_size, diagonal / float(k_alpha_resolution), 1e-6f * diagonal);
+    EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, k_alpha_grazing_angle);
+    EXPECT_TRUE(masked.package->parameters.requested().empty()); // defaults, not something asked for
+    // the coarse mesh: the sphere's triangles (small models keep all), none of the card's
+    const Mesh& coarse = masked.package->coarse_mesh;
+    EXPECT_EQ(coarse.triangle_count(), sphere_triangles);
+    for (glm::vec3 p : coarse.positions) EXPECT_GT(p.x, 1.5f);
+
+    Baked given = bake_mesh(mesh, {{"resolution", "300"}});
+    ASSERT_TRUE(given.status) << given.status.message();
+    EXPECT_EQ(given.package->settings.resolution, 300);
+    Baked grazing = bake_mesh(mesh, {{"grazing-angle", "10"}});
+    ASSERT_TRUE(grazing.status) << grazing.status.message();
+    EXPECT_FLOAT_EQ(grazing.package->settings.grazing_angle, 10.0f);
+    Baked texel = bake_mesh(mesh, {{"texel-size", "0.01"}});
+    ASSERT_TRUE(texel.status) << texel.status.message();
+    EXPECT_FLOAT_EQ(texel.package->settings.texel_size, 0.01f);
+
+    Mesh opaque = mesh;
+    for (Material& m : opaque.materials) m.alpha_mode = AlphaMode::opaque;
+    Baked solid = bake_mesh(opaque);
+    ASSERT_TRUE(solid.status) << solid.status.message();
+    EXPECT_EQ(solid.package->settings.resolution, 512);
+    EXPECT_FLOAT_EQ(solid.package->settings.grazing_angle, 10.0f);
+    EXPECT_EQ(solid.package->coarse_mesh.triangle_count(), mesh.triangle_count());
 }
 
 TEST(BakeBillboards, BadParametersAndMeshesAreRefused)

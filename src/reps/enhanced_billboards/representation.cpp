@@ -18,7 +18,8 @@ std::vector<OptionSpec> bake_options()
 {
     return {
         integer_option("resolution", 512, 16, k_max_grid_texels,
-                       "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512)"),
+                       "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512); unset: 512, or 1024 for "
+                       "models with alpha-tested materials"),
         number_option("texel-size", "", 0.0, 3.0e38, "World units per texel, instead of --resolution", true),
         choice_option("directions", "seed", {"seed", "sphere", "axis"},
                       "Candidate directions: seed (36 x 18 around the model), sphere (even Fibonacci set), axis "
@@ -30,7 +31,8 @@ std::vector<OptionSpec> bake_options()
         number_option("depth-limit", "1", 0.0, 2.0,
                       "Depth of a billboard as a fraction of the bounding-box diagonal (1: the whole model)", true),
         number_option("grazing-angle", "10", 0.0, 89.0,
-                      "Faces within this angle (degrees) of the projection direction are left for another billboard"),
+                      "Faces within this angle (degrees) of the projection direction are left for another billboard; "
+                      "unset: 10, or 30 for models with alpha-tested materials"),
         integer_option("max-billboards", 64, 1, 4096, "Stop after this many billboards"),
         number_option("min-coverage", "0.001", 0.0, 1.0,
                       "Stop when the next billboard would capture less than this fraction of the surface"),
@@ -40,7 +42,8 @@ std::vector<OptionSpec> bake_options()
                       "Maps in the package: bc (BC5 octahedral normals and zlib-packed exact depth in KTX2 files, "
                       "colour PNG) or none (PNG only, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
-                      "Triangles of the coarse hole-filling mesh relative to the model (0: none)"),
+                      "Triangles of the coarse hole-filling mesh relative to the model (0: none); models with "
+                      "alpha-tested materials: of their opaque faces only"),
         choice_option("sheet-edges", "auto", {"auto", "centre", "clip", "overlap"},
                       "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
                       "it, as everywhere), clip (every texel it crosses, clipped by the march to the edge's line "
