@@ -8,9 +8,9 @@
 // neighbours of one surface, never across a depth edge), votes on coverage, blends the hits on the
 // nearest surface, lights the stored normals and writes true depth. Its proxy is the source box cut
 // by the package's proxy planes (hull.h proxy_polytope: a few planes tangent to the model, baked),
-// drawn with back faces culled; where the near plane would clip it, for mirroring transforms, for
-// packages without proxy planes, or with --proxy prism, the nearest view's crop prism (overdraw
-// measured by the fragment counter, `standin bench`).
+// drawn with back faces culled; for instances under --hull-above pixels, where the near plane would
+// clip it, for mirroring transforms and for packages without proxy planes, the nearest view's crop
+// prism (overdraw measured by the fragment counter, `standin bench`).
 // Crowds (beyond the paper): a level-of-detail ladder by the instance's size on screen (atlas.vert:
 // corrected, then the baseline's shading on the same hull under --baseline-below pixels, then the
 // seed's quad under --seed-below), and instances drawn front to back (draw) so that early depth tests reject
@@ -59,7 +59,6 @@ struct ViewGpu {
     glm::vec4 depth_range;
 };
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
-
 static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
 // Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth codes of its
@@ -361,7 +360,7 @@ private:
     bool early_reject_ = true; // the run-time option
     GLint early_reject_at_ = -1;
     gpu::Buffer views_, index_;
-    // the proxy hull (hull.h proxy_hull): vertices (SSBO), fan triangles (element buffer), face
+    // the proxy hull (hull.h proxy_polytope): vertices (SSBO), fan triangles (element buffer), face
     // corners for the near-plane test; empty: the prism for every instance
     gpu::Buffer hull_vertices_, hull_indices_;
     gpu::VertexArray hull_vertex_array_;
@@ -564,7 +563,7 @@ bool AtlasRenderer::bind_early_reject()
 // keeps the winding (the pass culls back faces), and where the instance is at least --hull-above
 // pixels in radius (and not under --seed-below, whose level draws a quad). llvmpipe shades whole
 // 4x4 blocks along every triangle's edges, so on a small instance the hull's tens of triangles
-// cost more than the prism's few large ones save (docs/RESULTS.md, "Proxy hull"). The others take
+// cost more than the prism's few large ones save (docs/RESULTS.md, "View atlas: a proxy hull"). The others take
 // the prism, which also handles an eye inside. The size mirrors sphere_pixels in
 // shaders/atlas.vert; where the two round differently the instance is drawn either way, correctly.
 bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams& params) const

@@ -2,11 +2,12 @@
 // View atlas: one proxy per instance. Style seed (Saraiva et al. §3): the crop rectangle of the nearest
 // view on the plane through the sphere's centre, turned to face the camera (a 4-vertex strip).
 // Octahedral-baseline: a camera-facing quad covering the bounding sphere, as impostor bakers draw.
-// Corrected: the proxy hull (hull.h proxy_hull, issue #17: the atlas hull cut to its most useful
-// planes; an indexed draw of its own, back faces culled, hull_pass 1), or, for the instances
-// renderer.cpp keeps off it (the eye inside or near the hull, a mirroring transform, the seed's
-// level) and with --proxy prism, the nearest view's crop prism below (36 vertices). The fragment
-// stage casts the rays; with the eye inside the prism, the whole screen.
+// Corrected: the proxy hull (hull.h proxy_polytope, issue #17: the source box cut by the baked
+// planes tangent to the model; an indexed draw of its own, back faces culled, hull_pass 1), or, for
+// the instances renderer.cpp keeps off it (on_hull: under --hull-above pixels, the near plane
+// clipping the hull, a mirroring transform, the seed's level, no planes in the package), the
+// nearest view's crop prism below (36 vertices). The fragment stage casts the rays; with the eye
+// inside the prism, the whole screen.
 // Level of detail (beyond the paper, for crowds), by the radius in pixels of the instance's bounding
 // sphere, corrected style only: under baseline_below_pixels an instance keeps its cut-out hull but is
 // shaded as the octahedral baseline (three views around its direction, one parallax step: no walk);
@@ -118,7 +119,6 @@ void main()
         }
         int k = v_views.x;
         ViewData view = views.items[k];
-        bool nothing_seen = view.crop.z == 0 || view.depth_range.x < view.depth_range.y;
         vec3 lo = vec3(plane_from_capture(vec2(view.crop.xy)), -atlas_radius);
         vec3 hi = vec3(plane_from_capture(vec2(view.crop.xy + view.crop.zw)),
                        min(view.depth_range.x + 2.0 * atlas_radius / 255.0, atlas_radius));
@@ -138,7 +138,7 @@ void main()
         vec3 e_view = transpose(view_to_object) * e;
         bool faces_eye = ortho ? dot(normal, e_view) > 0.0 : dot(normal, eye_view - at) > 0.0;
         bool inside = !ortho && all(greaterThan(eye_view, lo)) && all(lessThan(eye_view, hi));
-        if (nothing_seen) {
+        if (view.crop.z == 0 || view.depth_range.x < view.depth_range.y) {
             gl_Position = vec4(2.0, 2.0, 2.0, 1.0); // nothing seen: no fragments
         } else if (inside) {
             gl_Position = face == 0 ? vec4(ab * 2.0 - 1.0, -1.0, 1.0) : vec4(2.0, 2.0, 2.0, 1.0);

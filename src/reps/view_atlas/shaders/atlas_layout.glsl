@@ -9,7 +9,7 @@
 // shader storage blocks of this renderer (gpu/shaders/common/bindings.h)
 #define ATLAS_VIEWS_SSBO (BINDING_FIRST_RENDERER_SSBO + 0) // ViewData[]
 #define ATLAS_INDEX_SSBO (BINDING_FIRST_RENDERER_SSBO + 1) // int[]: the direction lookup cube, then NEIGHBOURS per view
-#define ATLAS_HULL_SSBO (BINDING_FIRST_RENDERER_SSBO + 2)  // HullTriangle[]: the proxy hull (hull.h proxy_hull)
+#define ATLAS_HULL_SSBO (BINDING_FIRST_RENDERER_SSBO + 2)  // vec4[]: the proxy hull's vertices (hull.h proxy_polytope)
 
 // texture units: each map's pages lie in up to ATLAS_MAX_ARRAYS texture arrays (units
 // ATLAS_COLOR_TEXTURE + i and ATLAS_NORMAL_DEPTH_TEXTURE + i hold array i); a view's array is
