@@ -4,8 +4,9 @@
 // carrying in its extras what such a shader needs. Steps: check that the package was baked on a
 // grid (icosahedral views have no grid layout), resample the stored crops into the atlas, build the
 // quad (textured, for a plain viewer, with the frame that looks along +Z), describe the frames;
-// then the atlas hull (hull.cpp, issue #16) as a second node an impostor shader can draw on
-// instead of the quad, textured with the same front frame.
+// then a convex hull as a second node an impostor shader can draw on instead of the quad, textured
+// with the same front frame: the baked proxy (hull.h proxy_polytope, issue #17) moved out by a
+// texel, or for packages baked before it the atlas hull (hull.h atlas_hull, issue #16).
 #include "reps/view_atlas/hull.h"
 #include "reps/view_atlas/view_atlas.h"
 #include "reps/common/grid_atlas.h"
@@ -159,9 +160,15 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     quad.extras["standin"] = block;
     scene.meshes.push_back(std::move(quad));
 
-    // the atlas hull: the same atlas and frames, drawn on a tight convex proxy instead of the quad
+    // the hull: the same atlas and frames, drawn on a convex proxy instead of the quad. The baked
+    // proxy planes hold every point of the model; the captured views' atlas hull, tighter, cuts a
+    // sheet seen edge on (it covers no texel of that view) and is only the fallback for packages
+    // without proxy planes. The planes move out by a texel of the atlas (or of the capture, if
+    // coarser): a shader draws each texel whole, up to half a texel past the model's outline.
     ClipStats stats;
-    ConvexPolytope hull = atlas_hull(package, &stats);
+    const double atlas_texel = capture_texel(package) * double(std::max(s.resolution * s.frames, size)) / double(size);
+    const bool baked_proxy = !package.proxy_planes.empty();
+    ConvexPolytope hull = baked_proxy ? proxy_polytope(package, atlas_texel) : atlas_hull(package, &stats);
     if (!hull.empty()) {
         ExportMesh mesh = hull_mesh(package, hull, front, fi, fj);
         block["role"] = "grid-impostor-hull";
@@ -173,11 +180,14 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             const double a = hull.projected_area(glm::dvec3(v.direction)) / (4.0 * double(h) * double(h));
             area_min = std::min(area_min, a), area_max = std::max(area_max, a), area_sum += a;
         }
-        char note[240];
+        char source[80];
+        if (baked_proxy) std::snprintf(source, sizeof source, "the %zu baked proxy planes", package.proxy_planes.size());
+        else std::snprintf(source, sizeof source, "%d of %d view planes cut", stats.cut, stats.planes);
+        char note[300];
         std::snprintf(note, sizeof note,
-                      "atlas hull: %zu triangles, %zu faces (%d of %d view planes cut); its screen area is %.1f %% of the "
-                      "quad's on average over the frames' directions (%.1f-%.1f %%, orthographic)",
-                      hull.triangle_count(), hull.faces.size(), stats.cut, stats.planes, 100.0 * area_sum / double(package.views.size()),
+                      "hull: %zu triangles, %zu faces (%s); its screen area is %.1f %% of the quad's on average over "
+                      "the frames' directions (%.1f-%.1f %%, orthographic)",
+                      hull.triangle_count(), hull.faces.size(), source, 100.0 * area_sum / double(package.views.size()),
                       100.0 * area_min, 100.0 * area_max);
         scene.notes.push_back(note);
         scene.meshes.push_back(std::move(mesh));

@@ -1,14 +1,16 @@
 // The view atlas's grid-atlas export with a hand-built octahedral package (no GPU): by default one
 // atlas texel per capture pixel (issue #16: resampled to fewer texels, leaves came out rounded off
 // and the gaps between them filled in the web viewer), an explicit --atlas-size as given, and
-// refusal of a size smaller than the frames.
+// refusal of a size smaller than the frames; the hull node is the baked proxy moved out by a texel.
 #include "reps/common/view_layout.h"
+#include "reps/view_atlas/hull.h"
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/export.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace standin::view_atlas {
@@ -86,6 +88,46 @@ TEST(ViewAtlasExport, DefaultAtlasHasOneTexelPerCapturePixel)
     OptionValues tiny;
     tiny.set("atlas-size", "1");
     EXPECT_FALSE(export_with(package, tiny));
+}
+
+// The hull an engine draws the impostor on is the baked proxy (issue #17), each plane moved out by a
+// texel of the exported atlas, not the captured views' atlas hull (issue #16), which cuts what no
+// texel centre of some view saw (a sheet seen edge on). Packages without proxy planes keep the
+// atlas hull. Here every view saw only a centred square, yet the proxy says the model reaches 0.8
+// along every axis: the hull must reach there (and one texel further), not stop at the squares.
+TEST(ViewAtlasExport, HullIsTheBakedProxyMovedOutByATexel)
+{
+    ViewAtlasPackage package = octahedral_package(4, 32);
+    auto reach = [](const ExportMesh& mesh) {
+        float r = 0.0f;
+        for (const glm::vec3& p : mesh.positions) r = std::max({r, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+        return r;
+    };
+    Result<ExportScene> before = export_with(package, {});
+    ASSERT_TRUE(before) << before.status().message();
+    ASSERT_EQ(before->meshes.size(), 2u);
+    const float atlas_hull_reach = reach(before->meshes[1]);
+
+    for (int axis = 0; axis < 3; ++axis)
+        for (float sign : {1.0f, -1.0f}) {
+            glm::vec4 plane(0.0f, 0.0f, 0.0f, 0.8f);
+            plane[axis] = sign;
+            package.proxy_planes.push_back(plane);
+        }
+    const float texel = float(capture_texel(package));
+    Result<ExportScene> scene = export_with(package, {});
+    ASSERT_TRUE(scene) << scene.status().message();
+    ASSERT_EQ(scene->meshes.size(), 2u);
+    EXPECT_EQ(scene->meshes[1].extras["standin"]["role"], "grid-impostor-hull");
+    EXPECT_NEAR(reach(scene->meshes[1]), 0.8f + texel, 1e-4f);
+    EXPECT_LT(atlas_hull_reach, 0.8f); // the squares the views saw: the old hull would cut the model
+
+    // an atlas coarser than the captures: a texel of the atlas (twice the capture's)
+    OptionValues coarser;
+    coarser.set("atlas-size", "64");
+    Result<ExportScene> coarse = export_with(package, coarser);
+    ASSERT_TRUE(coarse) << coarse.status().message();
+    EXPECT_NEAR(reach(coarse->meshes[1]), 0.8f + 2.0f * texel, 1e-4f);
 }
 
 } // namespace

@@ -393,11 +393,11 @@ std::vector<HalfSpace> proxy_planes(const std::vector<glm::vec3>& points, const 
     return fewest_planes(candidates, box, max_planes, 0.002);
 }
 
-ConvexPolytope proxy_polytope(const ViewAtlasPackage& package)
+ConvexPolytope proxy_polytope(const ViewAtlasPackage& package, double margin)
 {
     if (package.proxy_planes.empty()) return {};
     std::vector<HalfSpace> planes;
-    for (const glm::vec4& p : package.proxy_planes) planes.push_back({glm::dvec3(glm::vec3(p)), double(p.w)});
+    for (const glm::vec4& p : package.proxy_planes) planes.push_back({glm::dvec3(glm::vec3(p)), double(p.w) + margin});
     return clip_polytope(source_box(package), planes, 0.0);
 }
 

@@ -98,7 +98,8 @@ std::vector<HalfSpace> proxy_planes(const std::vector<glm::vec3>& points, const 
                                     const ConvexPolytope& box, double margin, int max_planes = k_proxy_planes);
 
 // The package's proxy: its source's bounding box, grown by half a capture texel, clipped by its
-// proxy_planes; empty when the package has none (packages from before issue #17's proxy).
-ConvexPolytope proxy_polytope(const ViewAtlasPackage& package);
+// proxy_planes moved out by `margin` (object units); empty when the package has none (packages
+// from before issue #17's proxy).
+ConvexPolytope proxy_polytope(const ViewAtlasPackage& package, double margin = 0.0);
 
 } // namespace standin::view_atlas
