@@ -68,6 +68,7 @@ static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed o
 struct CellDepths {
     int cells = 0;                         // per page side
     std::vector<std::uint8_t> nearest, farthest; // page-major, then row-major cells
+    bool partial_coverage = false;         // some texel's alpha is neither 0 nor 255 (alpha-tested bakes)
 };
 
 CellDepths cell_depths(const ViewAtlasPackage& package)
@@ -84,7 +85,8 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
         const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x)
-                if (color.at(x, y)[3] != 0) { // any coverage: the walk meets every covered texel
+                if (const std::uint8_t alpha = color.at(x, y)[3]; alpha != 0) { // any coverage: the walk meets every covered texel
+                    depths.partial_coverage = depths.partial_coverage || alpha != 255;
                     std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
                     std::uint8_t code = normal_depth.at(x, y)[3];
                     depths.nearest[cell] = std::min(depths.nearest[cell], code);
@@ -523,6 +525,8 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
     glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"),
                        float(settings.options.number("baseline-below")));
+    // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
+    glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);

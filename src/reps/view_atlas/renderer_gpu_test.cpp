@@ -347,6 +347,44 @@ TEST(ViewAtlasRenderer, ProxyHullDrawsAsWellWithFewerFragments)
     }
 }
 
+// A solid model's texels are whole or empty, so the walk's coverage test takes their alpha as 1
+// without reading it (renderer.cpp binary_coverage): one texel made 254/255 covered turns the reads
+// back on, and the picture is the same either way.
+TEST(ViewAtlasRenderer, SolidPackagesSkipTheAlphaReadsOfTheCoverageTest)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "1"}, {"resolution", "64"}, {"page-size", "1024"}});
+    ASSERT_TRUE(package);
+    const Camera camera = orbit_camera(mesh.bounding_sphere(), OrbitView{25.0f, 30.0f, 1.0f, 40.0f}, 1.0f);
+    auto render = [&](std::uint64_t& fetches) {
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(*package, {});
+        EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+        (*renderer)->set_counting(true);
+        Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 200, 150);
+        EXPECT_TRUE(image.is_ok());
+        fetches = (*renderer)->read_counter(Counter::fetches);
+        return image->color;
+    };
+    std::uint64_t solid_fetches = 0, partial_fetches = 0;
+    const ImageRGBA8 solid = render(solid_fetches);
+    auto& pages = static_cast<ViewAtlasPackage&>(*package).color_pages;
+    ASSERT_FALSE(pages.empty());
+    std::uint8_t* texel = nullptr;
+    for (int y = 0; y < pages[0].height && !texel; ++y)
+        for (int x = 0; x < pages[0].width && !texel; ++x)
+            if (pages[0].at(x, y)[3] == 255) texel = pages[0].at(x, y);
+    ASSERT_NE(texel, nullptr);
+    texel[3] = 254;
+    const ImageRGBA8 partial = render(partial_fetches);
+    const ImageMetrics same = compare_images(solid, partial);
+    std::printf("fetches: solid %llu, with one partly covered texel %llu; IoU %.6f, Luv %.5f\n",
+                (unsigned long long)solid_fetches, (unsigned long long)partial_fetches, same.iou, same.luv_mean);
+    EXPECT_GT(same.truth_pixels, 5000u);
+    EXPECT_GT(same.iou, 0.9999);
+    EXPECT_LT(same.luv_mean, 0.01);
+    EXPECT_LT(double(solid_fetches), 0.95 * double(partial_fetches));
+}
+
 // An eye inside the hull (close to the model) still draws the model: the hull turns into the screen.
 TEST(ViewAtlasRenderer, CorrectedDrawsWithTheEyeInsideTheHull)
 {

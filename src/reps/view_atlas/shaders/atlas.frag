@@ -246,6 +246,8 @@ bool linked(vec4 a, vec4 b, int axis, float texel)
 // that a cut-out's edge falls where the filtered coverage crosses 1/2, inside a texel, instead of on
 // texel borders. Binary packages get the contour half-way between covered and empty texel centres
 // (their old edge on texel borders, with corners cut).
+uniform int binary_coverage; // 1: every colour alpha is 0 or 1 (renderer.cpp, cell_depths): no alpha to read
+
 float hit_coverage(ViewData view, vec2 plane, float height)
 {
     float texel = 2.0 * half_extent / resolution;
@@ -260,7 +262,8 @@ float hit_coverage(ViewData view, vec2 plane, float height)
         covered[k] = true;
         heights[k] = t.y;
         tolerances[k] = hf_coverage_tolerance(t.z, t.w, texel, depth_quantum());
-        alphas[k] = fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
+        alphas[k] = binary_coverage != 0 ? 1.0
+                                         : fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
     }
     return hf_filtered_coverage(p - vec2(base), height, covered, heights, tolerances, alphas);
 }
