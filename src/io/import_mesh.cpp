@@ -150,7 +150,59 @@ static Status check_finite_coordinates(const aiScene& scene, const std::string& 
     return Status::ok();
 }
 
-static Result<const aiScene*> read_scene(Assimp::Importer& importer, const std::string& path)
+// What assimp's validation refuses a whole file for though standin draws none of it: lights,
+// cameras and animations (a light no node places, a camera's bad aspect), and meshes without faces
+// or vertices (an empty solid beside the model in an STL, a point cloud). Dropped before validation
+// so that the triangles the file does hold are read; returns how many meshes were dropped. Node
+// references are remapped; out-of-range ones are left for the converter to refuse.
+static unsigned drop_what_is_not_drawn(aiScene& scene)
+{
+    for (unsigned i = 0; i < scene.mNumLights; ++i) delete scene.mLights[i];
+    delete[] scene.mLights;
+    scene.mLights = nullptr;
+    scene.mNumLights = 0;
+    for (unsigned i = 0; i < scene.mNumCameras; ++i) delete scene.mCameras[i];
+    delete[] scene.mCameras;
+    scene.mCameras = nullptr;
+    scene.mNumCameras = 0;
+    for (unsigned i = 0; i < scene.mNumAnimations; ++i) delete scene.mAnimations[i];
+    delete[] scene.mAnimations;
+    scene.mAnimations = nullptr;
+    scene.mNumAnimations = 0;
+
+    auto drawn = [](const aiMesh* m) { return m && m->mNumFaces > 0 && m->mFaces && m->mNumVertices > 0 && m->mVertices; };
+    const unsigned old_count = scene.mNumMeshes;
+    std::vector<unsigned> new_index(old_count, ~0u);
+    unsigned kept = 0;
+    for (unsigned m = 0; m < old_count; ++m) {
+        if (drawn(scene.mMeshes[m])) {
+            new_index[m] = kept;
+            scene.mMeshes[kept++] = scene.mMeshes[m];
+        } else {
+            delete scene.mMeshes[m];
+        }
+    }
+    for (unsigned m = kept; m < old_count; ++m) scene.mMeshes[m] = nullptr;
+    scene.mNumMeshes = kept;
+    if (kept == old_count) return 0;
+    std::vector<aiNode*> stack{scene.mRootNode};
+    while (!stack.empty()) {
+        aiNode* node = stack.back();
+        stack.pop_back();
+        if (!node) continue;
+        unsigned out = 0;
+        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+            const unsigned m = node->mMeshes[i];
+            if (m < old_count && new_index[m] == ~0u) continue; // dropped
+            node->mMeshes[out++] = m < old_count ? new_index[m] : m;
+        }
+        node->mNumMeshes = out;
+        for (unsigned c = 0; c < node->mNumChildren; ++c) stack.push_back(node->mChildren[c]);
+    }
+    return old_count - kept;
+}
+
+static Result<const aiScene*> read_scene(Assimp::Importer& importer, const std::string& path, ImportReport& report)
 {
     // read first, post-process second: a scene with no meshes at all is "no triangles", not the
     // validation failure assimp would report for it
@@ -160,6 +212,13 @@ static Result<const aiScene*> read_scene(Assimp::Importer& importer, const std::
     STANDIN_RETURN_IF_ERROR(check_gltf_accessors(path, lower_extension(path)));
     try {
         scene = importer.ReadFile(path, 0);
+        if (scene) {
+            // assimp hands out its scene as const, but post-processing edits it in place the same way
+            const unsigned dropped = drop_what_is_not_drawn(*const_cast<aiScene*>(scene));
+            if (dropped > 0 && scene->mNumMeshes > 0)
+                report.warnings.push_back(quoted(path) + ": skipped " + std::to_string(dropped) +
+                                          (dropped == 1 ? " mesh" : " meshes") + " without faces");
+        }
         if (scene && scene->mNumMeshes == 0) return error(StatusCode::bad_data, quoted(path) + ": contains no triangles");
         if (scene) STANDIN_RETURN_IF_ERROR(check_finite_coordinates(*scene, path));
         if (scene) STANDIN_RETURN_IF_ERROR(check_scene_size(*scene, path));
@@ -968,10 +1027,10 @@ void SceneConverter::remove_unused_vertices()
 static Result<const aiScene*> read_any(const std::string& path, const std::string& format, ImportReport& report,
                                        Assimp::Importer& importer, std::unique_ptr<aiScene>& storage)
 {
-    if (format != "ply") return read_scene(importer, path);
+    if (format != "ply") return read_scene(importer, path, report);
     Result<PlyData> ply = read_ply(path);
     if (!ply && ply.status().code() == StatusCode::unsupported) {
-        Result<const aiScene*> scene = read_scene(importer, path);
+        Result<const aiScene*> scene = read_scene(importer, path, report);
         if (scene) report.warnings.push_back(ply.status().message() + "; read by assimp instead");
         return scene ? scene : Result<const aiScene*>(error(StatusCode::bad_data, ply.status().message()));
     }

@@ -493,6 +493,43 @@ TEST(ImportMesh, EmptyFilesAreBadData)
                  "contains no triangles");
 }
 
+// assimp's validation refuses a whole file for what standin does not draw: a light or camera its
+// importer left without a node (Blender's default scene as OpenGEX), an empty solid beside the
+// model in an STL. They are dropped before validation, so the triangles are read; a file with
+// nothing else is still "contains no triangles".
+TEST(ImportMesh, LightsCamerasAndEmptyMeshesDoNotRefuseTheFile)
+{
+    std::string dir = import_test_dir("not_drawn");
+    const std::string ogex = R"(Metric (key = "distance") {float {1.0}}
+Metric (key = "up") {string {"z"}}
+GeometryNode $node1 { Name {string {"Triangle"}} ObjectRef {ref {$geometry1}} MaterialRef (index = 0) {ref {$material1}} }
+LightNode $node2 { Name {string {"Lamp"}} ObjectRef {ref {$light1}} }
+CameraNode $node3 { Name {string {"Camera"}} ObjectRef {ref {$camera1}} }
+GeometryObject $geometry1 {
+  Mesh (primitive = "triangles") {
+    VertexArray (attrib = "position") { float[3] { {0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 1.0, 0.0} } }
+    IndexArray { unsigned_int32[3] { {0, 1, 2} } }
+  }
+}
+LightObject $light1 (type = "point") { Color (attrib = "light") {float[3] {{1.0, 1.0, 1.0}}} }
+CameraObject $camera1 { Param (attrib = "fov") {float {0.85}} Param (attrib = "near") {float {0.1}} Param (attrib = "far") {float {100.0}} }
+Material $material1 { Name {string {"Material"}} Color (attrib = "diffuse") {float[3] {{0.64, 0.64, 0.64}}} }
+)";
+    Mesh lit = import_ok(write_text(dir, "lamp.ogex", ogex));
+    EXPECT_EQ(lit.triangle_count(), 1u);
+
+    const std::string triangle = "solid triangle\n facet normal 0 0 1\n  outer loop\n   vertex 1 1 0\n   vertex -1 1 0\n"
+                                 "   vertex 0 -1 0\n  endloop\n endfacet\nendsolid\n";
+    ImportReport report;
+    Mesh stl = import_ok(write_text(dir, "empty_solid.stl", triangle + "solid emptySolid\nendsolid\n"), &report);
+    EXPECT_EQ(stl.triangle_count(), 1u);
+    ASSERT_FALSE(report.warnings.empty());
+    EXPECT_NE(report.warnings.back().find("skipped 1 mesh without faces"), std::string::npos) << report.warnings.back();
+
+    expect_error(write_text(dir, "points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\np 1\np 2\np 3\n"), StatusCode::bad_data,
+                 "contains no triangles");
+}
+
 TEST(ImportMesh, NonFiniteCoordinatesAreBadData)
 {
     std::string dir = import_test_dir("non_finite");
