@@ -66,7 +66,9 @@ glm::vec4 corner_albedo(const Mesh& mesh, std::uint32_t face, std::uint32_t slot
 Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders)
 {
     Mesh coarse;
-    if (ratio <= 0.0f) return coarse;
+    // no triangles: nothing to simplify (an alpha-tested model's opaque faces may be none, and
+    // meshopt_simplify asserts on a target above its input)
+    if (ratio <= 0.0f || mesh.indices.size() < 3) return coarse;
     std::size_t index_count = mesh.indices.size();
     std::vector<std::uint32_t> welded(index_count), simplified(index_count);
     meshopt_generateShadowIndexBuffer(welded.data(), mesh.indices.data(), index_count, mesh.positions.data(),

@@ -2,6 +2,7 @@
 // closed models for the issue's acceptance numbers (captured area, billboard counts, accounting).
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
+#include "reps/common/coarse_mesh.h"
 #include "test_support.h"
 
 #include <standin/mesh.h>
@@ -398,6 +399,18 @@ Mesh card_and_sphere()
         mesh.materials.push_back(m);
     }
     return mesh;
+}
+
+// A model whose every material is alpha-tested (a lone leaf card; an FBX whose materials all have
+// some transparency) has no opaque face for the coarse mesh: the bake gives an empty one (it
+// aborted in meshoptimizer, asked for more triangles than none; found on assimp's test models).
+TEST(BakeBillboards, OnlyAlphaTestedFacesGiveAnEmptyCoarseMesh)
+{
+    Baked card = bake_mesh(test::alpha_quad(AlphaMode::mask, 0.5f, true));
+    ASSERT_TRUE(card.status) << card.status.message();
+    EXPECT_FALSE(card.package->billboards.empty());
+    EXPECT_EQ(card.package->coarse_mesh.triangle_count(), 0u);
+    EXPECT_EQ(reps::make_coarse_mesh(Mesh{}, 0.1f).triangle_count(), 0u);
 }
 
 // Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal (opaque
