@@ -28,6 +28,10 @@
 //   other side, and closed parts wound inside out are reversed (see add_back_sides).
 // - resolution per billboard: instead of the seed's 512² or 256², every billboard keeps the model's
 //   texel size and is cropped to its content plus one texel (fewer bytes at equal fidelity).
+// - models with detail finer than the default texels (issue #17: fins, grilles, nested thin parts)
+//   are baked again at k_detail_resolution when more than k_detail_edge_fraction of the covered
+//   texels end their surface (depth_edge_fraction): such texels are where rays meet depth edges the
+//   capture could not resolve, and where the held-out engine's pictures lost (billboards.h).
 // - alpha-tested models (leaf cards, issue #14) default to k_alpha_resolution texels along the
 //   diagonal instead of 512: at 512 a leaf's outline and the gaps between leaves are coarser than
 //   a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls under 0.95.
@@ -451,22 +455,61 @@ Mesh opaque_faces(const Mesh& mesh)
 
 } // namespace
 
-Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+// The covered texels of a billboard that end its surface on some side (issue #17, the held-out
+// assembly): a 4-neighbour empty, or across a depth step larger than the link rule allows
+// (height_field.h), so that rays there meet a depth edge the capture cannot resolve. Returns
+// (edge texels, covered texels).
+static std::pair<std::size_t, std::size_t> depth_edge_texels(const reps::SurfaceImage& image)
+{
+    std::size_t edges = 0, covered = 0;
+    const float quantum = image.depth_range / reps::k_depth_codes;
+    auto slope_of = [&](const std::uint16_t* nd, glm::vec3 axis) {
+        const glm::vec3 n = reps::decode_normal(nd);
+        const float along = std::abs(glm::dot(n, axis)), across = std::abs(glm::dot(n, image.direction));
+        return along >= across * float(HF_MAX_SLOPE) ? float(HF_MAX_SLOPE) : along / across;
+    };
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            if (image.color.at(x, y)[3] == 0) continue;
+            ++covered;
+            const std::uint16_t* a = image.normal_depth.at(x, y);
+            bool edge = false;
+            const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
+            for (int k = 0; k < 4 && !edge; ++k) {
+                const int nx = x + dx[k], ny = y + dy[k];
+                if (nx < 0 || ny < 0 || nx >= image.width || ny >= image.height || image.color.at(nx, ny)[3] == 0) {
+                    edge = true;
+                    break;
+                }
+                const std::uint16_t* b = image.normal_depth.at(nx, ny);
+                const glm::vec3 axis = k < 2 ? image.axis_u : image.axis_v;
+                const float slope = std::max(slope_of(a, axis), slope_of(b, axis));
+                const float tolerance = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * image.texel_size +
+                                        float(HF_QUANTA) * quantum;
+                edge = std::abs(float(a[3]) - float(b[3])) * quantum > tolerance;
+            }
+            edges += edge ? 1 : 0;
+        }
+    return {edges, covered};
+}
+
+double depth_edge_fraction(const EnhancedBillboardsPackage& package)
+{
+    std::size_t edges = 0, covered = 0;
+    for (const Billboard& b : package.billboards) {
+        auto [e, c] = depth_edge_texels(b);
+        edges += e, covered += c;
+    }
+    return covered > 0 ? double(edges) / double(covered) : 0.0;
+}
+
+namespace {
+
+// One greedy bake with the resolved parameters (the steps in the comment at the top).
+Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& context, Options parameters, bool alpha_tested)
 {
     const Mesh& mesh = context.mesh;
-    Options parameters = context.parameters;
-    STANDIN_RETURN_IF_ERROR(resolve_parameters(parameters));
-    // alpha-tested models (leaf cards) at the default resolution: finer texels (k_alpha_resolution)
-    const bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                                          [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
-    if (alpha_tested && !parameters.given("resolution") && !parameters.given("texel-size"))
-        parameters.set_integer("resolution", k_alpha_resolution);
-    // and faces more squarely facing their billboard (k_alpha_grazing_angle)
-    if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     const BakeSettings settings = settings_from(parameters);
-    STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
-    std::optional<tbb::global_control> threads;
-    if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
 
     // one texel size for the whole model (seed: bounding-box diagonal -> 512 texels)
     float diagonal = mesh.bounds().diagonal();
@@ -569,7 +612,36 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const Mesh opaque = alpha_tested ? opaque_faces(mesh) : Mesh{};
     package->coarse_mesh = reps::make_coarse_mesh(alpha_tested ? opaque : mesh, settings.coarse_ratio, package->coarse_rims);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);
-    return std::unique_ptr<Package>(std::move(package));
+    return package;
+}
+
+} // namespace
+
+Result<std::unique_ptr<Package>> bake(const BakeContext& context)
+{
+    const Mesh& mesh = context.mesh;
+    Options parameters = context.parameters;
+    STANDIN_RETURN_IF_ERROR(resolve_parameters(parameters));
+    STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, context.source.file_name.empty() ? "mesh" : context.source.file_name));
+    std::optional<tbb::global_control> threads;
+    if (context.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(context.threads));
+    const bool default_resolution = !parameters.given("resolution") && !parameters.given("texel-size");
+    // alpha-tested models (leaf cards) at the default resolution: finer texels (k_alpha_resolution)
+    const bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
+                                          [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+    if (alpha_tested && default_resolution) parameters.set_integer("resolution", k_alpha_resolution);
+    // and faces more squarely facing their billboard (k_alpha_grazing_angle)
+    if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
+    Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);
+    if (!package) return package.status();
+    // models with detail finer than the default texels (fins, grilles, nested thin parts): baked
+    // again at k_detail_resolution when over k_detail_edge_fraction of the texels end a surface
+    if (default_resolution && !alpha_tested && depth_edge_fraction(**package) > k_detail_edge_fraction) {
+        parameters.set_integer("resolution", k_detail_resolution);
+        package = bake_pass(context, parameters, alpha_tested);
+        if (!package) return package.status();
+    }
+    return std::unique_ptr<Package>(std::move(*package));
 }
 
 } // namespace standin::billboards

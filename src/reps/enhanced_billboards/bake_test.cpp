@@ -401,6 +401,56 @@ Mesh card_and_sphere()
     return mesh;
 }
 
+// A billboard image of `width` x 64 texels facing -z: `bars` texels covered, then `gaps` empty,
+// repeated across (a grille seen from the front), all at one depth; bars 0: all covered.
+Billboard striped_billboard(int width, int bars, int gaps)
+{
+    Billboard b;
+    b.width = width, b.height = 64;
+    b.texel_size = 0.01f, b.depth_range = 1.0f;
+    b.color = ImageRGBA8(b.width, b.height);
+    b.normal_depth = ImageRGBA16(b.width, b.height);
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+            if (bars > 0 && x % (bars + gaps) >= bars) continue;
+            b.color.at(x, y)[3] = 255;
+            std::uint16_t* nd = b.normal_depth.at(x, y);
+            nd[0] = reps::encode_normal(0.0f), nd[1] = reps::encode_normal(0.0f), nd[2] = reps::encode_normal(-1.0f);
+            nd[3] = reps::encode_depth(0.5f);
+        }
+    return b;
+}
+
+// Detail finer than the default texels (issue #17: the held-out engine's cooling fins) is baked
+// again at k_detail_resolution: the share of covered texels that end their surface (a neighbour
+// empty or across a depth edge) tells a grille two texels a bar from a solid face, whose only edge
+// texels are its outline.
+TEST(BakeBillboards, FineDetailIsToldByTheTexelsThatEndASurface)
+{
+    EnhancedBillboardsPackage solid, grille, stepped;
+    solid.billboards.push_back(striped_billboard(256, 0, 0));
+    grille.billboards.push_back(striped_billboard(256, 2, 2));
+    grille.billboards.push_back(striped_billboard(256, 0, 0)); // half the texels: still fine detail
+    EXPECT_NEAR(depth_edge_fraction(solid), (2.0 * 256 + 2.0 * 62) / (256.0 * 64), 1e-9); // the outline
+    EXPECT_LT(depth_edge_fraction(solid), k_detail_edge_fraction);
+    EXPECT_GT(depth_edge_fraction(grille), k_detail_edge_fraction);
+    // a depth step of a few texels between flat neighbours is an edge; a slope the normals explain is not
+    Billboard steps = striped_billboard(256, 0, 0);
+    for (int y = 0; y < steps.height; ++y)
+        for (int x = 0; x < steps.width; ++x) steps.normal_depth.at(x, y)[3] = reps::encode_depth(0.5f + (x / 2 % 2) * 0.05f);
+    stepped.billboards.push_back(steps);
+    EXPECT_GT(depth_edge_fraction(stepped), 0.9);
+    for (int y = 0; y < steps.height; ++y)
+        for (int x = 0; x < steps.width; ++x) {
+            std::uint16_t* nd = steps.normal_depth.at(x, y);
+            const glm::vec3 n = glm::normalize(glm::vec3(-1.0f, 0.0f, -1.0f)); // 45 degrees: a texel of depth per texel
+            nd[0] = reps::encode_normal(n.x), nd[1] = reps::encode_normal(n.y), nd[2] = reps::encode_normal(n.z);
+            nd[3] = reps::encode_depth(0.1f + float(x) * steps.texel_size);
+        }
+    stepped.billboards[0] = steps;
+    EXPECT_LT(depth_edge_fraction(stepped), k_detail_edge_fraction);
+}
+
 // A model whose every material is alpha-tested (a lone leaf card; an FBX whose materials all have
 // some transparency) has no opaque face for the coarse mesh: the bake gives an empty one (it
 // aborted in meshoptimizer, asked for more triangles than none; found on assimp's test models).

@@ -41,6 +41,16 @@ constexpr int k_default_direction_count = 256; // --directions sphere
 // surface. Measured on the generated tree (docs/RESULTS.md "Billboards on foliage: resolution and
 // coarse mesh"): silhouette IoU at distance 8 is 0.943 at 512, 0.956 at 768, 0.963 at 1024.
 constexpr int k_alpha_resolution = 1024;
+// Texels along the diagonal for models with detail finer than the default texels when neither
+// --resolution nor --texel-size is given (issue #17: the held-out 110k-face engine, whose cooling
+// fins and nested parts are a texel or two apart): after a bake at 512, when more than
+// k_detail_edge_fraction of the covered texels end their surface (bake.cpp depth_edge_texels: a
+// neighbour empty or across a depth edge), the model is baked again at k_detail_resolution.
+// Measured (docs/RESULTS.md "Billboards: finer texels where the model's detail needs them"): the
+// engine 0.52 at 512 (thesis Luv 3.49), 0.43 at 768 (2.50), 0.35 at 1024 (1.96); the generated
+// assemblies 0.17-0.18 (Luv 1.2-1.3 at 512), the bunny 0.06, a noisy sphere 0.05.
+constexpr int k_detail_resolution = 1024;
+constexpr double k_detail_edge_fraction = 0.3;
 // Grazing angle (degrees) for models with alpha-tested materials when --grazing-angle is not
 // given: a leaf card captured at a grazing angle is a streak of texels whose walls the march meets
 // from other directions, a leaf where the truth shows another card. Measured on the generated tree
@@ -99,6 +109,11 @@ std::vector<std::uint32_t> weld_by_position(const Mesh& mesh);
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();
 Result<std::unique_ptr<Package>> bake(const BakeContext& context);
+
+// The share of a package's covered texels that end their surface: a 4-neighbour empty, or across a
+// depth step larger than the link rule allows (height_field.h), where rays meet a depth edge the
+// capture cannot resolve. Over k_detail_edge_fraction, the model has detail finer than its texels.
+double depth_edge_fraction(const EnhancedBillboardsPackage& package);
 Status write(const Package& package, const std::string& directory);
 Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohmann::json& manifest);
 Result<std::unique_ptr<Renderer>> make_renderer(const Package& package, const RenderSettings& settings);
