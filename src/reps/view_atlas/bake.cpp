@@ -151,6 +151,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     package->source = context.source;
     package->parameters = parameters;
     package->settings = s;
+    package->alpha_tested = masked;
     BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;
     package->radius = sphere.radius;

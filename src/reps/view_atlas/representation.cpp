@@ -58,6 +58,11 @@ std::vector<OptionSpec> render_options()
         flag_option("early-reject", true,
                     "Stop a fragment before its walk when it lies behind a depth this draw already wrote (the "
                     "picture is the same; llvmpipe runs the shader before its depth test, issue #17)"),
+        choice_option("color-level", "auto", {"auto", "mips", "finest"},
+                      "Corrected style, colour (and normals) away from the model: mips reads the coverage-respecting "
+                      "mip level of the pixel's footprint (filtered: the paper's way); finest reads level 0 at every "
+                      "distance, over the hit's own surface (what an alpha-tested truth shows: one leaf per pixel); "
+                      "auto: finest for packages of alpha-tested models, mips for others (docs/RESULTS.md)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),
