@@ -112,16 +112,16 @@ TEST(AlphaTruth, MinifiedCutOutKeepsItsColour)
 }
 
 // Each stand-in on the generated tree, against the truth: IoU and Luv at distance 1 (4 views of
-// the thesis' directions), coverage ratio at distances 4 and 8.
+// the thesis' directions), Luv at distances 4 and 8 (their 8 views), coverage ratio at 4 and 8.
 struct FoliageFigures {
-    double iou = 0.0, luv = 0.0, coverage4 = 0.0, coverage8 = 0.0;
+    double iou = 0.0, luv = 0.0, luv_far = 0.0, coverage4 = 0.0, coverage8 = 0.0;
 };
 
-FoliageFigures foliage_figures(const Mesh& tree, const Package& package)
+FoliageFigures foliage_figures(const Mesh& tree, const Package& package, const RenderOptions& options = {})
 {
     test::gpu_context();
     auto truth = make_mesh_renderer(tree);
-    auto standin = make_package_renderer(package, {});
+    auto standin = make_package_renderer(package, options);
     EXPECT_TRUE(truth.is_ok() && standin.is_ok());
     FoliageFigures f;
     if (!truth.is_ok() || !standin.is_ok()) return f;
@@ -137,9 +137,9 @@ FoliageFigures foliage_figures(const Mesh& tree, const Package& package)
             view.width = 400, view.height = 300;
             protocol.views.push_back(view);
         }
-    EvalOptions options;
-    options.timed_frames = 0;
-    auto result = evaluate(**truth, **standin, tree.bounding_sphere(), protocol, options, {});
+    EvalOptions eval_options;
+    eval_options.timed_frames = 0;
+    auto result = evaluate(**truth, **standin, tree.bounding_sphere(), protocol, eval_options, {});
     EXPECT_TRUE(result.is_ok()) << result.status().message();
     if (!result.is_ok()) return f;
     std::map<float, std::pair<double, double>> pixels; // distance -> (stand-in, truth)
@@ -147,6 +147,8 @@ FoliageFigures foliage_figures(const Mesh& tree, const Package& package)
         if (v.view.orbit.distance_rel == 1.0f) {
             f.iou += v.metrics.iou / 4.0;
             f.luv += v.metrics.luv_mean / 4.0;
+        } else {
+            f.luv_far += v.metrics.luv_mean / 8.0;
         }
         pixels[v.view.orbit.distance_rel].first += double(v.metrics.standin_pixels);
         pixels[v.view.orbit.distance_rel].second += double(v.metrics.truth_pixels);
@@ -336,6 +338,7 @@ const Mesh& foliage_tree()
 struct FoliageCase {
     const char* representation;
     double min_iou, max_luv, coverage_tolerance; // measured, with margin (RESULTS)
+    double max_luv_far = 0.0;                    // Luv at distances 4 and 8; 0: not checked
 };
 
 class AlphaFoliage : public ::testing::TestWithParam<FoliageCase> {};
@@ -347,22 +350,37 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
     std::unique_ptr<Package> package = test::bake(foliage_tree(), c.representation, {});
     ASSERT_TRUE(package);
     FoliageFigures f = foliage_figures(foliage_tree(), *package);
-    std::printf("[foliage] %s: IoU %.4f, Luv %.3f, coverage d4 %.3f, d8 %.3f\n", c.representation, f.iou, f.luv,
-                f.coverage4, f.coverage8);
+    std::printf("[foliage] %s: IoU %.4f, Luv %.3f, Luv d4 and d8 %.3f, coverage d4 %.3f, d8 %.3f\n", c.representation,
+                f.iou, f.luv, f.luv_far, f.coverage4, f.coverage8);
     EXPECT_GE(f.iou, c.min_iou);
     EXPECT_LE(f.luv, c.max_luv);
+    if (c.max_luv_far > 0.0) EXPECT_LE(f.luv_far, c.max_luv_far);
     EXPECT_NEAR(f.coverage4, 1.0, c.coverage_tolerance);
     EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
+    if (std::string(c.representation) == "view-atlas") {
+        // an alpha-tested package reads its colour from level 0 at every distance (--color-level
+        // auto); the footprint's filtered level, the paper's way, stays far from the truth's leaves
+        RenderOptions mips;
+        mips.values.set("color-level", "mips");
+        FoliageFigures filtered = foliage_figures(foliage_tree(), *package, mips);
+        std::printf("[foliage] view-atlas --color-level mips: Luv %.3f, Luv d4 and d8 %.3f\n", filtered.luv, filtered.luv_far);
+        EXPECT_LT(f.luv_far, filtered.luv_far - 2.0);
+        EXPECT_LT(f.luv, filtered.luv - 0.5); // at 400 x 300 distance 1 is minified too
+    }
 }
 
 // Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.991, Luv 3.88, coverage 1.019
 // / 1.024 with their alpha-tested defaults (1024 texels along the diagonal, grazing angle 30, a
 // coarse mesh of the opaque faces only); IoU 0.987, Luv 4.50 at grazing angle 10; IoU 0.962, Luv
 // 8.31, coverage 0.990 / 1.013 at 512 with whole coarse cards, as before issue #14's session 11:
-// both fail these thresholds (docs/RESULTS.md "Billboards on foliage: resolution and coarse mesh"); view atlas 0.972, 5.31, 0.996 / 0.993 with its alpha-tested default of 512² captures at
-// one sample per texel (0.967, 6.55, 1.009 / 1.003 at 256² with 2 x 2 samples; 0.960, 6.40, 1.017 /
-// 1.008 with binary coverage; Luv 13.1 and 8.09 before the truth's coverage-weighted mips and the
-// coarse mesh's cut-out colours; its Luv threshold fails the 256² package). Luv is far over the issue's 3:
+// both fail these thresholds (docs/RESULTS.md "Billboards on foliage: resolution and coarse mesh"); view atlas
+// IoU 0.976, Luv 3.98, Luv at distances 4 and 8 6.73, coverage 0.995 / 0.993 with its alpha-tested
+// defaults of 768² captures at one sample per texel and colour from level 0 at every distance
+// (--color-level auto); with the footprint's mip levels (--color-level mips) Luv 5.39 and 9.93; 512²
+// captures 0.972, 4.17, 6.75 (5.29, 10.51 with mips, as before: it fails the Luv threshold);
+// docs/RESULTS.md "View atlas on foliage: colour level and capture resolution"; earlier: 0.967, 6.55,
+// 1.009 / 1.003 at 256² with 2 x 2 samples; 0.960, 6.40, 1.017 / 1.008 with binary coverage; Luv
+// 13.1 and 8.09 before the truth's coverage-weighted mips and the coarse mesh's cut-out colours. Luv is far over the issue's 3:
 // leaf edges a pixel off compare leaf against background (docs/RESULTS.md "Alpha-masked foliage").
 // Microfacets (IoU 0.959, Luv 7.37, coverage 0.991 / 0.986) take 250 s here with their default
 // 80 captures of 512^2, over ctest's limit on a loaded machine: measured by
@@ -372,7 +390,7 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
 // the loaded 2-core machine; IoU 0.980, Luv 8.19 at degree 17 with point-sampled colours).
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
                          ::testing::Values(FoliageCase{"enhanced-billboards", 0.98, 4.4, 0.04},
-                                           FoliageCase{"view-atlas", 0.96, 6.0, 0.03},
+                                           FoliageCase{"view-atlas", 0.97, 4.5, 0.03, 7.5},
                                            FoliageCase{"displaced-mesh", 0.98, 4.5, 0.04}),
                          [](const ::testing::TestParamInfo<FoliageCase>& info) {
                              std::string name = info.param.representation;

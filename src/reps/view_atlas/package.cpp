@@ -155,6 +155,7 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters, new_layout ? k_package_format_version : 1);
     manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
     manifest["half_extent"] = package.half_extent();
+    if (package.alpha_tested) manifest["alpha_tested"] = true; // only then: other packages stay as they were
     if (!package.proxy_planes.empty()) {
         nlohmann::json planes = nlohmann::json::array();
         for (const glm::vec4& p : package.proxy_planes) planes.push_back({p.x, p.y, p.z, p.w});
@@ -182,6 +183,10 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& sphere = in.member(manifest, "sphere", "");
         package->center = in.vec3(sphere, "center", "sphere.");
         package->radius = float(in.number(sphere, "radius", "sphere.", 1e-30, 1e30));
+        if (manifest.contains("alpha_tested")) { // optional (issue #14): absent means false
+            if (!manifest["alpha_tested"].is_boolean()) in.fail("alpha_tested", "is not true or false");
+            else package->alpha_tested = manifest["alpha_tested"].get<bool>();
+        }
         if (manifest.contains("proxy_planes")) { // optional (issue #17): without it the renderer draws the prism
             const nlohmann::json& planes = manifest["proxy_planes"];
             if (!planes.is_array() || planes.size() > 64) in.fail("proxy_planes", "is not an array of at most 64 planes");

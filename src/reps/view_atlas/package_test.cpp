@@ -230,6 +230,15 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     EXPECT_FLOAT_EQ(q.radius, p.radius);
     EXPECT_FLOAT_EQ(q.half_extent(), p.radius); // orthographic
     EXPECT_EQ(q.proxy_planes, p.proxy_planes);
+    // alpha_tested is written only when true (other models' manifests stay as they were) and read back
+    EXPECT_FALSE(q.alpha_tested);
+    EXPECT_EQ(read_text(dir + "/a.standin/manifest.json").find("alpha_tested"), std::string::npos);
+    ViewAtlasPackage masked = small_package();
+    masked.alpha_tested = true;
+    ASSERT_TRUE(write_package(masked, dir + "/c.standin").is_ok());
+    Result<std::unique_ptr<Package>> masked_back = read_package(dir + "/c.standin");
+    ASSERT_TRUE(masked_back.is_ok()) << masked_back.status().message();
+    EXPECT_TRUE(dynamic_cast<const ViewAtlasPackage&>(**masked_back).alpha_tested);
     // packages from before the proxy hull have no planes: read as none (the renderer draws prisms)
     nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/a.standin/manifest.json"));
     manifest.erase("proxy_planes");
@@ -315,6 +324,7 @@ TEST(ViewAtlasPackage, RefusesDamage)
         {"proxy_planes[1]", [](nlohmann::json& m) { m["proxy_planes"][1] = {2.0, 0.0, 0.0, 1.0}; }},
         {"proxy_planes[0]", [](nlohmann::json& m) { m["proxy_planes"][0] = {0.0, 1.0, 0.0}; }},
         {"proxy_planes", [](nlohmann::json& m) { m["proxy_planes"] = "all of them"; }},
+        {"alpha_tested", [](nlohmann::json& m) { m["alpha_tested"] = "yes"; }},
         // a package that draws nothing
         {"pages", [](nlohmann::json& m) { m["pages"] = nlohmann::json::array(); }},
         {"views", [](nlohmann::json& m) {

@@ -528,6 +528,9 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
     glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
+    const std::string& color_level = settings.options.choice("color-level");
+    glProgramUniform1i(id, renderer->program_.uniform("finest_color"),
+                       color_level == "finest" || (color_level == "auto" && package.alpha_tested) ? 1 : 0);
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)

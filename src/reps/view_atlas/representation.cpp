@@ -26,7 +26,7 @@ std::vector<OptionSpec> bake_options()
                       "Capture projection: ortho, or perspective from the base distance"),
         number_option("fov", "40", 1.0, 170.0, "Field of view of perspective captures, degrees"),
         integer_option("resolution", 256, 16, 4096,
-                       "Capture size in pixels (square); unset: 256, or 512 for models with alpha-tested materials"),
+                       "Capture size in pixels (square); unset: 256, or 768 for models with alpha-tested materials"),
         choice_option("maps", "surface", {"surface", "lit"},
                       "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
         integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),
@@ -58,6 +58,11 @@ std::vector<OptionSpec> render_options()
         flag_option("early-reject", true,
                     "Stop a fragment before its walk when it lies behind a depth this draw already wrote (the "
                     "picture is the same; llvmpipe runs the shader before its depth test, issue #17)"),
+        choice_option("color-level", "auto", {"auto", "mips", "finest"},
+                      "Corrected style, colour (and normals) away from the model: mips reads the coverage-respecting "
+                      "mip level of the pixel's footprint (filtered: the paper's way); finest reads level 0 at every "
+                      "distance, over the hit's own surface (what an alpha-tested truth shows: one leaf per pixel); "
+                      "auto: finest for packages of alpha-tested models, mips for others (docs/RESULTS.md)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),

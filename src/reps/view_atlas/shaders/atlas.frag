@@ -58,6 +58,13 @@ uniform int style;
 uniform int debug_view; // DEBUG_VIEW_*
 uniform int counting; // 1: add this fragment and its texture reads to the counters
 uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
+// 1: the corrected style reads colour and normals from level 0 at every distance (--color-level,
+// issue #14). An alpha-tested truth draws one leaf per pixel, lit from its own normal, with the leaf's
+// texture filtered but its outline not; the filtered levels average the image across leaves and
+// depths (and light the mean normal), which is far from that picture: on the foliage tree Luv at
+// distance 4 / 8 is 6.2 / 7.2 from level 0 against 9.0 / 11.6 from the footprint's level
+// (docs/RESULTS.md "View atlas on foliage: colour level and capture resolution").
+uniform int finest_color;
 
 layout(location = 0) out vec4 out_color;
 // Every style writes a depth at or behind its proxy's (corrected: the hit, clamped to the hull's
@@ -632,8 +639,8 @@ void main()
         ViewData view = views.items[ids[k]];
         vec3 p = o + hits[k].x * d - atlas_center;
         vec4 c, nd, orm, emission;
-        surface_sample(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)), dot(p, view.direction.xyz), lod, c, nd,
-                       orm, emission);
+        surface_sample(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)), dot(p, view.direction.xyz),
+                       finest_color != 0 ? min(lod, 0.0) : lod, c, nd, orm, emission);
         if (c.a <= 0.0) continue;
         color_sum += weight * vec4(c.rgb / c.a, 1.0);
         normal_sum += weight * vec4(nd.rgb / c.a * 2.0 - 1.0, 0.0);
