@@ -20,7 +20,7 @@
 //    alpha is the fraction of it the alpha-tested surface covers, so that the renderer can place a
 //    leaf's cut-out edge inside a texel (atlas.frag, hit_coverage) instead of on texel borders.
 //    Other models keep one sample per texel (binary coverage), so their packages do not change.
-//    Without --resolution such models are captured at k_alpha_resolution (768) with one sample
+//    Without --resolution such models are captured at k_alpha_resolution (512) with one sample
 //    per texel instead: a leaf's edge, gaps and colour need the texels more than the fractions.
 #include "reps/view_atlas/view_atlas.h"
 #include "reps/view_atlas/hull.h"

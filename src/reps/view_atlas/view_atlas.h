@@ -37,13 +37,9 @@ constexpr int k_coverage_samples = 2;
 // about 2 screen pixels at distance 1, and a leaf's cut-out is a few texels wide: its edge, its
 // narrow gaps and its colour are blurred over texels that each keep one depth. 512 (the same 512²
 // capture as 256 at 2 x 2 samples) gives thesis IoU 0.962 against 0.949 and Luv 7.2 against 9.3 on
-// the foliage tree (docs/RESULTS.md "Capture resolution for alpha-tested models"); but a 512 texel
-// is still 1.17 screen pixels at distance 1 (800 x 600), and rebuilding the truth bilinearly from
-// samples that far apart alone costs about 3.3 Luv there. 768 (0.78 px) gives foliage Luv 4.42
-// against 5.62 at distance 1 and IoU 0.968 against 0.962, at 1.9x the package (63 MB) and 2.25x the
-// pages (768 MiB, one texture array); 1024 gives 4.07 at 3.1x and 3.5x (docs/RESULTS.md "View atlas
-// on foliage: colour level and capture resolution"). Other models keep 256: their packages do not change.
-constexpr int k_alpha_resolution = 768;
+// the foliage tree, at about 3x the package and 4x the pages (docs/RESULTS.md "Capture resolution
+// for alpha-tested models"). Other models keep 256: their packages do not change.
+constexpr int k_alpha_resolution = 512;
 
 // The --baseline-below measured for crowds of solid models: the smallest radius in pixels where the
 // baseline's picture stays within Luv 3 and IoU 0.95 of the walk on the test models (docs/RESULTS.md,
