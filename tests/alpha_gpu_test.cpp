@@ -354,7 +354,9 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
                 f.iou, f.luv, f.luv_far, f.coverage4, f.coverage8);
     EXPECT_GE(f.iou, c.min_iou);
     EXPECT_LE(f.luv, c.max_luv);
-    if (c.max_luv_far > 0.0) EXPECT_LE(f.luv_far, c.max_luv_far);
+    if (c.max_luv_far > 0.0) {
+        EXPECT_LE(f.luv_far, c.max_luv_far);
+    }
     EXPECT_NEAR(f.coverage4, 1.0, c.coverage_tolerance);
     EXPECT_NEAR(f.coverage8, 1.0, c.coverage_tolerance);
     if (std::string(c.representation) == "view-atlas") {
