@@ -47,7 +47,7 @@
 //   face that the contour crosses stores, in the same code as a sheet edge line, the line that
 //   misclassifies the fewest of 8 x 8 points of the texel (best_contour_code), and a texel whose
 //   centre is cut out but which a neighbour's leaf partly covers is grown with that leaf and
-//   clipped; the colour of such texels is the mean of the leaf's covered points.
+//   clipped; the colour of every texel of an alpha-tested face is the mean of its covered points.
 // - colour: a textured face's texel averages the texture over the texel (texel_albedo), covered
 //   points only, where the seed read one point: the truth's mips filter, a point sample aliases.
 #include "reps/enhanced_billboards/capture.h"
@@ -749,8 +749,9 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
     }
     // alpha contour lines (issue #14): a texel the leaf's cut-out contour crosses keeps the line
     // that best splits it (best_contour_code); a texel whose centre is cut out but which a
-    // neighbour's leaf partly covers is grown with that leaf and clipped the same way. Their colour
-    // is the mean over the leaf's covered contour points (the truth's coverage-weighted mips).
+    // neighbour's leaf partly covers is grown with that leaf and clipped the same way. The colour of
+    // every texel of a leaf is the mean over its covered contour points (the truth's coverage-
+    // weighted mips, 64 points where texel_albedo reads 9).
     std::vector<glm::vec4> contour_colour(contour_lines ? covered.size() : 0, glm::vec4(0.0f));
     if (contour_lines) {
         parallel_over(covered.size(), [&](std::size_t t) {
@@ -764,7 +765,11 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
                 front = winner_at(t);
                 if (!is_alpha_tested(mesh, front)) return;
                 front_mask = face_coverage(mesh, faces, grid, front, i, j, true, &colour);
-                if (front_mask == ~0ull) return;
+                if (front_mask == ~0ull) {
+                    // a whole leaf texel: no line, and the finer mean (measured: Luv d1 3.94 -> 3.89)
+                    contour_colour[t] = glm::vec4(colour, 1.0f);
+                    return;
+                }
             } else {
                 // the alpha-tested face of a covered 3 x 3 neighbour that covers most of the texel
                 // (ties: the first, rows then columns)
