@@ -371,9 +371,12 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
     }
 }
 
-// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.991, Luv 3.88, coverage 1.019
-// / 1.024 with their alpha-tested defaults (1024 texels along the diagonal, grazing angle 30, a
-// coarse mesh of the opaque faces only); IoU 0.987, Luv 4.50 at grazing angle 10; IoU 0.962, Luv
+// Measured on llvmpipe (this tree, these 12 views): billboards IoU 0.9935, Luv 3.63, coverage 1.004
+// / 1.007 with their alpha-tested defaults (1024 texels along the diagonal, grazing angle 30, a
+// coarse mesh of the opaque faces only, alpha contour lines, and the march's level of detail hitting
+// only where the ray crosses the contact texel's top; docs/RESULTS.md "Billboards on foliage: leaf
+// outlines inside a texel"); IoU 0.991, Luv 3.88, coverage 1.019 / 1.024 before those two (its
+// coverage fails the tolerance below); IoU 0.987, Luv 4.50 at grazing angle 10; IoU 0.962, Luv
 // 8.31, coverage 0.990 / 1.013 at 512 with whole coarse cards, as before issue #14's session 11:
 // both fail these thresholds (docs/RESULTS.md "Billboards on foliage: resolution and coarse mesh"); view atlas 0.972, 5.31, 0.996 / 0.993 with its alpha-tested default of 512² captures at
 // one sample per texel (0.967, 6.55, 1.009 / 1.003 at 256² with 2 x 2 samples; 0.960, 6.40, 1.017 /
@@ -387,7 +390,7 @@ TEST_P(AlphaFoliage, StandInKeepsTheLeavesCutOutsAtEveryDistance)
 // colours averaged over each sample's cell): IoU 0.988, Luv 3.19, coverage 1.000 / 0.996 (38 s on
 // the loaded 2-core machine; IoU 0.980, Luv 8.19 at degree 17 with point-sampled colours).
 INSTANTIATE_TEST_SUITE_P(Tree, AlphaFoliage,
-                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.98, 4.4, 0.04},
+                         ::testing::Values(FoliageCase{"enhanced-billboards", 0.985, 4.1, 0.015},
                                            FoliageCase{"view-atlas", 0.96, 4.8, 0.03, 7.5},
                                            FoliageCase{"displaced-mesh", 0.98, 4.5, 0.04}),
                          [](const ::testing::TestParamInfo<FoliageCase>& info) {

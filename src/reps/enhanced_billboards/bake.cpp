@@ -540,11 +540,13 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     std::vector<std::uint32_t> part_of;
     bool two_sided = add_back_sides(split_or_source, faces, sided, piece_of, open_edges, part_of);
     // sheet edges (issue #17): auto clips the texels open edges cross to the edges' lines on models
-    // with open double-sided parts, unless a material is alpha-tested (a leaf card's outline is not
-    // its leaf's); the package records what was done, so closed models' packages keep their bytes
+    // with open double-sided parts, and on alpha-tested models the texels a leaf's cut-out contour
+    // crosses to the contour's line (capture.cpp, alpha contour lines; a card's own edges are not
+    // its leaf's outline and are not clipped to); the package records what was done, so other
+    // models' packages keep their bytes
     bool has_open_edges = std::any_of(open_edges.begin(), open_edges.end(), [](std::uint8_t bits) { return bits != 0; });
     std::string sheet_edges = settings.sheet_edges;
-    if (sheet_edges == "auto") sheet_edges = two_sided && has_open_edges && !alpha_tested ? "clip" : "centre";
+    if (sheet_edges == "auto") sheet_edges = (two_sided && has_open_edges) || alpha_tested ? "clip" : "centre";
     parameters.set_choice("sheet-edges", sheet_edges);
     package->parameters = parameters;
     package->settings = settings_from(parameters);

@@ -173,17 +173,13 @@ TEST(BakeBillboards, OpenSheetIsBakedFromBothSides)
 // The area by which the billboard looking down -z at a sheet triangle in z = 0 misses the triangle
 // (covered where it is not, or not where it is), in texels, from 8 x 8 samples per texel; the
 // billboard's coverage is its texels', clipped to their edge lines (edge_line_contains).
-double rim_error_texels(const EnhancedBillboardsPackage& p, const glm::vec2 corners[3])
+template <typename Inside>
+double outline_error_texels(const EnhancedBillboardsPackage& p, Inside&& inside)
 {
     const Billboard* board = nullptr;
     for (const Billboard& b : p.billboards)
         if (b.direction == glm::vec3(0, 0, -1)) board = &b;
     if (board == nullptr) return 1e30;
-    auto inside_triangle = [&](glm::vec2 q) {
-        auto side = [&](glm::vec2 a, glm::vec2 b) { return (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x); };
-        float s0 = side(corners[0], corners[1]), s1 = side(corners[1], corners[2]), s2 = side(corners[2], corners[0]);
-        return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
-    };
     const int k = 8;
     double wrong = 0.0;
     for (int y = 0; y < board->height; ++y)
@@ -194,10 +190,19 @@ double rim_error_texels(const EnhancedBillboardsPackage& p, const glm::vec2 corn
                     glm::vec2 in_texel((a + 0.5f) / k, (b + 0.5f) / k);
                     glm::vec3 world = board->origin + board->texel_size * ((x + in_texel.x) * board->axis_u + (y + in_texel.y) * board->axis_v);
                     bool standin = alpha >= 128 && edge_line_contains(alpha, in_texel);
-                    wrong += double(standin != inside_triangle(glm::vec2(world))) / double(k * k);
+                    wrong += double(standin != inside(glm::vec2(world))) / double(k * k);
                 }
         }
     return wrong;
+}
+
+double rim_error_texels(const EnhancedBillboardsPackage& p, const glm::vec2 corners[3])
+{
+    return outline_error_texels(p, [&](glm::vec2 q) {
+        auto side = [&](glm::vec2 a, glm::vec2 b) { return (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x); };
+        float s0 = side(corners[0], corners[1]), s1 = side(corners[1], corners[2]), s2 = side(corners[2], corners[0]);
+        return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
+    });
 }
 
 TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
@@ -220,6 +225,30 @@ TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
     double centre_width = rim_error_texels(*centred.package, corners) / perimeter;
     std::printf("[ rim ] mean error width: %.3f texels clipped, %.3f by centres\n", clip_width, centre_width);
     EXPECT_LT(clip_width, 0.08); // measured 0.050 (0.248 by centres)
+    EXPECT_GT(centre_width, 0.15);
+}
+
+TEST(BakeBillboards, AlphaContourLinesFollowTheLeaf)
+{
+    // issue #14: an alpha-tested leaf's outline is its texture's cut-out contour, inside the card;
+    // by texel centres the billboard's outline is a staircase off it, with the contour's line in
+    // the texels it crosses (--sheet-edges clip, the default for alpha-tested models) it follows it.
+    // The card's texture is a disc: alpha 1 - r / 0.5 against the cutoff 0.5, a circle of radius 0.25
+    const Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, false);
+    std::map<std::string, std::string> options = {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}};
+    Baked clipped = bake_mesh(mesh, options);
+    options["sheet-edges"] = "centre";
+    Baked centred = bake_mesh(mesh, options);
+    ASSERT_TRUE(clipped.status && centred.status);
+    EXPECT_EQ(clipped.package->settings.sheet_edges, "clip"); // what auto resolved to, recorded
+    const float radius = 0.25f;
+    auto inside_disc = [&](glm::vec2 q) { return glm::length(q) <= radius; };
+    float texel = clipped.package->billboards[0].texel_size;
+    double perimeter = 2.0 * 3.14159265358979 * radius / texel;
+    double clip_width = outline_error_texels(*clipped.package, inside_disc) / perimeter;
+    double centre_width = outline_error_texels(*centred.package, inside_disc) / perimeter;
+    std::printf("[ leaf ] mean error width: %.3f texels clipped, %.3f by centres\n", clip_width, centre_width);
+    EXPECT_LT(clip_width, 0.08); // measured 0.044 (0.223 by centres)
     EXPECT_GT(centre_width, 0.15);
 }
 
@@ -479,6 +508,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     EXPECT_NEAR(masked.package->settings.texel_size, diagonal / float(k_alpha_resolution), 1e-6f * diagonal);
     EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, k_alpha_grazing_angle);
     EXPECT_TRUE(masked.package->parameters.requested().empty()); // defaults, not something asked for
+    EXPECT_EQ(masked.package->settings.sheet_edges, "clip");      // alpha contour lines
     // the coarse mesh: the sphere's triangles (small models keep all), none of the card's
     const Mesh& coarse = masked.package->coarse_mesh;
     EXPECT_EQ(coarse.triangle_count(), sphere_triangles);

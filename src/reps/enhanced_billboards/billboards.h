@@ -74,9 +74,10 @@ struct BakeSettings {
     int depth_bits = 16;
     float coarse_ratio = 0.1f;
     std::string compression = "bc"; // "bc": KTX2 block-compressed maps; "none": PNG (package.cpp)
-    // "clip": texels an open edge crosses are covered and clipped to its line (capture.cpp,
-    // march.frag); "overlap": covered whole; "centre": by their centre; "auto" (the bake's
-    // default) is resolved by the baker to clip for sheet models, else centre
+    // "clip": texels an open edge crosses are covered and clipped to its line, and texels an
+    // alpha-tested face's cut-out contour crosses to the contour's line (capture.cpp, march.frag);
+    // "overlap": covered whole; "centre": by their centre; "auto" (the bake's default) is resolved
+    // by the baker to clip for sheet models and alpha-tested models, else centre
     std::string sheet_edges = "centre";
 };
 

@@ -47,9 +47,9 @@ std::vector<OptionSpec> bake_options()
         choice_option("sheet-edges", "auto", {"auto", "centre", "clip", "overlap"},
                       "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
                       "it, as everywhere), clip (every texel it crosses, clipped by the march to the edge's line "
-                      "stored in the texel), overlap (every texel it overlaps, unclipped: more spill) or auto (clip "
-                      "for models with open double-sided parts and no alpha-tested material, else centre; the "
-                      "package records which)"),
+                      "stored in the texel; on alpha-tested faces the line of the leaf's cut-out contour instead), "
+                      "overlap (every texel it overlaps, unclipped: more spill) or auto (clip for models with open "
+                      "double-sided parts or alpha-tested materials, else centre; the package records which)"),
     };
 }
 
