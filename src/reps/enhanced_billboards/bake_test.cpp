@@ -205,6 +205,20 @@ double rim_error_texels(const EnhancedBillboardsPackage& p, const glm::vec2 corn
     });
 }
 
+// One small billboard bake with --sheet-edges at its default (auto, which must resolve to clip and
+// record it) and one with centre, for the outline tests below.
+std::pair<Baked, Baked> bake_clipped_and_centred(const Mesh& mesh)
+{
+    std::map<std::string, std::string> options = {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}};
+    Baked clipped = bake_mesh(mesh, options);
+    options["sheet-edges"] = "centre";
+    Baked centred = bake_mesh(mesh, options);
+    if (clipped.status) {
+        EXPECT_EQ(clipped.package->settings.sheet_edges, "clip"); // what auto resolved to
+    }
+    return {std::move(clipped), std::move(centred)};
+}
+
 TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
 {
     // issue #17: a sheet's rim crosses texels; by their centres the billboard's outline is a
@@ -212,12 +226,8 @@ TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
     // texels it crosses (--sheet-edges clip, the default for sheets) it follows the rim
     const glm::vec2 corners[3] = {{0.1f, 0.13f}, {0.93f, 0.31f}, {0.37f, 0.88f}};
     Mesh mesh = make_mesh({{corners[0], 0.0f}, {corners[1], 0.0f}, {corners[2], 0.0f}}, {0, 1, 2});
-    std::map<std::string, std::string> options = {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}};
-    Baked clipped = bake_mesh(mesh, options);
-    options["sheet-edges"] = "centre";
-    Baked centred = bake_mesh(mesh, options);
+    auto [clipped, centred] = bake_clipped_and_centred(mesh);
     ASSERT_TRUE(clipped.status && centred.status);
-    EXPECT_EQ(clipped.package->settings.sheet_edges, "clip"); // what auto resolved to, recorded
     float texel = clipped.package->billboards[0].texel_size;
     double perimeter = (glm::distance(corners[0], corners[1]) + glm::distance(corners[1], corners[2]) +
                         glm::distance(corners[2], corners[0])) / texel;
@@ -235,12 +245,8 @@ TEST(BakeBillboards, AlphaContourLinesFollowTheLeaf)
     // the texels it crosses (--sheet-edges clip, the default for alpha-tested models) it follows it.
     // The card's texture is a disc: alpha 1 - r / 0.5 against the cutoff 0.5, a circle of radius 0.25
     const Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, false);
-    std::map<std::string, std::string> options = {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}};
-    Baked clipped = bake_mesh(mesh, options);
-    options["sheet-edges"] = "centre";
-    Baked centred = bake_mesh(mesh, options);
+    auto [clipped, centred] = bake_clipped_and_centred(mesh);
     ASSERT_TRUE(clipped.status && centred.status);
-    EXPECT_EQ(clipped.package->settings.sheet_edges, "clip"); // what auto resolved to, recorded
     const float radius = 0.25f;
     auto inside_disc = [&](glm::vec2 q) { return glm::length(q) <= radius; };
     float texel = clipped.package->billboards[0].texel_size;
