@@ -71,6 +71,10 @@ const float k_curvature_texels = 0.5;
 const float k_quanta = 2.0;
 const float k_max_slope = 8.0;
 const float k_miss = 0.0, k_top = 1.0, k_wall = 2.0;
+// standin's edge-line codes (docs/FORMAT.md "Sheet edge lines"; billboard_layout.glsl in standin):
+// a covered texel whose colour alpha is FIRST..FIRST + ANGLES * OFFSETS - 1 holds the line its
+// surface ends at; 255 is a whole texel
+const int k_edge_line_first = 128, k_edge_line_angles = 18, k_edge_line_offsets = 7;
 const int k_max_iterations = 2048; // cells visited, at all levels (standin's march: 512)
 
 vec4 normal_depth(ivec2 texel) { return vec4(texelFetch(normal_depth_map, texel, 0)) / 65535.0; }
@@ -86,6 +90,19 @@ float slope_along(vec3 n, vec3 axis)
 {
     float along = abs(dot(n, axis)), across = abs(dot(n, direction));
     return along >= across * k_max_slope ? k_max_slope : along / across;
+}
+
+// Whether box-space point p (x, y in texels) is on the surface of covered texel `texel`: everywhere,
+// unless the texel holds an edge line (its alpha code), which the surface ends at (standin's
+// march.frag on_surface).
+bool on_surface(ivec2 texel, vec2 p)
+{
+    int code = int(texelFetch(color_map, texel, 0).a * 255.0 + 0.5) - k_edge_line_first;
+    if (code < 0 || code >= k_edge_line_angles * k_edge_line_offsets) return true;
+    float angle = float(code / k_edge_line_offsets) * (6.28318530718 / float(k_edge_line_angles));
+    vec2 n = vec2(cos(angle), sin(angle));
+    float e = ((float(code % k_edge_line_offsets) + 0.5) / float(k_edge_line_offsets) * 2.0 - 1.0) * 0.5 * (abs(n.x) + abs(n.y));
+    return dot(n, p - vec2(texel) - 0.5) <= e;
 }
 
 // hf_cross_column (reps/common/shaders/height_field.glsl)
@@ -213,7 +230,12 @@ void main()
                     from_linked = from_covered && linked(nd, from_nd, entry_axis == 0 ? axis_u : axis_v);
                 }
                 vec2 crossing = cross_column(t_in, t, t_exit, o.z, d.z, nd.a, from_linked, from_nd.a);
-                if (crossing.y != k_miss) {
+                // standin's edge lines (a sheet's rim, a leaf's cut-out contour): a crossing beyond
+                // the line its texel holds is no hit, and the ray walks on
+                vec2 p_cross = o.xy + crossing.x * d.xy;
+                bool on = crossing.y == k_top ? on_surface(texel, p_cross)
+                        : crossing.y == k_wall && on_surface(texel, p_cross) && on_surface(from, p_cross);
+                if (crossing.y != k_miss && on) {
                     t_hit = crossing.x;
                     // on a wall, the texel whose top is nearer the crossing
                     float z_in = o.z + t_in * d.z;

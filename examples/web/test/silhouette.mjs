@@ -70,9 +70,11 @@ const k_cases = [
     { name: 'displaced-mesh tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
       bake: ['-r', 'displaced-mesh'], export: [] },
     { name: 'enhanced-billboards', model: 'data/bunny.ply', bake: ['-r', 'enhanced-billboards'], export: [] },
-    // alpha-masked leaf cards: one or two texels wide, which the viewer's walk must keep as standin's does
+    // alpha-masked leaf cards: one or two texels wide, which the viewer's walk must keep as standin's
+    // does, leaf contours clipped to the edge lines the texels hold (0.9977 / 0.9973; 0.981 / 0.979
+    // drawing those texels whole)
     { name: 'enhanced-billboards tree', generate: ['tree', '-t', '4000', '--seed', '1'], model: 'tree.gltf',
-      bake: ['-r', 'enhanced-billboards'], export: [] },
+      bake: ['-r', 'enhanced-billboards'], export: [], at_least_iou: 0.99 },
     // the finest baked level (7: 128^3) as a plain voxel-face mesh
     { name: 'microfacets', model: 'data/bunny.ply', bake: ['-r', 'microfacets'], export: [] },
     // foliage as one square per voxel in the leaf's plane, cut out by the captures' coverage (MASK);
@@ -218,7 +220,10 @@ try {
                 }
                 const r = await view_in_browser(query, `/work/${view}.standin.png`, join(options.work, `${view}.web.png`), model_png);
                 Object.assign(row, { iou: r.iou, web_pixels: r.web_pixels, standin_pixels: r.standin_pixels, info: r.info });
-                row.status = r.iou >= Math.min(c.min_iou ?? 1, options.min_iou) ? 'pass' : 'FAIL'; // a case may hold a lower floor
+                // a case may hold a lower floor (min_iou), or a higher one where the viewer is known to
+                // match standin closely (at_least_iou), so that losing that shows
+                const floor = Math.max(Math.min(c.min_iou ?? 1, options.min_iou), c.at_least_iou ?? 0);
+                row.status = r.iou >= floor ? 'pass' : 'FAIL';
                 if (r.model) {
                     row.model_iou = r.model.iou;
                     row.model_pixels = r.model.standin_pixels;
