@@ -32,19 +32,30 @@ static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction)
     return along / across;
 }
 
+bool texels_linked(const Billboard& b, int i, int j, int axis, float quantum_codes)
+{
+    const int ni = i + (axis == 0 ? 1 : 0), nj = j + (axis == 0 ? 0 : 1);
+    const glm::vec3 along = axis == 0 ? b.axis_u : b.axis_v;
+    float slope = std::max(normal_slope(texel_normal(b, i, j), along, b.direction),
+                           normal_slope(texel_normal(b, ni, nj), along, b.direction));
+    // the shared link rule (hf_link_tolerance), in depth codes
+    float codes_per_world = reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
+    float allowed = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * b.texel_size * codes_per_world +
+                    float(HF_QUANTA) * quantum_codes;
+    float jump = std::abs(float(b.normal_depth.at(i, j)[3]) - float(b.normal_depth.at(ni, nj)[3]));
+    return jump <= allowed;
+}
+
 // links of every covered texel to its covered neighbours on the same surface
 static void link_neighbours(const Billboard& b, const LinkSettings& settings, HeightFieldAcceleration& acc)
 {
-    float codes_per_world = reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
     float quantum_codes = settings.depth_bits >= 16 ? 1.0f : reps::k_depth_codes / float((1 << settings.depth_bits) - 1);
     auto at = [&](int i, int j) -> SurfaceTexel& { return acc.surface[std::size_t(j) * acc.width + i]; };
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {
             SurfaceTexel& texel = at(i, j);
             if (!(texel.flags & k_texel_covered)) continue;
-            glm::vec3 n = texel_normal(b, i, j);
             const int di[2] = {1, 0}, dj[2] = {0, 1};
-            const glm::vec3 axis[2] = {b.axis_u, b.axis_v};
             const std::uint16_t bit_here[2] = {k_link_plus_u, k_link_plus_v};
             const std::uint16_t bit_there[2] = {k_link_minus_u, k_link_minus_v};
             for (int k = 0; k < 2; ++k) {
@@ -52,13 +63,7 @@ static void link_neighbours(const Billboard& b, const LinkSettings& settings, He
                 if (ni >= b.width || nj >= b.height) continue;
                 SurfaceTexel& other = at(ni, nj);
                 if (!(other.flags & k_texel_covered)) continue;
-                float slope = std::max(normal_slope(n, axis[k], b.direction),
-                                       normal_slope(texel_normal(b, ni, nj), axis[k], b.direction));
-                // the shared link rule (hf_link_tolerance), in depth codes
-                float allowed = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * b.texel_size * codes_per_world +
-                                float(HF_QUANTA) * quantum_codes;
-                float jump = std::abs(float(texel.depth) - float(other.depth));
-                if (jump > allowed) continue;
+                if (!texels_linked(b, i, j, k, quantum_codes)) continue;
                 texel.flags |= bit_here[k];
                 other.flags |= bit_there[k];
             }

@@ -48,6 +48,11 @@ struct LinkSettings {
     bool edge_lines = false;
 };
 
+// Whether the covered texels (i, j) and its next one along `axis` (0: +u, 1: +v) continue one
+// surface by the shared link rule (height_field.h, hf_link_tolerance); `quantum_codes`: one step of
+// the stored depth in 16-bit codes. Both texels must be inside the billboard.
+bool texels_linked(const Billboard& billboard, int i, int j, int axis, float quantum_codes);
+
 // Builds the acceleration of one billboard, padded to width x height (multiples of 2^levels, at
 // least the billboard's size).
 HeightFieldAcceleration build_acceleration(const Billboard& billboard, int padded_width, int padded_height,

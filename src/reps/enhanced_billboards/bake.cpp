@@ -40,6 +40,7 @@
 //   rays from other directions hit where the truth shows another card.
 //   Their coarse mesh is made of the opaque faces only (trunk, branches): it cannot cut out a
 //   leaf card, and whole cards filled the near-miss ring around every leaf (see opaque_faces).
+#include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
 #include "reps/common/coarse_mesh.h"
@@ -459,36 +460,21 @@ Mesh opaque_faces(const Mesh& mesh)
 // assembly): a 4-neighbour empty, or across a depth step larger than the link rule allows
 // (height_field.h), so that rays there meet a depth edge the capture cannot resolve. Returns
 // (edge texels, covered texels).
-static std::pair<std::size_t, std::size_t> depth_edge_texels(const reps::SurfaceImage& image)
+static std::pair<std::size_t, std::size_t> depth_edge_texels(const Billboard& image)
 {
     std::size_t edges = 0, covered = 0;
-    const float quantum = image.depth_range / reps::k_depth_codes;
-    auto slope_of = [&](const std::uint16_t* nd, glm::vec3 axis) {
-        const glm::vec3 n = reps::decode_normal(nd);
-        const float along = std::abs(glm::dot(n, axis)), across = std::abs(glm::dot(n, image.direction));
-        return along >= across * float(HF_MAX_SLOPE) ? float(HF_MAX_SLOPE) : along / across;
+    auto is_covered = [&](int x, int y) {
+        return x >= 0 && y >= 0 && x < image.width && y < image.height && image.color.at(x, y)[3] != 0;
     };
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            if (image.color.at(x, y)[3] == 0) continue;
+            if (!is_covered(x, y)) continue;
             ++covered;
-            const std::uint16_t* a = image.normal_depth.at(x, y);
-            bool edge = false;
-            const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-            for (int k = 0; k < 4 && !edge; ++k) {
-                const int nx = x + dx[k], ny = y + dy[k];
-                if (nx < 0 || ny < 0 || nx >= image.width || ny >= image.height || image.color.at(nx, ny)[3] == 0) {
-                    edge = true;
-                    break;
-                }
-                const std::uint16_t* b = image.normal_depth.at(nx, ny);
-                const glm::vec3 axis = k < 2 ? image.axis_u : image.axis_v;
-                const float slope = std::max(slope_of(a, axis), slope_of(b, axis));
-                const float tolerance = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * image.texel_size +
-                                        float(HF_QUANTA) * quantum;
-                edge = std::abs(float(a[3]) - float(b[3])) * quantum > tolerance;
-            }
-            edges += edge ? 1 : 0;
+            // each neighbour covered and linked (from the lower texel of the pair, as the renderer links them)
+            const bool inner = is_covered(x + 1, y) && texels_linked(image, x, y, 0, 1.0f) && is_covered(x - 1, y) &&
+                               texels_linked(image, x - 1, y, 0, 1.0f) && is_covered(x, y + 1) &&
+                               texels_linked(image, x, y, 1, 1.0f) && is_covered(x, y - 1) && texels_linked(image, x, y - 1, 1, 1.0f);
+            edges += inner ? 0 : 1;
         }
     return {edges, covered};
 }
