@@ -38,10 +38,18 @@ Status write_png(const ImageRGBA16& image, const std::string& path);
 // The same PNG files' bytes, in memory (images embedded in other files: glTF export).
 Result<std::string> encode_png_bytes(const ImageRGBA8& image);
 Result<std::string> encode_png_bytes(const ImageRGBA16& image);
+// One channel of exact samples (depth), 8 or 16 bits, as a grey PNG at zlib level 9: PNG's per-row
+// prediction suits smooth depth, which zlib alone does not (docs/RESULTS.md, "Depth as grey PNG").
+Result<std::string> encode_png_grey_bytes(int width, int height, int bit_depth, const std::vector<std::uint16_t>& samples);
+
 // Readers: regular files only; the decoded size is checked against the memory budget (limits.h)
 // before decoding. Any colour type is converted to RGBA.
 Result<ImageRGBA8> read_png_rgba8(const std::string& path);
 Result<ImageRGBA16> read_png_rgba16(const std::string& path);
+// A grey PNG of exactly `bit_depth` bits (anything else is refused), its samples row by row.
+Result<std::vector<std::uint16_t>> read_png_grey(const std::string& path, int bit_depth, int* width = nullptr,
+                                                 int* height = nullptr);
+
 // What a PNG file's header (IHDR) declares, read without decoding it, for validating packages.
 struct PngInfo {
     int width = 0, height = 0;
@@ -49,6 +57,7 @@ struct PngInfo {
     int color_type = 0; // PNG colour type: 0 grey, 2 RGB, 3 palette, 4 grey + alpha, 6 RGBA
 };
 constexpr int k_png_color_rgba = 6;
+constexpr int k_png_color_grey = 0;
 Result<PngInfo> read_png_info(const std::string& path);
 // Bit depth of a PNG file (8 or 16) without decoding it, for validating packages.
 Result<int> png_bit_depth(const std::string& path, int* width = nullptr, int* height = nullptr);

@@ -127,9 +127,11 @@ constexpr const char* k_package_format = "standin-package";
 // 1: PNG maps only; 2: may hold KTX2 maps (docs/FORMAT.md, "Compressed images"); 3: and, for
 // enhanced billboards, the compact coarse mesh (a version-2 reader would try to import it as a
 // model); 4: and, for the view atlas, block-compressed pages (a version-3 reader would miss the
-// pages' normal-depth PNGs and refuse by field, not by version). Packages are written with the
-// lowest version that describes them: without compressed maps 1, enhanced billboards 3.
-constexpr int k_package_format_version = 4;
-constexpr int k_package_format_version_compact_coarse = 3;
+// pages' normal-depth PNGs and refuse by field, not by version); 5: exact depth of compressed
+// packages as grey PNGs instead of R16/R8 KTX2 files (a version-4 reader would try to parse them as
+// KTX2). Packages are written with the lowest version that describes them: without compressed maps
+// 1; view atlases whose only compressed pages are colour 4.
+constexpr int k_package_format_version = 5;
+constexpr int k_package_format_version_block_pages = 4;
 
 } // namespace standin

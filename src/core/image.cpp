@@ -7,6 +7,7 @@
 #include <png.h>
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -28,8 +29,9 @@ void append_png_bytes(png_structp png, png_bytep data, png_size_t length)
 
 void flush_png(png_structp) {}
 
-// Encodes rows (top first) of `channels` x `bit_depth` samples; 16-bit samples are big-endian in PNG.
-Result<std::string> encode_png(int width, int height, int bit_depth, const void* pixels)
+// Encodes rows (top first) of `channels` (4: RGBA, 1: grey) x `bit_depth` samples; 16-bit samples
+// are big-endian in PNG. `level`: zlib's.
+Result<std::string> encode_png(int width, int height, int bit_depth, const void* pixels, int channels = 4, int level = 6)
 {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
     if (!png) return error(StatusCode::io_error, "libpng: cannot create writer");
@@ -41,18 +43,20 @@ Result<std::string> encode_png(int width, int height, int bit_depth, const void*
         return error(StatusCode::io_error, "libpng: encoding failed");
     }
     png_set_write_fn(png, &buffer, append_png_bytes, flush_png);
-    png_set_compression_level(png, 6);
-    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth, PNG_COLOR_TYPE_RGBA,
+    png_set_compression_level(png, level);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth,
+                 channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGBA,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
-    std::size_t stride = std::size_t(width) * 4 * (bit_depth / 8);
+    std::size_t stride = std::size_t(width) * std::size_t(channels) * std::size_t(bit_depth / 8);
     row_bytes.resize(stride);
     for (int y = 0; y < height; ++y) {
         if (bit_depth == 8) {
             std::memcpy(row_bytes.data(), static_cast<const std::uint8_t*>(pixels) + y * stride, stride);
         } else {
-            const std::uint16_t* row = static_cast<const std::uint16_t*>(pixels) + std::size_t(y) * width * 4;
-            for (std::size_t i = 0; i < std::size_t(width) * 4; ++i) {
+            const std::size_t samples = std::size_t(width) * std::size_t(channels);
+            const std::uint16_t* row = static_cast<const std::uint16_t*>(pixels) + std::size_t(y) * samples;
+            for (std::size_t i = 0; i < samples; ++i) {
                 row_bytes[2 * i] = std::uint8_t(row[i] >> 8);
                 row_bytes[2 * i + 1] = std::uint8_t(row[i] & 0xff);
             }
@@ -102,6 +106,18 @@ Status write_png(const ImageRGBA16& image, const std::string& path)
     return write_file_atomic(path, *bytes);
 }
 
+Result<std::string> encode_png_grey_bytes(int width, int height, int bit_depth, const std::vector<std::uint16_t>& samples)
+{
+    STANDIN_RETURN_IF_ERROR(check_size(width, height, "PNG"));
+    if ((bit_depth != 8 && bit_depth != 16) || samples.size() != std::size_t(width) * std::size_t(height))
+        return error(StatusCode::invalid_argument, "PNG: grey image of " + std::to_string(samples.size()) +
+                                                       " samples at " + std::to_string(bit_depth) + " bits");
+    if (bit_depth == 16) return encode_png(width, height, 16, samples.data(), 1, 9);
+    std::vector<std::uint8_t> narrow(samples.size());
+    for (std::size_t k = 0; k < samples.size(); ++k) narrow[k] = std::uint8_t(std::min<std::uint16_t>(samples[k], 255));
+    return encode_png(width, height, 8, narrow.data(), 1, 9);
+}
+
 // The decoded image must fit the memory budget: a few bytes of PNG can declare 65535 x 65535.
 static Status check_decoded_size(const std::string& path, const std::string& bytes, int bytes_per_texel)
 {
@@ -142,6 +158,37 @@ Result<ImageRGBA16> read_png_rgba16(const std::string& path)
     std::memcpy(image.pixels.data(), data, image.pixels.size() * sizeof(std::uint16_t));
     stbi_image_free(data);
     return image;
+}
+
+Result<std::vector<std::uint16_t>> read_png_grey(const std::string& path, int bit_depth, int* width, int* height)
+{
+    Result<PngInfo> info = read_png_info(path);
+    if (!info) return info.status();
+    if (info->color_type != 0 || info->bit_depth != bit_depth)
+        return error(StatusCode::bad_data, quoted(path) + ": not a " + std::to_string(bit_depth) +
+                                               "-bit grey PNG (colour type " + std::to_string(info->color_type) +
+                                               ", " + std::to_string(info->bit_depth) + " bits)");
+    Result<std::string> bytes = read_file(path);
+    if (!bytes) return bytes.status();
+    if (bytes->size() > std::size_t(INT32_MAX)) return error(StatusCode::bad_data, quoted(path) + ": image file too large");
+    STANDIN_RETURN_IF_ERROR(check_decoded_size(path, *bytes, 2));
+    int w = 0, h = 0, channels = 0;
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes->data());
+    std::vector<std::uint16_t> samples;
+    if (bit_depth == 16) {
+        stbi_us* decoded = stbi_load_16_from_memory(data, int(bytes->size()), &w, &h, &channels, 1);
+        if (!decoded) return error(StatusCode::bad_data, quoted(path) + ": not a readable image (" + stbi_failure_reason() + ")");
+        samples.assign(decoded, decoded + std::size_t(w) * std::size_t(h));
+        stbi_image_free(decoded);
+    } else {
+        stbi_uc* decoded = stbi_load_from_memory(data, int(bytes->size()), &w, &h, &channels, 1);
+        if (!decoded) return error(StatusCode::bad_data, quoted(path) + ": not a readable image (" + stbi_failure_reason() + ")");
+        samples.assign(decoded, decoded + std::size_t(w) * std::size_t(h));
+        stbi_image_free(decoded);
+    }
+    if (width) *width = w;
+    if (height) *height = h;
+    return samples;
 }
 
 Result<PngInfo> read_png_info(const std::string& path)

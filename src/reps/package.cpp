@@ -102,7 +102,7 @@ Status write_package(const Package& package, const std::string& directory)
 
 // Every entry of "files", used or not: a plain file name (no separators, no "..", not absolute), a
 // regular file inside the package (not a link out of it) of the size recorded, and a PNG declared
-// by its name is an RGBA PNG. The codecs check hashes and what each file must hold.
+// by its name is an RGBA or grey PNG. The codecs check which each file must be, and hashes and what each file must hold.
 static Status check_listed_files(const std::string& directory, const nlohmann::json& manifest, const std::string& manifest_path)
 {
     if (!manifest.contains("files")) return Status::ok(); // the codec names the missing field
@@ -125,9 +125,9 @@ static Status check_listed_files(const std::string& directory, const nlohmann::j
         if (name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0) {
             Result<PngInfo> png = read_png_info(path);
             if (!png) return png.status();
-            if (png->color_type != k_png_color_rgba)
+            if (png->color_type != k_png_color_rgba && png->color_type != k_png_color_grey)
                 return error(StatusCode::bad_data, quoted(path) + ": PNG colour type " + std::to_string(png->color_type) +
-                                                       ", package images are RGBA (colour type 6)");
+                                                       ", package images are RGBA or grey (colour type 6 or 0)");
         }
     }
     return Status::ok();

@@ -3,12 +3,17 @@
 // no huge allocation), BC blocks independent of the thread count, octahedral normals' precision.
 #include "reps/common/block_compress.h"
 #include "reps/common/package_codec.h"
+#include "test_support.h"
+
+#include <standin/files.h>
+#include <standin/image.h>
 
 #include <gtest/gtest.h>
 #include <squish.h>
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 namespace standin {
@@ -93,6 +98,62 @@ TEST(Ktx2, HostileFilesAreRefusedOnOneLine)
     put32(huge, 20, 1u << 20);
     put32(huge, 24, 1u << 20);
     expect_refused(huge, BlockFormat::bc5, 1 << 20, 1 << 20, 2, "too large");
+}
+
+// Exact depth as a grey PNG (format version 5): the same samples back, at 8 and 16 bits; a planar
+// depth (what most of a surface is) leaves PNG's prediction a constant residual, so the file is a
+// fraction of the raw-zlib KTX2 of the same level; packages of version 4 keep their KTX2 depth,
+// which still reads; a PNG of another kind is refused on one line naming it.
+TEST(ExactChannel, DepthRoundTripsThroughAGreyPngSmallerThanItsKtx2)
+{
+    const std::string dir = test::fresh_directory("exact_channel");
+    const int width = 96, height = 64;
+    for (BlockFormat format : {BlockFormat::r16, BlockFormat::r8}) {
+        const bool wide = format == BlockFormat::r16;
+        BlockImage depth{format, width, height, {std::vector<std::uint8_t>(manifest_io::level_bytes(format, width, height))}};
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const std::size_t k = std::size_t(y) * width + std::size_t(x);
+                const int v = x > 80 ? 0 : (wide ? 9000 + 211 * x + 97 * y : 20 + x + y); // a plane, then uncovered
+                if (wide) depth.levels[0][2 * k] = std::uint8_t(v & 0xff), depth.levels[0][2 * k + 1] = std::uint8_t(v >> 8);
+                else depth.levels[0][k] = std::uint8_t(v);
+            }
+        nlohmann::json files = nlohmann::json::object();
+        const std::string name = wide ? "d16.png" : "d8.png";
+        ASSERT_TRUE(manifest_io::write_exact_channel(depth, dir, name, files));
+        ASSERT_TRUE(manifest_io::write_blocks(depth, dir, wide ? "d16.ktx2" : "d8.ktx2", files));
+        const manifest_io::Reader in(dir);
+        EXPECT_EQ(manifest_io::read_exact_channel(in, files, name, format, width, height).levels, depth.levels);
+        EXPECT_EQ(manifest_io::read_exact_channel(in, files, wide ? "d16.ktx2" : "d8.ktx2", format, width, height).levels,
+                  depth.levels);
+        const auto png_bytes = files[name]["bytes"].get<std::uint64_t>();
+        const auto ktx2_bytes = files[wide ? "d16.ktx2" : "d8.ktx2"]["bytes"].get<std::uint64_t>();
+        EXPECT_LT(png_bytes * 2, ktx2_bytes) << manifest_io::block_format_name(format);
+        Result<PngInfo> info = read_png_info(dir + "/" + name);
+        ASSERT_TRUE(info);
+        EXPECT_EQ(info->color_type, k_png_color_grey);
+        EXPECT_EQ(info->bit_depth, wide ? 16 : 8);
+    }
+    // the other kinds of PNG where depth is expected: RGBA, and grey of the other bit depth
+    nlohmann::json files = nlohmann::json::object();
+    ASSERT_TRUE(manifest_io::write_image(ImageRGBA8(width, height), dir, "rgba.png", files));
+    const manifest_io::Reader in(dir);
+    auto refusal = [&](const std::string& name, BlockFormat format, const nlohmann::json& listed) {
+        try {
+            (void)manifest_io::read_exact_channel(in, listed, name, format, width, height);
+        } catch (const manifest_io::BadField& bad) {
+            EXPECT_EQ(bad.message.find('\n'), std::string::npos);
+            EXPECT_NE(bad.message.find(name), std::string::npos) << bad.message;
+            return bad.message;
+        }
+        ADD_FAILURE() << name << " was read";
+        return std::string();
+    };
+    EXPECT_NE(refusal("rgba.png", BlockFormat::r8, files).find("colour type 6"), std::string::npos);
+    nlohmann::json both = nlohmann::json::object();
+    BlockImage eight{BlockFormat::r8, width, height, {std::vector<std::uint8_t>(std::size_t(width) * height, 7)}};
+    ASSERT_TRUE(manifest_io::write_exact_channel(eight, dir, "eight.png", both));
+    EXPECT_NE(refusal("eight.png", BlockFormat::r16, both).find("8-bit samples"), std::string::npos);
 }
 
 TEST(BlockCompress, OutputDoesNotDependOnTheThreadCount)

@@ -312,20 +312,23 @@ Status write_manifest(const std::string& directory, const nlohmann::json& manife
     return write_file_atomic((fs::path(directory) / "manifest.json").string(), manifest.dump(indent) + "\n");
 }
 
-// Size and bit depth of a listed PNG against the manifest, before it is decoded.
+// Size, bit depth and colour type of a listed PNG against the manifest, before it is decoded.
 static std::string checked_png(const Reader& in, const nlohmann::json& files, const std::string& name, int width,
-                               int height, int bits)
+                               int height, int bits, int color_type = k_png_color_rgba)
 {
     check_file(in, in.directory(), files, name);
     std::string path = (fs::path(in.directory()) / name).string();
-    int w = 0, h = 0;
-    Result<int> depth = png_bit_depth(path, &w, &h);
-    if (!depth) throw BadField{depth.status().message()};
-    if (w != width || h != height)
-        throw BadField{quoted(path) + ": is " + std::to_string(w) + "x" + std::to_string(h) + ", the manifest says " +
-                       std::to_string(width) + "x" + std::to_string(height)};
-    if (*depth != bits)
-        throw BadField{quoted(path) + ": has " + std::to_string(*depth) + "-bit samples, the manifest says " + std::to_string(bits)};
+    Result<PngInfo> info = read_png_info(path);
+    if (!info) throw BadField{info.status().message()};
+    if (info->width != width || info->height != height)
+        throw BadField{quoted(path) + ": is " + std::to_string(info->width) + "x" + std::to_string(info->height) +
+                       ", the manifest says " + std::to_string(width) + "x" + std::to_string(height)};
+    if (info->bit_depth != bits)
+        throw BadField{quoted(path) + ": has " + std::to_string(info->bit_depth) + "-bit samples, the manifest says " +
+                       std::to_string(bits)};
+    if (info->color_type != color_type)
+        throw BadField{quoted(path) + ": PNG colour type " + std::to_string(info->color_type) + ", this map is " +
+                       (color_type == k_png_color_grey ? "grey (colour type 0)" : "RGBA (colour type 6)")};
     return path;
 }
 
@@ -559,6 +562,56 @@ BlockImage read_blocks(const Reader& in, const nlohmann::json& files, const std:
     Result<BlockImage> image = decode_ktx2(*bytes, path, format, width, height, levels);
     if (!image) throw BadField{image.status().message()};
     return std::move(*image);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Exact channels: grey PNGs. Depth is smooth across a surface, so PNG's per-row filters (libpng's
+// adaptive choice among none, sub, up, average and Paeth) leave small residuals for zlib: on the
+// held-out engine's billboards 47% of the bytes of the same depth zlib'd raw in a KTX2
+// (docs/RESULTS.md, "Depth as grey PNG"). KTX2 has no such filter, and the renderer uploads
+// depth as R16 either way, so nothing is lost by leaving the GPU container for it.
+
+Status write_exact_channel(const BlockImage& image, const std::string& directory, const std::string& name,
+                           nlohmann::json& files)
+{
+    if ((image.format != BlockFormat::r8 && image.format != BlockFormat::r16) || image.levels.size() != 1)
+        return error(StatusCode::invalid_argument, name + ": only one level of R8 or R16 is written as a grey PNG");
+    const bool wide = image.format == BlockFormat::r16;
+    const std::vector<std::uint8_t>& bytes = image.levels[0];
+    std::vector<std::uint16_t> samples(std::size_t(image.width) * std::size_t(image.height));
+    if (bytes.size() != samples.size() * (wide ? 2 : 1))
+        return error(StatusCode::invalid_argument, name + ": level size does not match the image");
+    for (std::size_t k = 0; k < samples.size(); ++k)
+        samples[k] = wide ? std::uint16_t(bytes[2 * k] | (bytes[2 * k + 1] << 8)) : bytes[k];
+    Result<std::string> png = encode_png_grey_bytes(image.width, image.height, wide ? 16 : 8, samples);
+    if (!png) return error(png.status().code(), name + ": " + png.status().message());
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / name).string(), *png));
+    return record_file(directory, name, files);
+}
+
+BlockImage read_exact_channel(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
+                              int width, int height)
+{
+    if (!name.ends_with(".png")) return read_blocks(in, files, name, format, width, height, 1);
+    const bool wide = format == BlockFormat::r16;
+    const std::string path = checked_png(in, files, name, width, height, wide ? 16 : 8, k_png_color_grey);
+    int w = 0, h = 0;
+    Result<std::vector<std::uint16_t>> samples = read_png_grey(path, wide ? 16 : 8, &w, &h);
+    if (!samples) throw BadField{samples.status().message()};
+    if (w != width || h != height || samples->size() != std::size_t(width) * std::size_t(height)) // checked_png saw the header
+        throw BadField{quoted(path) + ": decodes to " + std::to_string(w) + "x" + std::to_string(h)};
+    BlockImage image{format, width, height, {std::vector<std::uint8_t>(samples->size() * (wide ? 2 : 1))}};
+    std::vector<std::uint8_t>& level = image.levels[0];
+    for (std::size_t k = 0; k < samples->size(); ++k) {
+        const std::uint16_t v = (*samples)[k];
+        if (wide) {
+            level[2 * k] = std::uint8_t(v & 0xff);
+            level[2 * k + 1] = std::uint8_t(v >> 8);
+        } else {
+            level[k] = std::uint8_t(v);
+        }
+    }
+    return image;
 }
 
 } // namespace standin::manifest_io

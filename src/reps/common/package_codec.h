@@ -158,4 +158,13 @@ Status write_blocks(const BlockImage& image, const std::string& directory, const
 BlockImage read_blocks(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
                        int width, int height, int levels);
 
+// Exact one-channel images (R8, R16: depth) as grey PNGs (docs/FORMAT.md, "Exact channels"): zlib
+// alone packs smooth depth half as tightly as PNG's per-row prediction does. write_exact_channel
+// writes NAME (a .png); read_exact_channel reads a .png, or the .ktx2 of packages written before,
+// into the little-endian levels[0] a KTX2 gives.
+Status write_exact_channel(const BlockImage& image, const std::string& directory, const std::string& name,
+                           nlohmann::json& files);
+BlockImage read_exact_channel(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
+                              int width, int height);
+
 } // namespace standin::manifest_io

@@ -3,7 +3,7 @@
 // coverage, normal + depth; the seed's two-image layout, 000 §3.1); with bc (format version 2)
 // three KTX2 files: BC3 colour + coverage (coverage is 0 or 255, which BC3's alpha keeps exactly),
 // BC5 octahedral normals fitted over covered texels only, and depth exact (R16, or R8 at
-// --depth-bits 8) under zlib. Depth is not block-compressed: BC4's 8-bit end points would undo
+// --depth-bits 8) as a grey PNG (format version 5; a KTX2 under zlib before, still read). Depth is not block-compressed: BC4's 8-bit end points would undo
 // the 16-bit depth the exact march needs (docs/RESULTS.md, "Compressed packages"). Reading decodes
 // the blocks into the same in-memory images as PNG packages (no recompression). Writing is deterministic (no timings, sorted keys, fixed PNG and PLY
 // encoders); reading validates every field and every file, and refuses what it does not
@@ -55,6 +55,7 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
     manifest_io::BlockImage depth{depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, {}};
     std::vector<std::uint8_t> depths(texels * (depth_bits == 8 ? 1 : 2));
     for (std::size_t k = 0; k < texels; ++k) {
+        if (b.color.pixels[k * 4 + 3] < 128) continue; // uncovered texels 0, as a reader gives them
         const std::uint16_t* nd = &b.normal_depth.pixels[k * 4];
         if (depth_bits == 8) {
             depths[k] = std::uint8_t((nd[3] + 128) / 257);
@@ -72,10 +73,10 @@ Status write_compressed(const Billboard& b, std::size_t index, int depth_bits, c
                                       return true;
                                   }));
     depth.levels.push_back(std::move(depths));
-    const std::string names[3] = {billboard_file(index, "color"), compressed_file(index, "normal"), compressed_file(index, "depth")};
+    const std::string names[3] = {billboard_file(index, "color"), compressed_file(index, "normal"), billboard_file(index, "depth")};
     STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, names[0], files));
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, names[1], files));
-    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, names[2], files));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_exact_channel(depth, directory, names[2], files));
     entry["color"] = {{"file", names[0]}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}};
     entry["normal"] = {{"file", names[1]}, {"format", "BC5"}, {"channels", "octahedral world normal (x, y) * 0.5 + 0.5"}};
     entry["depth"] = {{"file", names[2]}, {"format", depth_bits == 8 ? "R8" : "R16"}, {"bits", depth_bits}};
@@ -94,8 +95,8 @@ void read_compressed(const manifest_io::Reader& in, const nlohmann::json& files,
     };
     std::string normal_name = map_file("normal", "BC5"), depth_name = map_file("depth", depth_bits == 8 ? "R8" : "R16");
     manifest_io::BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, b.width, b.height, 1);
-    manifest_io::BlockImage depth = manifest_io::read_blocks(
-        in, files, depth_name, depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height, 1);
+    manifest_io::BlockImage depth = manifest_io::read_exact_channel( // a grey PNG; a KTX2 before format version 5
+        in, files, depth_name, depth_bits == 8 ? BlockFormat::r8 : BlockFormat::r16, b.width, b.height);
     const nlohmann::json& color_entry = in.member(entry, "color", where);
     const std::string color_name = in.string(color_entry, "file", where + "color.");
     if (color_entry.contains("format")) { // BC3 colour: read, not written by this version (see the file comment)
@@ -224,7 +225,7 @@ Status write(const Package& base, const std::string& directory)
         left[reason] = {{"faces", what.faces}, {"area", what.area}, {"area_fraction", package.area_total > 0 ? what.area / package.area_total : 0.0}};
 
     nlohmann::json manifest =
-        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version_compact_coarse : 1);
+        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version : 1);
     manifest["faces_total"] = package.faces_total;
     manifest["area_total"] = package.area_total;
     manifest["area_captured"] = package.area_captured;

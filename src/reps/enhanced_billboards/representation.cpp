@@ -39,7 +39,7 @@ std::vector<OptionSpec> bake_options()
         integer_option("depth-bits", 16, 8, 16,
                        "Depth precision: 16, or 8 (the paper: the alpha channel of an 8-bit image)"),
         choice_option("compression", "bc", {"bc", "none"},
-                      "Maps in the package: bc (BC5 octahedral normals and zlib-packed exact depth in KTX2 files, "
+                      "Maps in the package: bc (BC5 octahedral normals in KTX2 files, exact depth as grey PNG, "
                       "colour PNG) or none (PNG only, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
                       "Triangles of the coarse hole-filling mesh relative to the model (0: none); models with "

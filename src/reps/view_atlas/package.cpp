@@ -1,10 +1,10 @@
 // View-atlas packages on disk (docs/FORMAT.md, "View atlas"): manifest.json with every view's
 // direction, axes and rectangles, and the atlas pages (colour + coverage; normal + depth for
 // "surface" maps; ORM + emission for PBR models, issue #14). With --compression none every page is
-// a PNG (format version 1). With bc (format version 4, issue #17) a surface page's normals are BC5
-// blocks of octahedral normals (Meyer et al. 2010) fitted over covered texels only and its depth
-// exact R8 under zlib, in the KTX2 files of reps/common/package_codec.h, as the enhanced billboards
-// store theirs; colour stays PNG (BC3 colour cost the billboards +0.77 Luv, docs/RESULTS.md).
+// a PNG (format version 1). With bc (format version 5, issue #17) a surface page's normals are BC5
+// blocks of octahedral normals (Meyer et al. 2010) fitted over covered texels only, in the KTX2
+// files of reps/common/package_codec.h, and its depth exact as an 8-bit grey PNG (an R8 KTX2 in
+// format version 4, still read), as the enhanced billboards store theirs; colour stays PNG (BC3 colour cost the billboards +0.77 Luv, docs/RESULTS.md).
 // bc-color stores the colour as the premultiplied DXT5 levels --texture-format bc3 uploads, so that
 // loading compresses nothing. ORM and emission pages stay PNG in every mode (rare, and BC3 would
 // round the linear ORM channels to 5:6:5). Reading decodes the blocks into the in-memory pages PNG
@@ -42,7 +42,7 @@ std::string page_blocks_file(std::size_t index, const char* map)
 using manifest_io::BlockFormat;
 using manifest_io::BlockImage;
 
-// A surface page's normals (BC5, octahedral) and depth (R8, exact) as the package stores them.
+// A surface page's normals (BC5, octahedral) and depth (R8, exact: a grey PNG) as the package stores them.
 Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, const std::string& directory,
                             nlohmann::json& files, nlohmann::json& page)
 {
@@ -62,9 +62,9 @@ Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, cons
     for (std::size_t t = 0; t < depth.levels[0].size(); ++t) // uncovered texels 0, as a reader gives them
         depth.levels[0][t] = color.pixels[t * 4 + 3] >= 128 ? nd.pixels[t * 4 + 3] : std::uint8_t(0);
     STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, page_blocks_file(k, "normal"), files));
-    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(depth, directory, page_blocks_file(k, "depth"), files));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_exact_channel(depth, directory, page_file(k, "depth"), files));
     page["normal"] = page_blocks_file(k, "normal");
-    page["depth"] = page_blocks_file(k, "depth");
+    page["depth"] = page_file(k, "depth");
     return Status::ok();
 }
 
@@ -86,7 +86,7 @@ void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& fi
                          const std::string& depth_name, int size, ViewAtlasPackage& package)
 {
     BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, size, size, 1);
-    BlockImage depth = manifest_io::read_blocks(in, files, depth_name, BlockFormat::r8, size, size, 1);
+    BlockImage depth = manifest_io::read_exact_channel(in, files, depth_name, BlockFormat::r8, size, size); // .ktx2 before version 5
     const std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), size, size, squish::kBc5);
     const ImageRGBA8& color = package.color_pages.back();
     ImageRGBA8 nd(size, size);
@@ -118,8 +118,11 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json pages = nlohmann::json::array();
     const std::string& compression = package.settings.compression;
     const bool compressed = compression != "none";
-    // format version 4 only where there are KTX2 pages: a lit package of bc is laid out as before
-    const bool new_layout = compression == "bc-color" || (compressed && package.has_surface());
+    // a newer format version only where the layout needs it: a lit package of bc is laid out as
+    // version 1; KTX2 colour needs 4, grey PNG depth 5
+    const int version = compressed && package.has_surface() ? k_package_format_version
+                        : compression == "bc-color"         ? k_package_format_version_block_pages
+                                                            : 1;
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
         nlohmann::json page = {{"color", page_file(k, "color")}};
         if (compression == "bc-color") {
@@ -152,7 +155,7 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views)
         views.push_back(manifest_io::view_json(v));
-    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters, new_layout ? k_package_format_version : 1);
+    nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters, version);
     manifest["sphere"] = {{"center", manifest_io::vec3_json(package.center)}, {"radius", package.radius}};
     manifest["half_extent"] = package.half_extent();
     if (package.alpha_tested) manifest["alpha_tested"] = true; // only then: other packages stay as they were

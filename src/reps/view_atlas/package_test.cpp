@@ -7,6 +7,7 @@
 #include "reps/view_atlas/view_atlas.h"
 
 #include <standin/files.h>
+#include <standin/image.h>
 
 #include <gtest/gtest.h>
 
@@ -78,7 +79,7 @@ ViewAtlasPackage with_compression(ViewAtlasPackage p, const char* compression)
     return p;
 }
 
-// --compression bc / bc-color (issue #17): format version 4, KTX2 pages; coverage and depth exact,
+// --compression bc / bc-color (issue #17): format version 5, KTX2 pages and grey PNG depth; coverage and depth exact,
 // normals within BC5's error, colour exact (bc) or within DXT5's (bc-color); a read package writes
 // the same blocks back; the stored colour blocks are what --texture-format bc3 would have made.
 TEST(ViewAtlasPackage, BcPagesRoundTrip)
@@ -95,7 +96,7 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
         EXPECT_EQ(manifest["bake"]["compression"], compression);
         EXPECT_FALSE(fs::exists(dir + "/a.standin/page_000_normal_depth.png"));
         EXPECT_EQ(fs::exists(dir + "/a.standin/page_000_color.png"), !bc_color);
-        for (const std::string name : {"manifest.json", "page_000_normal.ktx2", "page_000_depth.ktx2",
+        for (const std::string name : {"manifest.json", "page_000_normal.ktx2", "page_000_depth.png",
                                        bc_color ? "page_000_color.ktx2" : "page_000_color.png"})
             EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/b.standin/" + name)) << name;
 
@@ -133,7 +134,7 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
 
         // writing the read package stores the blocks it read (no refit of decoded normals)
         ASSERT_TRUE(write_package(q, dir + "/c.standin").is_ok());
-        for (const char* name : {"page_000_normal.ktx2", "page_000_depth.ktx2"})
+        for (const char* name : {"page_000_normal.ktx2", "page_000_depth.png"})
             EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/c.standin/" + name)) << name;
         if (bc_color) {
             EXPECT_EQ(read_text(dir + "/a.standin/page_000_color.ktx2"), read_text(dir + "/c.standin/page_000_color.ktx2"));
@@ -176,6 +177,18 @@ TEST(ViewAtlasPackage, RefusesBadCompressedPages)
     replace(m, "page_000_normal.ktx2", manifest_io::encode_ktx2(small));
     expect_refused("page_000_normal.ktx2");
     m = fresh("bc");
+    Result<std::string> rgba_depth = encode_png_bytes(ImageRGBA8(256, 256));
+    ASSERT_TRUE(rgba_depth);
+    replace(m, "page_000_depth.png", *rgba_depth);
+    expect_refused("page_000_depth.png");
+    // format version 4 kept depth as an R8 KTX2: still read, and one of another format refused
+    m = fresh("bc");
+    BlockImage r8{BlockFormat::r8, 256, 256, {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::r8, 256, 256))}};
+    m["version"] = 4;
+    m["pages"][0]["depth"] = "page_000_depth.ktx2";
+    replace(m, "page_000_depth.ktx2", manifest_io::encode_ktx2(r8));
+    Result<std::unique_ptr<Package>> version4 = read_package(path);
+    EXPECT_TRUE(version4.is_ok()) << version4.status().message();
     BlockImage bc4{BlockFormat::bc4, 256, 256, {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::bc4, 256, 256))}};
     replace(m, "page_000_depth.ktx2", manifest_io::encode_ktx2(bc4));
     expect_refused("page_000_depth.ktx2");

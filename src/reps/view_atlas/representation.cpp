@@ -31,8 +31,8 @@ std::vector<OptionSpec> bake_options()
                       "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
         integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),
         choice_option("compression", "bc", {"bc", "none", "bc-color"},
-                      "Pages in the package: bc (BC5 octahedral normals and zlib-packed exact depth in KTX2 files, "
-                      "colour PNG; -26% bytes, +0.05-0.09 Luv, docs/RESULTS.md), none (PNG), bc-color (bc, colour "
+                      "Pages in the package: bc (BC5 octahedral normals in KTX2 files, exact depth as grey PNG, "
+                      "colour PNG; -29% bytes, +0.05-0.09 Luv, docs/RESULTS.md), none (PNG), bc-color (bc, colour "
                       "as the DXT5 blocks --texture-format bc3 uploads, mip levels included)"),
     };
 }
