@@ -143,13 +143,19 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
 // their centres (doubles, fixed order: deterministic), then the offsets that hold every column from
 // its min to its max over its whole square (the plane is linear: its extremes over a square are at
 // the corners). A flat tile gets slope 0 and the plain box.
+// In a layer of a tile: a covered texel whose range starts within the layer's depths.
+static bool in_layer(const SurfaceTexel& texel, const TileBox& box)
+{
+    return (texel.flags & k_texel_covered) && texel.min >= box.depth_min && texel.min <= box.depth_max;
+}
+
 static void fit_tile_plane(const HeightFieldAcceleration& acc, TileBox& box)
 {
     double n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
     for (int j = box.texel_min.y; j < box.texel_max.y; ++j) {
         for (int i = box.texel_min.x; i < box.texel_max.x; ++i) {
             const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
-            if (!(texel.flags & k_texel_covered)) continue;
+            if (!in_layer(texel, box)) continue;
             // centred on the box so the normal equations stay well conditioned
             double x = i + 0.5 - box.texel_min.x, y = j + 0.5 - box.texel_min.y, z = texel.depth / double(HF_DEPTH_CODES);
             n += 1;
@@ -175,7 +181,7 @@ static void fit_tile_plane(const HeightFieldAcceleration& acc, TileBox& box)
     for (int j = box.texel_min.y; j < box.texel_max.y; ++j) {
         for (int i = box.texel_min.x; i < box.texel_max.x; ++i) {
             const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
-            if (!(texel.flags & k_texel_covered)) continue;
+            if (!in_layer(texel, box)) continue;
             double z_min = texel.min / double(HF_DEPTH_CODES), z_max = texel.max / double(HF_DEPTH_CODES);
             for (int c = 0; c < 4; ++c) {
                 double plane = s.x * double(i + (c & 1)) + s.y * double(j + (c >> 1));
@@ -194,31 +200,52 @@ static void fit_tile_plane(const HeightFieldAcceleration& acc, TileBox& box)
     box.offset_max = float(hi);
 }
 
-std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size)
+std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size, int layer_gap)
 {
     assert(tile_size > 0 && (tile_size & (tile_size - 1)) == 0);
     std::vector<TileBox> tiles;
+    std::vector<MinMax> ranges;
     for (int tj = 0; tj < acc.height; tj += tile_size) {
         for (int ti = 0; ti < acc.width; ti += tile_size) {
-            // the bounds of the covered texels of the tile and of their ranges
-            TileBox box;
-            box.texel_min = glm::ivec2(ti + tile_size, tj + tile_size);
-            box.texel_max = glm::ivec2(ti, tj);
-            bool occupied = false;
-            for (int j = tj; j < std::min(tj + tile_size, acc.height); ++j) {
+            // the depth ranges of the tile's covered texels, merged where they overlap or lie
+            // within layer_gap of each other: each merged range is a layer of the tile
+            ranges.clear();
+            for (int j = tj; j < std::min(tj + tile_size, acc.height); ++j)
                 for (int i = ti; i < std::min(ti + tile_size, acc.width); ++i) {
                     const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
-                    if (!(texel.flags & k_texel_covered)) continue;
-                    occupied = true;
-                    box.texel_min = glm::min(box.texel_min, glm::ivec2(i, j));
-                    box.texel_max = glm::max(box.texel_max, glm::ivec2(i + 1, j + 1));
-                    box.depth_min = std::min(box.depth_min, texel.min);
-                    box.depth_max = std::max(box.depth_max, texel.max);
+                    if (texel.flags & k_texel_covered) ranges.push_back({texel.min, texel.max});
                 }
+            if (ranges.empty()) continue;
+            std::sort(ranges.begin(), ranges.end(), [](MinMax a, MinMax b) { return a.min != b.min ? a.min < b.min : a.max < b.max; });
+            std::vector<MinMax> layers{ranges.front()};
+            for (const MinMax& r : ranges) {
+                if (int(r.min) <= int(layers.back().max) + layer_gap) layers.back().max = std::max(layers.back().max, r.max);
+                else layers.push_back(r);
             }
-            if (!occupied) continue;
-            fit_tile_plane(acc, box);
-            tiles.push_back(box);
+            // at most k_max_tile_layers: the narrowest gaps close first
+            while (layers.size() > std::size_t(k_max_tile_layers)) {
+                std::size_t narrowest = 1;
+                for (std::size_t k = 2; k < layers.size(); ++k)
+                    if (layers[k].min - layers[k - 1].max < layers[narrowest].min - layers[narrowest - 1].max) narrowest = k;
+                layers[narrowest - 1].max = std::max(layers[narrowest - 1].max, layers[narrowest].max);
+                layers.erase(layers.begin() + std::ptrdiff_t(narrowest));
+            }
+            for (const MinMax& layer : layers) {
+                // the bounds of the layer's texels and of their ranges
+                TileBox box;
+                box.texel_min = glm::ivec2(ti + tile_size, tj + tile_size);
+                box.texel_max = glm::ivec2(ti, tj);
+                box.depth_min = layer.min;
+                box.depth_max = layer.max;
+                for (int j = tj; j < std::min(tj + tile_size, acc.height); ++j)
+                    for (int i = ti; i < std::min(ti + tile_size, acc.width); ++i)
+                        if (in_layer(acc.surface[std::size_t(j) * acc.width + i], box)) {
+                            box.texel_min = glm::min(box.texel_min, glm::ivec2(i, j));
+                            box.texel_max = glm::max(box.texel_max, glm::ivec2(i + 1, j + 1));
+                        }
+                fit_tile_plane(acc, box);
+                tiles.push_back(box);
+            }
         }
     }
     return tiles;

@@ -77,6 +77,12 @@ struct TileBox {
 // The boxes of the tiles of `acc` that hold covered texels, row by row (empty tiles have none), so
 // that every covered texel lies in exactly one box. tile_size is a power of two, at most 2^levels
 // so that tiles align with pyramid cells.
-std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size);
+// A tile whose texels' depth ranges fall apart into layers more than `layer_gap` depth codes apart
+// (nested parts of an assembly seen through each other) gets one box per layer, at most
+// k_max_tile_layers, each over the texels whose range starts in it. Every crossing of a texel's
+// column or walls lies in its layer's box, so the boxes together find every crossing the tile's one
+// box would, and the empty depth between layers is no longer drawn and marched through.
+constexpr int k_max_tile_layers = 8;
+std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size, int layer_gap = 65535);
 
 } // namespace standin::billboards

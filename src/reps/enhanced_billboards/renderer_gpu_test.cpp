@@ -461,6 +461,97 @@ TEST(BillboardRenderer, TileProxiesHoldExactlyTheCoveredTexelsAndTheirWalls)
     EXPECT_GT(tiles.size(), 30u);
 }
 
+// A billboard of nested layers: a sphere's front cap with every other 8 x 8 block of texels pushed
+// back by 0.4 of the depth range, as an assembly's parts seen through each other.
+Billboard nested_billboard(int texels)
+{
+    Billboard b = sphere_billboard({0, 0, -1}, {1, 0, 0}, texels);
+    for (int j = 0; j < texels; ++j)
+        for (int i = 0; i < texels; ++i)
+            if (b.color.at(i, j)[3] != 0 && (i / 8 + j / 8) % 2 == 1) b.normal_depth.at(i, j)[3] += std::uint16_t(0.4 * 65535);
+    return b;
+}
+
+// build_tiles with a layer gap: the tiles whose texels lie at two depths get a box per depth, each
+// texel in exactly one box, the layers of a tile apart in depth, and far less depth drawn in all.
+TEST(BillboardRenderer, TileLayersSplitNestedDepthsIntoBoxesOfTheirOwn)
+{
+    Billboard b = nested_billboard(128);
+    HeightFieldAcceleration acc = build_acceleration(b, 128, 128, 6, LinkSettings{});
+    const int tile_size = 16, gap = 2048; // a quarter of a tile's width, 4 texels of 1/128 of the depth range
+    std::vector<TileBox> plain = build_tiles(acc, tile_size), layered = build_tiles(acc, tile_size, gap);
+    auto volume = [](const std::vector<TileBox>& tiles) {
+        double v = 0;
+        for (const TileBox& t : tiles)
+            v += double(t.texel_max.x - t.texel_min.x) * double(t.texel_max.y - t.texel_min.y) * (t.offset_max - t.offset_min);
+        return v;
+    };
+    std::printf("[ layers ] %zu boxes, volume %.1f; one box per tile: %zu, %.1f\n", layered.size(), volume(layered),
+                plain.size(), volume(plain));
+    EXPECT_GT(layered.size(), plain.size() + plain.size() / 2);
+    EXPECT_LT(volume(layered), 0.5 * volume(plain));
+    std::vector<int> owners(acc.surface.size(), 0);
+    for (std::size_t k = 0; k < layered.size(); ++k) {
+        const TileBox& t = layered[k];
+        for (int j = t.texel_min.y; j < t.texel_max.y; ++j)
+            for (int i = t.texel_min.x; i < t.texel_max.x; ++i) {
+                const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
+                if (!(texel.flags & k_texel_covered) || texel.min < t.depth_min || texel.min > t.depth_max) continue;
+                ++owners[std::size_t(j) * acc.width + i];
+                EXPECT_LE(texel.max, t.depth_max);
+                for (int c = 0; c < 4; ++c) { // the sheared box holds the column over its whole square
+                    float plane = t.slope.x * float(i + (c & 1)) + t.slope.y * float(j + (c >> 1));
+                    EXPECT_GE(reps::decode_depth(texel.min) - plane, t.offset_min - 1e-5f);
+                    EXPECT_LE(reps::decode_depth(texel.max) - plane, t.offset_max + 1e-5f);
+                }
+            }
+        for (std::size_t m = 0; m < k; ++m) // another layer of the same tile lies apart in depth
+            if (layered[m].texel_min / tile_size == t.texel_min / tile_size)
+                EXPECT_TRUE(int(t.depth_min) > int(layered[m].depth_max) + gap || int(layered[m].depth_min) > int(t.depth_max) + gap);
+    }
+    for (std::size_t k = 0; k < acc.surface.size(); ++k)
+        EXPECT_EQ(owners[k], (acc.surface[k].flags & k_texel_covered) ? 1 : 0) << "texel " << k % acc.width << "," << k / acc.width;
+}
+
+// The renderer's tile layers (--tile-layers, on by default) draw the same picture as one box per
+// tile with fewer fragments and fetches.
+TEST(BillboardRenderer, TileLayersKeepThePictureWithFewerFragments)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package;
+    package.source.bounds = {glm::vec3(-k_radius), glm::vec3(k_radius)};
+    package.billboards.push_back(nested_billboard(128));
+    RenderOptions off;
+    off.values.set("tile-layers", "off");
+    off.values.set("coarse", "off");
+    RenderOptions on;
+    on.values.set("coarse", "off");
+    for (float azimuth : {10.0f, 35.0f}) {
+        Camera camera = orbit(azimuth, 20.0f, 2.5f, k_width, k_height);
+        auto count = [&](const RenderOptions& options, std::uint64_t& fragments, std::uint64_t& fetches) {
+            auto renderer = make_package_renderer(package, options);
+            EXPECT_TRUE(renderer.is_ok());
+            (*renderer)->set_counting(true);
+            auto image = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
+            EXPECT_TRUE(image.is_ok());
+            fragments = (*renderer)->read_counter(Counter::fragments);
+            fetches = (*renderer)->read_counter(Counter::fetches);
+            return std::move(*image);
+        };
+        std::uint64_t fragments_off = 0, fetches_off = 0, fragments_on = 0, fetches_on = 0;
+        RenderedImage one_box = count(off, fragments_off, fetches_off), layers = count(on, fragments_on, fetches_on);
+        std::printf("[ layers ] azimuth %g: fragments %llu -> %llu, fetches %llu -> %llu\n", azimuth,
+                    (unsigned long long)fragments_off, (unsigned long long)fragments_on, (unsigned long long)fetches_off,
+                    (unsigned long long)fetches_on);
+        std::size_t covered = 0;
+        for (std::size_t k = 0; k < one_box.color.pixels.size(); k += 4) covered += one_box.color.pixels[k + 3] != 0;
+        EXPECT_GT(covered, 1000u);
+        EXPECT_EQ(layers.color.pixels, one_box.color.pixels) << "azimuth " << azimuth;
+        EXPECT_LT(double(fragments_on), 0.8 * double(fragments_off)) << "azimuth " << azimuth;
+        EXPECT_LT(fetches_on, fetches_off) << "azimuth " << azimuth;
+    }
+}
+
 TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)
 {
     test::gpu_context();

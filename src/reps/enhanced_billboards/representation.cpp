@@ -63,6 +63,9 @@ std::vector<OptionSpec> render_options()
         number_option("hit-range", "0.01", 0.0, 1.0,
                       "Seed march: hit range e as a fraction of the box depth (0.02 fills holes)", true),
         flag_option("coarse", true, "Fill holes with the package's coarse mesh"),
+        flag_option("tile-layers", true,
+                    "Split a tile's proxy box into one box per depth layer where nested parts lie apart (the same "
+                    "picture as one box per tile, with fewer fragments and fetches)"),
     };
 }
 

@@ -21,7 +21,7 @@ layout(std430, binding = BINDING_BILLBOARDS_SSBO) readonly buffer BillboardBlock
 struct TileData {
     vec4 box_min;  // xy: texel rectangle, z: offset range, of the covered texels and their walls; w: slope.x
     vec4 box_max;  // w: slope.y
-    ivec4 info;    // billboard, highest pyramid level the march climbs to, 1 for a whole billboard's box, unused
+    ivec4 info;    // billboard, highest pyramid level the march climbs to, 1: the walk starts at the ray footprint's level (a whole billboard's box, coarse tiles), unused
 };
 
 layout(std430, binding = BINDING_TILES_SSBO) readonly buffer TileBlock {

@@ -303,7 +303,8 @@ void main()
             // start at the texel (or the pixel's level), where a coarse node would mostly be entered
             // only to be left again (measured: 15.8 fetches per covered pixel starting at the ray's
             // footprint level, 13.5 at the texel, noisy sphere, 800x600); a whole billboard's box
-            // is as deep as the model, and there the footprint level skips the empty space above
+            // is as deep as the model, and there (and in a coarse tile, a few pixels wide) the
+            // footprint level skips the empty space above
             float footprint = length(d.xy) * (t1 - t0);
             int start_level = tile.info.z != 0 ? int(ceil(log2(footprint + 1.0))) : 0;
             hit = march_exact(o, d, t0, t1, layer, size, ivec4(tile.box_min.xy, tile.box_max.xy), top_level, pixel_level,
