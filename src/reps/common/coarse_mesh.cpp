@@ -63,7 +63,7 @@ glm::vec4 corner_albedo(const Mesh& mesh, std::uint32_t face, std::uint32_t slot
 
 } // namespace
 
-Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders)
+Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders, float max_error)
 {
     Mesh coarse;
     // no triangles: nothing to simplify (an alpha-tested model's opaque faces may be none, and
@@ -81,11 +81,23 @@ Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders)
     // sheet's open boundary to fill the rim's holes (enhanced_billboards/renderer.cpp, rims_first),
     // which needs the true outline; collapsing along a border made it chords, inside a curved rim
     // (measured on the sheet assembly: holes 0.022% unlocked, 0.0087% locked)
+    const unsigned options = lock_borders ? meshopt_SimplifyLockBorder : 0;
+    float error_rel = 0.0f;
     std::size_t count = meshopt_simplify(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
-                                         sizeof(glm::vec3), target, 1.0f, lock_borders ? meshopt_SimplifyLockBorder : 0, nullptr);
+                                         sizeof(glm::vec3), target, 1.0f, options, &error_rel);
     if (count > target * 2)
         count = meshopt_simplifySloppy(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
-                                       sizeof(glm::vec3), target, 1.0f, nullptr);
+                                       sizeof(glm::vec3), target, 1.0f, &error_rel);
+    // max_error (issue #17): the ratio's mesh strays further from the surface than the stand-in
+    // can miss it by, so simplify only as far as that error allows (more triangles); a mesh within
+    // it stays as it was
+    if (max_error > 0.0f) {
+        float scale = meshopt_simplifyScale(positions, mesh.vertex_count(), sizeof(glm::vec3));
+        float max_error_rel = scale > 0.0f ? max_error / scale : 0.0f;
+        if (error_rel > max_error_rel)
+            count = meshopt_simplify(simplified.data(), welded.data(), index_count, positions, mesh.vertex_count(),
+                                     sizeof(glm::vec3), target, max_error_rel, options, nullptr);
+    }
     simplified.resize(count);
 
     // compact the vertices, in order of first use; colour = albedo of the source vertex

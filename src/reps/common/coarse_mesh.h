@@ -18,7 +18,10 @@ namespace standin::reps {
 // sampled at the kept corners); smooth normals. ratio <= 0: an empty mesh. Deterministic.
 // lock_borders (issue #17): open boundaries keep every vertex, so the outline of a sheet stays
 // where it is (closed meshes have none: the result is the same either way).
-Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders = false);
+// max_error > 0 (issue #17, model units): when the ratio's mesh strays further than this from the
+// model (meshoptimizer's error estimate), the simplification stops where it would exceed it
+// instead, keeping more triangles (at most all of them); 0: the ratio alone decides.
+Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders = false, float max_error = 0.0f);
 
 // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one triangle,
 // which fills no hole at all.

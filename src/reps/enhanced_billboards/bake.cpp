@@ -598,7 +598,10 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     package->coarse_rims = two_sided && !alpha_tested;
     // alpha-tested models: the coarse mesh of the opaque faces only (see opaque_faces)
     const Mesh opaque = alpha_tested ? opaque_faces(mesh) : Mesh{};
-    package->coarse_mesh = reps::make_coarse_mesh(alpha_tested ? opaque : mesh, settings.coarse_ratio, package->coarse_rims);
+    // and no further from the surface than a texel (k_coarse_error_texels, issue #17), so that it
+    // reaches the silhouette pixels the billboards lose
+    package->coarse_mesh = reps::make_coarse_mesh(alpha_tested ? opaque : mesh, settings.coarse_ratio, package->coarse_rims,
+                                                  k_coarse_error_texels * texel);
     context.progress.report("enhanced billboards: coarse mesh", 1.0);
     return package;
 }

@@ -104,8 +104,9 @@ constexpr float k_min_tile_pixels = 6.0f;
 // hole cannot show on them. Without the coarse mesh the exact march leaves about 0.02% of the
 // covered pixels as holes (noisy sphere, thesis protocol), so an instance of radius r px expects
 // 0.0002 * pi * r^2 hole pixels: under one pixel below r = 40 px. In crowds the coarse mesh (10% of
-// the faces per instance) costs more than all the billboards together (1000 copies of a 235k-face
-// model on llvmpipe: 13.3 s with it at r >= 16 px, 2.8 s without; 7.0 s at r >= 32 px).
+// the faces per instance, more where that strays over a texel) costs more than all the billboards
+// together (1000 copies of a 235k-face model on llvmpipe: 13.3 s with it at r >= 16 px, 2.8 s
+// without; 7.0 s at r >= 32 px).
 constexpr float k_min_coarse_radius_pixels = 40.0f;
 
 // What the CPU needs of a proxy box to sort and choose boxes each frame.

@@ -42,8 +42,9 @@ std::vector<OptionSpec> bake_options()
                       "Maps in the package: bc (BC5 octahedral normals in KTX2 files, exact depth as grey PNG, "
                       "colour PNG) or none (PNG only, the seed's images)"),
         number_option("coarse-ratio", "0.1", 0.0, 1.0,
-                      "Triangles of the coarse hole-filling mesh relative to the model (0: none); models with "
-                      "alpha-tested materials: of their opaque faces only"),
+                      "Triangles of the coarse hole-filling mesh relative to the model (0: none), or more where that "
+                      "many would stray further than a texel from it; models with alpha-tested materials: of their "
+                      "opaque faces only"),
         choice_option("sheet-edges", "auto", {"auto", "centre", "clip", "overlap"},
                       "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
                       "it, as everywhere), clip (every texel it crosses, clipped by the march to the edge's line "
