@@ -9,6 +9,10 @@
 // Any package: --variant NAME=VALUE[,NAME=VALUE...] (repeatable) measures the package with those
 // run-time options instead of the view atlas's --styles (e.g. microfacets: --variant views=1
 // --variant views=3).
+// "Error change" is the flicker the truth does not explain: per step, the mean over the pixels
+// either subject covers in either frame of |(S_i - S_i-1) - (T_i - T_i-1)| summed over RGB, i.e.
+// how much the stand-in's error image changes between frames (a steady error adds nothing; texture
+// shimmer the mesh does not show, or the mesh's own point-sampled shimmer the stand-in lacks, does).
 #include <standin/camera.h>
 #include <standin/eval.h>
 #include <standin/mesh.h>
@@ -32,13 +36,45 @@ struct Sweep {
 
 struct Changes {
     double mean = 0.0, p95 = 0.0, max = 0.0;
-    double excess = 0.0; // mean over steps of |change - truth's change at the same step|
+    double excess = 0.0;       // mean over steps of |change - truth's change at the same step|
+    double error_change = 0.0; // mean over steps of the error image's change (above)
 };
 
-// the frame-to-frame changes (rgb_avg) of one renderer along the sweep
-static Result<std::vector<double>> sweep_changes(Renderer& renderer, const BoundingSphere& sphere, const Sweep& s)
+struct SweepFrames {
+    std::vector<double> changes; // rgb_avg between consecutive frames
+    std::vector<ImageRGBA8> frames;
+};
+
+// a covered pixel's colour, an empty one black (the frames are composited over black)
+static int channel(const ImageRGBA8& image, std::size_t pixel, int c)
 {
-    std::vector<double> changes;
+    return image.pixels[4 * pixel + 3] != 0 ? int(image.pixels[4 * pixel + std::size_t(c)]) : 0;
+}
+
+// mean over steps of |(S_i - S_i-1) - (T_i - T_i-1)| (RGB sum) over the pixels any of the four covers
+static double error_change(const std::vector<ImageRGBA8>& standin, const std::vector<ImageRGBA8>& truth)
+{
+    double total = 0.0;
+    for (std::size_t i = 1; i < standin.size(); ++i) {
+        const ImageRGBA8 *s0 = &standin[i - 1], *s1 = &standin[i], *t0 = &truth[i - 1], *t1 = &truth[i];
+        double sum = 0.0;
+        std::size_t covered = 0;
+        for (std::size_t p = 0; p < s1->pixels.size() / 4; ++p) {
+            if (!(s0->pixels[4 * p + 3] | s1->pixels[4 * p + 3] | t0->pixels[4 * p + 3] | t1->pixels[4 * p + 3])) continue;
+            ++covered;
+            for (int c = 0; c < 3; ++c)
+                sum += std::abs((channel(*s1, p, c) - channel(*s0, p, c)) - (channel(*t1, p, c) - channel(*t0, p, c)));
+        }
+        total += covered ? sum / double(covered) : 0.0;
+    }
+    return standin.size() > 1 ? total / double(standin.size() - 1) : 0.0;
+}
+
+// the frames of one renderer along the sweep and their frame-to-frame changes (rgb_avg)
+static Result<SweepFrames> sweep_changes(Renderer& renderer, const BoundingSphere& sphere, const Sweep& s)
+{
+    SweepFrames sweep;
+    std::vector<double>& changes = sweep.changes;
     ImageRGBA8 previous;
     int steps = int(std::lround(s.span / s.step));
     for (int i = 0; i <= steps; ++i) {
@@ -51,9 +87,10 @@ static Result<std::vector<double>> sweep_changes(Renderer& renderer, const Bound
         Result<RenderedImage> image = render_offscreen(renderer, camera, default_light(camera), s.size, s.size);
         if (!image) return image.status();
         if (i > 0) changes.push_back(compare_images(previous, image->color).rgb_avg);
-        previous = std::move(image->color);
+        previous = image->color;
+        sweep.frames.push_back(std::move(image->color));
     }
-    return changes;
+    return sweep;
 }
 
 static Changes summarise(std::vector<double> changes, const std::vector<double>& truth)
@@ -115,16 +152,17 @@ int main(int argc, char** argv)
     // the ground truth's own frame-to-frame change
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*mesh);
     if (!truth) return std::fprintf(stderr, "%s\n", truth.status().message().c_str()), 1;
-    Result<std::vector<double>> truth_changes = sweep_changes(**truth, sphere, s);
-    if (!truth_changes) return std::fprintf(stderr, "%s\n", truth_changes.status().message().c_str()), 1;
+    Result<SweepFrames> truth_sweep = sweep_changes(**truth, sphere, s);
+    if (!truth_sweep) return std::fprintf(stderr, "%s\n", truth_sweep.status().message().c_str()), 1;
+    const std::vector<double>& truth_changes = truth_sweep->changes;
 
     std::printf("device: %s\n", (*context)->device_name().c_str());
     std::printf("sweep: azimuth %g..%g in %g deg steps, elevation %g, distance %g, fov %g, %dx%d; package %s\n\n",
                 double(s.start), double(s.start + s.span), double(s.step), double(s.elevation), double(s.distance),
                 double(s.fov), s.size, s.size, package_path.c_str());
-    std::printf("| subject | mean change | p95 | max | mean excess over truth |\n|---|---|---|---|---|\n");
-    Changes t = summarise(*truth_changes, *truth_changes);
-    std::printf("| ground truth | %.2f | %.2f | %.2f | - |\n", t.mean, t.p95, t.max);
+    std::printf("| subject | mean change | p95 | max | mean excess over truth | error change |\n|---|---|---|---|---|---|\n");
+    Changes t = summarise(truth_changes, truth_changes);
+    std::printf("| ground truth | %.2f | %.2f | %.2f | - | - |\n", t.mean, t.p95, t.max);
     if (variants.empty())
         for (const std::string& style : styles) variants.push_back("style=" + style);
     for (const std::string& variant : variants) {
@@ -137,11 +175,13 @@ int main(int argc, char** argv)
         }
         Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(**package, options);
         if (!renderer) return std::fprintf(stderr, "%s\n", renderer.status().message().c_str()), 1;
-        Result<std::vector<double>> changes = sweep_changes(**renderer, sphere, s);
-        if (!changes) return std::fprintf(stderr, "%s\n", changes.status().message().c_str()), 1;
-        Changes c = summarise(*changes, *truth_changes);
+        Result<SweepFrames> sweep = sweep_changes(**renderer, sphere, s);
+        if (!sweep) return std::fprintf(stderr, "%s\n", sweep.status().message().c_str()), 1;
+        Changes c = summarise(sweep->changes, truth_changes);
+        c.error_change = error_change(sweep->frames, truth_sweep->frames);
         std::string name = variant.rfind("style=", 0) == 0 ? variant.substr(6) : variant;
-        std::printf("| %s | %.2f | %.2f | %.2f | %.2f |\n", name.c_str(), c.mean, c.p95, c.max, c.excess);
+        std::printf("| %s | %.2f | %.2f | %.2f | %.2f | %.2f |\n", name.c_str(), c.mean, c.p95, c.max, c.excess,
+                    c.error_change);
     }
     return 0;
 }

@@ -528,9 +528,10 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
     glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
-    const std::string& color_level = settings.options.choice("color-level");
-    glProgramUniform1i(id, renderer->program_.uniform("finest_color"),
-                       color_level == "finest" || (color_level == "auto" && package.alpha_tested) ? 1 : 0);
+    // auto is level 0 for every package: nearer the truth at every distance, and its change under a
+    // slow orbit, relative to the truth's, no larger than at distance 1 (docs/RESULTS.md "Colour from
+    // level 0 for every model")
+    glProgramUniform1i(id, renderer->program_.uniform("finest_color"), settings.options.choice("color-level") != "mips");
     glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
     glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)

@@ -62,7 +62,8 @@ std::vector<OptionSpec> render_options()
                       "Corrected style, colour (and normals) away from the model: mips reads the coverage-respecting "
                       "mip level of the pixel's footprint (filtered: the paper's way); finest reads level 0 at every "
                       "distance, over the hit's own surface (what an alpha-tested truth shows: one leaf per pixel); "
-                      "auto: finest for packages of alpha-tested models, mips for others (docs/RESULTS.md)"),
+                      "auto: finest for every package (nearer the truth at a distance, and no more flicker under motion "
+                      "relative to the truth's than at distance 1; docs/RESULTS.md)"),
         choice_option("texture-format", "rgba8", {"rgba8", "bc3"},
                       "Colour pages on the GPU: rgba8, or bc3 (DXT5 compressed at load: a quarter of the colour "
                       "memory, 5/8 of the total)"),

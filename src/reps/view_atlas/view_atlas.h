@@ -81,9 +81,10 @@ public:
 
     Options parameters;    // as baked
     BakeSettings settings; // settings_from(parameters)
-    // The source has alpha-tested materials (issue #14): the renderer's --color-level auto reads such
-    // packages' colour from level 0 at every distance (renderer.cpp). Written to the manifest only
-    // when true, so other models' packages do not change; packages from before it read false.
+    // The source has alpha-tested materials (issue #14); the renderer's --color-level auto read such
+    // packages' colour from level 0 at every distance, and now reads every package's so (renderer.cpp).
+    // Written to the manifest only when true, so other models' packages do not change; packages from
+    // before it read false.
     bool alpha_tested = false;
     glm::vec3 center{0.0f}; // bounding sphere of the source (centre of the box, half its diagonal)
     float radius = 1.0f;

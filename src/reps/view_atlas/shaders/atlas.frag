@@ -63,7 +63,10 @@ uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 // texture filtered but its outline not; the filtered levels average the image across leaves and
 // depths (and light the mean normal), which is far from that picture: on the foliage tree Luv at
 // distance 4 / 8 is 6.2 / 7.2 from level 0 against 9.0 / 11.6 from the footprint's level
-// (docs/RESULTS.md "View atlas on foliage: colour level and capture resolution").
+// (docs/RESULTS.md "View atlas on foliage: colour level and capture resolution"). The truth is
+// point-sampled for every model, so level 0 is nearer it for opaque models too, and does not shimmer
+// more than it under motion (docs/RESULTS.md "Colour from level 0 for every model"): the host sets it
+// unless --color-level mips.
 uniform int finest_color;
 
 layout(location = 0) out vec4 out_color;
