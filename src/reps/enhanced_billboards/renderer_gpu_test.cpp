@@ -506,8 +506,9 @@ TEST(BillboardRenderer, TileLayersSplitNestedDepthsIntoBoxesOfTheirOwn)
                 }
             }
         for (std::size_t m = 0; m < k; ++m) // another layer of the same tile lies apart in depth
-            if (layered[m].texel_min / tile_size == t.texel_min / tile_size)
+            if (layered[m].texel_min / tile_size == t.texel_min / tile_size) {
                 EXPECT_TRUE(int(t.depth_min) > int(layered[m].depth_max) + gap || int(layered[m].depth_min) > int(t.depth_max) + gap);
+            }
     }
     for (std::size_t k = 0; k < acc.surface.size(); ++k)
         EXPECT_EQ(owners[k], (acc.surface[k].flags & k_texel_covered) ? 1 : 0) << "texel " << k % acc.width << "," << k / acc.width;

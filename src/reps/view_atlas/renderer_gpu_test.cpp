@@ -653,7 +653,7 @@ TEST(ViewAtlasRenderer, BakesAreByteIdentical)
         ASSERT_TRUE(package);
         ASSERT_TRUE(write_package(*package, dir + name).is_ok());
     }
-    for (const char* file : {"/manifest.json", "/page_000_color.png", "/page_000_normal.ktx2", "/page_000_depth.ktx2"})
+    for (const char* file : {"/manifest.json", "/page_000_color.png", "/page_000_normal.ktx2", "/page_000_depth.png"})
         EXPECT_EQ(*read_file(dir + "/a.standin" + file), *read_file(dir + "/b.standin" + file)) << file;
 }
 
