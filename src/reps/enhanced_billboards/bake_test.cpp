@@ -351,14 +351,19 @@ TEST(BakeBillboards, ClosedModelsAreCapturedWithFewBillboards)
     }
 }
 
+Result<Mesh> generated_sphere(std::size_t triangles)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::sphere;
+    options.target_triangles = triangles;
+    return generate_mesh(options);
+}
+
 TEST(BakeBillboards, SmallModelsKeepAClosedCoarseMesh)
 {
     // 10% of a few dozen triangles would be a handful that fills no hole: small models keep
     // their coarse mesh at up to 256 triangles, here all of them.
-    GenerateOptions options;
-    options.shape = GeneratedShape::sphere;
-    options.target_triangles = 48;
-    Result<Mesh> mesh = generate_mesh(options);
+    Result<Mesh> mesh = generated_sphere(48);
     ASSERT_TRUE(mesh) << mesh.status().message();
     Baked baked = bake_mesh(*mesh, {{"resolution", "64"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
@@ -373,10 +378,7 @@ TEST(BakeBillboards, SmallModelsKeepAClosedCoarseMesh)
 // bound is on meshoptimizer's error at the vertices, and a chord's middle sags further (1.6 texels).
 TEST(BakeBillboards, CoarseMeshStaysNearTheSurface)
 {
-    GenerateOptions options;
-    options.shape = GeneratedShape::sphere;
-    options.target_triangles = 20000;
-    Result<Mesh> mesh = generate_mesh(options);
+    Result<Mesh> mesh = generated_sphere(20000);
     ASSERT_TRUE(mesh) << mesh.status().message();
     Baked baked = bake_mesh(*mesh, {{"coarse-ratio", "0.01"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
