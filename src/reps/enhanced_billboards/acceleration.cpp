@@ -66,6 +66,12 @@ static void link_neighbours(const Billboard& b, const LinkSettings& settings, He
                 if (!texels_linked(b, i, j, k, quantum_codes)) continue;
                 texel.flags |= bit_here[k];
                 other.flags |= bit_there[k];
+                // a crease (two parts meeting, two leaves touching) is where the truth's colour
+                // changes without filtering: colour is averaged across smooth links only
+                if (glm::dot(texel_normal(b, i, j), texel_normal(b, ni, nj)) >= k_smooth_link_cos) {
+                    texel.flags |= std::uint16_t(bit_here[k] << k_smooth_link_shift);
+                    other.flags |= std::uint16_t(bit_there[k] << k_smooth_link_shift);
+                }
             }
         }
     }
@@ -137,6 +143,98 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
         h = lh;
     }
     return acc;
+}
+
+// Built bottom up: a cell is one surface when its non-empty children are (level 0: a covered
+// texel is), every two covered texels facing each other across the seams between its children are
+// linked smoothly (k_smooth_*), and those links join the non-empty children into one group.
+std::vector<std::vector<std::uint8_t>> build_color_pyramid(const Billboard& b, const HeightFieldAcceleration& acc)
+{
+    struct Cell {
+        std::uint64_t sum[3] = {0, 0, 0};
+        std::uint64_t count = 0;
+        bool one_surface = false;
+    };
+    const int w0 = acc.width;
+    auto surface = [&](int i, int j) -> const SurfaceTexel& { return acc.surface[std::size_t(j) * w0 + i]; };
+    std::vector<Cell> below(acc.surface.size());
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            if (!(surface(i, j).flags & k_texel_covered)) continue;
+            Cell& c = below[std::size_t(j) * w0 + i];
+            const std::uint8_t* rgba = b.color.at(i, j);
+            for (int k = 0; k < 3; ++k) c.sum[k] = rgba[k];
+            c.count = 1;
+            c.one_surface = true;
+        }
+    }
+    std::vector<std::vector<std::uint8_t>> levels;
+    int w = acc.width, h = acc.height;
+    for (int level = 1; level <= acc.levels; ++level) {
+        const int lw = w / 2, lh = h / 2, size = 1 << level, half = size / 2;
+        std::vector<Cell> here(std::size_t(lw) * lh);
+        std::vector<std::uint8_t> rgba(std::size_t(lw) * lh * 4, 0);
+        for (int cj = 0; cj < lh; ++cj) {
+            for (int ci = 0; ci < lw; ++ci) {
+                Cell& cell = here[std::size_t(cj) * lw + ci];
+                const Cell* child[4];
+                bool one = true;
+                int groups[4] = {0, 1, 2, 3}; // children 0 1 / 2 3; union by smallest index
+                for (int c = 0; c < 4; ++c) {
+                    child[c] = &below[std::size_t(2 * cj + (c >> 1)) * w + 2 * ci + (c & 1)];
+                    for (int k = 0; k < 3; ++k) cell.sum[k] += child[c]->sum[k];
+                    cell.count += child[c]->count;
+                    if (child[c]->count > 0 && !child[c]->one_surface) one = false;
+                }
+                // the seams: between children a and b (b right of or below a), texel pairs along them
+                const int x0 = ci * size, y0 = cj * size;
+                auto seam = [&](int a, int bc, bool vertical) {
+                    bool joined = false;
+                    for (int s = 0; s < half && one; ++s) {
+                        int i, j;
+                        if (vertical) { // a left of bc: pairs (x0 + half - 1, y) - (x0 + half, y)
+                            i = x0 + half - 1;
+                            j = y0 + (a >> 1) * half + s;
+                        } else { // a above bc
+                            i = x0 + (a & 1) * half + s;
+                            j = y0 + half - 1;
+                        }
+                        const SurfaceTexel& t = surface(i, j);
+                        const SurfaceTexel& u = vertical ? surface(i + 1, j) : surface(i, j + 1);
+                        if (!(t.flags & k_texel_covered) || !(u.flags & k_texel_covered)) continue;
+                        if (t.flags & (vertical ? k_smooth_plus_u : k_smooth_plus_v)) joined = true;
+                        else one = false; // a step between surfaces inside the cell
+                    }
+                    if (joined) {
+                        int ga = groups[a], gb = groups[bc], g = std::min(ga, gb);
+                        for (int& x : groups)
+                            if (x == ga || x == gb) x = g;
+                    }
+                };
+                seam(0, 1, true);
+                seam(2, 3, true);
+                seam(0, 2, false);
+                seam(1, 3, false);
+                int group = -1;
+                for (int c = 0; c < 4 && one; ++c) {
+                    if (child[c]->count == 0) continue;
+                    if (group < 0) group = groups[c];
+                    else if (groups[c] != group) one = false;
+                }
+                cell.one_surface = one && cell.count > 0;
+                std::uint8_t* out = &rgba[(std::size_t(cj) * lw + ci) * 4];
+                if (cell.count > 0) {
+                    for (int k = 0; k < 3; ++k) out[k] = std::uint8_t((cell.sum[k] + cell.count / 2) / cell.count);
+                    out[3] = cell.one_surface ? 255 : 0;
+                }
+            }
+        }
+        levels.push_back(std::move(rgba));
+        below = std::move(here);
+        w = lw;
+        h = lh;
+    }
+    return levels;
 }
 
 // The sheared box of a tile (TileBox::slope): a least-squares plane through the texels' depths at

@@ -19,7 +19,17 @@ enum : std::uint16_t {
     k_link_minus_v = 1u << 3, // ... (i, j - 1)
     k_link_plus_v = 1u << 4,  // ... (i, j + 1)
     k_texel_clipped = 1u << 5, // holds a sheet edge line in its colour alpha (billboard_layout.glsl, EDGE_LINE_*)
+    // the link continues the surface without a crease (normals within k_smooth_link_cos): colour is
+    // filtered across it (build_color_pyramid, march.frag footprint_color)
+    k_smooth_minus_u = 1u << 6,
+    k_smooth_plus_u = 1u << 7,
+    k_smooth_minus_v = 1u << 8,
+    k_smooth_plus_v = 1u << 9,
 };
+constexpr int k_smooth_link_shift = 5; // k_link_* << 5 = k_smooth_*
+// 20 degrees: a smooth surface's normals turn by a fraction of that across a texel; parts and
+// leaves that touch mostly meet at a larger angle
+constexpr float k_smooth_link_cos = 0.94f;
 
 // Level 0 of the march, one RGBA16UI texel. Depths are the package's 16-bit depth codes.
 // [min, max] holds the texel's depth and the depths of the neighbours it links to, so the range
@@ -57,6 +67,18 @@ bool texels_linked(const Billboard& billboard, int i, int j, int axis, float qua
 // least the billboard's size).
 HeightFieldAcceleration build_acceleration(const Billboard& billboard, int padded_width, int padded_height,
                                            int levels, const LinkSettings& settings);
+
+// Colour away from the billboard (issue #14): where a pixel covers many texels, the ground truth
+// shows its textures filtered over the pixel (mip maps) while one texel of the capture is a point
+// sample of them, noise that grows as the stand-in shrinks. Level k (k = 1..acc.levels, at
+// [k - 1], cells of 2^k texels, RGBA8 row by row): rgb the mean of the cell's covered texels'
+// colour codes (sRGB, averaged as the truth's mip maps average its textures), alpha 255 where those
+// texels are one surface and 0 where they are not or there are none. One surface: every two
+// covered neighbours inside the cell are linked without a crease (k_smooth_*) and the links join them all,
+// so a cell that holds a leaf's edge over another leaf, or two parts of an assembly, is not one and
+// the renderer reads a finer level there: the truth does not filter across geometry.
+std::vector<std::vector<std::uint8_t>> build_color_pyramid(const Billboard& billboard,
+                                                           const HeightFieldAcceleration& acc);
 
 // The proxy of one occupied tile: the texel rectangle [texel_min, texel_max) of the covered texels
 // of one tile_size x tile_size tile, and the depth range (16-bit codes) of those texels and of the

@@ -8,7 +8,11 @@
 //    load time (acceleration.cpp). "seed" keeps the paper's linear march and its holes.
 //  - every hit writes its true depth (conservative depth layout, so early depth testing stays);
 //  - boxes that cross the near plane are drawn from their back faces, rays starting at the eye;
-//  - the coarse mesh fills only pixels where rays came near a surface and missed.
+//  - the coarse mesh fills only pixels where rays came near a surface and missed;
+//  - colour is the mean of the texels under the pixel that continue the hit's surface without a
+//    crease (a mip pyramid of one-surface cells built at load, build_color_pyramid, and bilinear
+//    weights over smooth links), as the truth filters its textures; the paper reads the hit texel
+//    (--color-filter texel), which is noise on textured models seen from afar.
 // Proxies: instead of the paper's one box per billboard (which covers nearly the whole model, so
 // every pixel marched ~5 boxes), every occupied 16 x 16-texel tile of a billboard is a box of its
 // own, as tight as its covered texels and their depths (build_tiles): empty tiles draw nothing and
@@ -59,7 +63,9 @@ struct BillboardGpu {
     glm::vec4 box_min, box_max;
 };
 static_assert(sizeof(BillboardGpu) == 176, "std430 layout of BillboardData");
-static_assert(k_texel_clipped == TEXEL_CLIPPED && k_texel_covered == TEXEL_COVERED, "surface flags of march.frag");
+static_assert(k_texel_clipped == TEXEL_CLIPPED && k_texel_covered == TEXEL_COVERED && k_smooth_plus_u == SMOOTH_PLUS_U &&
+                  k_smooth_minus_v == SMOOTH_MINUS_V && (k_link_plus_v << k_smooth_link_shift) == k_smooth_plus_v,
+              "surface flags of march.frag");
 
 // std430 mirror of TileData in shaders/billboard.glsl
 struct TileGpu {
@@ -128,7 +134,7 @@ struct BoxLineVertex {
 
 struct ProgramLocations {
     GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
-          mark_pixels = -1, has_pbr_maps = -1;
+          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1;
 };
 
 class BillboardRenderer final : public Renderer {
@@ -152,11 +158,12 @@ private:
     int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
     float seed_hit_range_ = 0.01f;
     bool tile_layers_ = true;   // build_tiles splits tiles into depth layers (--tile-layers)
+    bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     gpu::Program front_, inside_, coarse_;
     ProgramLocations front_at_, inside_at_;
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
-    gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_;
+    gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_, color_mips_;
     gpu::Texture orm_maps_, emission_maps_; // only for packages with PBR maps (issue #14)
     gpu::Buffer billboards_, tiles_, draw_list_;
     gpu::Counters counters_{COUNTER_COUNT};
@@ -239,6 +246,7 @@ Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
     at.seed_hit_range = program->uniform("seed_hit_range");
     at.debug_view = program->uniform("debug_view");
     at.has_pbr_maps = program->uniform("has_pbr_maps");
+    at.color_footprint = program->uniform("color_footprint");
     at.counting = program->uniform("counting");
     at.mark_pixels = program->uniform("mark_pixels");
     return program;
@@ -253,6 +261,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->seed_steps_ = options.integer("steps");
     renderer->seed_hit_range_ = options.number("hit-range");
     renderer->tile_layers_ = options.flag("tile-layers");
+    renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     // "proxies" is the shaded picture with the box lines drawn over it
     bool proxies = settings.debug_view == DebugView::proxies;
     renderer->debug_view_ = proxies ? DEBUG_VIEW_NONE : int(settings.debug_view);
@@ -322,6 +331,8 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     surface_maps_ = make_texture_array(GL_RGBA16UI, width, height, layers, 1);
     minmax_maps_ = make_texture_array(GL_RG16UI, std::max(1, width / 2), std::max(1, height / 2), layers,
                                       std::max(1, levels));
+    color_mips_ = make_texture_array(GL_RGBA8, std::max(1, width / 2), std::max(1, height / 2), layers,
+                                     std::max(1, levels));
     bool pbr = std::all_of(package.billboards.begin(), package.billboards.end(),
                            [](const Billboard& b) { return !b.orm.empty() && !b.emission.empty(); });
     if (pbr && layers > 0) {
@@ -398,6 +409,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         for (int level = 1; level <= levels; ++level)
             glTextureSubImage3D(minmax_maps_.get(), level - 1, 0, 0, layer, width >> level, height >> level, 1,
                                 GL_RG_INTEGER, GL_UNSIGNED_SHORT, acc.pyramid[std::size_t(level - 1)].data());
+        std::vector<std::vector<std::uint8_t>> color_pyramid = build_color_pyramid(b, acc);
+        for (int level = 1; level <= levels; ++level)
+            glTextureSubImage3D(color_mips_.get(), level - 1, 0, 0, layer, width >> level, height >> level, 1,
+                                GL_RGBA, GL_UNSIGNED_BYTE, color_pyramid[std::size_t(level - 1)].data());
     }
     billboards_ = gpu::make_buffer(gpu_billboards);
     fine_count_ = fine.size();
@@ -544,6 +559,7 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     glProgramUniform1f(id, at.seed_hit_range, seed_hit_range_);
     glProgramUniform1i(id, at.debug_view, debug_view_);
     glProgramUniform1i(id, at.has_pbr_maps, orm_maps_ ? 1 : 0);
+    glProgramUniform1i(id, at.color_footprint, color_footprint_ ? 1 : 0);
     glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
     glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
 }
@@ -681,6 +697,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindTextureUnit(BINDING_NORMAL_MAPS, normal_maps_.get());
         glBindTextureUnit(BINDING_SURFACE_MAPS, surface_maps_.get());
         glBindTextureUnit(BINDING_MINMAX_MAPS, minmax_maps_.get());
+        glBindTextureUnit(BINDING_COLOR_MIPS, color_mips_.get());
         glBindTextureUnit(BINDING_ORM_MAPS, orm_maps_ ? orm_maps_.get() : 0u);
         glBindTextureUnit(BINDING_EMISSION_MAPS, emission_maps_ ? emission_maps_.get() : 0u);
         glBindVertexArray(empty_vertex_array_.get());

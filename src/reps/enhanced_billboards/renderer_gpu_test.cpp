@@ -745,5 +745,155 @@ TEST(BillboardRenderer, BoxesViewDrawsBoxEdgesAndFrontPlaneOverThePicture)
                 visible_ok, visible, hidden_full, hidden, changed, far_pixels);
 }
 
+// A sphere billboard whose colour alternates black and white texel by texel (1) or in blocks of
+// `block` texels.
+Billboard checker_billboard(int texels, int block)
+{
+    Billboard b = sphere_billboard({0, 0, -1}, {1, 0, 0}, texels);
+    for (int j = 0; j < texels; ++j)
+        for (int i = 0; i < texels; ++i) {
+            std::uint8_t* c = b.color.at(i, j);
+            if (c[3] == 0) continue;
+            std::uint8_t v = ((i / block + j / block) % 2) != 0 ? 255 : 0;
+            c[0] = c[1] = c[2] = v;
+        }
+    return b;
+}
+
+// build_color_pyramid: a cell's colour is the mean of its covered texels, and it counts as one
+// surface only where its texels are joined by links: not across the depth steps between the
+// blocks of nested_billboard, and not for two texels touching at a corner only.
+TEST(BillboardRenderer, ColorPyramidAveragesOneSurfaceOnly)
+{
+    Billboard b = nested_billboard(128); // blocks of 8 x 8 texels, alternate ones 0.4 deeper
+    for (int j = 0; j < 128; ++j)
+        for (int i = 0; i < 128; ++i) {
+            std::uint8_t* c = b.color.at(i, j);
+            if (c[3] != 0) c[0] = c[1] = c[2] = (i + j) % 2 != 0 ? 200 : 100; // a texel checker
+        }
+    HeightFieldAcceleration acc = build_acceleration(b, 128, 128, 6, LinkSettings{});
+    std::vector<std::vector<std::uint8_t>> pyramid = build_color_pyramid(b, acc);
+    ASSERT_EQ(pyramid.size(), 6u);
+    auto cell = [&](int level, int i, int j) { return &pyramid[std::size_t(level - 1)][(std::size_t(j) * (128 >> level) + i) * 4]; };
+    auto covered = [&](int i, int j) { return b.color.at(i, j)[3] != 0; };
+    // the block around the centre: every texel covered, one surface at levels 1 to 3 (8 texels)
+    for (int level = 1; level <= 3; ++level) {
+        int size = 1 << level;
+        for (int j = 56; j < 72; j += size)
+            for (int i = 56; i < 72; i += size) {
+                const std::uint8_t* c = cell(level, i >> level, j >> level);
+                EXPECT_EQ(c[3], 255) << "level " << level << " at " << i << "," << j;
+                EXPECT_NEAR(c[0], 150, 1) << "the mean of the checker";
+            }
+    }
+    // level 4 (16 texels) holds blocks at two depths: never one surface
+    for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) EXPECT_EQ(cell(4, i, j)[3], 0) << "level 4 cell " << i << "," << j;
+    // the mean at level 2 is over covered texels only (the sphere's rim)
+    int rim_cells = 0;
+    for (int j = 0; j < 32; ++j)
+        for (int i = 0; i < 32; ++i) {
+            int count = 0, sum = 0;
+            for (int y = 4 * j; y < 4 * j + 4; ++y)
+                for (int x = 4 * i; x < 4 * i + 4; ++x)
+                    if (covered(x, y)) ++count, sum += b.color.at(x, y)[0];
+            if (count == 0 || count == 16) continue;
+            ++rim_cells;
+            EXPECT_NEAR(cell(2, i, j)[0], double(sum) / count, 0.51);
+        }
+    EXPECT_GT(rim_cells, 20);
+
+    // two covered texels meeting at a corner are two surfaces
+    Billboard corner = sphere_billboard({0, 0, -1}, {1, 0, 0}, 8);
+    for (int j = 0; j < 8; ++j)
+        for (int i = 0; i < 8; ++i) corner.color.at(i, j)[3] = ((i == 2 && j == 2) || (i == 3 && j == 3)) ? 255 : 0;
+    HeightFieldAcceleration corner_acc = build_acceleration(corner, 8, 8, 3, LinkSettings{});
+    std::vector<std::vector<std::uint8_t>> corner_pyramid = build_color_pyramid(corner, corner_acc);
+    EXPECT_EQ(corner_pyramid[0][(1 * 4 + 1) * 4 + 3], 0) << "the 2 x 2 cell holding (2,2) and (3,3)";
+    corner.color.at(3, 2)[3] = 255; // joined through a shared side now
+    corner_acc = build_acceleration(corner, 8, 8, 3, LinkSettings{});
+    corner_pyramid = build_color_pyramid(corner, corner_acc);
+    EXPECT_EQ(corner_pyramid[0][(1 * 4 + 1) * 4 + 3], 255);
+}
+
+// --color-filter footprint: a texel checker seen from afar is the grey it averages to, as the
+// truth's mip maps would show it, where the hit texel's own colour (texel) is black-and-white
+// noise; close up, colour is interpolated within a surface but never across a depth step.
+TEST(BillboardRenderer, FootprintColourIsTheMeanOfTheTexelsUnderThePixel)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage checker, grey;
+    checker.source.bounds = grey.source.bounds = {glm::vec3(-k_radius), glm::vec3(k_radius)};
+    checker.billboards.push_back(checker_billboard(256, 1));
+    grey.billboards.push_back(checker_billboard(256, 1));
+    for (std::uint8_t* c = grey.billboards[0].color.pixels.data(); c < grey.billboards[0].color.pixels.data() + grey.billboards[0].color.pixels.size(); c += 4)
+        if (c[3] != 0) c[0] = c[1] = c[2] = 128;
+    RenderOptions footprint, texel;
+    footprint.values.set("coarse", "off");
+    texel.values.set("coarse", "off");
+    texel.values.set("color-filter", "texel");
+    const int size = 96;
+    Camera camera = look_at_camera(glm::vec3(0, 0, 9), glm::vec3(0.0f), glm::vec3(0, 1, 0), 40.0f, 1.0f, 0.1f, 20.0f);
+    Light light;
+    light.direction_to_light_world = glm::vec3(0, 0, 1);
+    light.ambient = 1.0f;
+    light.diffuse = 0.0f;
+    Rendered expected = render_package(grey, texel, camera, light, size, size);
+    Rendered filtered = render_package(checker, footprint, camera, light, size, size);
+    Rendered point = render_package(checker, texel, camera, light, size, size);
+    double filtered_error = 0.0, point_error = 0.0;
+    std::size_t pixels = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            if (expected.image.color.at(x, y)[3] == 0) continue;
+            ++pixels;
+            filtered_error += std::abs(int(filtered.image.color.at(x, y)[0]) - int(expected.image.color.at(x, y)[0]));
+            point_error += std::abs(int(point.image.color.at(x, y)[0]) - int(expected.image.color.at(x, y)[0]));
+        }
+    ASSERT_GT(pixels, 400u); // the sphere is about 24 pixels across: 10 texels per pixel
+    filtered_error /= double(pixels);
+    point_error /= double(pixels);
+    std::printf("[ colour ] mean |error| against the checker's grey: footprint %.2f, texel %.2f (8-bit codes)\n",
+                filtered_error, point_error);
+    EXPECT_LT(filtered_error, 4.0);
+    EXPECT_GT(point_error, 40.0);
+
+    // close up: a flat billboard of blocks of 8 x 8 texels, the front ones red, the back ones blue
+    // and 0.4 of the depth range behind; interpolation keeps within a surface, so no pixel mixes them
+    EnhancedBillboardsPackage nested;
+    nested.source.bounds = checker.source.bounds;
+    nested.billboards.push_back(sphere_billboard({0, 0, -1}, {1, 0, 0}, 32));
+    Billboard& n = nested.billboards[0];
+    for (int j = 0; j < 32; ++j)
+        for (int i = 0; i < 32; ++i) {
+            bool back = (i / 8 + j / 8) % 2 == 1;
+            std::uint8_t* c = n.color.at(i, j);
+            c[0] = back ? 0 : 255;
+            c[1] = 0;
+            c[2] = back ? 255 : 0;
+            c[3] = 255;
+            std::uint16_t* nd = n.normal_depth.at(i, j);
+            nd[0] = nd[1] = 32768;
+            nd[2] = 65535; // facing +z, the viewer
+            nd[3] = std::uint16_t((back ? 0.6 : 0.2) * 65535);
+        }
+    Camera near = look_at_camera(glm::vec3(0.3f, 0.2f, 2.2f), glm::vec3(0.0f), glm::vec3(0, 1, 0), 40.0f, 1.0f, 0.1f, 20.0f);
+    Rendered close = render_package(nested, footprint, near, light, size, size);
+    Rendered close_texel = render_package(nested, texel, near, light, size, size);
+    std::size_t mixed = 0, covered = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const std::uint8_t* c = close.image.color.at(x, y);
+            const std::uint8_t* t = close_texel.image.color.at(x, y);
+            if (c[3] == 0) continue;
+            bool differs = std::abs(int(c[0]) - int(t[0])) > 2 || std::abs(int(c[2]) - int(t[2])) > 2;
+            ++covered;
+            mixed += differs;
+        }
+    std::printf("[ colour ] close up: %zu of %zu pixels mix the blocks\n", mixed, covered);
+    EXPECT_GT(covered, 3000u);
+    EXPECT_EQ(mixed, 0u) << "pixels mixing the front and the back blocks";
+}
+
 } // namespace
 } // namespace standin::billboards

@@ -67,6 +67,10 @@ std::vector<OptionSpec> render_options()
         flag_option("tile-layers", true,
                     "Split a tile's proxy box into one box per depth layer where nested parts lie apart (the same "
                     "picture as one box per tile, with fewer fragments and fetches)"),
+        choice_option("color-filter", "footprint", {"footprint", "texel"},
+                      "Colour where a pixel covers several texels: footprint (the mean of the texels of one surface "
+                      "under the pixel, as the model's textures are filtered by their mip maps) or texel (the hit "
+                      "texel's: the paper's, noisier as the stand-in shrinks)"),
     };
 }
 

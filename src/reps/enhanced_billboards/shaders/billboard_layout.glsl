@@ -17,6 +17,7 @@
 #define BINDING_MINMAX_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 3)  // the min/max pyramid above level 0
 #define BINDING_ORM_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 4)      // occlusion, roughness, metallic (PBR packages)
 #define BINDING_EMISSION_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 5) // emission, sRGB (PBR packages)
+#define BINDING_COLOR_MIPS (BINDING_FIRST_RENDERER_TEXTURE + 6)   // colour of one surface over 2^k texels (build_color_pyramid)
 
 // image unit of the per-pixel flags the coarse mesh reads (r32ui)
 #define IMAGE_PIXEL_FLAGS (BINDING_FIRST_RENDERER_IMAGE + 0)
@@ -49,6 +50,10 @@
 #define LINK_MINUS_V 8u
 #define LINK_PLUS_V 16u
 #define TEXEL_CLIPPED 32u // the texel holds a sheet edge line: its colour alpha is a code below
+#define SMOOTH_MINUS_U 64u // the link continues the surface without a crease (colour is filtered across it)
+#define SMOOTH_PLUS_U 128u
+#define SMOOTH_MINUS_V 256u
+#define SMOOTH_PLUS_V 512u
 
 // sheet edge lines (issue #17, --sheet-edges clip; capture.cpp, edge_line_code): the colour alpha of
 // a covered texel an open edge crosses is EDGE_LINE_FIRST_CODE + angle * EDGE_LINE_OFFSETS + offset,

@@ -16,7 +16,8 @@
 // (the texels under one pixel would share it anyway); without a covered texel there it looks closer.
 // MARCH_SEED: the paper's linear march, `seed_steps` equal steps over the box diagonal, hit where
 // the ray is below the stored depth by less than the hit range e (holes included).
-// Every hit writes its true depth; misses are discarded.
+// Every hit writes its true depth; misses are discarded. Its colour is filtered over the pixel's
+// footprint within one smooth surface (footprint_color), as the truth's mip-mapped textures are.
 #ifndef INSIDE_PASS
 layout(depth_greater) out float gl_FragDepth; // the hit is never nearer than the box face
 #endif
@@ -39,6 +40,8 @@ layout(binding = BINDING_MINMAX_MAPS) uniform usampler2DArray minmax_maps;   // 
 layout(binding = BINDING_ORM_MAPS) uniform sampler2DArray orm_maps;           // only when has_pbr_maps
 layout(binding = BINDING_EMISSION_MAPS) uniform sampler2DArray emission_maps;
 uniform int has_pbr_maps; // the package has PBR maps (issue #14); otherwise Material's defaults
+layout(binding = BINDING_COLOR_MIPS) uniform sampler2DArray color_mips; // level k - 1: cells of 2^k texels
+uniform int color_footprint; // colour filtered over the pixel's footprint (--color-filter footprint)
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 
@@ -72,6 +75,38 @@ bool on_surface(uvec4 s, ivec2 texel, vec2 p, int layer)
     vec2 n = vec2(cos(angle), sin(angle));
     float e = ((float(code % uint(EDGE_LINE_OFFSETS)) + 0.5) / float(EDGE_LINE_OFFSETS) * 2.0 - 1.0) * 0.5 * (abs(n.x) + abs(n.y));
     return dot(n, p - vec2(texel) - 0.5) <= e;
+}
+
+// Bilinear weights at box point p over the hit texel and the three nearest of its neighbours,
+// those that continue its surface without a crease (SMOOTH_* links) only, renormalised: the truth interpolates its textures
+// and normals, and a pixel's point sample of the texel grid is noise at texel-sized detail (issue #14).
+// xyzw: the texel, its neighbour along u, along v, diagonal; `side` the neighbours' direction.
+vec4 surface_weights(ivec2 texel, vec2 p, int layer, out ivec2 side)
+{
+    vec2 f = p - vec2(texel) - 0.5;
+    side = ivec2(f.x >= 0.0 ? 1 : -1, f.y >= 0.0 ? 1 : -1);
+    vec2 w = min(abs(f), vec2(0.5));
+    uint link_u = side.x > 0 ? SMOOTH_PLUS_U : SMOOTH_MINUS_U, link_v = side.y > 0 ? SMOOTH_PLUS_V : SMOOTH_MINUS_V;
+    uint flags = texelFetch(surface_maps, ivec3(texel, layer), 0).a;
+    bool along_u = (flags & link_u) != 0u, along_v = (flags & link_v) != 0u, diagonal = false;
+    if (along_u) {
+        diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(side.x, 0), layer), 0).a & link_v) != 0u;
+    }
+    if (!diagonal && along_v) {
+        diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(0, side.y), layer), 0).a & link_u) != 0u;
+    }
+    vec4 weights = vec4((1.0 - w.x) * (1.0 - w.y), along_u ? w.x * (1.0 - w.y) : 0.0, along_v ? (1.0 - w.x) * w.y : 0.0,
+                        diagonal ? w.x * w.y : 0.0);
+    return weights / (weights.x + weights.y + weights.z + weights.w);
+}
+
+vec4 surface_bilinear(sampler2DArray maps, ivec2 texel, int layer, vec4 weights, ivec2 side)
+{
+    vec4 sum = weights.x * texelFetch(maps, ivec3(texel, layer), 0);
+    if (weights.y > 0.0) sum += weights.y * texelFetch(maps, ivec3(texel + ivec2(side.x, 0), layer), 0);
+    if (weights.z > 0.0) sum += weights.z * texelFetch(maps, ivec3(texel + ivec2(0, side.y), layer), 0);
+    if (weights.w > 0.0) sum += weights.w * texelFetch(maps, ivec3(texel + side, layer), 0);
+    return sum;
 }
 
 vec3 safe_inverse(vec3 d)
@@ -232,6 +267,61 @@ void finish(bool hit, bool near)
         imageAtomicOr(pixel_flags, ivec2(gl_FragCoord.xy), hit ? PIXEL_HIT : PIXEL_NEAR_MISS);
 }
 
+// The albedo a pixel shows at hit texel `texel` (issue #14, --color-filter footprint): the truth's
+// textures are filtered over the pixel (trilinear mip maps) but never across geometry, where one
+// capture texel per pixel is a point sample of them, noise that grows as the stand-in shrinks:
+//  1. the pixel's footprint on the billboard in texels (its shorter side), at the hit;
+//  2. lambda = log2(footprint) - 1/2: a capture texel is already the mean over its own square, so
+//     the mips start half a level late (generated tree, thesis protocol at 800x600 / 400x300 /
+//     200x150, before creases stopped the filter: Luv 3.52 / 4.38 / 4.97 at +0, 3.44 / 4.46 / 5.08
+//     at -1/2, 3.45 / 4.42 / 5.17 at -1; the texel's own colour 3.89 / 4.75 / 5.63);
+//  3. the colour at the two levels around lambda, blended: level 0 interpolated over the hit's
+//     texel and its neighbours across smooth links (surface_weights), level k >= 1 the mean over
+//     the cell of 2^k texels holding the hit where that cell is one smooth surface
+//     (build_color_pyramid), else the finest level around the hit that is.
+// Normals stay the hit texel's: interpolating them too raised the tree's Luv (4.29 -> 4.35).
+// Its reads are shading, like the hit's colour and normal, and not counted: the fetch counter is
+// the height-field walk's (issue #17's fetches per covered pixel).
+const float k_color_level_bias = -0.5;
+vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_world, float t_hit)
+{
+    vec3 ox, dx, oy, dy;
+    camera_ray(gl_FragCoord.xy + vec2(1.0, 0.0), ox, dx);
+    camera_ray(gl_FragCoord.xy + vec2(0.0, 1.0), oy, dy);
+    float across_x = length((mat3(v_box_from_world) * (ox + t_hit * dx - p_world)).xy);
+    float across_y = length((mat3(v_box_from_world) * (oy + t_hit * dy - p_world)).xy);
+    float footprint = min(across_x, across_y);
+    float lambda = footprint > 1.0 ? max(log2(footprint) + k_color_level_bias, 0.0) : 0.0;
+    int finer_level = min(int(floor(lambda)), top_level);
+    // the coarsest level at or under finer_level + 1 whose cell is one surface (the children of a
+    // cell of one surface are of one surface)
+    int found = 0;
+    vec3 found_color = vec3(0.0);
+    for (int level = min(finer_level + 1, top_level); level > 0; --level) {
+        vec4 mean = texelFetch(color_mips, ivec3(texel >> level, layer), level - 1);
+        if (mean.a > 0.5) {
+            found = level;
+            found_color = mean.rgb;
+            break;
+        }
+    }
+    if (found > finer_level) {
+        vec3 finer;
+        if (finer_level == 0) {
+            ivec2 side;
+            vec4 weights = surface_weights(texel, p_box.xy, layer, side);
+            finer = surface_bilinear(color_maps, texel, layer, weights, side).rgb;
+        } else {
+            finer = texelFetch(color_mips, ivec3(texel >> finer_level, layer), finer_level - 1).rgb;
+        }
+        return mix(finer, found_color, clamp(lambda - float(finer_level), 0.0, 1.0));
+    }
+    if (found > 0) return found_color;
+    ivec2 side;
+    vec4 weights = surface_weights(texel, p_box.xy, layer, side);
+    return surface_bilinear(color_maps, texel, layer, weights, side).rgb;
+}
+
 void main()
 {
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
@@ -322,6 +412,8 @@ void main()
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec4 albedo = texelFetch(color_maps, ivec3(texel, layer), 0);
     vec3 normal_object = texelFetch(normal_maps, ivec3(texel, layer), 0).rgb * 2.0 - 1.0;
+    if (color_footprint != 0 && march_mode == MARCH_EXACT)
+        albedo.rgb = footprint_color(texel, layer, top_level, p_box, p_world, t_hit);
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - p_world);
     // the back of a height field is drawn (open surfaces show both sides, as in the ground truth)
