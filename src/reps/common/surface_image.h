@@ -62,4 +62,25 @@ inline float decode_depth(std::uint16_t code) { return float(code) / k_depth_cod
 inline std::uint16_t encode_normal(float n) { return encode_depth(n * 0.5f + 0.5f); }
 inline glm::vec3 decode_normal(const std::uint16_t* rgb) { return glm::vec3(rgb[0], rgb[1], rgb[2]) / k_depth_codes * 2.0f - 1.0f; }
 
+// The shared link rule (height_field.h) in C++: the depth change per texel along `along` that a
+// stored normal implies, in texels of depth, capped at HF_MAX_SLOPE (the twin of hf_slope in
+// height_field.glsl); and whether two neighbouring covered texels `depth_step` depth codes apart
+// continue one surface, a texel being `texel_world` wide, depth `codes_per_world` codes per world
+// unit, and `quantum_codes` one step of the stored depth.
+inline float hf_normal_slope(glm::vec3 normal, glm::vec3 along, glm::vec3 direction)
+{
+    const float max_slope = float(HF_MAX_SLOPE);
+    float across = std::abs(glm::dot(normal, direction)), along_slope = std::abs(glm::dot(normal, along));
+    if (along_slope >= across * max_slope) return max_slope;
+    return along_slope / across;
+}
+inline bool hf_linked(float depth_step, glm::vec3 normal_a, glm::vec3 normal_b, glm::vec3 along, glm::vec3 direction,
+                      float texel_world, float codes_per_world, float quantum_codes)
+{
+    float slope = std::max(hf_normal_slope(normal_a, along, direction), hf_normal_slope(normal_b, along, direction));
+    float allowed = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * texel_world * codes_per_world +
+                    float(HF_QUANTA) * quantum_codes;
+    return std::abs(depth_step) <= allowed;
+}
+
 } // namespace standin::reps

@@ -21,29 +21,14 @@ static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
     return reps::decode_normal(billboard.normal_depth.at(i, j));
 }
 
-// depth change per texel along `axis` that the normal implies, in texels of depth, capped (the
-// C++ twin of hf_slope in height_field.glsl)
-static float normal_slope(glm::vec3 normal, glm::vec3 axis, glm::vec3 direction)
-{
-    const float max_slope = float(HF_MAX_SLOPE);
-    float along = std::abs(glm::dot(normal, axis));
-    float across = std::abs(glm::dot(normal, direction));
-    if (along >= across * max_slope) return max_slope;
-    return along / across;
-}
-
 bool texels_linked(const Billboard& b, int i, int j, int axis, float quantum_codes)
 {
     const int ni = i + (axis == 0 ? 1 : 0), nj = j + (axis == 0 ? 0 : 1);
     const glm::vec3 along = axis == 0 ? b.axis_u : b.axis_v;
-    float slope = std::max(normal_slope(texel_normal(b, i, j), along, b.direction),
-                           normal_slope(texel_normal(b, ni, nj), along, b.direction));
-    // the shared link rule (hf_link_tolerance), in depth codes
     float codes_per_world = reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
-    float allowed = (float(HF_SLOPE_TOLERANCE) * slope + float(HF_CURVATURE_TEXELS)) * b.texel_size * codes_per_world +
-                    float(HF_QUANTA) * quantum_codes;
-    float jump = std::abs(float(b.normal_depth.at(i, j)[3]) - float(b.normal_depth.at(ni, nj)[3]));
-    return jump <= allowed;
+    float jump = float(b.normal_depth.at(i, j)[3]) - float(b.normal_depth.at(ni, nj)[3]);
+    return reps::hf_linked(jump, texel_normal(b, i, j), texel_normal(b, ni, nj), along, b.direction,
+                           b.texel_size, codes_per_world, quantum_codes);
 }
 
 // links of every covered texel to its covered neighbours on the same surface

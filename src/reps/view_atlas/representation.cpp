@@ -26,7 +26,8 @@ std::vector<OptionSpec> bake_options()
                       "Capture projection: ortho, or perspective from the base distance"),
         number_option("fov", "40", 1.0, 170.0, "Field of view of perspective captures, degrees"),
         integer_option("resolution", 256, 16, 4096,
-                       "Capture size in pixels (square); unset: 256, or 512 for models with alpha-tested materials"),
+                       "Capture size in pixels (square); unset: 256, or 512 for models with alpha-tested materials or with "
+                       "detail finer than 256 px captures resolve (over 15% of the captured texels end a surface)"),
         choice_option("maps", "surface", {"surface", "lit"},
                       "surface: albedo, normal and depth, lit at run time; lit: shaded colour only (the paper)"),
         integer_option("page-size", 2048, 256, 16384, "Atlas page size in texels (a multiple of 16)"),

@@ -43,6 +43,12 @@ constexpr int k_coverage_samples = 2;
 // tree; not the default (docs/RESULTS.md "View atlas on foliage: colour level and capture resolution").
 constexpr int k_alpha_resolution = 512;
 
+// Models with detail finer than the default capture texels (issue #17: the held-out engine's
+// nested parts and fins): when over k_detail_edge_fraction of the views' covered texels end their
+// surface (bake.cpp depth_edge_fraction), the views are captured again at k_detail_resolution.
+constexpr int k_detail_resolution = 512;
+constexpr double k_detail_edge_fraction = 0.15;
+
 // The --baseline-below measured for crowds of solid models: the smallest radius in pixels where the
 // baseline's picture stays within Luv 3 and IoU 0.95 of the walk on the test models (docs/RESULTS.md,
 // "View atlas crowd: the level-of-detail ladder"). Not the default: on the bunny at 8x the base
@@ -122,6 +128,9 @@ std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8
                                         bool any = false);
 std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size);
 std::vector<std::vector<std::uint8_t>> color_page_blocks(const ImageRGBA8& page);
+
+// The share of a package's covered view texels that end their surface (bake.cpp, k_detail_edge_fraction).
+double depth_edge_fraction(const ViewAtlasPackage& package);
 
 // The bake parameters typed (representation.cpp), and the checks between them.
 BakeSettings settings_from(const Options& parameters);
