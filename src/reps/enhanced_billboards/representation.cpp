@@ -19,7 +19,7 @@ std::vector<OptionSpec> bake_options()
     return {
         integer_option("resolution", 512, 16, k_max_grid_texels,
                        "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512); unset: 512, or 1024 for "
-                       "models with alpha-tested materials or with detail finer than 512 texels resolve (over 30% of "
+                       "models with alpha-tested materials or with detail finer than 512 texels resolve (over 22% of "
                        "the covered texels end a surface)"),
         number_option("texel-size", "", 0.0, 3.0e38, "World units per texel, instead of --resolution", true),
         choice_option("directions", "seed", {"seed", "sphere", "axis"},
