@@ -89,6 +89,14 @@ struct BakeSettings {
     // "overlap": covered whole; "centre": by their centre; "auto" (the bake's default) is resolved
     // by the baker to clip for sheet models and alpha-tested models, else centre
     std::string sheet_edges = "centre";
+    // The back of a height field (a ray meeting a texel's top from behind): "show" draws it, marked a
+    // near miss (closed surfaces through holes, double-sided sheets where their back was not
+    // captured, a part's inside through an unwelded seam); "hide" drops it (a near miss for the
+    // coarse mesh, which then culls back faces), for models with open parts of single-sided
+    // materials, whose backs the truth culls (assimp's COLLADA.dae: a plane under the text, seen
+    // from below). "auto" (the bake's default) is resolved to "show" by the baker (bake.cpp says
+    // why); packages from before it read "show".
+    std::string back_hits = "show";
 };
 
 class EnhancedBillboardsPackage final : public Package {

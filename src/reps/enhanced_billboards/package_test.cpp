@@ -91,7 +91,8 @@ TEST(BillboardPackage, RoundTripKeepsEverything)
     EXPECT_EQ(summary["representation"], "enhanced-billboards");
 }
 
-// Packages from before --sheet-edges (no bake.sheet_edges) read as centre-covered, as they were baked.
+// Packages from before --sheet-edges (no bake.sheet_edges) read as centre-covered, and from before
+// --back-hits (no bake.back_hits) as showing back hits, as they were baked and drawn.
 TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
 {
     auto baked = baked_sphere();
@@ -99,11 +100,14 @@ TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
     ASSERT_TRUE(write_package(*baked, directory));
     nlohmann::json manifest = read_manifest(directory);
     ASSERT_EQ(manifest["bake"]["sheet_edges"], "centre");
+    ASSERT_EQ(manifest["bake"]["back_hits"], "show"); // what auto resolves to
     manifest["bake"].erase("sheet_edges");
+    manifest["bake"].erase("back_hits");
     write_manifest(directory, manifest);
     Result<std::unique_ptr<Package>> read = read_package(directory);
     ASSERT_TRUE(read) << read.status().message();
     EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.sheet_edges, "centre");
+    EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.back_hits, "show");
 }
 
 // Sheet rims (issue #17): a model with open opaque parts gets coarse_mesh.rims (the renderer fills

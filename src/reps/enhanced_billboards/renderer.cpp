@@ -134,7 +134,7 @@ struct BoxLineVertex {
 
 struct ProgramLocations {
     GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
-          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1;
+          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1, hide_back_hits = -1;
 };
 
 class BillboardRenderer final : public Renderer {
@@ -159,6 +159,7 @@ private:
     float seed_hit_range_ = 0.01f;
     bool tile_layers_ = true;   // build_tiles splits tiles into depth layers (--tile-layers)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
+    bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
     gpu::Program front_, inside_, coarse_;
     ProgramLocations front_at_, inside_at_;
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
@@ -247,6 +248,7 @@ Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
     at.debug_view = program->uniform("debug_view");
     at.has_pbr_maps = program->uniform("has_pbr_maps");
     at.color_footprint = program->uniform("color_footprint");
+    at.hide_back_hits = program->uniform("hide_back_hits");
     at.counting = program->uniform("counting");
     at.mark_pixels = program->uniform("mark_pixels");
     return program;
@@ -262,6 +264,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->seed_hit_range_ = options.number("hit-range");
     renderer->tile_layers_ = options.flag("tile-layers");
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
+    renderer->hide_back_hits_ = package.settings.back_hits == "hide";
     // "proxies" is the shaded picture with the box lines drawn over it
     bool proxies = settings.debug_view == DebugView::proxies;
     renderer->debug_view_ = proxies ? DEBUG_VIEW_NONE : int(settings.debug_view);
@@ -560,6 +563,7 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     glProgramUniform1i(id, at.debug_view, debug_view_);
     glProgramUniform1i(id, at.has_pbr_maps, orm_maps_ ? 1 : 0);
     glProgramUniform1i(id, at.color_footprint, color_footprint_ ? 1 : 0);
+    glProgramUniform1i(id, at.hide_back_hits, hide_back_hits_ ? 1 : 0);
     glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
     glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
 }
@@ -737,6 +741,13 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glProgramUniform1i(coarse_.id(), coarse_debug_at_, debug_view_);
         coarse_.use();
         coarse_mesh_.bind();
+        // models with open single-sided parts (back_hits "hide"): the truth culls their backs, and
+        // so does the coarse mesh (closed parts show no back face anyway)
+        if (hide_back_hits_) {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(GL_CCW);
+        }
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
         if (coarse_rim_index_count_ > 0) {
             // sheet rims (rims_first): without the near-miss test
@@ -750,6 +761,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
                                 coarse_count);
         stats.draw_calls += 1;
         stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
+        glDisable(GL_CULL_FACE);
     }
 
     // debug view "proxies": the boxes over the picture (lines are not counted as primitives)

@@ -52,6 +52,12 @@ std::vector<OptionSpec> bake_options()
                       "stored in the texel; on alpha-tested faces the line of the leaf's cut-out contour instead), "
                       "overlap (every texel it overlaps, unclipped: more spill) or auto (clip for models with open "
                       "double-sided parts or alpha-tested materials, else centre; the package records which)"),
+        choice_option("back-hits", "auto", {"auto", "show", "hide"},
+                      "Rays meeting a billboard's surface from behind: show (drawn where nothing nearer is, as the "
+                      "back of a double-sided sheet, or the inside of a part through a seam), hide (dropped, and "
+                      "the coarse mesh's back faces culled: the truth culls the backs of single-sided faces; for "
+                      "scenes with single-sided ground planes or sheets seen from behind) or auto (show, for now; "
+                      "the package records which)"),
     };
 }
 
@@ -133,6 +139,7 @@ BakeSettings settings_from(const Options& parameters)
     s.coarse_ratio = parameters.number("coarse-ratio");
     s.compression = parameters.choice("compression");
     s.sheet_edges = parameters.choice("sheet-edges");
+    s.back_hits = parameters.choice("back-hits");
     return s;
 }
 

@@ -6,6 +6,8 @@
 // coarse mesh filled sheet rims, 0.20-0.24%.
 #include "test_support.h"
 
+#include "reps/enhanced_billboards/billboards.h"
+
 #include <standin/assembly.h>
 #include <standin/eval.h>
 #include <standin/render.h>
@@ -105,6 +107,70 @@ TEST(BillboardSheets, SheetRimsClosedWithoutCoarseMesh)
     EXPECT_LT(clip.worst_holes, 0.0023);
     EXPECT_LT(clip.spill, 0.0035);
     EXPECT_GT(centre.holes, 0.0025); // the staircase this test is about is still there without the lines
+}
+
+// A sphere over a single-sided plane (assimp's COLLADA.dae: text over a plane): the truth culls the
+// plane's back, so from below it shows the sphere alone. Baked with --back-hits hide the stand-in
+// drops the billboards' back hits and culls the coarse mesh's back faces; with back hits shown (the
+// default, which the held-out engine's unwelded seams need), the plane's underside spills.
+TEST(BillboardSheets, SingleSidedOpenPartsShowNothingFromBehind)
+{
+    test::gpu_context();
+    Mesh mesh = test::generated(GeneratedShape::sphere, 800);
+    for (glm::vec3& p : mesh.positions) p = 0.4f * p + glm::vec3(0.0f, 0.5f, 0.0f);
+    Material plane_material;
+    plane_material.double_sided = false;
+    mesh.materials.push_back(plane_material);
+    const std::uint32_t first = std::uint32_t(mesh.positions.size());
+    for (glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+        mesh.positions.push_back(glm::vec3(corner.x, 0.0f, corner.y));
+        mesh.normals.push_back(glm::vec3(0, 1, 0));
+        mesh.colors.push_back(glm::vec4(0.3f, 0.4f, 0.6f, 1.0f));
+    }
+    for (std::uint32_t i : {0u, 2u, 1u, 0u, 3u, 2u}) mesh.indices.push_back(first + i); // facing +y
+    mesh.face_materials.push_back(1);
+    mesh.face_materials.push_back(1);
+
+    auto truth = make_mesh_renderer(mesh);
+    ASSERT_TRUE(truth.is_ok());
+    auto spill_from = [&](const Package& package, float elevation) {
+        auto standin = make_package_renderer(package, RenderOptions{});
+        EXPECT_TRUE(standin.is_ok());
+        Protocol protocol;
+        protocol.name = "behind";
+        for (float azimuth : {0.0f, 130.0f}) {
+            EvalView view;
+            view.orbit.azimuth_degrees = azimuth;
+            view.orbit.elevation_degrees = elevation;
+            view.width = 320;
+            view.height = 240;
+            protocol.views.push_back(view);
+        }
+        EvalOptions options;
+        options.timed_frames = 0;
+        Result<EvalResult> result = evaluate(**truth, **standin, mesh.bounding_sphere(), protocol, options, {});
+        EXPECT_TRUE(result.is_ok());
+        double spill = 0.0, iou = 1.0;
+        for (const ViewResult& v : result->views) {
+            spill = std::max(spill, v.metrics.spill_fraction);
+            iou = std::min(iou, v.metrics.iou);
+        }
+        return std::make_pair(spill, iou);
+    };
+    std::unique_ptr<Package> hidden = test::bake(mesh, "enhanced-billboards", {{"back-hits", "hide"}});
+    std::unique_ptr<Package> shown = test::bake(mesh, "enhanced-billboards", {});
+    ASSERT_TRUE(hidden && shown);
+    EXPECT_EQ(dynamic_cast<const EnhancedBillboardsPackage&>(*hidden).settings.back_hits, "hide");
+    EXPECT_EQ(dynamic_cast<const EnhancedBillboardsPackage&>(*shown).settings.back_hits, "show"); // auto
+    auto [below_spill, below_iou] = spill_from(*hidden, -35.0f);
+    auto [above_spill, above_iou] = spill_from(*hidden, 35.0f);
+    auto [shown_spill, shown_iou] = spill_from(*shown, -35.0f);
+    std::printf("[ behind ] from below: spill %.2f%% IoU %.4f (back hits shown: %.2f%%, %.4f); from above %.2f%%, %.4f\n",
+                100.0 * below_spill, below_iou, 100.0 * shown_spill, shown_iou, 100.0 * above_spill, above_iou);
+    EXPECT_LT(below_spill, 0.02);
+    EXPECT_GT(below_iou, 0.95);
+    EXPECT_GT(above_iou, 0.97);
+    EXPECT_GT(shown_spill, 0.5) << "the plane's underside, which the truth culls";
 }
 
 } // namespace

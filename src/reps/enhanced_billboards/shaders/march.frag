@@ -42,6 +42,7 @@ layout(binding = BINDING_EMISSION_MAPS) uniform sampler2DArray emission_maps;
 uniform int has_pbr_maps; // the package has PBR maps (issue #14); otherwise Material's defaults
 layout(binding = BINDING_COLOR_MIPS) uniform sampler2DArray color_mips; // level k - 1: cells of 2^k texels
 uniform int color_footprint; // colour filtered over the pixel's footprint (--color-filter footprint)
+uniform int hide_back_hits;  // the package's bake.back_hits is "hide" (billboards.h BakeSettings::back_hits)
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 
@@ -427,6 +428,13 @@ void main()
     // with it); on the lead's 126k sheet model the push costs 0.15 Luv (1.47 -> 1.62) and the thick
     // assembly 0.02, where the coarse mesh now wins over back hits that were the right colour
     bool back = dot(normal_world, to_eye) < 0.0;
+    // the back of an open single-sided part, which the truth culls: not drawn, but a near miss, so
+    // that the coarse mesh (drawn with back faces culled for such packages) shows what the truth
+    // shows there
+    if (back && hide_back_hits != 0) {
+        finish(false, true);
+        discard;
+    }
     const float k_back_texels = 2.0;
     float texel_world = length(mat3(v_world_from_box) * vec3(1.0, 0.0, 0.0));
     float depth = window_depth(back ? p_world + direction_world * (k_back_texels * texel_world) : p_world);
