@@ -78,36 +78,30 @@ bool on_surface(uvec4 s, ivec2 texel, vec2 p, int layer)
     return dot(n, p - vec2(texel) - 0.5) <= e;
 }
 
-// Bilinear weights at box point p over the hit texel and the three nearest of its neighbours,
-// those that continue its surface without a crease (SMOOTH_* links) only, renormalised: the truth interpolates its textures
-// and normals, and a pixel's point sample of the texel grid is noise at texel-sized detail (issue #14).
-// xyzw: the texel, its neighbour along u, along v, diagonal; `side` the neighbours' direction.
-vec4 surface_weights(ivec2 texel, vec2 p, int layer, out ivec2 side)
+// The colour at box point p interpolated bilinearly over the hit texel and the three nearest of its
+// neighbours, those that continue its surface without a crease (SMOOTH_* links) only, renormalised:
+// the truth interpolates its textures, and a pixel's point sample of the texel grid is noise at
+// texel-sized detail (issue #14).
+vec3 surface_bilinear_color(ivec2 texel, vec2 p, int layer)
 {
     vec2 f = p - vec2(texel) - 0.5;
-    side = ivec2(f.x >= 0.0 ? 1 : -1, f.y >= 0.0 ? 1 : -1);
+    ivec2 side = ivec2(f.x >= 0.0 ? 1 : -1, f.y >= 0.0 ? 1 : -1);
     vec2 w = min(abs(f), vec2(0.5));
     uint link_u = side.x > 0 ? SMOOTH_PLUS_U : SMOOTH_MINUS_U, link_v = side.y > 0 ? SMOOTH_PLUS_V : SMOOTH_MINUS_V;
     uint flags = texelFetch(surface_maps, ivec3(texel, layer), 0).a;
     bool along_u = (flags & link_u) != 0u, along_v = (flags & link_v) != 0u, diagonal = false;
-    if (along_u) {
+    if (along_u)
         diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(side.x, 0), layer), 0).a & link_v) != 0u;
-    }
-    if (!diagonal && along_v) {
+    if (!diagonal && along_v)
         diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(0, side.y), layer), 0).a & link_u) != 0u;
-    }
     vec4 weights = vec4((1.0 - w.x) * (1.0 - w.y), along_u ? w.x * (1.0 - w.y) : 0.0, along_v ? (1.0 - w.x) * w.y : 0.0,
                         diagonal ? w.x * w.y : 0.0);
-    return weights / (weights.x + weights.y + weights.z + weights.w);
-}
-
-vec4 surface_bilinear(sampler2DArray maps, ivec2 texel, int layer, vec4 weights, ivec2 side)
-{
-    vec4 sum = weights.x * texelFetch(maps, ivec3(texel, layer), 0);
-    if (weights.y > 0.0) sum += weights.y * texelFetch(maps, ivec3(texel + ivec2(side.x, 0), layer), 0);
-    if (weights.z > 0.0) sum += weights.z * texelFetch(maps, ivec3(texel + ivec2(0, side.y), layer), 0);
-    if (weights.w > 0.0) sum += weights.w * texelFetch(maps, ivec3(texel + side, layer), 0);
-    return sum;
+    weights = weights / (weights.x + weights.y + weights.z + weights.w);
+    vec4 sum = weights.x * texelFetch(color_maps, ivec3(texel, layer), 0);
+    if (weights.y > 0.0) sum += weights.y * texelFetch(color_maps, ivec3(texel + ivec2(side.x, 0), layer), 0);
+    if (weights.z > 0.0) sum += weights.z * texelFetch(color_maps, ivec3(texel + ivec2(0, side.y), layer), 0);
+    if (weights.w > 0.0) sum += weights.w * texelFetch(color_maps, ivec3(texel + side, layer), 0);
+    return sum.rgb;
 }
 
 vec3 safe_inverse(vec3 d)
@@ -277,18 +271,16 @@ void finish(bool hit, bool near)
 //     200x150, before creases stopped the filter: Luv 3.52 / 4.38 / 4.97 at +0, 3.44 / 4.46 / 5.08
 //     at -1/2, 3.45 / 4.42 / 5.17 at -1; the texel's own colour 3.89 / 4.75 / 5.63);
 //  3. the colour at the two levels around lambda, blended: level 0 interpolated over the hit's
-//     texel and its neighbours across smooth links (surface_weights), level k >= 1 the mean over
+//     texel and its neighbours across smooth links (surface_bilinear_color), level k >= 1 the mean over
 //     the cell of 2^k texels holding the hit where that cell is one smooth surface
 //     (build_color_pyramid), else the finest level around the hit that is.
 // Normals stay the hit texel's: interpolating them too raised the tree's Luv (4.29 -> 4.35).
 // Its reads are shading, like the hit's colour and normal, and not counted: the fetch counter is
 // the height-field walk's (issue #17's fetches per covered pixel).
 const float k_color_level_bias = -0.5;
-vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_world, float t_hit)
+vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_world, float t_hit, vec3 ox, vec3 dx,
+                     vec3 oy, vec3 dy)
 {
-    vec3 ox, dx, oy, dy;
-    camera_ray(gl_FragCoord.xy + vec2(1.0, 0.0), ox, dx);
-    camera_ray(gl_FragCoord.xy + vec2(0.0, 1.0), oy, dy);
     float across_x = length((mat3(v_box_from_world) * (ox + t_hit * dx - p_world)).xy);
     float across_y = length((mat3(v_box_from_world) * (oy + t_hit * dy - p_world)).xy);
     float footprint = min(across_x, across_y);
@@ -306,21 +298,13 @@ vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_w
             break;
         }
     }
-    if (found > finer_level) {
-        vec3 finer;
-        if (finer_level == 0) {
-            ivec2 side;
-            vec4 weights = surface_weights(texel, p_box.xy, layer, side);
-            finer = surface_bilinear(color_maps, texel, layer, weights, side).rgb;
-        } else {
-            finer = texelFetch(color_mips, ivec3(texel >> finer_level, layer), finer_level - 1).rgb;
-        }
-        return mix(finer, found_color, clamp(lambda - float(finer_level), 0.0, 1.0));
-    }
-    if (found > 0) return found_color;
-    ivec2 side;
-    vec4 weights = surface_weights(texel, p_box.xy, layer, side);
-    return surface_bilinear(color_maps, texel, layer, weights, side).rgb;
+    if (found > 0 && found <= finer_level) return found_color;
+    // level 0 interpolated where no cell around the hit is one surface; under a blend, level 0 or
+    // the mean of finer_level's cell (one surface, since its parent is)
+    vec3 finer = found == 0 || finer_level == 0
+                     ? surface_bilinear_color(texel, p_box.xy, layer)
+                     : texelFetch(color_mips, ivec3(texel >> finer_level, layer), finer_level - 1).rgb;
+    return found > finer_level ? mix(finer, found_color, clamp(lambda - float(finer_level), 0.0, 1.0)) : finer;
 }
 
 void main()
@@ -411,10 +395,7 @@ void main()
     vec3 p_box = o + t_hit * d;
     vec3 p_world = (v_world_from_box * vec4(p_box, 1.0)).xyz;
     mat4 world_from_object = instances.world_from_object[v_instance];
-    vec4 albedo = texelFetch(color_maps, ivec3(texel, layer), 0);
     vec3 normal_object = texelFetch(normal_maps, ivec3(texel, layer), 0).rgb * 2.0 - 1.0;
-    if (color_footprint != 0 && march_mode == MARCH_EXACT)
-        albedo.rgb = footprint_color(texel, layer, top_level, p_box, p_world, t_hit);
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - p_world);
     // the back of a height field is drawn (open surfaces show both sides, as in the ground truth)
@@ -435,6 +416,10 @@ void main()
         finish(false, true);
         discard;
     }
+    // (the colour only for hits that are drawn)
+    vec4 albedo = texelFetch(color_maps, ivec3(texel, layer), 0);
+    if (color_footprint != 0 && march_mode == MARCH_EXACT)
+        albedo.rgb = footprint_color(texel, layer, top_level, p_box, p_world, t_hit, o_x, d_x, o_y, d_y);
     const float k_back_texels = 2.0;
     float texel_world = length(mat3(v_world_from_box) * vec3(1.0, 0.0, 0.0));
     float depth = window_depth(back ? p_world + direction_world * (k_back_texels * texel_world) : p_world);
