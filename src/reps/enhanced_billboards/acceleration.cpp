@@ -334,4 +334,71 @@ std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_si
     return tiles;
 }
 
+// Shelves (pack_layers): billboards sorted by height, tallest first, each into the first shelf of
+// any layer with room, else a new shelf under the last one of the first layer with room, else a
+// new layer.
+static LayerPacking pack_shelves(const std::vector<glm::ivec2>& sizes, const std::vector<std::size_t>& order,
+                                 int width, int height)
+{
+    struct Shelf {
+        int layer, y, height, used;
+    };
+    LayerPacking packing;
+    packing.width = width, packing.height = height;
+    packing.placements.resize(sizes.size());
+    std::vector<Shelf> shelves;
+    std::vector<int> layer_top; // where the next shelf of each layer starts
+    for (std::size_t k : order) {
+        const glm::ivec2 size = sizes[k];
+        bool placed = false;
+        for (Shelf& shelf : shelves)
+            if (size.y <= shelf.height && shelf.used + size.x <= width) {
+                packing.placements[k] = {shelf.layer, {shelf.used, shelf.y}};
+                shelf.used += size.x;
+                placed = true;
+                break;
+            }
+        for (int layer = 0; !placed && layer < int(layer_top.size()); ++layer)
+            if (layer_top[std::size_t(layer)] + size.y <= height) {
+                shelves.push_back({layer, layer_top[std::size_t(layer)], size.y, size.x});
+                packing.placements[k] = {layer, {0, layer_top[std::size_t(layer)]}};
+                layer_top[std::size_t(layer)] += size.y;
+                placed = true;
+            }
+        if (!placed) {
+            const int layer = int(layer_top.size());
+            layer_top.push_back(size.y);
+            shelves.push_back({layer, 0, size.y, size.x});
+            packing.placements[k] = {layer, {0, 0}};
+        }
+    }
+    packing.layers = int(layer_top.size());
+    return packing;
+}
+
+LayerPacking pack_layers(const std::vector<glm::ivec2>& sizes, int cell, int max_side)
+{
+    auto align = [cell](int v) { return std::max(cell, (v + cell - 1) / cell * cell); };
+    std::vector<glm::ivec2> aligned;
+    glm::ivec2 largest(cell);
+    for (glm::ivec2 s : sizes) {
+        aligned.push_back({align(s.x), align(s.y)});
+        largest = glm::max(largest, aligned.back());
+    }
+    std::vector<std::size_t> order(sizes.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return aligned[a].y > aligned[b].y; });
+    LayerPacking best = pack_shelves(aligned, order, largest.x, largest.y);
+    // layers of 1 to 4 times the largest billboard along each side, within the GPU's limit
+    for (int nx = 1; nx <= 4; ++nx)
+        for (int ny = 1; ny <= 4; ++ny) {
+            const int w = align(largest.x * nx / 2 + largest.x / 2), h = align(largest.y * ny / 2 + largest.y / 2);
+            if (w > max_side || h > max_side) continue;
+            LayerPacking candidate = pack_shelves(aligned, order, w, h);
+            const auto texels = [](const LayerPacking& p) { return std::int64_t(p.width) * p.height * p.layers; };
+            if (texels(candidate) < texels(best)) best = std::move(candidate);
+        }
+    return best;
+}
+
 } // namespace standin::billboards

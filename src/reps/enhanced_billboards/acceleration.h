@@ -107,4 +107,21 @@ struct TileBox {
 constexpr int k_max_tile_layers = 8;
 std::vector<TileBox> build_tiles(const HeightFieldAcceleration& acc, int tile_size, int layer_gap = 65535);
 
+// Where each billboard's maps lie on the GPU: rectangles of `cell`-aligned size packed into the
+// layers of texture arrays (renderer.cpp). One billboard per layer, each layer as large as the
+// largest billboard, left half of the tree's layers empty (billboards of other shapes and sizes:
+// 94M texels allocated for 48M at 2048 texels, 2 GiB); shelves of billboards sorted by height fill
+// layers of the size, among a few multiples of the largest billboard, that allocates the fewest
+// texels. Offsets are multiples of `cell` (the pyramid's top cell), so that every pyramid node of a
+// billboard lies inside its own rectangle. Deterministic: ties go to the earlier billboard.
+struct LayerPlacement {
+    int layer = 0;
+    glm::ivec2 offset{0}; // texels, multiples of cell
+};
+struct LayerPacking {
+    int width = 0, height = 0, layers = 0; // of every layer
+    std::vector<LayerPlacement> placements; // one per size, in order
+};
+LayerPacking pack_layers(const std::vector<glm::ivec2>& sizes, int cell, int max_side);
+
 } // namespace standin::billboards

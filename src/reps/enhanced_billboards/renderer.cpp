@@ -36,6 +36,7 @@
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/common/package_cast.h"
+#include <standin/log.h>
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
@@ -61,8 +62,9 @@ struct BillboardGpu {
     glm::mat4 box_from_object;
     glm::ivec4 info; // layer, unused, width, height
     glm::vec4 box_min, box_max;
+    glm::ivec4 offset; // xy: texel offset of the billboard's maps in its layer (pack_layers)
 };
-static_assert(sizeof(BillboardGpu) == 176, "std430 layout of BillboardData");
+static_assert(sizeof(BillboardGpu) == 192, "std430 layout of BillboardData");
 static_assert(k_texel_clipped == TEXEL_CLIPPED && k_texel_covered == TEXEL_COVERED && k_smooth_plus_u == SMOOTH_PLUS_U &&
                   k_smooth_minus_v == SMOOTH_MINUS_V && (k_link_plus_v << k_smooth_link_shift) == k_smooth_plus_v,
               "surface flags of march.frag");
@@ -97,6 +99,8 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
 // at most 2^6-texel cells at the top of the pyramid: long rays cross a few top cells, and the
 // texture arrays pad to multiples of 64 texels only
 constexpr int k_max_pyramid_levels = 6;
+// the largest side of a texture layer pack_layers may choose (a few billboards of 2048 texels)
+constexpr int k_max_layer_side = 8192;
 // tiles of 2^4 texels: a tile proxy per 16 x 16 texels
 constexpr int k_tile_level = 4;
 // a tile's depth layers get boxes of their own where they lie this many tile widths apart (build_tiles)
@@ -308,27 +312,28 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     if (billboard_count_ == 0) return Status::ok();
     GLint max_layers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-    if (billboard_count_ > max_layers)
-        return error(StatusCode::gpu_error, "enhanced billboards: " + std::to_string(billboard_count_) +
-                                                " billboards exceed GL_MAX_ARRAY_TEXTURE_LAYERS");
 
-    // one array layer per billboard, padded to whole top-level pyramid cells
+    // the billboards packed into array layers, each padded to whole top-level pyramid cells
     int max_width = 1, max_height = 1;
+    std::vector<glm::ivec2> sizes;
     for (const Billboard& b : package.billboards) {
         max_width = std::max(max_width, b.width);
         max_height = std::max(max_height, b.height);
+        sizes.push_back({b.width, b.height});
     }
     int levels = 0;
     while (levels < k_max_pyramid_levels && (1 << levels) < std::max(max_width, max_height)) ++levels;
     int cell = 1 << levels;
-    int width = (max_width + cell - 1) / cell * cell, height = (max_height + cell - 1) / cell * cell;
     top_level_ = levels;
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    const LayerPacking packing = pack_layers(sizes, cell, std::min(int(max_size), k_max_layer_side));
+    const int width = packing.width, height = packing.height, layers = packing.layers;
     if (width > max_size || height > max_size)
         return error(StatusCode::gpu_error, "enhanced billboards: billboard larger than GL_MAX_TEXTURE_SIZE");
-
-    int layers = billboard_count_;
+    if (layers > max_layers)
+        return error(StatusCode::gpu_error, "enhanced billboards: " + std::to_string(layers) +
+                                                " texture layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS");
     color_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
     normal_maps_ = make_texture_array(GL_RGBA16, width, height, layers, 1);
     surface_maps_ = make_texture_array(GL_RGBA16UI, width, height, layers, 1);
@@ -352,24 +357,27 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     int tile_level = std::min(k_tile_level, levels), coarse_level = std::min(k_coarse_tile_level, levels);
     glm::vec3 bound_lo(1e30f), bound_hi(-1e30f);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (int layer = 0; layer < layers; ++layer) {
+    for (int layer = 0; layer < billboard_count_; ++layer) { // (a billboard's index, as tiles name it)
         const Billboard& b = package.billboards[std::size_t(layer)];
+        const LayerPlacement at = packing.placements[std::size_t(layer)];
+        const glm::ivec2 padded = (glm::ivec2(b.width, b.height) + cell - 1) / cell * cell;
         BillboardGpu g;
         g.object_from_box = object_from_box(b);
         g.box_from_object = glm::inverse(g.object_from_box);
-        g.info = glm::ivec4(layer, 0, b.width, b.height);
+        g.info = glm::ivec4(at.layer, 0, b.width, b.height);
+        g.offset = glm::ivec4(at.offset, 0, 0);
 
-        glTextureSubImage3D(color_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                            b.color.pixels.data());
-        glTextureSubImage3D(normal_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_SHORT,
-                            b.normal_depth.pixels.data());
+        glTextureSubImage3D(color_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
+                            GL_UNSIGNED_BYTE, b.color.pixels.data());
+        glTextureSubImage3D(normal_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
+                            GL_UNSIGNED_SHORT, b.normal_depth.pixels.data());
         if (orm_maps_) {
-            glTextureSubImage3D(orm_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                b.orm.pixels.data());
-            glTextureSubImage3D(emission_maps_.get(), 0, 0, 0, layer, b.width, b.height, 1, GL_RGBA, GL_UNSIGNED_BYTE,
-                                b.emission.pixels.data());
+            glTextureSubImage3D(orm_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
+                                GL_UNSIGNED_BYTE, b.orm.pixels.data());
+            glTextureSubImage3D(emission_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1,
+                                GL_RGBA, GL_UNSIGNED_BYTE, b.emission.pixels.data());
         }
-        HeightFieldAcceleration acc = build_acceleration(b, width, height, levels, links);
+        HeightFieldAcceleration acc = build_acceleration(b, padded.x, padded.y, levels, links);
         covered_box(acc, b, g);
         gpu_billboards.push_back(g);
         // proxies: the occupied tiles, the coarse tiles, and the whole box of covered texels
@@ -407,15 +415,25 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                 bound_hi = glm::max(bound_hi, p);
             }
         }
-        glTextureSubImage3D(surface_maps_.get(), 0, 0, 0, layer, width, height, 1, GL_RGBA_INTEGER,
-                            GL_UNSIGNED_SHORT, acc.surface.data());
+        glTextureSubImage3D(surface_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, padded.x, padded.y, 1,
+                            GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, acc.surface.data());
         for (int level = 1; level <= levels; ++level)
-            glTextureSubImage3D(minmax_maps_.get(), level - 1, 0, 0, layer, width >> level, height >> level, 1,
-                                GL_RG_INTEGER, GL_UNSIGNED_SHORT, acc.pyramid[std::size_t(level - 1)].data());
+            glTextureSubImage3D(minmax_maps_.get(), level - 1, at.offset.x >> level, at.offset.y >> level, at.layer,
+                                padded.x >> level, padded.y >> level, 1, GL_RG_INTEGER, GL_UNSIGNED_SHORT,
+                                acc.pyramid[std::size_t(level - 1)].data());
         std::vector<std::vector<std::uint8_t>> color_pyramid = build_color_pyramid(b, acc);
         for (int level = 1; level <= levels; ++level)
-            glTextureSubImage3D(color_mips_.get(), level - 1, 0, 0, layer, width >> level, height >> level, 1,
-                                GL_RGBA, GL_UNSIGNED_BYTE, color_pyramid[std::size_t(level - 1)].data());
+            glTextureSubImage3D(color_mips_.get(), level - 1, at.offset.x >> level, at.offset.y >> level, at.layer,
+                                padded.x >> level, padded.y >> level, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                                color_pyramid[std::size_t(level - 1)].data());
+    }
+    {
+        std::uint64_t texels = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(layers), bytes = texels * (4 + 8 + 8);
+        if (orm_maps_) bytes += texels * 8;
+        for (int level = 1; level <= levels; ++level) bytes += (texels >> (2 * level)) * (4 + 4);
+        log_message(LogLevel::info, "enhanced billboards: " + std::to_string(billboard_count_) + " billboards in " +
+                                        std::to_string(layers) + " texture layers of " + std::to_string(width) + "x" +
+                                        std::to_string(height) + ", " + std::to_string(bytes >> 20) + " MiB");
     }
     billboards_ = gpu::make_buffer(gpu_billboards);
     fine_count_ = fine.size();

@@ -9,6 +9,7 @@ struct BillboardData {
     ivec4 info;    // layer, unused, width, height (texels)
     vec4 box_min;  // box space bounds of the covered texels and their depths (min > max: empty)
     vec4 box_max;
+    ivec4 offset;  // xy: where the billboard's texel (0, 0) lies in its layer (acceleration.h pack_layers)
 };
 
 layout(std430, binding = BINDING_BILLBOARDS_SSBO) readonly buffer BillboardBlock {

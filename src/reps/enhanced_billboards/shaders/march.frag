@@ -57,11 +57,17 @@ layout(location = 0) out vec4 out_color;
 
 const float k_codes = HF_DEPTH_CODES;
 int g_fetches = 0;
+// where the billboard's maps lie in their layer (several billboards share one: pack_layers); the
+// march works in the billboard's own texels, and every read goes through at()
+ivec2 g_offset = ivec2(0);
+ivec3 at(ivec2 texel, int layer) { return ivec3(texel + g_offset, layer); }
+// a cell of pyramid level `level` (offsets are multiples of the top level's cell)
+ivec3 at_level(ivec2 cell, int layer, int level) { return ivec3(cell + (g_offset >> level), layer); }
 
 uvec4 fetch_surface(ivec2 texel, int layer)
 {
     ++g_fetches;
-    return texelFetch(surface_maps, ivec3(texel, layer), 0);
+    return texelFetch(surface_maps, at(texel, layer), 0);
 }
 
 // Whether box-space point p (x, y in texels) is on the surface of covered texel `texel` (surface
@@ -71,7 +77,7 @@ bool on_surface(uvec4 s, ivec2 texel, vec2 p, int layer)
 {
     if ((s.a & TEXEL_CLIPPED) == 0u) return true;
     ++g_fetches;
-    uint code = uint(round(texelFetch(color_maps, ivec3(texel, layer), 0).a * 255.0)) - uint(EDGE_LINE_FIRST_CODE);
+    uint code = uint(round(texelFetch(color_maps, at(texel, layer), 0).a * 255.0)) - uint(EDGE_LINE_FIRST_CODE);
     float angle = float(code / uint(EDGE_LINE_OFFSETS)) * (6.28318530718 / float(EDGE_LINE_ANGLES));
     vec2 n = vec2(cos(angle), sin(angle));
     float e = ((float(code % uint(EDGE_LINE_OFFSETS)) + 0.5) / float(EDGE_LINE_OFFSETS) * 2.0 - 1.0) * 0.5 * (abs(n.x) + abs(n.y));
@@ -88,19 +94,19 @@ vec3 surface_bilinear_color(ivec2 texel, vec2 p, int layer)
     ivec2 side = ivec2(f.x >= 0.0 ? 1 : -1, f.y >= 0.0 ? 1 : -1);
     vec2 w = min(abs(f), vec2(0.5));
     uint link_u = side.x > 0 ? SMOOTH_PLUS_U : SMOOTH_MINUS_U, link_v = side.y > 0 ? SMOOTH_PLUS_V : SMOOTH_MINUS_V;
-    uint flags = texelFetch(surface_maps, ivec3(texel, layer), 0).a;
+    uint flags = texelFetch(surface_maps, at(texel, layer), 0).a;
     bool along_u = (flags & link_u) != 0u, along_v = (flags & link_v) != 0u, diagonal = false;
     if (along_u)
-        diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(side.x, 0), layer), 0).a & link_v) != 0u;
+        diagonal = (texelFetch(surface_maps, at(texel + ivec2(side.x, 0), layer), 0).a & link_v) != 0u;
     if (!diagonal && along_v)
-        diagonal = (texelFetch(surface_maps, ivec3(texel + ivec2(0, side.y), layer), 0).a & link_u) != 0u;
+        diagonal = (texelFetch(surface_maps, at(texel + ivec2(0, side.y), layer), 0).a & link_u) != 0u;
     vec4 weights = vec4((1.0 - w.x) * (1.0 - w.y), along_u ? w.x * (1.0 - w.y) : 0.0, along_v ? (1.0 - w.x) * w.y : 0.0,
                         diagonal ? w.x * w.y : 0.0);
     weights = weights / (weights.x + weights.y + weights.z + weights.w);
-    vec4 sum = weights.x * texelFetch(color_maps, ivec3(texel, layer), 0);
-    if (weights.y > 0.0) sum += weights.y * texelFetch(color_maps, ivec3(texel + ivec2(side.x, 0), layer), 0);
-    if (weights.z > 0.0) sum += weights.z * texelFetch(color_maps, ivec3(texel + ivec2(0, side.y), layer), 0);
-    if (weights.w > 0.0) sum += weights.w * texelFetch(color_maps, ivec3(texel + side, layer), 0);
+    vec4 sum = weights.x * texelFetch(color_maps, at(texel, layer), 0);
+    if (weights.y > 0.0) sum += weights.y * texelFetch(color_maps, at(texel + ivec2(side.x, 0), layer), 0);
+    if (weights.z > 0.0) sum += weights.z * texelFetch(color_maps, at(texel + ivec2(0, side.y), layer), 0);
+    if (weights.w > 0.0) sum += weights.w * texelFetch(color_maps, at(texel + side, layer), 0);
     return sum.rgb;
 }
 
@@ -139,7 +145,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
 
         if (level > 0) {
             ++g_fetches;
-            uvec2 range = texelFetch(minmax_maps, ivec3(cell, layer), level - 1).rg;
+            uvec2 range = texelFetch(minmax_maps, at_level(cell, layer, level), level - 1).rg;
             if (float(range.x) <= z_hi + 0.5 && float(range.y) >= z_lo - 0.5) {
                 if (level <= pixel_level) {
                     // the node is no wider than half the pixel: the ray meets it where it reaches
@@ -291,7 +297,7 @@ vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_w
     int found = 0;
     vec3 found_color = vec3(0.0);
     for (int level = min(finer_level + 1, top_level); level > 0; --level) {
-        vec4 mean = texelFetch(color_mips, ivec3(texel >> level, layer), level - 1);
+        vec4 mean = texelFetch(color_mips, at_level(texel >> level, layer, level), level - 1);
         if (mean.a > 0.5) {
             found = level;
             found_color = mean.rgb;
@@ -303,7 +309,7 @@ vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_w
     // the mean of finer_level's cell (one surface, since its parent is)
     vec3 finer = found == 0 || finer_level == 0
                      ? surface_bilinear_color(texel, p_box.xy, layer)
-                     : texelFetch(color_mips, ivec3(texel >> finer_level, layer), finer_level - 1).rgb;
+                     : texelFetch(color_mips, at_level(texel >> finer_level, layer, finer_level), finer_level - 1).rgb;
     return found > finer_level ? mix(finer, found_color, clamp(lambda - float(finer_level), 0.0, 1.0)) : finer;
 }
 
@@ -315,6 +321,7 @@ void main()
     BillboardData data = billboards.items[billboard];
     int layer = data.info.x;
     ivec2 size = data.info.zw;
+    g_offset = data.offset.xy;
 
     // the eye ray in box space, clipped to the proxy box (and to the near plane: t >= 0); t is the
     // distance along the world ray in both spaces
@@ -395,7 +402,7 @@ void main()
     vec3 p_box = o + t_hit * d;
     vec3 p_world = (v_world_from_box * vec4(p_box, 1.0)).xyz;
     mat4 world_from_object = instances.world_from_object[v_instance];
-    vec3 normal_object = texelFetch(normal_maps, ivec3(texel, layer), 0).rgb * 2.0 - 1.0;
+    vec3 normal_object = texelFetch(normal_maps, at(texel, layer), 0).rgb * 2.0 - 1.0;
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - p_world);
     // the back of a height field is drawn (open surfaces show both sides, as in the ground truth)
@@ -417,7 +424,7 @@ void main()
         discard;
     }
     // (the colour only for hits that are drawn)
-    vec4 albedo = texelFetch(color_maps, ivec3(texel, layer), 0);
+    vec4 albedo = texelFetch(color_maps, at(texel, layer), 0);
     if (color_footprint != 0 && march_mode == MARCH_EXACT)
         albedo.rgb = footprint_color(texel, layer, top_level, p_box, p_world, t_hit, o_x, d_x, o_y, d_y);
     const float k_back_texels = 2.0;
@@ -432,8 +439,8 @@ void main()
                    (floatBitsToUint(depth) & ~PIXEL_DEPTH_BACK) | (back ? PIXEL_DEPTH_BACK : 0u));
     vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);
     if (has_pbr_maps != 0) {
-        orm = texelFetch(orm_maps, ivec3(texel, layer), 0).rgb;
-        emissive = srgb_to_linear(texelFetch(emission_maps, ivec3(texel, layer), 0).rgb);
+        orm = texelFetch(orm_maps, at(texel, layer), 0).rgb;
+        emissive = srgb_to_linear(texelFetch(emission_maps, at(texel, layer), 0).rgb);
     }
     vec3 color = shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, p_world);
     if (debug_view == DEBUG_VIEW_PARTS) color = billboard_color(billboard);

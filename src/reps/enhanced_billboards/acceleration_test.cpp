@@ -1,0 +1,94 @@
+// Billboards packed into texture layers (acceleration.h pack_layers): every billboard's cell-aligned
+// rectangle inside its layer, none overlapping, offsets on the pyramid's top cells, and fewer
+// texels allocated than one layer per billboard would take.
+#include "reps/enhanced_billboards/acceleration.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+
+namespace standin::billboards {
+namespace {
+
+std::int64_t allocated(const LayerPacking& p) { return std::int64_t(p.width) * p.height * p.layers; }
+
+void expect_valid(const std::vector<glm::ivec2>& sizes, int cell, int max_side, const LayerPacking& p)
+{
+    ASSERT_EQ(p.placements.size(), sizes.size());
+    EXPECT_LE(p.width, max_side);
+    EXPECT_LE(p.height, max_side);
+    EXPECT_EQ(p.width % cell, 0);
+    EXPECT_EQ(p.height % cell, 0);
+    auto padded = [cell](glm::ivec2 s) { return glm::max(glm::ivec2(cell), (s + cell - 1) / cell * cell); };
+    for (std::size_t a = 0; a < sizes.size(); ++a) {
+        const LayerPlacement& pa = p.placements[a];
+        const glm::ivec2 sa = padded(sizes[a]);
+        EXPECT_GE(pa.layer, 0);
+        EXPECT_LT(pa.layer, p.layers);
+        EXPECT_EQ(pa.offset.x % cell, 0) << a;
+        EXPECT_EQ(pa.offset.y % cell, 0) << a;
+        EXPECT_GE(pa.offset.x, 0);
+        EXPECT_GE(pa.offset.y, 0);
+        EXPECT_LE(pa.offset.x + sa.x, p.width) << a;
+        EXPECT_LE(pa.offset.y + sa.y, p.height) << a;
+        for (std::size_t b = a + 1; b < sizes.size(); ++b) {
+            const LayerPlacement& pb = p.placements[b];
+            const glm::ivec2 sb = padded(sizes[b]);
+            const bool apart = pa.layer != pb.layer || pa.offset.x + sa.x <= pb.offset.x || pb.offset.x + sb.x <= pa.offset.x ||
+                               pa.offset.y + sa.y <= pb.offset.y || pb.offset.y + sb.y <= pa.offset.y;
+            EXPECT_TRUE(apart) << "billboards " << a << " and " << b << " overlap";
+        }
+    }
+}
+
+TEST(PackLayers, BillboardsOfManySizesShareLayersWithoutOverlap)
+{
+    std::mt19937 random(5);
+    std::uniform_int_distribution<int> side(1, 700);
+    std::vector<glm::ivec2> sizes;
+    for (int k = 0; k < 60; ++k) sizes.push_back({side(random), side(random)});
+    sizes.push_back({700, 700}); // the largest of both sides
+    const int cell = 64;
+    const LayerPacking p = pack_layers(sizes, cell, 8192);
+    expect_valid(sizes, cell, 8192, p);
+    // one 704 x 704 layer per billboard is what the renderer allocated before
+    const std::int64_t one_each = std::int64_t(704) * 704 * std::int64_t(sizes.size());
+    EXPECT_LT(allocated(p), one_each * 7 / 10) << p.width << "x" << p.height << " x " << p.layers;
+    // deterministic
+    const LayerPacking again = pack_layers(sizes, cell, 8192);
+    EXPECT_EQ(again.width, p.width);
+    EXPECT_EQ(again.layers, p.layers);
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+        EXPECT_EQ(again.placements[k].layer, p.placements[k].layer);
+        EXPECT_EQ(again.placements[k].offset, p.placements[k].offset);
+    }
+}
+
+TEST(PackLayers, LimitsAndSmallCases)
+{
+    // one billboard: one layer of its own aligned size, at the origin
+    LayerPacking one = pack_layers({{100, 30}}, 64, 8192);
+    expect_valid({{100, 30}}, 64, 8192, one);
+    EXPECT_EQ(one.layers, 1);
+    EXPECT_EQ(one.width, 128);
+    EXPECT_EQ(one.height, 64);
+    EXPECT_EQ(one.placements[0].offset, glm::ivec2(0));
+    // four equal billboards fit one layer of twice the side when the limit allows it, else four
+    const std::vector<glm::ivec2> four(4, glm::ivec2(256, 256));
+    LayerPacking roomy = pack_layers(four, 64, 8192);
+    expect_valid(four, 64, 8192, roomy);
+    EXPECT_EQ(allocated(roomy), 4 * 256 * 256);
+    LayerPacking tight = pack_layers(four, 64, 256);
+    expect_valid(four, 64, 256, tight);
+    EXPECT_EQ(tight.layers, 4);
+    // a small pyramid (cell 8) and no billboards
+    const std::vector<glm::ivec2> small{{3, 5}, {8, 8}, {1, 1}};
+    expect_valid(small, 8, 8192, pack_layers(small, 8, 8192));
+    LayerPacking none = pack_layers({}, 64, 8192);
+    EXPECT_TRUE(none.placements.empty());
+    EXPECT_EQ(none.layers, 0);
+}
+
+} // namespace
+} // namespace standin::billboards
