@@ -35,6 +35,7 @@
 // Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/block_compress.h"
 #include "reps/common/package_cast.h"
 #include <standin/log.h>
 
@@ -335,7 +336,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         return error(StatusCode::gpu_error, "enhanced billboards: " + std::to_string(layers) +
                                                 " texture layers exceed GL_MAX_ARRAY_TEXTURE_LAYERS");
     color_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
-    normal_maps_ = make_texture_array(GL_RGBA16, width, height, layers, 1);
+    // normals octahedral in RG16 (4 bytes a texel instead of RGBA16's 8; the package's depth, the
+    // fourth channel, is the surface maps' already): as exact as 16 bits per axis, where RGB10_A2 cost
+    // the engine's thesis Luv 0.007
+    normal_maps_ = make_texture_array(GL_RG16, width, height, layers, 1);
     surface_maps_ = make_texture_array(GL_RGBA16UI, width, height, layers, 1);
     minmax_maps_ = make_texture_array(GL_RG16UI, std::max(1, width / 2), std::max(1, height / 2), layers,
                                       std::max(1, levels));
@@ -369,8 +373,14 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
 
         glTextureSubImage3D(color_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
                             GL_UNSIGNED_BYTE, b.color.pixels.data());
-        glTextureSubImage3D(normal_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
-                            GL_UNSIGNED_SHORT, b.normal_depth.pixels.data());
+        std::vector<std::uint16_t> octahedral(std::size_t(b.width) * std::size_t(b.height) * 2);
+        for (std::size_t k = 0; k < octahedral.size() / 2; ++k) {
+            const std::uint16_t* n = &b.normal_depth.pixels[k * 4];
+            const glm::vec2 e = reps::octahedral_encode(glm::vec3(n[0], n[1], n[2]) / 32767.5f - 1.0f);
+            for (int c = 0; c < 2; ++c) octahedral[k * 2 + std::size_t(c)] = std::uint16_t(std::lround(std::clamp(e[c], 0.0f, 1.0f) * 65535.0f));
+        }
+        glTextureSubImage3D(normal_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RG,
+                            GL_UNSIGNED_SHORT, octahedral.data());
         if (orm_maps_) {
             glTextureSubImage3D(orm_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, b.width, b.height, 1, GL_RGBA,
                                 GL_UNSIGNED_BYTE, b.orm.pixels.data());
@@ -428,7 +438,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                                 color_pyramid[std::size_t(level - 1)].data());
     }
     {
-        std::uint64_t texels = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(layers), bytes = texels * (4 + 8 + 8);
+        std::uint64_t texels = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(layers), bytes = texels * (4 + 4 + 8);
         if (orm_maps_) bytes += texels * 8;
         for (int level = 1; level <= levels; ++level) bytes += (texels >> (2 * level)) * (4 + 4);
         log_message(LogLevel::info, "enhanced billboards: " + std::to_string(billboard_count_) + " billboards in " +

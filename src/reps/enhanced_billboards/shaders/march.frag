@@ -55,6 +55,16 @@ uniform int mark_pixels;
 
 layout(location = 0) out vec4 out_color;
 
+// a unit normal from its point on the octahedron folded onto [0, 1]² (reps/common/block_compress.h)
+vec3 octahedral_decode(vec2 e)
+{
+    vec2 f = e * 2.0 - 1.0;
+    vec3 n = vec3(f, 1.0 - abs(f.x) - abs(f.y));
+    float t = max(-n.z, 0.0);
+    n.xy += vec2(n.x >= 0.0 ? -t : t, n.y >= 0.0 ? -t : t);
+    return normalize(n);
+}
+
 const float k_codes = HF_DEPTH_CODES;
 int g_fetches = 0;
 // where the billboard's maps lie in their layer (several billboards share one: pack_layers); the
@@ -402,7 +412,7 @@ void main()
     vec3 p_box = o + t_hit * d;
     vec3 p_world = (v_world_from_box * vec4(p_box, 1.0)).xyz;
     mat4 world_from_object = instances.world_from_object[v_instance];
-    vec3 normal_object = texelFetch(normal_maps, at(texel, layer), 0).rgb * 2.0 - 1.0;
+    vec3 normal_object = octahedral_decode(texelFetch(normal_maps, at(texel, layer), 0).rg);
     vec3 normal_world = normalize(mat3(world_from_object) * normal_object);
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - p_world);
     // the back of a height field is drawn (open surfaces show both sides, as in the ground truth)
