@@ -33,8 +33,11 @@
 //   texels end their surface (depth_edge_fraction): such texels are where rays meet depth edges the
 //   capture could not resolve, and where the held-out engine's pictures lost (billboards.h).
 // - alpha-tested models (leaf cards, issue #14) default to k_alpha_resolution texels along the
-//   diagonal instead of 512: at 512 a leaf's outline and the gaps between leaves are coarser than
-//   a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls under 0.95.
+//   diagonal instead of 512, or finer where their cut-out textures are, up to
+//   k_alpha_max_resolution (cutout_resolution): at 512 a leaf's outline and the gaps between leaves
+//   are coarser than a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls
+//   under 0.95; at 1024 the leaves' edges inside the crown still sit half a texel off, where half a
+//   pixel of the truth itself costs over 1 Luv.
 //   Their faces are projected only onto billboards they face by at least k_alpha_grazing_angle
 //   (30 degrees instead of 10): a card captured edge-on is a streak of texels with walls, which
 //   rays from other directions hit where the truth shows another card.
@@ -454,6 +457,44 @@ Mesh opaque_faces(const Mesh& mesh)
     return opaque;
 }
 
+// The texels along the diagonal for an alpha-tested model (issue #14): k_alpha_resolution, or
+// finer up to k_alpha_max_resolution where its cut-out textures are finer, so that a capture texel
+// is as fine as a texel of the texture whose alpha draws the leaf's contour: the area-weighted
+// median, over the textured alpha-tested faces, of the world size of one texture texel there
+// (sqrt of the face's area over its area in texels). A model whose cut-outs come without a
+// texture (opacity, vertex alpha) keeps k_alpha_resolution: its contours are its edges.
+int cutout_resolution(const Mesh& mesh)
+{
+    struct Sample {
+        double texel_world, area;
+    };
+    std::vector<Sample> samples;
+    double total_area = 0.0;
+    for (std::size_t f = 0; f < mesh.triangle_count() && mesh.has_texture_coordinates(); ++f) {
+        const Material& material = mesh.materials[mesh.face_materials[f]];
+        if (alpha_test_cutoff(material) <= 0.0f || material.base_color_texture < 0) continue;
+        const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
+        const glm::vec2 a = mesh.uvs[mesh.indices[3 * f]], b = mesh.uvs[mesh.indices[3 * f + 1]], c = mesh.uvs[mesh.indices[3 * f + 2]];
+        const glm::vec2 ab = (b - a) * glm::vec2(texture.width, texture.height), ac = (c - a) * glm::vec2(texture.width, texture.height);
+        const double texels = 0.5 * std::abs(double(ab.x) * ac.y - double(ab.y) * ac.x), area = mesh.triangle_area(f);
+        if (!(texels > 0.0) || !(area > 0.0) || !std::isfinite(texels) || !std::isfinite(area)) continue;
+        samples.push_back({std::sqrt(area / texels), area});
+        total_area += area;
+    }
+    if (samples.empty()) return k_alpha_resolution;
+    std::sort(samples.begin(), samples.end(), [](const Sample& x, const Sample& y) { return x.texel_world < y.texel_world; });
+    double below = 0.0, median = samples.back().texel_world;
+    for (const Sample& s : samples) {
+        below += s.area;
+        if (below >= 0.5 * total_area) {
+            median = s.texel_world;
+            break;
+        }
+    }
+    const double texels = double(mesh.bounds().diagonal()) / median;
+    return int(std::clamp(std::ceil(texels), double(k_alpha_resolution), double(k_alpha_max_resolution)));
+}
+
 } // namespace
 
 // The covered texels of a billboard that end its surface on some side (issue #17, the held-out
@@ -626,7 +667,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // alpha-tested models (leaf cards) at the default resolution: finer texels (k_alpha_resolution)
     const bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
                                           [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
-    if (alpha_tested && default_resolution) parameters.set_integer("resolution", k_alpha_resolution);
+    if (alpha_tested && default_resolution) parameters.set_integer("resolution", cutout_resolution(mesh));
     // and faces more squarely facing their billboard (k_alpha_grazing_angle)
     if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);

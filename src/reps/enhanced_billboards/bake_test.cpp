@@ -541,8 +541,8 @@ TEST(BakeBillboards, OnlyAlphaTestedFacesGiveAnEmptyCoarseMesh)
     EXPECT_EQ(reps::make_coarse_mesh(Mesh{}, 0.1f).triangle_count(), 0u);
 }
 
-// Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal (opaque
-// ones keep 512; --resolution and --texel-size still decide) and to k_alpha_grazing_angle (opaque
+// Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal, finer
+// up to k_alpha_max_resolution where their leaf texture is finer (opaque ones keep 512; --resolution and --texel-size still decide) and to k_alpha_grazing_angle (opaque
 // ones keep 10; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole
 // cards would fill the ring of near-miss pixels around every leaf.
 TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoarseMesh)
@@ -572,6 +572,25 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     Baked texel = bake_mesh(mesh, {{"texel-size", "0.01"}});
     ASSERT_TRUE(texel.status) << texel.status.message();
     EXPECT_FLOAT_EQ(texel.package->settings.texel_size, 0.01f);
+
+    // a leaf texture finer than the default texels: a capture texel as fine as its texel (the
+    // card's 256-texel texture repeated twice across it: 512 texels per unit), at most
+    // k_alpha_max_resolution (repeated four times: 1024 per unit)
+    Mesh finer = mesh;
+    for (int v = 0; v < 4; ++v) finer.uvs[std::size_t(v)] *= 2.0f;
+    Baked fine = bake_mesh(finer);
+    ASSERT_TRUE(fine.status) << fine.status.message();
+    const int expected = int(std::ceil(diagonal * 512.0f));
+    ASSERT_GT(expected, k_alpha_resolution);
+    ASSERT_LT(expected, k_alpha_max_resolution);
+    EXPECT_NEAR(fine.package->settings.resolution, expected, 1);
+    for (int v = 0; v < 4; ++v) finer.uvs[std::size_t(v)] *= 2.0f;
+    Baked finest = bake_mesh(finer);
+    ASSERT_TRUE(finest.status) << finest.status.message();
+    EXPECT_EQ(finest.package->settings.resolution, k_alpha_max_resolution);
+    Baked finest_given = bake_mesh(finer, {{"resolution", "300"}});
+    ASSERT_TRUE(finest_given.status) << finest_given.status.message();
+    EXPECT_EQ(finest_given.package->settings.resolution, 300);
 
     Mesh opaque = mesh;
     for (Material& m : opaque.materials) m.alpha_mode = AlphaMode::opaque;

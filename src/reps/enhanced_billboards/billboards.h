@@ -41,6 +41,13 @@ constexpr int k_default_direction_count = 256; // --directions sphere
 // surface. Measured on the generated tree (docs/RESULTS.md "Billboards on foliage: resolution and
 // coarse mesh"): silhouette IoU at distance 8 is 0.943 at 512, 0.956 at 768, 0.963 at 1024.
 constexpr int k_alpha_resolution = 1024;
+// ... and up to k_alpha_max_resolution where the cut-out textures' own texels are finer
+// (bake.cpp cutout_resolution: a capture texel as fine as a texel of the leaf texture, whose
+// contour the alpha test draws). Measured on the generated tree (128-texel leaf texture, 2325 of
+// its texels along the diagonal; docs/RESULTS.md "Billboards on foliage: texels as fine as the
+// leaf texture's"): foliage protocol Luv at distance 1 3.40 at 1024, 3.05 at 1536, 2.89 at 2048;
+// 4096 does not fit llvmpipe's texture memory.
+constexpr int k_alpha_max_resolution = 2048;
 // Texels along the diagonal for models with detail finer than the default texels when neither
 // --resolution nor --texel-size is given (issue #17: the held-out 110k-face engine, whose cooling
 // fins and nested parts are a texel or two apart): after a bake at 512, when more than
