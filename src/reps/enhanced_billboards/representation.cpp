@@ -18,9 +18,10 @@ std::vector<OptionSpec> bake_options()
 {
     return {
         integer_option("resolution", 512, 16, k_max_grid_texels,
-                       "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512); unset: 512, or 1024 for "
-                       "models with alpha-tested materials or with detail finer than 512 texels resolve (over 22% of "
-                       "the covered texels end a surface)"),
+                       "Texels along the bounding-box diagonal (Vichitvejpaisal 2005: 512); unset: 512; 1024 for "
+                       "models with detail finer than 512 texels resolve (over 22% of the covered texels end a "
+                       "surface); for models with alpha-tested materials 1024, or up to 2048 where their cut-out "
+                       "texture's texels are finer (a texel as fine as the leaf texture's)"),
         number_option("texel-size", "", 0.0, 3.0e38, "World units per texel, instead of --resolution", true),
         choice_option("directions", "seed", {"seed", "sphere", "axis"},
                       "Candidate directions: seed (36 x 18 around the model), sphere (even Fibonacci set), axis "
