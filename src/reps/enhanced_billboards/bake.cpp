@@ -64,7 +64,8 @@ namespace {
 
 constexpr int k_exact_candidates = 4;
 constexpr float k_candidate_separation_degrees = 15.0f;
-constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution
+constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution,
+constexpr float k_scoring_resolution = 512.0f;    // or 512 texels along the diagonal where finer (2048: foliage)
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
 constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels
 constexpr std::uint32_t k_no_vertex = 0xffffffffu;
@@ -183,7 +184,7 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
         if (apart) picked.push_back(d);
     }
     CaptureSettings coarse = capture_settings;
-    coarse.texel_size *= k_scoring_texel_scale;
+    coarse.texel_size = std::max(coarse.texel_size * k_scoring_texel_scale, mesh.bounds().diagonal() / k_scoring_resolution);
     coarse.write_maps = false;
     std::size_t best = picked[0];
     double best_area = -1.0;
@@ -520,6 +521,13 @@ static std::pair<std::size_t, std::size_t> depth_edge_texels(const Billboard& im
     return {edges, covered};
 }
 
+int budget_resolution(int resolution, std::size_t texels, std::size_t budget, int floor)
+{
+    if (texels <= budget || texels == 0) return resolution;
+    const double scaled = double(resolution) * std::sqrt(double(budget) / double(texels));
+    return std::min(resolution, std::max(floor, int(std::floor(scaled))));
+}
+
 double depth_edge_fraction(const EnhancedBillboardsPackage& package)
 {
     std::size_t edges = 0, covered = 0;
@@ -672,6 +680,18 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);
     if (!package) return package.status();
+    // alpha-tested models above k_alpha_resolution: again, coarser, where the maps exceed the budget
+    if (alpha_tested && default_resolution) {
+        std::size_t texels = 0;
+        for (const Billboard& b : (*package)->billboards) texels += std::size_t(b.width) * std::size_t(b.height);
+        const int resolution = int(parameters.integer("resolution"));
+        const int fitting = budget_resolution(resolution, texels, k_alpha_texel_budget, k_alpha_resolution);
+        if (fitting < resolution) {
+            parameters.set_integer("resolution", fitting);
+            package = bake_pass(context, parameters, alpha_tested);
+            if (!package) return package.status();
+        }
+    }
     // models with detail finer than the default texels (fins, grilles, nested thin parts): baked
     // again at k_detail_resolution when over k_detail_edge_fraction of the texels end a surface
     if (default_resolution && !alpha_tested && depth_edge_fraction(**package) > k_detail_edge_fraction) {

@@ -601,6 +601,19 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     EXPECT_EQ(solid.package->coarse_mesh.triangle_count(), mesh.triangle_count());
 }
 
+// Billboards that would exceed the alpha-tested models' texel budget are baked again at the
+// resolution whose texels fit it (they grow with its square), never under the floor.
+TEST(BakeBillboards, BudgetResolutionKeepsTheTexelsWithinTheBudget)
+{
+    EXPECT_EQ(budget_resolution(2048, 40u << 20, 64u << 20, 1024), 2048);      // fits
+    EXPECT_EQ(budget_resolution(2048, 256u << 20, 64u << 20, 1024), 1024);     // 4x over: half
+    EXPECT_EQ(budget_resolution(2048, 100u << 20, 64u << 20, 1024), 1638);     // sqrt(0.64)
+    EXPECT_EQ(budget_resolution(2048, std::size_t(1) << 34, 64u << 20, 1024), 1024); // the floor
+    EXPECT_EQ(budget_resolution(2048, 0, 64u << 20, 1024), 2048);
+    const int r = budget_resolution(1900, 90'000'000, 64u << 20, 1024);
+    EXPECT_LE(90'000'000.0 * double(r) * r / (1900.0 * 1900.0), double(64u << 20));
+}
+
 TEST(BakeBillboards, BadParametersAndMeshesAreRefused)
 {
     Mesh mesh;

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
@@ -48,6 +49,13 @@ constexpr int k_alpha_resolution = 1024;
 // leaf texture's"): foliage protocol Luv at distance 1 3.40 at 1024, 3.05 at 1536, 2.89 at 2048;
 // 4096 does not fit llvmpipe's texture memory.
 constexpr int k_alpha_max_resolution = 2048;
+// ... as long as the billboards' texels stay within k_alpha_texel_budget (the tree at 2048: 47.8M,
+// 1049 MiB of GPU textures); a crown that would take more is baked again at the resolution that
+// fits (budget_resolution), at least k_alpha_resolution.
+constexpr std::size_t k_alpha_texel_budget = std::size_t(64) << 20;
+// The resolution at which billboards of `texels` texels at `resolution` take about `budget`
+// (texels grow with the square of the resolution), at least `floor`; `resolution` when they fit.
+int budget_resolution(int resolution, std::size_t texels, std::size_t budget, int floor);
 // Texels along the diagonal for models with detail finer than the default texels when neither
 // --resolution nor --texel-size is given (issue #17: the held-out 110k-face engine, whose cooling
 // fins and nested parts are a texel or two apart): after a bake at 512, when more than
