@@ -16,7 +16,7 @@
 #include "reps/displaced_mesh/face_point.h"
 #include "reps/displaced_mesh/refine.h"
 #include "reps/displaced_mesh/renderer.h"
-#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/common/ray_scene.h"
 #include "reps/displaced_mesh/sample.h"
 
 #include <standin/eval.h>

@@ -20,7 +20,7 @@
 // slots from TBB loops.
 #include "reps/displaced_mesh/control_mesh.h"
 #include "reps/displaced_mesh/displaced_mesh.h"
-#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/common/ray_scene.h"
 #include "reps/displaced_mesh/sample.h"
 
 #include <tbb/global_control.h>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "reps/displaced_mesh/pattern.h"
-#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/common/ray_scene.h"
 #include "reps/displaced_mesh/topology.h"
 
 #include <standin/mesh.h>
@@ -18,6 +18,10 @@
 #include <vector>
 
 namespace standin::displaced_mesh {
+
+using reps::closest_point_in_triangle;
+using reps::RayScene;
+using reps::SurfacePoint;
 
 // The control mesh as the sampler and the reconstruction read it.
 struct ControlGeometry {

@@ -1,7 +1,7 @@
 // embree 3 behind RayScene (ray_scene.h). Steps: one device and one static triangle scene over the
 // caller's arrays; rays with rtcIntersect1; closest points with rtcPointQuery and a callback that
 // tests each candidate triangle exactly and shrinks the query radius.
-#include "reps/displaced_mesh/ray_scene.h"
+#include "reps/common/ray_scene.h"
 
 #include <embree3/rtcore.h>
 
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-namespace standin::displaced_mesh {
+namespace standin::reps {
 
 struct RayScene::State {
     RTCDevice device = nullptr;
@@ -149,4 +149,4 @@ SurfacePoint RayScene::closest(glm::vec3 point, float radius) const
     return q.best;
 }
 
-} // namespace standin::displaced_mesh
+} // namespace standin::reps

@@ -1,6 +1,7 @@
-// Rays and closest points against a triangle mesh with embree 3, for sampling the original
-// surface (Bauman, Livny & El-Sana §3.1: "a ray is shot through each refined-vertex along its
-// interpolated normal") and measuring how far a reconstruction lies from it (§3.2, §5.1).
+// Rays and closest points against a triangle mesh with embree 3: the displaced mesh samples the
+// original with it (Bauman, Livny & El-Sana §3.1: "a ray is shot through each refined-vertex along
+// its interpolated normal") and measures how far a reconstruction lies from it (§3.2, §5.1); the
+// billboards' bake asks which backs of single-sided faces can be seen from outside.
 // Built once, then safe to query from many threads.
 #pragma once
 
@@ -12,7 +13,7 @@
 #include <memory>
 #include <vector>
 
-namespace standin::displaced_mesh {
+namespace standin::reps {
 
 // A point on the mesh: triangle and barycentric weights (b1, b2) of its 2nd and 3rd corner.
 struct SurfacePoint {
@@ -47,4 +48,4 @@ private:
 // The closest point of triangle abc to p, with its barycentric weights (b1 on b, b2 on c).
 glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c, float& b1, float& b2);
 
-} // namespace standin::displaced_mesh
+} // namespace standin::reps
