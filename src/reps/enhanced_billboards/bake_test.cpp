@@ -614,6 +614,42 @@ TEST(BakeBillboards, BudgetResolutionKeepsTheTexelsWithinTheBudget)
     EXPECT_LE(90'000'000.0 * double(r) * r / (1900.0 * 1900.0), double(64u << 20));
 }
 
+// --back-hits auto hides back hits where single-sided backs can be seen from outside: a closed
+// sphere's backs face its inside (none seen, whether single-sided or not), a single-sided square's
+// back faces the world (all of its area), and a sphere over such a square shows the square's share.
+TEST(BakeBillboards, VisibleSingleSidedBacksAreTheOpenSheetsOnes)
+{
+    Mesh sphere = test::generated(GeneratedShape::sphere, 800);
+    EXPECT_EQ(visible_single_sided_backs(sphere), 0.0); // double-sided: nothing culled
+    for (Material& m : sphere.materials) m.double_sided = false;
+    EXPECT_EQ(visible_single_sided_backs(sphere), 0.0); // closed
+    Mesh square;
+    add_square(square, 0.0f);
+    for (Material& m : square.materials) m.double_sided = false;
+    EXPECT_NEAR(visible_single_sided_backs(square), 1.0, 1e-6);
+
+    Mesh both = sphere;
+    const std::uint32_t first = std::uint32_t(both.positions.size()), material = std::uint32_t(both.materials.size());
+    for (std::size_t v = 0; v < square.vertex_count(); ++v) {
+        both.positions.push_back(square.positions[v] * 4.0f + glm::vec3(0.0f, 0.0f, -3.0f));
+        both.normals.push_back(square.normals[v]);
+        both.colors.push_back(square.colors[v]);
+    }
+    for (std::uint32_t i : square.indices) both.indices.push_back(first + i);
+    for (std::uint32_t m : square.face_materials) both.face_materials.push_back(material + m);
+    for (const Material& m : square.materials) both.materials.push_back(m);
+    double square_area = 0.0, total = both.surface_area();
+    for (std::size_t f = sphere.triangle_count(); f < both.triangle_count(); ++f) square_area += both.triangle_area(f);
+    EXPECT_NEAR(visible_single_sided_backs(both), square_area / total, 1e-6);
+    // and the decision a bake records
+    Baked sheet = bake_mesh(both);
+    ASSERT_TRUE(sheet.status) << sheet.status.message();
+    EXPECT_EQ(sheet.package->settings.back_hits, "hide");
+    Baked closed = bake_mesh(sphere);
+    ASSERT_TRUE(closed.status) << closed.status.message();
+    EXPECT_EQ(closed.package->settings.back_hits, "show");
+}
+
 TEST(BakeBillboards, BadParametersAndMeshesAreRefused)
 {
     Mesh mesh;

@@ -57,8 +57,9 @@ std::vector<OptionSpec> bake_options()
                       "Rays meeting a billboard's surface from behind: show (drawn where nothing nearer is, as the "
                       "back of a double-sided sheet, or the inside of a part through a seam), hide (dropped, and "
                       "the coarse mesh's back faces culled: the truth culls the backs of single-sided faces; for "
-                      "scenes with single-sided ground planes or sheets seen from behind) or auto (show, for now; "
-                      "the package records which)"),
+                      "scenes with single-sided ground planes or sheets seen from behind) or auto (hide where over "
+                      "0.1% of the model's area is single-sided faces whose backs can be seen from outside, "
+                      "else show; the package records which)"),
     };
 }
 
