@@ -173,4 +173,25 @@ Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
     return mesh;
 }
 
+Result<EvalResult> evaluate_views(Renderer& truth, Renderer& standin, const Mesh& mesh, const std::vector<float>& azimuths,
+                                  const std::vector<float>& elevations, int width, int height)
+{
+    Protocol protocol;
+    protocol.name = "sheets";
+    for (float azimuth : azimuths)
+        for (float elevation : elevations) {
+            EvalView view;
+            view.orbit.azimuth_degrees = azimuth;
+            view.orbit.elevation_degrees = elevation;
+            view.width = width;
+            view.height = height;
+            protocol.views.push_back(view);
+        }
+    EvalOptions options;
+    options.timed_frames = 0;
+    Result<EvalResult> result = evaluate(truth, standin, mesh.bounding_sphere(), protocol, options, {});
+    EXPECT_TRUE(result.is_ok()) << result.status().message();
+    return result;
+}
+
 } // namespace standin::test

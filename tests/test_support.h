@@ -3,6 +3,7 @@
 
 #include <standin/mesh.h>
 #include <standin/package.h>
+#include <standin/eval.h>
 #include <standin/render.h>
 
 #include <glm/vec4.hpp>
@@ -60,5 +61,10 @@ std::string base64(const std::string& bytes);
 // linearly from 1 at the centre to 0 at radius 0.5 of the side: cutoff c keeps the disc of radius
 // 0.5 (1 - c), area pi (1 - c)^2 / 4 of the quad (issue #14's alpha tests, CPU and GPU).
 Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided);
+
+// The stand-in against the truth from every azimuth x elevation (orbit cameras around the mesh's
+// bounding sphere), untimed; fails the test when evaluation fails.
+Result<EvalResult> evaluate_views(Renderer& truth, Renderer& standin, const Mesh& mesh, const std::vector<float>& azimuths,
+                                  const std::vector<float>& elevations, int width, int height);
 
 } // namespace standin::test

@@ -13,6 +13,10 @@
 #include <memory>
 #include <vector>
 
+namespace standin {
+struct Mesh;
+}
+
 namespace standin::reps {
 
 // A point on the mesh: triangle and barycentric weights (b1, b2) of its 2nd and 3rd corner.
@@ -47,5 +51,12 @@ private:
 
 // The closest point of triangle abc to p, with its barycentric weights (b1 on b, b2 on c).
 glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c, float& b1, float& b2);
+
+// The share of the model's area on single-sided faces (Material::double_sided false) whose backs
+// can be seen from outside: rays from the backs leave the model (ray_scene.cpp). The truth culls
+// such backs; stand-ins that draw both sides hide them above k_visible_backs (the billboards'
+// --back-hits auto, the displaced mesh's --back-faces auto). 0 where the mesh is empty or embree fails.
+constexpr double k_visible_backs = 0.001;
+double visible_single_sided_backs(const Mesh& mesh);
 
 } // namespace standin::reps

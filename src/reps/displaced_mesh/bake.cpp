@@ -91,6 +91,11 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the default degree take k_alpha_degree (the leaf texture's detail lives in the samples' colours)
     Options effective = parameters;
     if (has_cutouts(mesh) && !effective.given("degree")) effective.set_integer("degree", k_alpha_degree);
+    // back faces: culled where the truth culls single-sided backs that can be seen from outside
+    // (assimp's COLLADA.dae, a single-sided plane under text: drawn from below, IoU 0.62); shown
+    // elsewhere, where a closed model's backs face its inside
+    if (effective.choice("back-faces") == "auto")
+        effective.set_choice("back-faces", reps::visible_single_sided_backs(mesh) > reps::k_visible_backs ? "cull" : "show");
     const BakeSettings settings = settings_from(effective);
     STANDIN_RETURN_IF_ERROR(check_settings(settings));
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "displaced mesh bake"));

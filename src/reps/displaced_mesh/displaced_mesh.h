@@ -29,6 +29,10 @@ struct BakeSettings {
     int interpolation_rays = 16;       // sub-rays per pattern triangle of the interpolation sampler
     float ray_range = 0.05f;           // fraction of the bounding-box diagonal, each way along the normal
     int elevation_bits = 16;           // 16: unorm over the package's range; 32: float
+    // "show" draws both sides of every face; "cull" culls back faces, as the truth does for
+    // single-sided materials (the bake's auto resolves to cull where such backs can be seen from
+    // outside: reps::visible_single_sided_backs)
+    std::string back_faces = "show";
 };
 
 // Control faces wanted at least (all the input's when it has fewer): small models would otherwise

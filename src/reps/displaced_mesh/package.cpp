@@ -163,7 +163,10 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
         auto p = std::make_unique<DisplacedMeshPackage>();
         p->source = manifest_io::read_source(in, manifest);
-        p->parameters = manifest_io::read_settings(in, manifest, registration().bake_options);
+        // packages from before --back-faces drew both sides
+        nlohmann::json patched;
+        const nlohmann::json& settings = manifest_io::with_setting_default(manifest, "back_faces", "show", patched);
+        p->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         p->settings = settings_from(p->parameters);
         if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
         const nlohmann::json& files = in.member(manifest, "files", "");

@@ -105,6 +105,7 @@ private:
     int passes_ = 0;
     void upload_block(const DrawParams& params, std::uint32_t instances);
     DrawStats draw_patches(std::uint32_t instances);
+    void set_face_culling();
 
     gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
     // the same with depth tested after the fragment stage, for cross-faded draws (draw.frag)
@@ -113,6 +114,7 @@ private:
     // the package stores coverage (issue #14): every draw discards cut-outs, so every draw tests
     // depth after the fragment stage (the faded programs), or the holes would still write depth
     bool cutouts_ = false;
+    bool cull_back_faces_ = false; // the package's back_faces is cull
     gpu::Query primitives_query_;
     gpu::Buffer pbr_; // PBR packages only (issue #14)
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
@@ -209,6 +211,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     // with coverage, it takes the albedo's alpha byte (which the shading never reads): one fetch
     // gives colour and coverage, interpolated alike
     cutouts_ = !package.coverage.empty();
+    cull_back_faces_ = package.settings.back_faces == "cull";
     for (std::size_t i = 0; i < shading.size(); ++i) {
         std::uint32_t albedo = package.albedo[i];
         if (cutouts_) albedo = (albedo & 0x00ffffffu) | (std::uint32_t(package.coverage[i]) << 24);
@@ -364,7 +367,7 @@ DrawStats Impl::draw(const DrawParams& params)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
+    set_face_culling();
     draw_program.use();
     glDrawArraysIndirect(GL_TRIANGLES, reinterpret_cast<const void*>(std::uintptr_t(DM_STATE_DRAW * sizeof(std::uint32_t))));
     glBindVertexArray(0);
@@ -372,6 +375,17 @@ DrawStats Impl::draw(const DrawParams& params)
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     if (counters_->counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     return {std::uint64_t(2 + 3 * passes_ + 1), refine_counters_.rendered};
+}
+
+// Both sides drawn, or back faces culled for packages of single-sided sheets (back_faces cull).
+void Impl::set_face_culling()
+{
+    if (cull_back_faces_) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
 }
 
 // The tessellation baseline: every control face of every instance as one patch; the triangles the
@@ -384,7 +398,7 @@ DrawStats Impl::draw_patches(std::uint32_t instances)
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
+    set_face_culling();
     glPatchParameteri(GL_PATCH_VERTICES, 3);
     patches.use();
     glBeginQuery(GL_PRIMITIVES_GENERATED, primitives_query_.get());

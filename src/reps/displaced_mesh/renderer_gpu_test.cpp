@@ -7,13 +7,16 @@
 #include "reps/displaced_mesh/displaced_mesh.h"
 #include "reps/displaced_mesh/renderer.h"
 
+#include <standin/assembly.h>
 #include <standin/eval.h>
+#include <standin/render.h>
 
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <deque>
 
 namespace standin::displaced_mesh {
@@ -275,6 +278,61 @@ TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
         EXPECT_LT(e.error_mean_px, tau);
         previous = e.error_mean_px;
     }
+}
+
+// A sphere over a single-sided plane (assimp's COLLADA.dae: text over a plane): the truth culls the
+// plane's back, so from below it shows the sphere alone. --back-faces auto sees the plane's back
+// from outside and culls back faces; drawn both sides (show), the plane's underside spills.
+TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
+{
+    test::gpu_context();
+    Mesh mesh = test::generated(GeneratedShape::sphere, 800);
+    for (glm::vec3& p : mesh.positions) p = 0.4f * p + glm::vec3(0.0f, 0.5f, 0.0f);
+    Material plane_material;
+    plane_material.double_sided = false;
+    mesh.materials.push_back(plane_material);
+    const std::uint32_t first = std::uint32_t(mesh.positions.size());
+    for (glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+        mesh.positions.push_back(glm::vec3(corner.x, 0.0f, corner.y));
+        mesh.normals.push_back(glm::vec3(0, 1, 0));
+        mesh.colors.push_back(glm::vec4(0.3f, 0.4f, 0.6f, 1.0f));
+    }
+    for (std::uint32_t i : {0u, 2u, 1u, 0u, 3u, 2u}) mesh.indices.push_back(first + i); // facing +y
+    mesh.face_materials.push_back(1);
+    mesh.face_materials.push_back(1);
+
+    auto truth = make_mesh_renderer(mesh);
+    ASSERT_TRUE(truth.is_ok());
+    auto worst = [&](const Package& package, float elevation) {
+        auto standin = make_package_renderer(package, RenderOptions{});
+        EXPECT_TRUE(standin.is_ok());
+        Result<EvalResult> result = test::evaluate_views(**truth, **standin, mesh, {0.0f, 130.0f}, {elevation}, 320, 240);
+        double spill = 0.0, iou = 1.0;
+        for (const ViewResult& v : result->views) {
+            spill = std::max(spill, v.metrics.spill_fraction);
+            iou = std::min(iou, v.metrics.iou);
+        }
+        return std::make_pair(spill, iou);
+    };
+    std::unique_ptr<Package> culled = test::bake(mesh, "displaced-mesh", {});
+    std::unique_ptr<Package> shown = test::bake(mesh, "displaced-mesh", {{"back-faces", "show"}});
+    ASSERT_TRUE(culled && shown);
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*culled).settings.back_faces, "cull"); // auto
+    auto [below_spill, below_iou] = worst(*culled, -35.0f);
+    auto [above_spill, above_iou] = worst(*culled, 35.0f);
+    auto [shown_spill, shown_iou] = worst(*shown, -35.0f);
+    std::printf("[ behind ] from below: spill %.2f%% IoU %.4f (both sides: %.2f%%, %.4f); from above %.2f%%, %.4f\n",
+                100.0 * below_spill, below_iou, 100.0 * shown_spill, shown_iou, 100.0 * above_spill, above_iou);
+    EXPECT_LT(below_spill, 0.02);
+    EXPECT_GT(below_iou, 0.95);
+    EXPECT_GT(above_iou, 0.97) << "the plane's front is drawn";
+    EXPECT_GT(shown_spill, 0.5) << "the plane's underside, which the truth culls";
+    // a closed single-sided model keeps both sides (its backs face its inside)
+    Mesh closed = test::generated(GeneratedShape::sphere, 800);
+    for (Material& m : closed.materials) m.double_sided = false;
+    std::unique_ptr<Package> sphere = test::bake(closed, "displaced-mesh", {});
+    ASSERT_TRUE(sphere);
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*sphere).settings.back_faces, "show");
 }
 
 } // namespace

@@ -33,6 +33,11 @@ std::vector<OptionSpec> bake_options()
         number_option("ray-range", "0.05", 0.0, 10.0,
                       "How far rays look each way along the normal, fraction of the bounding-box diagonal", true),
         integer_option("elevation-bits", 16, 16, 32, "Elevation storage: 16 (unorm over the package's range) or 32 (float)"),
+        choice_option("back-faces", "auto", {"auto", "show", "cull"},
+                      "Back faces of the displaced surface: show (both sides drawn, as double-sided materials "
+                      "are), cull (as the truth culls single-sided materials: for sheets and ground planes seen "
+                      "from behind) or auto (cull where over 0.1% of the model's area is single-sided faces "
+                      "whose backs can be seen from outside, else show; the package records which)"),
     };
 }
 
@@ -90,6 +95,7 @@ BakeSettings settings_from(const Options& parameters)
     s.interpolation_rays = parameters.integer("interpolation-rays");
     s.ray_range = parameters.number("ray-range");
     s.elevation_bits = parameters.integer("elevation-bits");
+    s.back_faces = parameters.choice("back-faces");
     return s;
 }
 

@@ -523,46 +523,6 @@ static std::pair<std::size_t, std::size_t> depth_edge_texels(const Billboard& im
     return {edges, covered};
 }
 
-// The share of the model's area on single-sided faces whose back can be seen from outside: a ray
-// from the back of the face (its winding's, which the truth culls by), along the back's normal,
-// leaves the model without meeting a face. A closed part's backs face its own inside, whose other
-// walls stop the rays, however its seams are welded (the held-out engine: every material
-// single-sided, 57 of 59 parts open by exact welding); a single-sided sheet's back faces the world.
-// At most k_back_probe_faces faces are probed, evenly over the index order, weighted by area.
-constexpr std::size_t k_back_probe_faces = 20000;
-constexpr double k_visible_backs = 0.001;
-double visible_single_sided_backs(const Mesh& mesh)
-{
-    std::vector<std::uint32_t> single_sided;
-    double total_area = 0.0;
-    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
-        total_area += mesh.triangle_area(f);
-        if (!mesh.materials[mesh.face_materials[f]].double_sided) single_sided.push_back(std::uint32_t(f));
-    }
-    if (single_sided.empty() || !(total_area > 0.0)) return 0.0;
-    Result<std::unique_ptr<reps::RayScene>> scene = reps::RayScene::create(mesh.positions, mesh.indices);
-    if (!scene) return 0.0;
-    const std::size_t stride = std::max<std::size_t>(1, (single_sided.size() + k_back_probe_faces - 1) / k_back_probe_faces);
-    const std::size_t probes = (single_sided.size() + stride - 1) / stride;
-    const float offset = 1e-4f * std::max(mesh.bounds().diagonal(), 1e-20f);
-    std::vector<double> seen(probes, 0.0), probed(probes, 0.0);
-    tbb::parallel_for(std::size_t(0), probes, [&](std::size_t k) {
-        const std::uint32_t f = single_sided[k * stride];
-        const glm::vec3 a = mesh.positions[mesh.indices[3 * f]], b = mesh.positions[mesh.indices[3 * f + 1]],
-                        c = mesh.positions[mesh.indices[3 * f + 2]];
-        const glm::vec3 cross = glm::cross(b - a, c - a);
-        const float length = glm::length(cross);
-        if (!(length > 0.0f) || !std::isfinite(length)) return;
-        const glm::vec3 back = -cross / length, centre = (a + b + c) / 3.0f;
-        probed[k] = mesh.triangle_area(f);
-        if (!(*scene)->intersect(centre + back * offset, back, std::numeric_limits<float>::infinity()).found) seen[k] = probed[k];
-    });
-    double seen_area = 0.0, probed_area = 0.0, single_sided_area = 0.0;
-    for (std::size_t k = 0; k < probes; ++k) seen_area += seen[k], probed_area += probed[k];
-    for (std::uint32_t f : single_sided) single_sided_area += mesh.triangle_area(f);
-    return probed_area > 0.0 ? seen_area / probed_area * single_sided_area / total_area : 0.0;
-}
-
 int budget_resolution(int resolution, std::size_t texels, std::size_t budget, int floor)
 {
     if (texels <= budget || texels == 0) return resolution;
@@ -626,14 +586,14 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     if (sheet_edges == "auto") sheet_edges = (two_sided && has_open_edges) || alpha_tested ? "clip" : "centre";
     parameters.set_choice("sheet-edges", sheet_edges);
     // the backs of open single-sided parts: the truth culls them. auto hides back hits only where
-    // such backs can be seen from outside (visible_single_sided_backs over k_visible_backs of the
-    // area): assimp's COLLADA.dae, a single-sided plane under text seen from below, 0.50 (hidden:
+    // such backs can be seen from outside (reps::visible_single_sided_backs over reps::k_visible_backs of
+    // the area): assimp's COLLADA.dae, a single-sided plane under text seen from below, 0.50 (hidden:
     // IoU 0.62 -> 0.991). Elsewhere the back hits stand in for what unwelded seams let through: the
     // held-out engine (57 of its 59 parts open by exact welding, every material single-sided) reads
     // 0, and hidden its holes rose 0.003% -> 0.011%, Luv 1.60 -> 2.13 (docs/RESULTS.md "Backs of
     // single-sided sheets").
     if (settings.back_hits == "auto")
-        parameters.set_choice("back-hits", visible_single_sided_backs(mesh) > k_visible_backs ? "hide" : "show");
+        parameters.set_choice("back-hits", reps::visible_single_sided_backs(mesh) > reps::k_visible_backs ? "hide" : "show");
     package->parameters = parameters;
     package->settings = settings_from(parameters);
     if (two_sided) {

@@ -1,6 +1,7 @@
 // The enhanced-billboards baker on tiny hand-built meshes with exact expectations, and on generated
 // closed models for the acceptance numbers (captured area, billboard counts, accounting).
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/common/ray_scene.h"
 #include "reps/enhanced_billboards/capture.h"
 #include "reps/common/coarse_mesh.h"
 #include "test_support.h"
@@ -620,13 +621,13 @@ TEST(BakeBillboards, BudgetResolutionKeepsTheTexelsWithinTheBudget)
 TEST(BakeBillboards, VisibleSingleSidedBacksAreTheOpenSheetsOnes)
 {
     Mesh sphere = test::generated(GeneratedShape::sphere, 800);
-    EXPECT_EQ(visible_single_sided_backs(sphere), 0.0); // double-sided: nothing culled
+    EXPECT_EQ(reps::visible_single_sided_backs(sphere), 0.0); // double-sided: nothing culled
     for (Material& m : sphere.materials) m.double_sided = false;
-    EXPECT_EQ(visible_single_sided_backs(sphere), 0.0); // closed
+    EXPECT_EQ(reps::visible_single_sided_backs(sphere), 0.0); // closed
     Mesh square;
     add_square(square, 0.0f);
     for (Material& m : square.materials) m.double_sided = false;
-    EXPECT_NEAR(visible_single_sided_backs(square), 1.0, 1e-6);
+    EXPECT_NEAR(reps::visible_single_sided_backs(square), 1.0, 1e-6);
 
     Mesh both = sphere;
     const std::uint32_t first = std::uint32_t(both.positions.size()), material = std::uint32_t(both.materials.size());
@@ -640,7 +641,7 @@ TEST(BakeBillboards, VisibleSingleSidedBacksAreTheOpenSheetsOnes)
     for (const Material& m : square.materials) both.materials.push_back(m);
     double square_area = 0.0, total = both.surface_area();
     for (std::size_t f = sphere.triangle_count(); f < both.triangle_count(); ++f) square_area += both.triangle_area(f);
-    EXPECT_NEAR(visible_single_sided_backs(both), square_area / total, 1e-6);
+    EXPECT_NEAR(reps::visible_single_sided_backs(both), square_area / total, 1e-6);
     // and the decision a bake records
     Baked sheet = bake_mesh(both);
     ASSERT_TRUE(sheet.status) << sheet.status.message();

@@ -56,9 +56,6 @@ constexpr std::size_t k_alpha_texel_budget = std::size_t(64) << 20;
 // The resolution at which billboards of `texels` texels at `resolution` take about `budget`
 // (texels grow with the square of the resolution), at least `floor`; `resolution` when they fit.
 int budget_resolution(int resolution, std::size_t texels, std::size_t budget, int floor);
-// The share of the model's area on single-sided faces whose backs can be seen from outside (bake.cpp:
-// --back-hits auto hides back hits above 0.1%).
-double visible_single_sided_backs(const Mesh& mesh);
 // Texels along the diagonal for models with detail finer than the default texels when neither
 // --resolution nor --texel-size is given (issue #17: the held-out 110k-face engine, whose cooling
 // fins and nested parts are a texel or two apart): after a bake at 512, when more than

@@ -28,28 +28,6 @@ struct SheetFigures {
     double worst_luv = 0.0;
 };
 
-// The stand-in against the truth from every azimuth x elevation, untimed.
-Result<EvalResult> evaluate_views(Renderer& truth, Renderer& standin, const Mesh& mesh, const std::vector<float>& azimuths,
-                                  const std::vector<float>& elevations, int width, int height)
-{
-    Protocol protocol;
-    protocol.name = "sheets";
-    for (float azimuth : azimuths)
-        for (float elevation : elevations) {
-            EvalView view;
-            view.orbit.azimuth_degrees = azimuth;
-            view.orbit.elevation_degrees = elevation;
-            view.width = width;
-            view.height = height;
-            protocol.views.push_back(view);
-        }
-    EvalOptions options;
-    options.timed_frames = 0;
-    Result<EvalResult> result = evaluate(truth, standin, mesh.bounding_sphere(), protocol, options, {});
-    EXPECT_TRUE(result.is_ok()) << result.status().message();
-    return result;
-}
-
 SheetFigures evaluate_sheets(const Mesh& mesh, const std::vector<std::pair<std::string, std::string>>& bake_values,
                              bool coarse = true)
 {
@@ -62,7 +40,7 @@ SheetFigures evaluate_sheets(const Mesh& mesh, const std::vector<std::pair<std::
     auto standin = make_package_renderer(*package, render_options);
     EXPECT_TRUE(truth.is_ok() && standin.is_ok());
     if (!truth.is_ok() || !standin.is_ok()) return out;
-    Result<EvalResult> result = evaluate_views(**truth, **standin, mesh, {120.0f, 300.0f}, {30.0f, -30.0f}, 400, 300);
+    Result<EvalResult> result = test::evaluate_views(**truth, **standin, mesh, {120.0f, 300.0f}, {30.0f, -30.0f}, 400, 300);
     if (!result.is_ok()) return out;
     for (const ViewResult& v : result->views) {
         std::printf("[ sheets ] view %g,%g: holes %.4f%%, spill %.4f%%, Luv %.3f\n", v.view.orbit.azimuth_degrees,
@@ -145,7 +123,7 @@ TEST(BillboardSheets, SingleSidedOpenPartsShowNothingFromBehind)
     auto spill_from = [&](const Package& package, float elevation) {
         auto standin = make_package_renderer(package, RenderOptions{});
         EXPECT_TRUE(standin.is_ok());
-        Result<EvalResult> result = evaluate_views(**truth, **standin, mesh, {0.0f, 130.0f}, {elevation}, 320, 240);
+        Result<EvalResult> result = test::evaluate_views(**truth, **standin, mesh, {0.0f, 130.0f}, {elevation}, 320, 240);
         double spill = 0.0, iou = 1.0;
         for (const ViewResult& v : result->views) {
             spill = std::max(spill, v.metrics.spill_fraction);
