@@ -194,4 +194,39 @@ Result<EvalResult> evaluate_views(Renderer& truth, Renderer& standin, const Mesh
     return result;
 }
 
+Mesh sphere_over_single_sided_plane()
+{
+    Mesh mesh = generated(GeneratedShape::sphere, 800);
+    for (glm::vec3& p : mesh.positions) p = 0.4f * p + glm::vec3(0.0f, 0.5f, 0.0f);
+    Material plane_material;
+    plane_material.double_sided = false;
+    mesh.materials.push_back(plane_material);
+    const std::uint32_t first = std::uint32_t(mesh.positions.size()), material = std::uint32_t(mesh.materials.size() - 1);
+    for (glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+        mesh.positions.push_back(glm::vec3(corner.x, 0.0f, corner.y));
+        mesh.normals.push_back(glm::vec3(0, 1, 0));
+        mesh.colors.push_back(glm::vec4(0.3f, 0.4f, 0.6f, 1.0f));
+    }
+    for (std::uint32_t i : {0u, 2u, 1u, 0u, 3u, 2u}) mesh.indices.push_back(first + i); // facing +y
+    mesh.face_materials.push_back(material);
+    mesh.face_materials.push_back(material);
+    return mesh;
+}
+
+std::pair<double, double> worst_spill_and_iou(const Mesh& mesh, const Package& package, float elevation)
+{
+    auto truth = make_mesh_renderer(mesh);
+    auto standin = make_package_renderer(package, RenderOptions{});
+    EXPECT_TRUE(truth.is_ok() && standin.is_ok());
+    if (!truth.is_ok() || !standin.is_ok()) return {1.0, 0.0};
+    Result<EvalResult> result = evaluate_views(**truth, **standin, mesh, {0.0f, 130.0f}, {elevation}, 320, 240);
+    double spill = 0.0, iou = 1.0;
+    if (!result.is_ok()) return {1.0, 0.0};
+    for (const ViewResult& v : result->views) {
+        spill = std::max(spill, v.metrics.spill_fraction);
+        iou = std::min(iou, v.metrics.iou);
+    }
+    return {spill, iou};
+}
+
 } // namespace standin::test

@@ -67,4 +67,11 @@ Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided);
 Result<EvalResult> evaluate_views(Renderer& truth, Renderer& standin, const Mesh& mesh, const std::vector<float>& azimuths,
                                   const std::vector<float>& elevations, int width, int height);
 
+// A sphere (radius 0.4, centre y = 0.5) over a single-sided square at y = 0 facing +y, 2 units
+// across (assimp's COLLADA.dae: text over a plane): the truth culls the square's back.
+Mesh sphere_over_single_sided_plane();
+// The largest spill fraction and the smallest IoU of `package` against the truth of `mesh` from
+// azimuths 0 and 130 at `elevation`, 320 x 240.
+std::pair<double, double> worst_spill_and_iou(const Mesh& mesh, const Package& package, float elevation);
+
 } // namespace standin::test

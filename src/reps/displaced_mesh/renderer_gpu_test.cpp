@@ -286,41 +286,14 @@ TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
 TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
 {
     test::gpu_context();
-    Mesh mesh = test::generated(GeneratedShape::sphere, 800);
-    for (glm::vec3& p : mesh.positions) p = 0.4f * p + glm::vec3(0.0f, 0.5f, 0.0f);
-    Material plane_material;
-    plane_material.double_sided = false;
-    mesh.materials.push_back(plane_material);
-    const std::uint32_t first = std::uint32_t(mesh.positions.size());
-    for (glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
-        mesh.positions.push_back(glm::vec3(corner.x, 0.0f, corner.y));
-        mesh.normals.push_back(glm::vec3(0, 1, 0));
-        mesh.colors.push_back(glm::vec4(0.3f, 0.4f, 0.6f, 1.0f));
-    }
-    for (std::uint32_t i : {0u, 2u, 1u, 0u, 3u, 2u}) mesh.indices.push_back(first + i); // facing +y
-    mesh.face_materials.push_back(1);
-    mesh.face_materials.push_back(1);
-
-    auto truth = make_mesh_renderer(mesh);
-    ASSERT_TRUE(truth.is_ok());
-    auto worst = [&](const Package& package, float elevation) {
-        auto standin = make_package_renderer(package, RenderOptions{});
-        EXPECT_TRUE(standin.is_ok());
-        Result<EvalResult> result = test::evaluate_views(**truth, **standin, mesh, {0.0f, 130.0f}, {elevation}, 320, 240);
-        double spill = 0.0, iou = 1.0;
-        for (const ViewResult& v : result->views) {
-            spill = std::max(spill, v.metrics.spill_fraction);
-            iou = std::min(iou, v.metrics.iou);
-        }
-        return std::make_pair(spill, iou);
-    };
+    const Mesh mesh = test::sphere_over_single_sided_plane();
     std::unique_ptr<Package> culled = test::bake(mesh, "displaced-mesh", {});
     std::unique_ptr<Package> shown = test::bake(mesh, "displaced-mesh", {{"back-faces", "show"}});
     ASSERT_TRUE(culled && shown);
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*culled).settings.back_faces, "cull"); // auto
-    auto [below_spill, below_iou] = worst(*culled, -35.0f);
-    auto [above_spill, above_iou] = worst(*culled, 35.0f);
-    auto [shown_spill, shown_iou] = worst(*shown, -35.0f);
+    auto [below_spill, below_iou] = test::worst_spill_and_iou(mesh, *culled, -35.0f);
+    auto [above_spill, above_iou] = test::worst_spill_and_iou(mesh, *culled, 35.0f);
+    auto [shown_spill, shown_iou] = test::worst_spill_and_iou(mesh, *shown, -35.0f);
     std::printf("[ behind ] from below: spill %.2f%% IoU %.4f (both sides: %.2f%%, %.4f); from above %.2f%%, %.4f\n",
                 100.0 * below_spill, below_iou, 100.0 * shown_spill, shown_iou, 100.0 * above_spill, above_iou);
     EXPECT_LT(below_spill, 0.02);
