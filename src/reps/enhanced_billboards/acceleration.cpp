@@ -401,4 +401,29 @@ LayerPacking pack_layers(const std::vector<glm::ivec2>& sizes, int cell, int max
     return best;
 }
 
+GpuLayout gpu_layout(const std::vector<Billboard>& billboards, int max_side)
+{
+    int max_width = 1, max_height = 1;
+    std::vector<glm::ivec2> sizes;
+    for (const Billboard& b : billboards) {
+        max_width = std::max(max_width, b.width);
+        max_height = std::max(max_height, b.height);
+        sizes.push_back({b.width, b.height});
+    }
+    GpuLayout layout;
+    while (layout.levels < k_max_pyramid_levels && (1 << layout.levels) < std::max(max_width, max_height)) ++layout.levels;
+    layout.packing = pack_layers(sizes, 1 << layout.levels, max_side);
+    return layout;
+}
+
+std::uint64_t gpu_texture_bytes(const GpuLayout& layout, bool pbr)
+{
+    const LayerPacking& p = layout.packing;
+    const std::uint64_t texels = std::uint64_t(p.width) * std::uint64_t(p.height) * std::uint64_t(p.layers);
+    std::uint64_t bytes = texels * (4 + 4 + 8) + (pbr ? texels * 8 : 0);
+    for (int level = 1; level <= layout.levels; ++level)
+        bytes += std::uint64_t(p.width >> level) * std::uint64_t(p.height >> level) * std::uint64_t(p.layers) * (4 + 4);
+    return bytes;
+}
+
 } // namespace standin::billboards

@@ -124,4 +124,20 @@ struct LayerPacking {
 };
 LayerPacking pack_layers(const std::vector<glm::ivec2>& sizes, int cell, int max_side);
 
+// How a package's billboards lie on the GPU (renderer.cpp uploads them so, `standin bake` reports
+// the bytes): pyramid levels above the texels (at most k_max_pyramid_levels: long rays cross a few
+// top cells, and layers pad to multiples of 64 texels only) and the layers they are packed into.
+constexpr int k_max_pyramid_levels = 6;
+// the largest side of a texture layer pack_layers may choose (a few billboards of 2048 texels)
+constexpr int k_max_layer_side = 8192;
+struct GpuLayout {
+    int levels = 0;
+    LayerPacking packing;
+};
+GpuLayout gpu_layout(const std::vector<Billboard>& billboards, int max_side = k_max_layer_side);
+// The bytes of the texture arrays of that layout: colour RGBA8, octahedral normals RG16, surface
+// RGBA16UI, ORM and emission RGBA8 with PBR maps, and the min/max (RG16UI) and colour (RGBA8)
+// pyramids.
+std::uint64_t gpu_texture_bytes(const GpuLayout& layout, bool pbr);
+
 } // namespace standin::billboards

@@ -90,5 +90,23 @@ TEST(PackLayers, LimitsAndSmallCases)
     EXPECT_EQ(none.layers, 0);
 }
 
+// The bytes `standin bake` reports are those of the layout the renderer allocates: 5 billboards of
+// 100 x 60 texels (levels: 7 texels -> 2^7 > 100, capped at 6; cells of 64) in layers of 128 x 64.
+TEST(PackLayers, GpuBytesCountEveryArrayAndPyramid)
+{
+    std::vector<Billboard> billboards(5);
+    for (Billboard& b : billboards) b.width = 100, b.height = 60;
+    const GpuLayout layout = gpu_layout(billboards);
+    EXPECT_EQ(layout.levels, 6);
+    const LayerPacking& p = layout.packing;
+    for (const LayerPlacement& at : p.placements) EXPECT_EQ(at.offset.x % 64 + at.offset.y % 64, 0);
+    const std::uint64_t texels = std::uint64_t(p.width) * p.height * p.layers;
+    EXPECT_GE(texels, 5u * 128u * 64u);
+    std::uint64_t pyramid = 0;
+    for (int level = 1; level <= 6; ++level) pyramid += std::uint64_t(p.width >> level) * (p.height >> level) * p.layers * 8;
+    EXPECT_EQ(gpu_texture_bytes(layout, false), texels * 16 + pyramid);
+    EXPECT_EQ(gpu_texture_bytes(layout, true), texels * 24 + pyramid);
+}
+
 } // namespace
 } // namespace standin::billboards

@@ -97,11 +97,6 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
     g.box_max = glm::vec4(hi + glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
 }
 
-// at most 2^6-texel cells at the top of the pyramid: long rays cross a few top cells, and the
-// texture arrays pad to multiples of 64 texels only
-constexpr int k_max_pyramid_levels = 6;
-// the largest side of a texture layer pack_layers may choose (a few billboards of 2048 texels)
-constexpr int k_max_layer_side = 8192;
 // tiles of 2^4 texels: a tile proxy per 16 x 16 texels; or more where the package's texels are
 // finer than 1/1024 of the model's diagonal (fine_tile_level)
 constexpr int k_tile_level = 4;
@@ -335,20 +330,12 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
 
     // the billboards packed into array layers, each padded to whole top-level pyramid cells
-    int max_width = 1, max_height = 1;
-    std::vector<glm::ivec2> sizes;
-    for (const Billboard& b : package.billboards) {
-        max_width = std::max(max_width, b.width);
-        max_height = std::max(max_height, b.height);
-        sizes.push_back({b.width, b.height});
-    }
-    int levels = 0;
-    while (levels < k_max_pyramid_levels && (1 << levels) < std::max(max_width, max_height)) ++levels;
-    int cell = 1 << levels;
-    top_level_ = levels;
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-    const LayerPacking packing = pack_layers(sizes, cell, std::min(int(max_size), k_max_layer_side));
+    const GpuLayout layout = gpu_layout(package.billboards, std::min(int(max_size), k_max_layer_side));
+    const LayerPacking& packing = layout.packing;
+    const int levels = layout.levels, cell = 1 << levels;
+    top_level_ = levels;
     const int width = packing.width, height = packing.height, layers = packing.layers;
     if (width > max_size || height > max_size)
         return error(StatusCode::gpu_error, "enhanced billboards: billboard larger than GL_MAX_TEXTURE_SIZE");
@@ -458,14 +445,10 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                                 padded.x >> level, padded.y >> level, 1, GL_RGBA, GL_UNSIGNED_BYTE,
                                 color_pyramid[std::size_t(level - 1)].data());
     }
-    {
-        std::uint64_t texels = std::uint64_t(width) * std::uint64_t(height) * std::uint64_t(layers), bytes = texels * (4 + 4 + 8);
-        if (orm_maps_) bytes += texels * 8;
-        for (int level = 1; level <= levels; ++level) bytes += (texels >> (2 * level)) * (4 + 4);
-        log_message(LogLevel::info, "enhanced billboards: " + std::to_string(billboard_count_) + " billboards in " +
-                                        std::to_string(layers) + " texture layers of " + std::to_string(width) + "x" +
-                                        std::to_string(height) + ", " + std::to_string(bytes >> 20) + " MiB");
-    }
+    log_message(LogLevel::info, "enhanced billboards: " + std::to_string(billboard_count_) + " billboards in " +
+                                    std::to_string(layers) + " texture layers of " + std::to_string(width) + "x" +
+                                    std::to_string(height) + ", " +
+                                    std::to_string(std::llround(double(gpu_texture_bytes(layout, bool(orm_maps_))) / double(1 << 20))) + " MiB");
     billboards_ = gpu::make_buffer(gpu_billboards);
     fine_count_ = fine.size();
     coarse_end_ = fine_count_ + coarse.size();

@@ -1,6 +1,7 @@
 // The enhanced billboards as the registry sees them: their bake parameters and run-time options
 // (declared once: the command line, --help, the viewer, the manifest's "bake" block and its
 // validation all come from these tables), debug views, and the summary `standin info` prints.
+#include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/common/package_cast.h"
 
@@ -119,6 +120,15 @@ PackageSummary summarise(const Package& base)
     if (package.coarse_mesh.triangle_count() > 0)
         summary.headline += " + " + std::to_string(package.coarse_mesh.triangle_count()) + "-triangle coarse mesh";
     std::snprintf(line, sizeof line, ", %.2f%% of the area captured", 100.0 * captured);
+    summary.headline += line;
+    // what the renderer's texture arrays take (acceleration.h gpu_layout: the layers as packed
+    // where GL allows 8192-texel layers)
+    const bool pbr = !package.billboards.empty() && std::all_of(package.billboards.begin(), package.billboards.end(), [](const Billboard& b) {
+        return !b.orm.empty() && !b.emission.empty();
+    });
+    const std::uint64_t gpu_bytes = gpu_texture_bytes(gpu_layout(package.billboards), pbr);
+    summary.details["gpu_texture_bytes"] = gpu_bytes;
+    std::snprintf(line, sizeof line, ", %.0f MiB on the GPU", double(gpu_bytes) / double(1 << 20));
     summary.headline += line;
     return summary;
 }
