@@ -426,4 +426,11 @@ std::uint64_t gpu_texture_bytes(const GpuLayout& layout, bool pbr)
     return bytes;
 }
 
+bool has_pbr_maps(const std::vector<Billboard>& billboards)
+{
+    return !billboards.empty() && std::all_of(billboards.begin(), billboards.end(), [](const Billboard& b) {
+        return !b.orm.empty() && !b.emission.empty();
+    });
+}
+
 } // namespace standin::billboards

@@ -139,5 +139,7 @@ GpuLayout gpu_layout(const std::vector<Billboard>& billboards, int max_side = k_
 // RGBA16UI, ORM and emission RGBA8 with PBR maps, and the min/max (RG16UI) and colour (RGBA8)
 // pyramids.
 std::uint64_t gpu_texture_bytes(const GpuLayout& layout, bool pbr);
+// Whether every billboard has ORM and emission maps (the renderer then uploads them).
+bool has_pbr_maps(const std::vector<Billboard>& billboards);
 
 } // namespace standin::billboards

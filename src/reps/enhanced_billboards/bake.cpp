@@ -473,13 +473,10 @@ int cutout_resolution(const Mesh& mesh)
     };
     std::vector<Sample> samples;
     double total_area = 0.0;
-    for (std::size_t f = 0; f < mesh.triangle_count() && mesh.has_texture_coordinates(); ++f) {
+    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
         const Material& material = mesh.materials[mesh.face_materials[f]];
-        if (alpha_test_cutoff(material) <= 0.0f || material.base_color_texture < 0) continue;
-        const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
-        const glm::vec2 a = mesh.uvs[mesh.indices[3 * f]], b = mesh.uvs[mesh.indices[3 * f + 1]], c = mesh.uvs[mesh.indices[3 * f + 2]];
-        const glm::vec2 ab = (b - a) * glm::vec2(texture.width, texture.height), ac = (c - a) * glm::vec2(texture.width, texture.height);
-        const double texels = 0.5 * std::abs(double(ab.x) * ac.y - double(ab.y) * ac.x), area = mesh.triangle_area(f);
+        if (alpha_test_cutoff(material) <= 0.0f) continue;
+        const double texels = texture_texel_area(mesh, f), area = mesh.triangle_area(f);
         if (!(texels > 0.0) || !(area > 0.0) || !std::isfinite(texels) || !std::isfinite(area)) continue;
         samples.push_back({std::sqrt(area / texels), area});
         total_area += area;

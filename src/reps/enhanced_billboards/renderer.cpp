@@ -352,9 +352,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                                       std::max(1, levels));
     color_mips_ = make_texture_array(GL_RGBA8, std::max(1, width / 2), std::max(1, height / 2), layers,
                                      std::max(1, levels));
-    bool pbr = std::all_of(package.billboards.begin(), package.billboards.end(),
-                           [](const Billboard& b) { return !b.orm.empty() && !b.emission.empty(); });
-    if (pbr && layers > 0) {
+    if (has_pbr_maps(package.billboards) && layers > 0) {
         orm_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
         emission_maps_ = make_texture_array(GL_RGBA8, width, height, layers, 1);
     }

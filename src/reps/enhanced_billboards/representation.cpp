@@ -123,10 +123,7 @@ PackageSummary summarise(const Package& base)
     summary.headline += line;
     // what the renderer's texture arrays take (acceleration.h gpu_layout: the layers as packed
     // where GL allows 8192-texel layers)
-    const bool pbr = !package.billboards.empty() && std::all_of(package.billboards.begin(), package.billboards.end(), [](const Billboard& b) {
-        return !b.orm.empty() && !b.emission.empty();
-    });
-    const std::uint64_t gpu_bytes = gpu_texture_bytes(gpu_layout(package.billboards), pbr);
+    const std::uint64_t gpu_bytes = gpu_texture_bytes(gpu_layout(package.billboards), has_pbr_maps(package.billboards));
     summary.details["gpu_texture_bytes"] = gpu_bytes;
     std::snprintf(line, sizeof line, ", %.0f MiB on the GPU", double(gpu_bytes) / double(1 << 20));
     summary.headline += line;
