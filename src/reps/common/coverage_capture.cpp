@@ -10,15 +10,19 @@
 #include "reps/common/coverage_capture.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 
 namespace standin::reps {
 
+bool has_cutouts(const Mesh& mesh)
+{
+    return std::any_of(mesh.materials.begin(), mesh.materials.end(), [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+}
+
 int coverage_samples(const Mesh& mesh, int resolution, int preferred, const char* override_variable)
 {
-    bool masked = std::any_of(mesh.materials.begin(), mesh.materials.end(),
-                              [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
-    if (!masked) return 1;
+    if (!has_cutouts(mesh)) return 1;
     int samples = preferred;
     if (const char* text = override_variable ? std::getenv(override_variable) : nullptr) {
         int n = std::atoi(text);
@@ -71,6 +75,41 @@ void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> a
         }
     for (std::size_t m = 0; m < images.size(); ++m) *images[m] = std::move(small[m]);
     if (depth) *depth = std::move(small_depth);
+}
+
+double texture_texel_area(const Mesh& mesh, std::size_t f)
+{
+    const Material& material = mesh.materials[mesh.face_materials[f]];
+    if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return 0.0;
+    const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
+    const glm::vec2 a = mesh.uvs[mesh.indices[3 * f]], b = mesh.uvs[mesh.indices[3 * f + 1]], c = mesh.uvs[mesh.indices[3 * f + 2]];
+    const glm::dvec2 ab = glm::dvec2(b - a) * glm::dvec2(texture.width, texture.height),
+                     ac = glm::dvec2(c - a) * glm::dvec2(texture.width, texture.height);
+    return 0.5 * std::abs(ab.x * ac.y - ab.y * ac.x);
+}
+
+double cutout_texel_size(const Mesh& mesh)
+{
+    struct Sample {
+        double texel_world, area;
+    };
+    std::vector<Sample> samples;
+    double total_area = 0.0;
+    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+        if (alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) <= 0.0f) continue;
+        const double texels = texture_texel_area(mesh, f), area = mesh.triangle_area(f);
+        if (!(texels > 0.0) || !(area > 0.0) || !std::isfinite(texels) || !std::isfinite(area)) continue;
+        samples.push_back({std::sqrt(area / texels), area});
+        total_area += area;
+    }
+    if (samples.empty()) return 0.0;
+    std::sort(samples.begin(), samples.end(), [](const Sample& x, const Sample& y) { return x.texel_world < y.texel_world; });
+    double below = 0.0;
+    for (const Sample& s : samples) {
+        below += s.area;
+        if (below >= 0.5 * total_area) return s.texel_world;
+    }
+    return samples.back().texel_world;
 }
 
 } // namespace standin::reps

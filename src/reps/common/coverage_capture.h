@@ -15,6 +15,10 @@
 
 namespace standin::reps {
 
+// Whether any material of the model is alpha-tested (MASK, or BLEND drawn as MASK): its leaves are
+// cut out of their cards.
+bool has_cutouts(const Mesh& mesh);
+
 // Capture samples per texel side: 1 for models without alpha-tested materials (their captures and
 // packages stay as they were), else `preferred`, or the value of the environment variable
 // `override_variable` (1..8, for measurements and tests) when set, as far as the capture stays
@@ -33,5 +37,15 @@ int coverage_samples(const Mesh& mesh, int resolution, int preferred, const char
 // keeps one depth, so the far surface's samples cannot be stored there anyway).
 void downsample_coverage(ImageRGBA8& color, std::initializer_list<ImageRGBA8*> averaged, std::vector<float>* depth, int f,
                          float front_tolerance = -1.0f);
+
+// Face f's area in texels of its material's base-colour texture (0 without one): how finely the
+// texture, and the alpha contour it draws, covers the face.
+double texture_texel_area(const Mesh& mesh, std::size_t f);
+
+// The world size of one texel of the texture that cuts the model's leaves out: the area-weighted
+// median, over the textured alpha-tested faces, of sqrt(face area / its area in texture texels).
+// 0 where no alpha-tested face is textured (cut-outs by opacity or vertex alpha: their contours are
+// their edges). The bakers capture such models with texels about this fine (issue #14).
+double cutout_texel_size(const Mesh& mesh);
 
 } // namespace standin::reps

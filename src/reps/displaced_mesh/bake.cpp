@@ -20,6 +20,7 @@
 // slots from TBB loops.
 #include "reps/displaced_mesh/control_mesh.h"
 #include "reps/displaced_mesh/displaced_mesh.h"
+#include "reps/common/coverage_capture.h"
 #include "reps/common/ray_scene.h"
 #include "reps/displaced_mesh/sample.h"
 
@@ -90,7 +91,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the settings: the paper's target is the input's faces over (k - 1)^2; alpha-masked models at
     // the default degree take k_alpha_degree (the leaf texture's detail lives in the samples' colours)
     Options effective = parameters;
-    if (has_cutouts(mesh) && !effective.given("degree")) effective.set_integer("degree", k_alpha_degree);
+    if (reps::has_cutouts(mesh) && !effective.given("degree")) effective.set_integer("degree", k_alpha_degree);
     // back faces: culled where the truth culls single-sided backs that can be seen from outside
     // (assimp's COLLADA.dae, a single-sided plane under text: drawn from below, IoU 0.62); shown
     // elsewhere, where a closed model's backs face its inside
@@ -110,7 +111,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     ControlMeshOptions simplify;
     simplify.target_faces = target_faces(mesh.triangle_count(), settings);
     simplify.cone_angle_degrees = settings.cone_angle;
-    simplify.keep_cutout_faces = has_cutouts(mesh);
+    simplify.keep_cutout_faces = reps::has_cutouts(mesh);
     simplify.min_loop_vertices = k_min_loop_vertices;
     Result<ControlMesh> control = build_control_mesh(mesh, simplify);
     if (!control) return control.status();

@@ -27,6 +27,7 @@
 #include "reps/displaced_mesh/sample.h"
 
 #include "reps/displaced_mesh/face_point.h"
+#include "reps/common/coverage_capture.h"
 
 #include <tbb/parallel_for.h>
 
@@ -336,11 +337,6 @@ void bleed_into_cutouts(int n, std::size_t per_face, std::size_t face, const std
 
 } // namespace
 
-bool has_cutouts(const Mesh& mesh)
-{
-    return std::any_of(mesh.materials.begin(), mesh.materials.end(), [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
-}
-
 Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
                                       const SampleOptions& options, const Progress& progress)
 {
@@ -351,7 +347,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     const std::size_t faces = control.face_count(), per_face = layout.finest_samples;
     const ControlTopology& topology = control.topology;
     const float range = options.ray_range;
-    const bool cutouts = has_cutouts(original);
+    const bool cutouts = reps::has_cutouts(original);
 
     // corners and edges, once each
     std::vector<Sample> corners(control.positions.size());

@@ -55,9 +55,6 @@ struct SampledSurface {
     std::size_t misses = 0;            // vertices whose rays met nothing within range (closest point used)
 };
 
-// Whether any material of `mesh` cuts points out by an alpha test (mask, or blend drawn as mask):
-// then rays see through cut-outs and the package stores coverage.
-bool has_cutouts(const Mesh& mesh);
 
 // Shared edges and corners are sampled once, from the edge or the vertex, and copied into every
 // face that has them: the faces' values there are bit-identical. Deterministic for any thread count.

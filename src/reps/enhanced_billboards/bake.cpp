@@ -47,6 +47,7 @@
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
 #include "reps/common/coarse_mesh.h"
+#include "reps/common/coverage_capture.h"
 #include "reps/common/ray_scene.h"
 
 #include <tbb/global_control.h>
@@ -462,36 +463,14 @@ Mesh opaque_faces(const Mesh& mesh)
 
 // The texels along the diagonal for an alpha-tested model (issue #14): k_alpha_resolution, or
 // finer up to k_alpha_max_resolution where its cut-out textures are finer, so that a capture texel
-// is as fine as a texel of the texture whose alpha draws the leaf's contour: the area-weighted
-// median, over the textured alpha-tested faces, of the world size of one texture texel there
-// (sqrt of the face's area over its area in texels). A model whose cut-outs come without a
-// texture (opacity, vertex alpha) keeps k_alpha_resolution: its contours are its edges.
+// is as fine as a texel of the texture whose alpha draws the leaf's contour
+// (reps::cutout_texel_size). A model whose cut-outs come without a texture (opacity, vertex alpha)
+// keeps k_alpha_resolution: its contours are its edges.
 int cutout_resolution(const Mesh& mesh)
 {
-    struct Sample {
-        double texel_world, area;
-    };
-    std::vector<Sample> samples;
-    double total_area = 0.0;
-    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
-        const Material& material = mesh.materials[mesh.face_materials[f]];
-        if (alpha_test_cutoff(material) <= 0.0f) continue;
-        const double texels = texture_texel_area(mesh, f), area = mesh.triangle_area(f);
-        if (!(texels > 0.0) || !(area > 0.0) || !std::isfinite(texels) || !std::isfinite(area)) continue;
-        samples.push_back({std::sqrt(area / texels), area});
-        total_area += area;
-    }
-    if (samples.empty()) return k_alpha_resolution;
-    std::sort(samples.begin(), samples.end(), [](const Sample& x, const Sample& y) { return x.texel_world < y.texel_world; });
-    double below = 0.0, median = samples.back().texel_world;
-    for (const Sample& s : samples) {
-        below += s.area;
-        if (below >= 0.5 * total_area) {
-            median = s.texel_world;
-            break;
-        }
-    }
-    const double texels = double(mesh.bounds().diagonal()) / median;
+    const double texel = reps::cutout_texel_size(mesh);
+    if (!(texel > 0.0)) return k_alpha_resolution;
+    const double texels = double(mesh.bounds().diagonal()) / texel;
     return int(std::clamp(std::ceil(texels), double(k_alpha_resolution), double(k_alpha_max_resolution)));
 }
 

@@ -51,6 +51,7 @@
 // - colour: a textured face's texel averages the texture over the texel (texel_albedo), covered
 //   points only, where the seed read one point: the truth's mips filter, a point sample aliases.
 #include "reps/enhanced_billboards/capture.h"
+#include "reps/common/coverage_capture.h"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 #include <tbb/parallel_for.h>
@@ -525,21 +526,6 @@ std::int64_t contour_point(int texel, int a, int n = k_contour_subsamples)
     return std::int64_t(texel) * k_subtexel + (2 * a + 1) * k_subtexel / (2 * n);
 }
 
-} // namespace
-
-double texture_texel_area(const Mesh& mesh, std::size_t f)
-{
-    const Material& material = mesh.materials[mesh.face_materials[f]];
-    if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return 0.0;
-    const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
-    const glm::vec2 a = mesh.uvs[mesh.indices[3 * f]], b = mesh.uvs[mesh.indices[3 * f + 1]], c = mesh.uvs[mesh.indices[3 * f + 2]];
-    const glm::dvec2 ab = glm::dvec2(b - a) * glm::dvec2(texture.width, texture.height),
-                     ac = glm::dvec2(c - a) * glm::dvec2(texture.width, texture.height);
-    return 0.5 * std::abs(ab.x * ac.y - ab.y * ac.x);
-}
-
-namespace {
-
 // Points across a texel at which face f's alpha and colour are read (face_coverage): all
 // k_contour_subsamples, or half as many (each standing for 2 x 2 of the mask) where the face's
 // texture has at most k_coarse_contour_texels texels across a capture texel, as at the 2048 texels
@@ -550,7 +536,7 @@ namespace {
 constexpr double k_coarse_contour_texels = 2.0;
 int contour_samples(const Mesh& mesh, std::uint32_t f, std::int64_t area2)
 {
-    const double texture_texels = texture_texel_area(mesh, f);
+    const double texture_texels = reps::texture_texel_area(mesh, f);
     const double capture_texels = 0.5 * std::abs(double(area2)) / (double(k_subtexel) * double(k_subtexel));
     if (!(texture_texels > 0.0) || !(capture_texels > 0.0) || !std::isfinite(texture_texels)) return k_contour_subsamples;
     return texture_texels <= k_coarse_contour_texels * k_coarse_contour_texels * capture_texels ? k_contour_subsamples / 2

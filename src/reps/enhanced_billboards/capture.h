@@ -55,11 +55,6 @@ bool edge_line_contains(std::uint8_t code, glm::vec2 p);
 
 // Captures what a billboard along unit direction w can hold of `remaining` (face ids, ascending).
 // Results do not depend on the number of threads.
-// Face f's area in texels of its material's base-colour texture (0 without one): how finely the
-// texture, and the alpha contour it draws, covers the face (bake.cpp cutout_resolution, capture.cpp
-// contour_samples).
-double texture_texel_area(const Mesh& mesh, std::size_t f);
-
 Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& remaining,
                           glm::vec3 w, const CaptureSettings& settings);
 

@@ -265,8 +265,7 @@ Result<std::unique_ptr<ViewAtlasPackage>> bake_pass(const BakeContext& context, 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
     Options parameters = context.parameters;
-    const bool masked = std::any_of(context.mesh.materials.begin(), context.mesh.materials.end(),
-                                    [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
+    const bool masked = reps::has_cutouts(context.mesh);
     // alpha-tested models at the default resolution: more texels rather than more samples per texel
     // (where the pages hold such a view; a smaller --page-size keeps the default's 2 x 2 samples)
     const bool default_resolution = !parameters.given("resolution");
