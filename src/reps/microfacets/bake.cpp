@@ -3,9 +3,11 @@
 // multiresolution octree (§3.2.3), and generate the texture images: colour and a range image per
 // camera (§3.2.4), with the range images' holes filled (§5.1).
 // Steps:
-//  1. read the settings; with `geometry-from` the voxels and range images come from a degraded copy
-//     of the model (sloppy-simplified, or displaced by noise), colour from the full model: the
-//     paper's premise (a scan worse than its photographs), which standin's exact meshes lack;
+//  1. read the settings (alpha-tested models without --resolution: captures as fine as their leaf
+//     texture, up to k_alpha_max_resolution); with `geometry-from` the voxels and range images come
+//     from a degraded copy of the model (sloppy-simplified, or displaced by noise), colour from the
+//     full model: the paper's premise (a scan worse than its photographs), which standin's exact
+//     meshes lack;
 //  2. voxelise the finest level, coarsen to min_level (voxels.cpp);
 //  3. per capture direction (the view atlas's sphere layouts, or the seed's turntable circle):
 //     colour, normal and range images (capture.cpp); fill the range image's holes where the colour
@@ -150,9 +152,24 @@ std::vector<glm::vec3> capture_directions(const BakeSettings& settings)
     return directions;
 }
 
+// Step 1 for alpha-tested models without --resolution (issue #14): captures whose texel is as fine
+// as a texel of the leaf texture (reps::cutout_texel_size), between the default and
+// k_alpha_max_resolution, within the page. Leaf-over-leaf edges need it: the generated tree's
+// foliage Luv at distance 1 falls 5.07 -> 3.52 -> 3.25 from 512 to 1024 to 1536 (docs/RESULTS.md).
+Options with_cutout_resolution(const Mesh& mesh, float radius, Options parameters)
+{
+    const double texel = reps::cutout_texel_size(mesh); // 0 without textured cut-outs
+    if (parameters.given("resolution") || !(texel > 0.0)) return parameters;
+    const int largest = std::min(k_alpha_max_resolution, parameters.integer("page-size") - 2 * reps::k_cell);
+    const int fine = int(std::min(std::ceil(2.0 * double(radius) / texel), double(largest)));
+    if (fine > parameters.integer("resolution")) parameters.set_integer("resolution", fine);
+    return parameters;
+}
+
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    const BakeSettings s = settings_from(context.parameters);
+    const Options parameters = with_cutout_resolution(context.mesh, context.mesh.bounding_sphere().radius, context.parameters);
+    const BakeSettings s = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "microfacets"));
     const bool degraded = s.geometry_from != "full";
@@ -161,7 +178,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 
     auto package = std::make_unique<MicrofacetsPackage>();
     package->source = context.source;
-    package->parameters = context.parameters;
+    package->parameters = parameters;
     package->settings = s;
     BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;
@@ -196,23 +213,34 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         context.progress.report("microfacets: capturing views", double(k + 1) / double(directions.size()));
     }
 
-    // pack the crops into pages
+    // pack the crops into pages, a page at a time, each crop freed once copied: the bake's peak is the
+    // crops and one page, not the crops and every page (1536^2 captures of a tree: 1.86 -> 1.35 GB)
     int pages = reps::pack_views(package->views, s.page_size);
-    package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
-    package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA16(s.page_size, s.page_size));
     const bool pbr = context.mesh.has_pbr_materials();
+    package->color_pages.resize(std::size_t(pages));
+    package->normal_depth_pages.resize(std::size_t(pages));
     if (pbr) {
-        package->orm_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
-        package->emission_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+        package->orm_pages.resize(std::size_t(pages));
+        package->emission_pages.resize(std::size_t(pages));
     }
-    for (std::size_t k = 0; k < package->views.size(); ++k) {
-        const View& v = package->views[k];
-        if (v.width == 0) continue;
-        copy_into_page(crops[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
-        copy_into_page(crops[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+    for (int page = 0; page < pages; ++page) {
+        const auto p = std::size_t(page);
+        package->color_pages[p] = ImageRGBA8(s.page_size, s.page_size);
+        package->normal_depth_pages[p] = ImageRGBA16(s.page_size, s.page_size);
         if (pbr) {
-            copy_into_page(crops[k].orm, package->orm_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
-            copy_into_page(crops[k].emission, package->emission_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+            package->orm_pages[p] = ImageRGBA8(s.page_size, s.page_size);
+            package->emission_pages[p] = ImageRGBA8(s.page_size, s.page_size);
+        }
+        for (std::size_t k = 0; k < package->views.size(); ++k) {
+            const View& v = package->views[k];
+            if (v.width == 0 || v.page != page) continue;
+            copy_into_page(crops[k].color, package->color_pages[p], v.atlas_x, v.atlas_y);
+            copy_into_page(crops[k].normal_depth, package->normal_depth_pages[p], v.atlas_x, v.atlas_y);
+            if (pbr) {
+                copy_into_page(crops[k].orm, package->orm_pages[p], v.atlas_x, v.atlas_y);
+                copy_into_page(crops[k].emission, package->emission_pages[p], v.atlas_x, v.atlas_y);
+            }
+            crops[k] = Crop{};
         }
     }
     return std::unique_ptr<Package>(std::move(package));

@@ -33,6 +33,11 @@ constexpr int k_mip_levels = reps::k_mip_levels;
 // packages of before. STANDIN_MICROFACETS_COVERAGE_SAMPLES (1..8) sets it for measurements/tests.
 constexpr int k_coverage_samples = 1;
 
+// Alpha-tested models without --resolution are captured with texels as fine as their leaf
+// texture's, up to this (bake.cpp with_cutout_resolution; 2048 would not fit llvmpipe's texture
+// arrays: 9 pages of 4096^2 for the generated tree).
+constexpr int k_alpha_max_resolution = 1536;
+
 struct BakeSettings {
     int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
     int min_level = 2;               // coarsest level kept (2: 4^3), what distant instances draw
@@ -74,6 +79,7 @@ public:
     // Without them the renderer shades with Material's defaults (1, 1, 0; black).
     std::vector<ImageRGBA8> orm_pages, emission_pages;
     bool has_pbr() const { return !orm_pages.empty(); }
+
 };
 
 // The capture directions of a layout: the view atlas's sphere layouts (reps::layout_directions)

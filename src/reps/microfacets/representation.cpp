@@ -30,7 +30,9 @@ std::vector<OptionSpec> bake_options()
                       "turntable of --frames cameras)"),
         integer_option("subdivisions", 1, 0, 5, "Icosahedron subdivisions: 20 x 4^k views (1 = 80, chosen by measurement)"),
         integer_option("frames", 36, 2, 256, "Cameras on the circle (Yamazaki et al. 2002: 36), or per side of the octahedral grids"),
-        integer_option("resolution", 512, 16, 4096, "Capture size in pixels (square)"),
+        integer_option("resolution", 512, 16, 4096,
+                       "Capture size in pixels (square); unset: 512, or for models with alpha-tested materials up to 1536 "
+                       "where their cut-out texture's texels are finer (a texel as fine as the leaf texture's)"),
         integer_option("depth-bits", 16, 8, 16, "Depth precision: 16, or 8 (Yamazaki et al. 2002: 8, which caps it at 256^3)"),
         choice_option("geometry-from", "full", {"full", "simplified", "noisy"},
                       "Voxels and range images from the model, or from a degraded copy (colour always from the model)"),
