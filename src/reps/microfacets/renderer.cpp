@@ -404,6 +404,10 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
     // only) sets N, 0 turning the fallback off
     const char* fallback = std::getenv("STANDIN_MICROFACETS_FALLBACK");
     GLuint quads = r->quads_program_.id();
+    // the ray clip filters colour over the pixel's footprint where it holds one surface (facets.frag);
+    // STANDIN_MICROFACETS_FILTER_COLOR=0 (measurements only) reads the texel hit, as before
+    const char* filter_color = std::getenv("STANDIN_MICROFACETS_FILTER_COLOR");
+    glProgramUniform1i(quads, r->quads_program_.uniform("filter_color"), filter_color && filter_color[0] == '0' ? 0 : 1);
     glProgramUniform1ui(quads, r->quads_program_.uniform("seen_words"), seen_words);
     glProgramUniform1i(quads, r->quads_program_.uniform("fallback_views"), fallback ? std::atoi(fallback) : k_fallback_views);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)

@@ -372,6 +372,51 @@ TEST(MicrofacetRenderer, CoarseVoxelsOverFineCapturesLeaveNoHoles)
     EXPECT_LT(m.hole_fraction, 0.02);
 }
 
+// A unit quad facing +z textured with stripes two texture texels wide (64 pairs across 256 texels),
+// red and green: resolved by 512^2 captures, finer than the pixels at 96^2.
+Mesh striped_quad()
+{
+    Mesh mesh = test::alpha_quad(AlphaMode::opaque, 0.0f, true);
+    Texture& texture = mesh.textures[0];
+    for (int y = 0; y < texture.height; ++y)
+        for (int x = 0; x < texture.width; ++x) {
+            std::uint8_t* t = &texture.rgba[(std::size_t(y) * texture.width + x) * 4];
+            const bool red = (x / 2) % 2 == 0;
+            t[0] = red ? 230 : 20, t[1] = red ? 30 : 200, t[2] = 40, t[3] = 255;
+        }
+    mesh.materials[0].alpha_mode = AlphaMode::opaque;
+    return mesh;
+}
+
+// Texture detail finer than a pixel: the truth filters it (its texture's mips), so the ray clip
+// filters the captured colour over the pixel's footprint too, where the footprint holds one surface;
+// reading the texel hit (STANDIN_MICROFACETS_FILTER_COLOR=0, as before) shows aliased stripes.
+TEST(MicrofacetRenderer, ColourFilteredOverThePixelLikeTheTruthsTexture)
+{
+    const Mesh quad = striped_quad();
+    std::unique_ptr<Package> package = bake_small(quad, {{"resolution", "512"}});
+    ASSERT_TRUE(package);
+    auto truth = make_mesh_renderer(quad);
+    ASSERT_TRUE(truth.is_ok());
+    OrbitView view;
+    view.azimuth_degrees = 10.0f;
+    view.elevation_degrees = 10.0f;
+    Camera camera = orbit_camera(quad.bounding_sphere(), view, 1.0f);
+    const RenderedImage t = render(**truth, camera, 96);
+    std::array<double, 2> luv{};
+    for (int k = 0; k < 2; ++k) {
+        if (k == 0) setenv("STANDIN_MICROFACETS_FILTER_COLOR", "0", 1);
+        std::unique_ptr<Renderer> standin = renderer_for(*package);
+        unsetenv("STANDIN_MICROFACETS_FILTER_COLOR");
+        ASSERT_TRUE(standin);
+        ImageMetrics m = compare_images(t.color, render(*standin, camera, 96).color);
+        EXPECT_GE(m.iou, 0.97);
+        luv[std::size_t(k)] = m.luv_mean;
+    }
+    std::printf("[microfacets colour filter] Luv %.3f texel hit, %.3f filtered\n", luv[0], luv[1]);
+    EXPECT_LT(luv[1], 0.6 * luv[0]);
+}
+
 TEST(MicrofacetRenderer, InstancesDrawAsTheSingleModel)
 {
     Mesh mesh = generated(GeneratedShape::torus, 2000);

@@ -47,29 +47,49 @@ struct ViewSample {
 // view sees from its front the turn changes nothing.
 vec3 facing(vec3 normal, vec3 to_eye) { return dot(normal, to_eye) < 0.0 ? -normal : normal; }
 
-// The colour of a view's texel `at` (page coordinates), straight (not premultiplied); at lod > 0
-// filtered with the footprint kept inside the crop (crops sit on cells of 2^max_color_lod texels).
-vec3 view_page(sampler2DArray pages, ViewData view, ivec2 at, float lod)
+// The colour of a view at capture pixel position `position` (a float position inside the view's
+// crop), straight (not premultiplied): filtered bilinearly at level 0, and at lod > 0 over the
+// footprint, kept inside the crop (crops sit on cells of 2^max_color_lod texels).
+vec3 view_page(sampler2DArray pages, ViewData view, vec2 position, float lod)
 {
-    vec2 texel_center = vec2(at) + 0.5;
-    if (lod > 0.0) {
-        lod = min(lod, float(max_color_lod));
-        float margin = 0.5 * exp2(ceil(lod));
-        texel_center = clamp(texel_center, vec2(view.atlas.yz) + margin, vec2(view.atlas.yz + view.crop.zw) - margin);
-    }
-    vec4 c = textureLod(pages, vec3(texel_center / page_size, float(view.atlas.x)), max(lod, 0.0));
+    lod = clamp(lod, 0.0, float(max_color_lod));
+    float margin = 0.5 * exp2(ceil(lod));
+    vec2 page = clamp(vec2(view.atlas.yz) + position - vec2(view.crop.xy), vec2(view.atlas.yz) + margin,
+                      vec2(view.atlas.yz + view.crop.zw) - margin);
+    vec4 c = textureLod(pages, vec3(page / page_size, float(view.atlas.x)), lod);
     g_fetches += 1u;
     return c.a > 0.0 ? c.rgb / c.a : c.rgb;
 }
 
-vec3 view_color(ViewData view, ivec2 at, float lod) { return view_page(color_pages, view, at, lod); }
+vec3 view_color(ViewData view, vec2 position, float lod) { return view_page(color_pages, view, position, lod); }
+
+// Whether the texels at the corners of a footprint of 2^lod texels around capture position `position`
+// all hold the surface of the hit (height `height` along the view, normal `normal`): then a colour
+// filtered over that footprint mixes only that surface's texels, as the truth's texture filter does
+// within a face; else the filter would mix leaves, or a leaf and the one behind it.
+bool one_surface_around(ViewData view, vec2 position, float lod, float height, vec3 normal)
+{
+    const float texel = 2.0 * mf_radius / capture_resolution;
+    float r = 0.5 * exp2(lod);
+    for (int k = 0; k < 4; ++k) {
+        ivec2 cell = ivec2(floor(position + vec2((k & 1) != 0 ? r : -r, (k & 2) != 0 ? r : -r)));
+        if (any(lessThan(cell, view.crop.xy)) || any(greaterThanEqual(cell, view.crop.xy + view.crop.zw))) return false;
+        vec4 nd = texelFetch(normal_depth_pages, ivec3(view.atlas.yz + cell - view.crop.xy, view.atlas.x), 0);
+        g_fetches += 1u;
+        if (nd.r + nd.g + nd.b == 0.0) return false;
+        // within two texels of height per texel of distance (slopes up to ~63 degrees), normals within ~25 degrees
+        if (abs(stored_height(nd.a) - height) > 2.0 * (2.0 * r + 1.0) * texel) return false;
+        if (dot(decode_normal(nd.rgb), normal) < 0.9) return false;
+    }
+    return true;
+}
 
 // The PBR inputs of the same texel as view_color (the pages share its layout and coverage).
-void view_material(ViewData view, ivec2 at, float lod, inout ViewSample s)
+void view_material(ViewData view, vec2 position, float lod, inout ViewSample s)
 {
 #if MF_PBR
-    s.orm = view_page(orm_pages, view, at, lod);
-    s.emission = view_page(emission_pages, view, at, lod);
+    s.orm = view_page(orm_pages, view, position, lod);
+    s.emission = view_page(emission_pages, view, position, lod);
 #else
     s.orm = vec3(1.0, 1.0, 0.0); // lighting.glsl SHADING_DEFAULT_ORM (this file is also a vertex stage's)
     s.emission = vec3(0.0);
@@ -135,8 +155,8 @@ ViewSample sample_view(ViewData view, vec3 p, vec3 center, float w, float lod)
     if (lod <= 0.0 && !covered_enough(view, s.surface)) return s; // beside a cut-out's edge
     s.passed = true;
     s.normal = decode_normal(nd.rgb);
-    s.color = view_color(view, at, lod);
-    view_material(view, at, lod, s);
+    s.color = view_color(view, vec2(texel) + 0.5, lod);
+    view_material(view, vec2(texel) + 0.5, lod, s);
     return s;
 }
 
@@ -230,8 +250,15 @@ int walk_view(ViewData view, vec3 o, vec3 d, vec3 center, float w, float lod, ou
                     s.passed = true;
                     s.surface = mix(p0, p1, crossing.x);
                     s.normal = normal;
-                    s.color = view_color(view, at, lod);
-                    view_material(view, at, lod, s);
+                    // the texel's own colour, or filtered over the pixel's footprint where that holds one surface
+                    vec2 position = vec2(read) + 0.5, hit = capture_pixel(view, s.surface);
+                    float level = 0.0;
+                    if (lod > 0.0 && one_surface_around(view, hit, lod, dot(s.surface - mf_center, dir), normal)) {
+                        position = hit;
+                        level = lod;
+                    }
+                    s.color = view_color(view, position, level);
+                    view_material(view, position, level, s);
                     return RAY_HIT;
                 }
                 previous_top = top;
