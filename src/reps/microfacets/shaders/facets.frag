@@ -79,7 +79,8 @@ void main()
     // with their neighbours measured worse, shrub thesis Luv 7.22 -> 7.95, 9.8 -> 11.6 at 512^2
     // before). One level under the footprint's: a capture texel already holds the texture filtered
     // over itself. Generated tree, 1536^2 captures, foliage Luv d1 / d4 / d8: 3.25 / 5.72 / 7.12
-    // point-sampled, 2.96 / 5.18 / 6.81 filtered (footprint's level: 3.28 at d1; two under: 3.25).
+    // point-sampled, 2.96 / 5.18 / 6.81 filtered (across surfaces too, at the footprint's level: 3.28
+    // at d1; docs/RESULTS.md "Microfacets on foliage").
     // The seed and voxel clips read the texel hit, as the paper does.
     float color_level = clip_rule == MF_CLIP_RAY && filter_color != 0 ? color_lod(max(length(dFdx(p)), length(dFdy(p)))) - 1.0 : 0.0;
     float edge = max(abs(v_corner.x), abs(v_corner.y)), edge_width = fwidth(edge);
