@@ -168,7 +168,8 @@ Options with_cutout_resolution(const Mesh& mesh, float radius, Options parameter
 
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
-    const Options parameters = with_cutout_resolution(context.mesh, context.mesh.bounding_sphere().radius, context.parameters);
+    const BoundingSphere sphere = context.mesh.bounding_sphere();
+    const Options parameters = with_cutout_resolution(context.mesh, sphere.radius, context.parameters);
     const BakeSettings s = settings_from(parameters);
     STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "microfacets"));
@@ -180,7 +181,6 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     package->source = context.source;
     package->parameters = parameters;
     package->settings = s;
-    BoundingSphere sphere = context.mesh.bounding_sphere();
     package->center = sphere.center;
     package->radius = sphere.radius;
 
