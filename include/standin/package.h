@@ -129,9 +129,12 @@ constexpr const char* k_package_format = "standin-package";
 // model); 4: and, for the view atlas, block-compressed pages (a version-3 reader would miss the
 // pages' normal-depth PNGs and refuse by field, not by version); 5: exact depth of compressed
 // packages as grey PNGs instead of R16/R8 KTX2 files (a version-4 reader would try to parse them as
-// KTX2). Packages are written with the lowest version that describes them: without compressed maps
-// 1; view atlases whose only compressed pages are colour 4.
-constexpr int k_package_format_version = 5;
+// KTX2); 6: and, for the view atlas, 16-bit depth (a version-5 reader would read its grey PNGs as
+// 8-bit and refuse them by file, not by version). Packages are written with the lowest version that
+// describes them: without compressed maps 1; view atlases whose only compressed pages are colour 4;
+// compressed packages with exact depth 5.
+constexpr int k_package_format_version = 6;
+constexpr int k_package_format_version_exact_depth = 5;
 constexpr int k_package_format_version_block_pages = 4;
 
 } // namespace standin

@@ -370,13 +370,29 @@ void main()
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) discard;
+    // and the surface voted on likewise: the nearest hit is kept where the frames meeting it weigh
+    // at least as much as those seeing past it (a farther hit, or nothing), else the next
+    for (int pass = 0; pass < 2; ++pass) {
+        float front = 0.0, past = miss_vote, t_next = 1e30;
+        for (int k = 0; k < 3; ++k) {
+            if (int(hits[k].y) != k_hit || hits[k].x < t_min) continue;
+            if (hits[k].x - t_min <= 2.0 * texel_side()) {
+                front += f[k].weight;
+            } else {
+                past += f[k].weight;
+                t_next = min(t_next, hits[k].x);
+            }
+        }
+        if (front >= past || t_next >= 1e30) break;
+        t_min = t_next;
+    }
 
-    // 5. hits within two texels of the nearest are one surface, fading out to four texels
+    // 5. hits within two texels of the surface voted for are one surface, fading out to four texels
     vec4 color_sum = vec4(0.0);
     vec3 normal_sum = vec3(0.0);
     float t_sum = 0.0, t_weight = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (int(hits[k].y) != k_hit) continue;
+        if (int(hits[k].y) != k_hit || hits[k].x < t_min - 2.0 * texel_side()) continue;
         float weight = f[k].weight * clamp(2.0 - (hits[k].x - t_min) / (2.0 * texel_side()), 0.0, 1.0);
         if (weight <= 0.0) continue;
         vec3 q = origin + hits[k].x * ray - center;

@@ -164,7 +164,7 @@ nlohmann::json settings_json(const Options& parameters)
     return bake;
 }
 
-const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const char* value,
+const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const nlohmann::json& value,
                                            nlohmann::json& storage)
 {
     if (!manifest.contains("bake") || !manifest["bake"].is_object() || manifest["bake"].contains(key)) return manifest;

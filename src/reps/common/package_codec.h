@@ -89,7 +89,7 @@ nlohmann::json settings_json(const Options& parameters);
 Options read_settings(const Reader& in, const nlohmann::json& manifest, std::span<const OptionSpec> specs);
 // The manifest, or a copy in `storage` whose "bake" block gains `key` = `value` where a package
 // written before that option existed lacks it (the value that reproduces what it did then).
-const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const char* value,
+const nlohmann::json& with_setting_default(const nlohmann::json& manifest, const char* key, const nlohmann::json& value,
                                            nlohmann::json& storage);
 
 // Refuses axes that are not unit vectors or not orthogonal (fields named under `where`).

@@ -225,7 +225,7 @@ Status write(const Package& base, const std::string& directory)
         left[reason] = {{"faces", what.faces}, {"area", what.area}, {"area_fraction", package.area_total > 0 ? what.area / package.area_total : 0.0}};
 
     nlohmann::json manifest =
-        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version : 1);
+        manifest_io::manifest_header(package, package.parameters, compressed ? k_package_format_version_exact_depth : 1);
     manifest["faces_total"] = package.faces_total;
     manifest["area_total"] = package.area_total;
     manifest["area_captured"] = package.area_captured;

@@ -187,7 +187,7 @@ TEST(BillboardPackage, BcPackagesRoundTrip)
         ASSERT_TRUE(write_package(*plain, base + "/png.standin"));
         EXPECT_TRUE(fs::exists(base + "/bc.standin/billboard_000_normal.ktx2"));
         EXPECT_FALSE(fs::exists(base + "/bc.standin/billboard_000_normal_depth.png"));
-        EXPECT_EQ(read_manifest(base + "/bc.standin")["version"], k_package_format_version);
+        EXPECT_EQ(read_manifest(base + "/bc.standin")["version"], k_package_format_version_exact_depth);
         EXPECT_EQ(read_manifest(base + "/png.standin")["version"], 1); // older standins still read PNG packages
         Result<std::unique_ptr<Package>> read = read_package(base + "/bc.standin");
         ASSERT_TRUE(read) << read.status().message();

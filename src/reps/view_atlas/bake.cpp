@@ -66,12 +66,13 @@ float view_depth(const Camera& camera, float window_depth)
 
 struct Capture {
     ImageRGBA8 color, normal_depth; // cropped
+    std::vector<std::uint16_t> depth; // cropped, row-major: depth codes (depth_bits over 8 only)
     ImageRGBA8 orm, emission;       // cropped, PBR models only
 };
 
 // Crops a capture to its covered pixels plus one empty texel, in whole cells.
 void crop(const RenderedImage& color, const RenderedImage* normals, const reps::MaterialImages* material,
-          const Camera& camera, float eye_distance, const BoundingSphere& sphere, View& view, Capture& out)
+          const Camera& camera, float eye_distance, const BoundingSphere& sphere, int depth_bits, View& view, Capture& out)
 {
     const int n = color.color.width;
     int x0 = n, y0 = n, x1 = -1, y1 = -1;
@@ -85,6 +86,8 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const reps::
     view.height = (y1 - y0 + 3 + k_cell - 1) / k_cell * k_cell;
     out.color = ImageRGBA8(view.width, view.height);
     if (normals) out.normal_depth = ImageRGBA8(view.width, view.height);
+    const bool depth16 = depth_bits > 8;
+    if (normals && depth16) out.depth.assign(std::size_t(view.width) * std::size_t(view.height), 0);
     if (material) out.orm = ImageRGBA8(view.width, view.height), out.emission = ImageRGBA8(view.width, view.height);
     for (int y = 0; y < view.height; ++y) {
         for (int x = 0; x < view.width; ++x) {
@@ -100,7 +103,13 @@ void crop(const RenderedImage& color, const RenderedImage* normals, const reps::
             // depth: (r - dot(p - centre, direction)) / 2r, 0 nearest the camera
             float along = eye_distance - view_depth(camera, color.depth[std::size_t(sy) * n + sx]);
             float depth = (sphere.radius - along) / (2.0f * sphere.radius);
-            nd[3] = std::uint8_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * 255.0f));
+            if (depth16) { // the 8 bits from the code, as a reader makes them (depth8)
+                const std::uint16_t code = depth_code(depth, depth_bits);
+                out.depth[std::size_t(y) * std::size_t(view.width) + std::size_t(x)] = code;
+                nd[3] = depth8(code, depth_bits);
+            } else {
+                nd[3] = std::uint8_t(std::lround(std::clamp(depth, 0.0f, 1.0f) * 255.0f));
+            }
         }
     }
 }
@@ -174,6 +183,7 @@ Result<std::unique_ptr<ViewAtlasPackage>> bake_pass(const BakeContext& context, 
     const bool normals = s.maps == "surface";
     // lit maps hold the truth's shading, PBR included; only surface maps are relit
     const bool pbr = normals && context.mesh.has_pbr_materials();
+    const bool depth16 = normals && s.depth_bits > 8;
     // STANDIN_ATLAS_COVERAGE_SAMPLES (1..8) overrides k_coverage_samples for measurements
     const int samples = reps::coverage_samples(context.mesh, s.resolution, alpha_resolution ? 1 : k_coverage_samples,
                                                "STANDIN_ATLAS_COVERAGE_SAMPLES");
@@ -235,7 +245,8 @@ Result<std::unique_ptr<ViewAtlasPackage>> bake_pass(const BakeContext& context, 
         reps::downsample_coverage(color->color, {normals ? &normal.color : nullptr, pbr ? &material.orm : nullptr, pbr ? &material.emission : nullptr},
                                   &color->depth, samples);
         float eye_distance = glm::dot(camera.eye_world - sphere.center, view.direction);
-        crop(*color, normals ? &normal : nullptr, pbr ? &material : nullptr, camera, eye_distance, sphere, view, captures[k]);
+        crop(*color, normals ? &normal : nullptr, pbr ? &material : nullptr, camera, eye_distance, sphere, s.depth_bits, view,
+             captures[k]);
         context.progress.report("view atlas: capturing views", double(k + 1) / double(directions.size()));
     }
 
@@ -243,6 +254,8 @@ Result<std::unique_ptr<ViewAtlasPackage>> bake_pass(const BakeContext& context, 
     int pages = pack_views(package->views, s.page_size);
     package->color_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
     if (normals) package->normal_depth_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
+    if (depth16)
+        package->depth_pages.assign(std::size_t(pages), std::vector<std::uint16_t>(std::size_t(s.page_size) * std::size_t(s.page_size), 0));
     if (pbr) {
         package->orm_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
         package->emission_pages.assign(std::size_t(pages), ImageRGBA8(s.page_size, s.page_size));
@@ -252,6 +265,12 @@ Result<std::unique_ptr<ViewAtlasPackage>> bake_pass(const BakeContext& context, 
         if (v.width == 0) continue;
         copy_into_page(captures[k].color, package->color_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
         if (normals) copy_into_page(captures[k].normal_depth, package->normal_depth_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
+        if (depth16) {
+            std::vector<std::uint16_t>& page = package->depth_pages[std::size_t(v.page)];
+            for (int row = 0; row < v.height; ++row)
+                std::copy_n(&captures[k].depth[std::size_t(row) * std::size_t(v.width)], v.width,
+                            &page[std::size_t(v.atlas_y + row) * std::size_t(s.page_size) + std::size_t(v.atlas_x)]);
+        }
         if (pbr) {
             copy_into_page(captures[k].orm, package->orm_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
             copy_into_page(captures[k].emission, package->emission_pages[std::size_t(v.page)], v.atlas_x, v.atlas_y);
@@ -272,6 +291,12 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const bool alpha_resolution = masked && default_resolution &&
                                   k_alpha_resolution + 2 * k_cell <= parameters.integer("page-size");
     if (alpha_resolution) parameters.set_integer("resolution", k_alpha_resolution);
+    // --depth-bits 0: chosen by each pass's resolution, and recorded as chosen
+    const bool default_depth_bits = parameters.integer("depth-bits") == 0;
+    auto choose_depth_bits = [&]() {
+        if (default_depth_bits) parameters.set_integer("depth-bits", depth_bits_for(int(parameters.integer("resolution"))));
+    };
+    choose_depth_bits();
     Result<std::unique_ptr<ViewAtlasPackage>> package = bake_pass(context, parameters, masked, alpha_resolution);
     if (!package) return package.status();
     // models with detail finer than the default texels (nested parts, fins): captured again at
@@ -280,6 +305,7 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         k_detail_resolution + 2 * k_cell <= parameters.integer("page-size")) {
         if (depth_edge_fraction(**package) > k_detail_edge_fraction) {
             parameters.set_integer("resolution", k_detail_resolution);
+            choose_depth_bits();
             package = bake_pass(context, parameters, masked, false);
             if (!package) return package.status();
         }

@@ -28,6 +28,7 @@ ViewAtlasPackage octahedral_package(int frames, int resolution)
     values.set("resolution", std::to_string(resolution));
     values.set("page-size", "256");
     values.set("compression", "none");
+    values.set("depth-bits", "8"); // the 8-bit depth codes below
     p.parameters = *Options::parse(registration().bake_options, values, "test");
     p.settings = settings_from(p.parameters);
     p.center = glm::vec3(0.0f);

@@ -116,6 +116,7 @@ ViewAtlasPackage capture(const Solid& solid, int frames, int resolution, bool pe
     p.settings.resolution = resolution;
     p.settings.projection = perspective ? "perspective" : "ortho";
     p.settings.page_size = 2048;
+    p.settings.depth_bits = 8; // the 8-bit codes below
     p.source.bounds = {glm::vec3(solid.center - solid.size), glm::vec3(solid.center + solid.size)};
     p.center = glm::vec3(solid.center);
     p.radius = float(std::sqrt(3.0) * solid.size);

@@ -42,7 +42,55 @@ std::string page_blocks_file(std::size_t index, const char* map)
 using manifest_io::BlockFormat;
 using manifest_io::BlockImage;
 
-// A surface page's normals (BC5, octahedral) and depth (R8, exact: a grey PNG) as the package stores them.
+// The colour coverage from which a page's texels hold a normal and depth in the package: compressed
+// packages keep them where the texel is at least half covered (BC5 normals are fitted there), PNG
+// packages wherever it is covered at all.
+unsigned min_surface_alpha(const ViewAtlasPackage& package) { return package.settings.compression != "none" ? 128u : 1u; }
+
+// A page's depth codes (depth_bits over 8, depth_code) as a 16-bit grey PNG, "depth" on the page: 0
+// where the page holds no surface (min_surface_alpha), as a reader gives them.
+Status write_fine_depth(const ViewAtlasPackage& package, std::size_t k, const std::string& directory, nlohmann::json& files,
+                     nlohmann::json& page)
+{
+    const int size = package.settings.page_size;
+    const std::vector<std::uint16_t>& samples = package.depth_pages[k];
+    const ImageRGBA8& color = package.color_pages[k];
+    BlockImage depth{BlockFormat::r16, size, size, {std::vector<std::uint8_t>(samples.size() * 2)}};
+    for (std::size_t t = 0; t < samples.size(); ++t) {
+        if (color.pixels[t * 4 + 3] < min_surface_alpha(package)) continue;
+        depth.levels[0][2 * t] = std::uint8_t(samples[t] & 0xff);
+        depth.levels[0][2 * t + 1] = std::uint8_t(samples[t] >> 8);
+    }
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_exact_channel(depth, directory, page_file(k, "depth"), files));
+    page["depth"] = page_file(k, "depth");
+    return Status::ok();
+}
+
+// Reads a page's depth codes into depth_pages where the page holds a surface (min_surface_alpha),
+// and puts them, rounded to 8 bits (depth8), into the A of its normal-depth page, already read. A
+// code off the depth_bits grid (low bits set) is refused: the file is not what the manifest says.
+void read_fine_depth(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& name, int size,
+                  ViewAtlasPackage& package)
+{
+    BlockImage depth = manifest_io::read_exact_channel(in, files, name, BlockFormat::r16, size, size);
+    std::vector<std::uint16_t> samples(std::size_t(size) * std::size_t(size));
+    const int bits = package.settings.depth_bits;
+    const unsigned low_bits = (1u << (16 - bits)) - 1u;
+    const ImageRGBA8& color = package.color_pages.back();
+    ImageRGBA8& nd = package.normal_depth_pages.back();
+    for (std::size_t t = 0; t < samples.size(); ++t) {
+        if (color.pixels[t * 4 + 3] < min_surface_alpha(package)) continue;
+        samples[t] = std::uint16_t(depth.levels[0][2 * t] | (depth.levels[0][2 * t + 1] << 8));
+        if (samples[t] & low_bits)
+            in.fail(name, "holds depth " + std::to_string(samples[t]) + ", not a multiple of " + std::to_string(low_bits + 1) +
+                              " as " + std::to_string(bits) + "-bit depth (bake.depth_bits) is");
+        nd.pixels[t * 4 + 3] = depth8(samples[t], bits);
+    }
+    package.depth_pages.push_back(std::move(samples));
+}
+
+// A surface page's normals (BC5, octahedral) and depth (R8, or R16 with depth_bits 16, exact: a
+// grey PNG) as the package stores them.
 Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, const std::string& directory,
                             nlohmann::json& files, nlohmann::json& page)
 {
@@ -58,12 +106,13 @@ Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, cons
             n = glm::vec3(nd.pixels[t * 4], nd.pixels[t * 4 + 1], nd.pixels[t * 4 + 2]) / 255.0f * 2.0f - 1.0f;
             return true;
         }));
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, page_blocks_file(k, "normal"), files));
+    page["normal"] = page_blocks_file(k, "normal");
+    if (package.has_fine_depth()) return write_fine_depth(package, k, directory, files, page);
     BlockImage depth{BlockFormat::r8, size, size, {std::vector<std::uint8_t>(std::size_t(size) * std::size_t(size))}};
     for (std::size_t t = 0; t < depth.levels[0].size(); ++t) // uncovered texels 0, as a reader gives them
         depth.levels[0][t] = color.pixels[t * 4 + 3] >= 128 ? nd.pixels[t * 4 + 3] : std::uint8_t(0);
-    STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(normal, directory, page_blocks_file(k, "normal"), files));
     STANDIN_RETURN_IF_ERROR(manifest_io::write_exact_channel(depth, directory, page_file(k, "depth"), files));
-    page["normal"] = page_blocks_file(k, "normal");
     page["depth"] = page_file(k, "depth");
     return Status::ok();
 }
@@ -86,7 +135,9 @@ void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& fi
                          const std::string& depth_name, int size, ViewAtlasPackage& package)
 {
     BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, size, size, 1);
-    BlockImage depth = manifest_io::read_exact_channel(in, files, depth_name, BlockFormat::r8, size, size); // .ktx2 before version 5
+    const bool depth16 = package.settings.depth_bits > 8;
+    BlockImage depth = depth16 ? BlockImage{} // read_fine_depth, below
+                               : manifest_io::read_exact_channel(in, files, depth_name, BlockFormat::r8, size, size); // .ktx2 before version 5
     const std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), size, size, squish::kBc5);
     const ImageRGBA8& color = package.color_pages.back();
     ImageRGBA8 nd(size, size);
@@ -95,10 +146,11 @@ void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& fi
         const glm::vec3 n = reps::octahedral_texel(octahedral, t);
         for (int c = 0; c < 3; ++c)
             nd.pixels[t * 4 + std::size_t(c)] = std::uint8_t(std::lround(std::clamp(n[c] * 0.5f + 0.5f, 0.0f, 1.0f) * 255.0f));
-        nd.pixels[t * 4 + 3] = depth.levels[0][t];
+        if (!depth16) nd.pixels[t * 4 + 3] = depth.levels[0][t];
     }
     package.normal_depth_pages.push_back(std::move(nd));
     package.normal_bc5.push_back(std::move(normal.levels[0]));
+    if (depth16) read_fine_depth(in, files, depth_name, size, package);
 }
 
 } // namespace
@@ -118,9 +170,17 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json pages = nlohmann::json::array();
     const std::string& compression = package.settings.compression;
     const bool compressed = compression != "none";
+    const std::size_t page_texels = std::size_t(package.settings.page_size) * std::size_t(package.settings.page_size);
+    if (package.has_surface() && package.settings.depth_bits == 0)
+        return error(StatusCode::invalid_argument, "view atlas: depth_bits 0 (a bake chooses 8..16) in a package to write");
+    if (package.has_fine_depth() &&
+        (package.depth_pages.size() != package.color_pages.size() ||
+         std::any_of(package.depth_pages.begin(), package.depth_pages.end(), [&](const auto& d) { return d.size() != page_texels; })))
+        return error(StatusCode::invalid_argument, "view atlas: depth_bits over 8 without a depth page per page");
     // a newer format version only where the layout needs it: a lit package of bc is laid out as
     // version 1; KTX2 colour needs 4, grey PNG depth 5
-    const int version = compressed && package.has_surface() ? k_package_format_version
+    const int version = package.has_fine_depth()                ? k_package_format_version
+                        : compressed && package.has_surface() ? k_package_format_version_exact_depth
                         : compression == "bc-color"         ? k_package_format_version_block_pages
                                                             : 1;
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
@@ -142,6 +202,7 @@ Status write(const Package& base, const std::string& directory)
             STANDIN_RETURN_IF_ERROR(
                 manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
             page["normal_depth"] = page_file(k, "normal_depth");
+            if (package.has_fine_depth()) STANDIN_RETURN_IF_ERROR(write_fine_depth(package, k, directory, files, page));
         }
         if (package.has_pbr()) { // only then, so that packages of other models stay as they were
             STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, page_file(k, "orm"), files));
@@ -176,12 +237,14 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
     return manifest_io::read_fields([&]() -> std::unique_ptr<Package> {
         auto package = std::make_unique<ViewAtlasPackage>();
         package->source = manifest_io::read_source(in, manifest);
-        // packages from before --compression hold PNG pages
-        nlohmann::json patched;
-        const nlohmann::json& settings = manifest_io::with_setting_default(manifest, "compression", "none", patched);
+        // packages from before --compression hold PNG pages, and from before --depth-bits 8-bit depth
+        nlohmann::json patched, patched_again;
+        const nlohmann::json& settings = manifest_io::with_setting_default(
+            manifest_io::with_setting_default(manifest, "compression", "none", patched), "depth_bits", 8, patched_again);
         package->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         if (Status valid = check_settings(package->settings); !valid) in.fail("bake", valid.message());
+        if (package->settings.depth_bits == 0) in.fail("bake.depth_bits", "is 0, which only a bake resolves (8..16)");
         const BakeSettings& s = package->settings;
         const nlohmann::json& sphere = in.member(manifest, "sphere", "");
         package->center = in.vec3(sphere, "center", "sphere.");
@@ -221,9 +284,11 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             if (package->has_surface() && s.compression != "none")
                 read_surface_blocks(in, files, in.string(pages[k], "normal", where), in.string(pages[k], "depth", where),
                                     s.page_size, *package);
-            else if (package->has_surface())
+            else if (package->has_surface()) {
                 package->normal_depth_pages.push_back(manifest_io::read_image8(
                     in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size));
+                if (s.depth_bits > 8) read_fine_depth(in, files, in.string(pages[k], "depth", where), s.page_size, *package);
+            }
             const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));
             if (k > 0 && pbr != package->has_pbr()) in.fail(where + "orm", "is on some pages only: every page or none");
             if (pbr && !package->has_surface()) in.fail(where + "orm", "needs surface maps (bake.maps \"surface\")");

@@ -20,7 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-ViewAtlasPackage small_package()
+// depth_bits 10 (what 512 px captures get): depths that 8 bits cannot hold
+ViewAtlasPackage small_package(int depth_bits = 10)
 {
     ViewAtlasPackage p;
     p.source.file_name = "tiny.ply";
@@ -29,6 +30,7 @@ ViewAtlasPackage small_package()
     values.set("resolution", "32");
     values.set("page-size", "256");
     values.set("compression", "none"); // exact round trips; BcPagesRoundTrip tests bc
+    values.set("depth-bits", std::to_string(depth_bits));
     p.parameters = *Options::parse(registration().bake_options, values, "test");
     p.settings = settings_from(p.parameters);
     p.center = glm::vec3(0.0f);
@@ -49,12 +51,18 @@ ViewAtlasPackage small_package()
     p.proxy_planes = {{0.0f, 0.6f, 0.8f, 1.25f}, {-1.0f, 0.0f, 0.0f, 0.75f}};
     p.color_pages.assign(1, ImageRGBA8(256, 256));
     p.normal_depth_pages.assign(1, ImageRGBA8(256, 256));
+    if (depth_bits > 8) p.depth_pages.assign(1, std::vector<std::uint16_t>(256 * 256, 0));
     for (int y = 0; y < 32; ++y)
         for (int x = 0; x < 32; ++x) {
             std::uint8_t* c = p.color_pages[0].at(x, y);
             c[0] = std::uint8_t(x * 8), c[1] = std::uint8_t(y * 8), c[2] = 100, c[3] = (x + y) % 3 ? 255 : 0;
             std::uint8_t* n = p.normal_depth_pages[0].at(x, y);
             n[0] = 128, n[1] = 128, n[2] = 255, n[3] = std::uint8_t(x + y);
+            if (depth_bits > 8 && c[3] != 0) { // uncovered texels hold 0, as the bake leaves them
+                const std::uint16_t code = std::uint16_t(((x + y) * 4 + x % 4) << (16 - depth_bits));
+                p.depth_pages[0][std::size_t(y) * 256 + std::size_t(x)] = code;
+                n[3] = depth8(code, depth_bits);
+            }
         }
     return p;
 }
@@ -67,6 +75,7 @@ ViewAtlasPackage with_compression(ViewAtlasPackage p, const char* compression)
     values.set("resolution", "32");
     values.set("page-size", "256");
     values.set("compression", compression);
+    values.set("depth-bits", std::to_string(p.settings.depth_bits));
     p.parameters = *Options::parse(registration().bake_options, values, "test");
     p.settings = settings_from(p.parameters);
     // unit normals (small_package's are +Z), spread over the sphere to exercise the octahedral fold
@@ -118,6 +127,7 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
                 continue;
             }
             ASSERT_EQ(na[3], nb[3]) << "depth, texel " << t;
+            ASSERT_EQ(q.depth_pages[0][t], p.depth_pages[0][t]) << "16-bit depth, texel " << t;
             for (int c = 0; c < 3; ++c) worst_color = std::max(worst_color, std::abs(int(a[c]) - int(b[c])));
             auto normal = [](const std::uint8_t* n) { return glm::normalize(glm::vec3(n[0], n[1], n[2]) / 255.0f * 2.0f - 1.0f); };
             worst_normal = std::max(worst_normal, glm::degrees(std::acos(std::min(glm::dot(normal(na), normal(nb)), 1.0f))));
@@ -140,12 +150,19 @@ TEST(ViewAtlasPackage, BcPagesRoundTrip)
             EXPECT_EQ(read_text(dir + "/a.standin/page_000_color.ktx2"), read_text(dir + "/c.standin/page_000_color.ktx2"));
         }
     }
-    // none keeps format version 1 (older standins read it) and the PNG layout
+    // none with 8-bit depth keeps format version 1 (older standins read it) and the PNG layout;
+    // 8-bit depth with bc keeps version 5
     std::string dir = test::fresh_directory("view_atlas_none");
-    ASSERT_TRUE(write_package(small_package(), dir + "/p.standin").is_ok());
+    ASSERT_TRUE(write_package(small_package(8), dir + "/p.standin").is_ok());
     nlohmann::json manifest = nlohmann::json::parse(read_text(dir + "/p.standin/manifest.json"));
     EXPECT_EQ(manifest["version"], 1);
     EXPECT_TRUE(manifest["pages"][0].contains("normal_depth"));
+    EXPECT_FALSE(manifest["pages"][0].contains("depth"));
+    ASSERT_TRUE(write_package(with_compression(small_package(8), "bc"), dir + "/q.standin").is_ok());
+    EXPECT_EQ(nlohmann::json::parse(read_text(dir + "/q.standin/manifest.json"))["version"], k_package_format_version_exact_depth);
+    Result<std::unique_ptr<Package>> eight = read_package(dir + "/q.standin");
+    ASSERT_TRUE(eight.is_ok()) << eight.status().message();
+    EXPECT_TRUE(dynamic_cast<const ViewAtlasPackage&>(**eight).depth_pages.empty());
 }
 
 // Hostile compressed pages: every refusal names the file (or field) and nothing crashes.
@@ -153,9 +170,9 @@ TEST(ViewAtlasPackage, RefusesBadCompressedPages)
 {
     std::string dir = test::fresh_directory("view_atlas_bc_damage");
     const std::string path = dir + "/p.standin";
-    auto fresh = [&](const char* compression) {
+    auto fresh = [&](const char* compression, int depth_bits = 10) {
         fs::remove_all(path);
-        EXPECT_TRUE(write_package(with_compression(small_package(), compression), path).is_ok());
+        EXPECT_TRUE(write_package(with_compression(small_package(depth_bits), compression), path).is_ok());
         return nlohmann::json::parse(read_text(path + "/manifest.json"));
     };
     auto replace = [&](nlohmann::json& manifest, const std::string& name, const std::string& bytes) {
@@ -182,9 +199,10 @@ TEST(ViewAtlasPackage, RefusesBadCompressedPages)
     replace(m, "page_000_depth.png", *rgba_depth);
     expect_refused("page_000_depth.png");
     // format version 4 kept depth as an R8 KTX2: still read, and one of another format refused
-    m = fresh("bc");
+    m = fresh("bc", 8);
     BlockImage r8{BlockFormat::r8, 256, 256, {std::vector<std::uint8_t>(manifest_io::level_bytes(BlockFormat::r8, 256, 256))}};
     m["version"] = 4;
+    m["bake"].erase("depth_bits");
     m["pages"][0]["depth"] = "page_000_depth.ktx2";
     replace(m, "page_000_depth.ktx2", manifest_io::encode_ktx2(r8));
     Result<std::unique_ptr<Package>> version4 = read_package(path);
@@ -210,14 +228,35 @@ TEST(ViewAtlasPackage, RefusesBadCompressedPages)
     m["bake"]["compression"] = "bc7";
     std::ofstream(path + "/manifest.json") << m.dump(1);
     expect_refused("compression");
-    // a package of an older standin (no bake.compression) still reads, as PNG pages
+    // a package of an older standin (no bake.compression, no bake.depth_bits) still reads, as PNG
+    // pages of 8-bit depth
     fs::remove_all(path);
-    ASSERT_TRUE(write_package(small_package(), path).is_ok());
+    ASSERT_TRUE(write_package(small_package(8), path).is_ok());
     m = nlohmann::json::parse(read_text(path + "/manifest.json"));
     m["bake"].erase("compression");
+    m["bake"].erase("depth_bits");
     std::ofstream(path + "/manifest.json") << m.dump(1);
     Result<std::unique_ptr<Package>> old = read_package(path);
     ASSERT_TRUE(old.is_ok()) << old.status().message();
+    EXPECT_EQ(dynamic_cast<const ViewAtlasPackage&>(**old).settings.depth_bits, 8);
+    // 10-bit depth: an 8-bit depth file, one with a depth off the 10-bit grid, and a package whose
+    // depth file is missing
+    m = fresh("bc");
+    Result<std::string> narrow = encode_png_grey_bytes(256, 256, 8, std::vector<std::uint16_t>(256 * 256, 0));
+    ASSERT_TRUE(narrow);
+    replace(m, "page_000_depth.png", *narrow);
+    expect_refused("page_000_depth.png");
+    m = fresh("bc");
+    Result<std::string> off_grid = encode_png_grey_bytes(256, 256, 16, std::vector<std::uint16_t>(256 * 256, 1000));
+    ASSERT_TRUE(off_grid);
+    replace(m, "page_000_depth.png", *off_grid);
+    expect_refused("not a multiple of 64");
+    fs::remove_all(path);
+    ASSERT_TRUE(write_package(small_package(), path).is_ok());
+    m = nlohmann::json::parse(read_text(path + "/manifest.json"));
+    m["pages"][0].erase("depth");
+    std::ofstream(path + "/manifest.json") << m.dump(1);
+    expect_refused("pages[0].depth");
 }
 
 TEST(ViewAtlasPackage, RoundTripAndDeterminism)
@@ -226,7 +265,7 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     ViewAtlasPackage p = small_package();
     ASSERT_TRUE(write_package(p, dir + "/a.standin").is_ok());
     ASSERT_TRUE(write_package(p, dir + "/b.standin").is_ok());
-    for (const char* name : {"manifest.json", "page_000_color.png", "page_000_normal_depth.png"})
+    for (const char* name : {"manifest.json", "page_000_color.png", "page_000_normal_depth.png", "page_000_depth.png"})
         EXPECT_EQ(read_text(dir + "/a.standin/" + name), read_text(dir + "/b.standin/" + name)) << name;
 
     Result<std::unique_ptr<Package>> read_back = read_package(dir + "/a.standin");
@@ -240,6 +279,17 @@ TEST(ViewAtlasPackage, RoundTripAndDeterminism)
     EXPECT_EQ(q.views[1].height, 32);
     EXPECT_EQ(q.color_pages[0].pixels, p.color_pages[0].pixels);
     EXPECT_EQ(q.normal_depth_pages[0].pixels, p.normal_depth_pages[0].pixels);
+    EXPECT_EQ(q.depth_pages, p.depth_pages); // exact 10-bit depth
+    EXPECT_EQ(q.settings.depth_bits, 10);
+    // 16 bits round trip as exactly
+    ASSERT_TRUE(write_package(small_package(16), dir + "/e.standin").is_ok());
+    Result<std::unique_ptr<Package>> sixteen = read_package(dir + "/e.standin");
+    ASSERT_TRUE(sixteen.is_ok()) << sixteen.status().message();
+    EXPECT_EQ(dynamic_cast<const ViewAtlasPackage&>(**sixteen).depth_pages, small_package(16).depth_pages);
+    ViewAtlasPackage no_depth = small_package(); // depth_bits 10 without the pages: refused, nothing written
+    no_depth.depth_pages.clear();
+    EXPECT_FALSE(write_package(no_depth, dir + "/d.standin").is_ok());
+    EXPECT_FALSE(fs::exists(dir + "/d.standin"));
     EXPECT_FLOAT_EQ(q.radius, p.radius);
     EXPECT_FLOAT_EQ(q.half_extent(), p.radius); // orthographic
     EXPECT_EQ(q.proxy_planes, p.proxy_planes);

@@ -27,6 +27,19 @@ std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8
     return out;
 }
 
+std::vector<std::uint16_t> premultiplied16(const ImageRGBA8& normal_depth, const std::vector<std::uint16_t>& depth,
+                                           const ImageRGBA8& coverage, bool any)
+{
+    std::vector<std::uint16_t> out(normal_depth.pixels.size());
+    for (std::size_t p = 0; p < out.size(); p += 4) {
+        unsigned a = coverage.pixels[p + 3];
+        if (any && a != 0) a = 255;
+        for (int c = 0; c < 3; ++c) out[p + c] = std::uint16_t((normal_depth.pixels[p + c] * 257u * a + 127u) / 255u);
+        out[p + 3] = std::uint16_t((unsigned(depth[p / 4]) * a + 127u) / 255u);
+    }
+    return out;
+}
+
 std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size)
 {
     const int half = std::max(size / 2, 1);

@@ -61,13 +61,14 @@ struct ViewGpu {
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
 static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
-// Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth codes of its
-// covered texels (255 / 0 when empty), from one pass over the pages: the corrected walk skips cells
-// a ray passes above (nearest codes, uploaded by upload_cell_tops), and each view's height range is
-// the range over its crop's cells (crops sit on whole cells).
+// Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth of its covered
+// texels in 1/65535 of the range (8-bit depth x 257; finer depth rounded outwards: the nearest down,
+// the farthest up; 65535 / 0 when empty), from one pass over the pages: the
+// corrected walk skips cells a ray passes above (nearest codes, uploaded by upload_cell_tops), and
+// each view's height range is the range over its crop's cells (crops sit on whole cells).
 struct CellDepths {
     int cells = 0;                         // per page side
-    std::vector<std::uint8_t> nearest, farthest; // page-major, then row-major cells
+    std::vector<std::uint16_t> nearest, farthest; // page-major, then row-major cells
     bool partial_coverage = false;         // some texel's alpha is neither 0 nor 255 (alpha-tested bakes)
 };
 
@@ -78,7 +79,7 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
     const int size = package.settings.page_size;
     depths.cells = size / ATLAS_CELL;
     const std::size_t per_page = std::size_t(depths.cells) * depths.cells;
-    depths.nearest.assign(per_page * package.color_pages.size(), 255);
+    depths.nearest.assign(per_page * package.color_pages.size(), 65535);
     depths.farthest.assign(per_page * package.color_pages.size(), 0);
     for (std::size_t page = 0; page < package.color_pages.size(); ++page) {
         const ImageRGBA8& color = package.color_pages[page];
@@ -88,10 +89,19 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
                 if (const std::uint8_t alpha = color.at(x, y)[3]; alpha != 0) { // any coverage: the walk meets every covered texel
                     depths.partial_coverage = depths.partial_coverage || alpha != 255;
                     std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
-                    std::uint8_t code = normal_depth.at(x, y)[3];
+                    const std::uint16_t code = package.has_fine_depth() ? package.depth_pages[page][std::size_t(y) * size + x]
+                                                                     : std::uint16_t(normal_depth.at(x, y)[3] * 257);
                     depths.nearest[cell] = std::min(depths.nearest[cell], code);
                     depths.farthest[cell] = std::max(depths.farthest[cell], code);
                 }
+    }
+    if (package.has_fine_depth()) { // codes (depth_code) to 1/65535 of the range, outwards
+        const std::uint64_t max = depth_code_max(package.settings.depth_bits);
+        for (std::size_t cell = 0; cell < depths.nearest.size(); ++cell) {
+            if (depths.nearest[cell] > depths.farthest[cell]) continue; // empty
+            depths.nearest[cell] = std::uint16_t(std::uint64_t(depths.nearest[cell]) * 65535u / max);
+            depths.farthest[cell] = std::uint16_t(std::min<std::uint64_t>((std::uint64_t(depths.farthest[cell]) * 65535u + max - 1) / max, 65535u));
+        }
     }
     return depths;
 }
@@ -101,7 +111,7 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
 glm::vec2 depth_range(const ViewAtlasPackage& package, const CellDepths& depths, const View& view)
 {
     if (depths.cells == 0 || view.width == 0) return {-1.0f, 1.0f};
-    int nearest = 255, farthest = -1;
+    int nearest = 65535, farthest = -1;
     const std::size_t page = std::size_t(view.page) * depths.cells * depths.cells;
     for (int cy = view.atlas_y / ATLAS_CELL; cy < (view.atlas_y + view.height) / ATLAS_CELL; ++cy)
         for (int cx = view.atlas_x / ATLAS_CELL; cx < (view.atlas_x + view.width) / ATLAS_CELL; ++cx) {
@@ -111,7 +121,7 @@ glm::vec2 depth_range(const ViewAtlasPackage& package, const CellDepths& depths,
             farthest = std::max<int>(farthest, depths.farthest[cell]);
         }
     if (farthest < 0) return {-1.0f, 1.0f};
-    auto height = [&](int code) { return package.radius - 2.0f * package.radius * float(code) / 255.0f; };
+    auto height = [&](int code) { return package.radius - 2.0f * package.radius * float(code) / 65535.0f; };
     return {height(nearest), height(farthest)};
 }
 
@@ -177,10 +187,11 @@ struct ArrayPlan {
     std::uint64_t page_bytes = 0; // one page with its mip levels
 };
 
-std::uint64_t page_bytes_with_mips(int size)
+std::uint64_t page_bytes_with_mips(int size, int bytes_per_texel)
 {
     std::uint64_t bytes = 0;
-    for (int level = 0; level < k_mip_levels; ++level) bytes += std::uint64_t(std::max(size >> level, 1)) * std::max(size >> level, 1) * 4;
+    for (int level = 0; level < k_mip_levels; ++level)
+        bytes += std::uint64_t(std::max(size >> level, 1)) * std::max(size >> level, 1) * std::uint64_t(bytes_per_texel);
     return bytes;
 }
 
@@ -207,7 +218,9 @@ Result<ArrayPlan> plan_arrays(const ViewAtlasPackage& package, int max_layers)
     const int pages = std::max(int(package.color_pages.size()), 1), size = package.settings.page_size;
     std::uint64_t budget = texture_budget_bytes();
     ArrayPlan plan;
-    plan.page_bytes = page_bytes_with_mips(size);
+    // every map's arrays hold the same pages: as many as the largest map's texels allow (RGBA16
+    // normal-depth pages with 16-bit depth)
+    plan.page_bytes = page_bytes_with_mips(size, package.has_fine_depth() ? 8 : 4);
     std::uint64_t fit = std::min<std::uint64_t>(budget / plan.page_bytes, std::uint64_t(std::max(max_layers, 1)));
     plan.pages_per_array = int(std::min<std::uint64_t>(fit, std::uint64_t(pages)));
     plan.arrays = plan.pages_per_array > 0 ? (pages + plan.pages_per_array - 1) / plan.pages_per_array : 0;
@@ -224,19 +237,19 @@ Result<ArrayPlan> plan_arrays(const ViewAtlasPackage& package, int max_layers)
     return plan;
 }
 
-// The cells' nearest depth codes as one R8 texture array, one layer per page.
+// The cells' nearest depth codes as one R16 texture array, one layer per page.
 Result<gpu::Texture> upload_cell_tops(const CellDepths& depths, int pages)
 {
     GLuint name = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
     gpu::Texture texture(name);
-    glTextureStorage3D(name, 1, GL_R8, depths.cells, depths.cells, std::max(pages, 1));
+    glTextureStorage3D(name, 1, GL_R16, depths.cells, depths.cells, std::max(pages, 1));
     glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     const std::size_t per_page = std::size_t(depths.cells) * depths.cells;
     for (int page = 0; page < pages; ++page)
-        glTextureSubImage3D(name, 0, 0, 0, page, depths.cells, depths.cells, 1, GL_RED, GL_UNSIGNED_BYTE,
+        glTextureSubImage3D(name, 0, 0, 0, page, depths.cells, depths.cells, 1, GL_RED, GL_UNSIGNED_SHORT,
                             depths.nearest.data() + std::size_t(page) * per_page);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: " + gpu::gl_error_text(e) + " uploading cell heights");
@@ -295,27 +308,31 @@ Result<gpu::Texture> upload_compressed_color_pages(const ViewAtlasPackage& packa
 // 0 is replaced by the pages premultiplied by "any coverage", i.e. the stored normal and depth on
 // every covered texel. The corrected walk reads heights there (one fetch per texel, atlas.frag
 // height_texel): a partly covered edge texel (fractional coverage, issue #14) must keep its full
-// 8-bit depth, which dividing by its coverage would coarsen; readers that filter level 0 take the
-// colour's alpha as its weight (surface_sample).
+// depth, which dividing by its coverage would coarsen; readers that filter level 0 take the
+// colour's alpha as its weight (surface_sample). `depth16` (normal-depth pages of a package with
+// 16-bit depth): the array is RGBA16, its A the 16-bit depth (premultiplied16).
 Result<gpu::Texture> upload_pages(const std::vector<ImageRGBA8>& pages, const std::vector<ImageRGBA8>& coverage,
-                                  bool color, int size, int first, int count, bool whole_level0)
+                                  bool color, int size, int first, int count, bool whole_level0,
+                                  const std::vector<std::vector<std::uint16_t>>* depth16)
 {
-    Result<gpu::Texture> allocated = allocate_page_array(GL_RGBA8, size, count);
+    Result<gpu::Texture> allocated = allocate_page_array(depth16 ? GL_RGBA16 : GL_RGBA8, size, count);
     if (!allocated) return allocated.status();
     gpu::Texture texture = std::move(*allocated);
     GLuint name = texture.get();
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) {
-        std::size_t page = std::size_t(first + k);
-        std::vector<std::uint8_t> data = premultiplied(pages[page], coverage[page], color);
-        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
-    }
+    auto upload = [&](int k, bool any) {
+        const std::size_t page = std::size_t(first + k);
+        if (depth16) {
+            std::vector<std::uint16_t> data = premultiplied16(pages[page], (*depth16)[page], coverage[page], any);
+            glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_SHORT, data.data());
+        } else {
+            std::vector<std::uint8_t> data = premultiplied(pages[page], coverage[page], color, any);
+            glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
+        }
+    };
+    for (int k = 0; k < count && std::size_t(first + k) < pages.size(); ++k) upload(k, false);
     glGenerateTextureMipmap(name);
-    for (int k = 0; whole_level0 && k < count && std::size_t(first + k) < pages.size(); ++k) {
-        std::size_t page = std::size_t(first + k);
-        std::vector<std::uint8_t> data = premultiplied(pages[page], coverage[page], color, true);
-        glTextureSubImage3D(name, 0, 0, 0, GLint(k), size, size, 1, GL_RGBA, GL_UNSIGNED_BYTE, data.data());
-    }
+    for (int k = 0; whole_level0 && k < count && std::size_t(first + k) < pages.size(); ++k) upload(k, true);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, gpu::gl_error_text(e) + " uploading pages");
     return texture;
@@ -331,7 +348,8 @@ Status upload_map(const ViewAtlasPackage& package, const std::vector<ImageRGBA8>
         Result<gpu::Texture> texture =
             compressed ? upload_compressed_color_pages(package, package.settings.page_size, first, count)
                        : upload_pages(pages, package.color_pages, color, package.settings.page_size, first, count,
-                                      &pages == &package.normal_depth_pages);
+                                      &pages == &package.normal_depth_pages,
+                                      &pages == &package.normal_depth_pages && package.has_fine_depth() ? &package.depth_pages : nullptr);
         if (!texture) {
             std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
             return error(StatusCode::gpu_error, "view atlas: package " + name + ", " + map_name +
@@ -390,6 +408,11 @@ Status check_package(const ViewAtlasPackage& package)
     if (package.views.empty()) return error(StatusCode::bad_data, "view atlas: no views");
     if (package.has_surface() && package.normal_depth_pages.size() != package.color_pages.size())
         return error(StatusCode::bad_data, "view atlas: normal-depth pages missing");
+    if (package.has_fine_depth() && package.depth_pages.size() != package.color_pages.size())
+        return error(StatusCode::bad_data, "view atlas: 16-bit depth pages missing");
+    for (const std::vector<std::uint16_t>& depth : package.depth_pages)
+        if (depth.size() != std::size_t(s.page_size) * std::size_t(s.page_size))
+            return error(StatusCode::bad_data, "view atlas: a 16-bit depth page is not page_size square");
     if (package.has_pbr() && (!package.has_surface() || package.orm_pages.size() != package.color_pages.size() ||
                               package.emission_pages.size() != package.color_pages.size()))
         return error(StatusCode::bad_data, "view atlas: ORM or emission pages missing, or without surface maps");
@@ -517,6 +540,12 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("atlas_radius"), package.radius);
     glProgramUniform1f(id, renderer->program_.uniform("half_extent"), package.half_extent());
     glProgramUniform1f(id, renderer->program_.uniform("resolution"), float(package.settings.resolution));
+    // depth steps, and the factor from the normal-depth pages' A to depth (fine depth: codes over
+    // depth_code_max, read as over 65535)
+    const int depth_bits = package.has_fine_depth() ? package.settings.depth_bits : 8;
+    glProgramUniform1f(id, renderer->program_.uniform("depth_codes"), float((1 << depth_bits) - 1));
+    glProgramUniform1f(id, renderer->program_.uniform("depth_scale"),
+                       package.has_fine_depth() ? float(65535.0 / double(depth_code_max(depth_bits))) : 1.0f);
     glProgramUniform1f(id, renderer->program_.uniform("capture_distance"), package.capture_distance());
     glProgramUniform1i(id, renderer->program_.uniform("capture_ortho"), package.settings.projection == "ortho");
     glProgramUniform1i(id, renderer->program_.uniform("view_count"), int(package.views.size()));

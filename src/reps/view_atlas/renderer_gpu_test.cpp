@@ -819,8 +819,11 @@ TEST(ViewAtlasRenderer, PagesSplitOverSeveralArraysDrawAsOne)
     const auto& package = dynamic_cast<const ViewAtlasPackage&>(*baked);
     const int pages = int(package.color_pages.size());
     ASSERT_GE(pages, 3) << "the test needs several pages";
-    std::uint64_t page_bytes = 0; // 256² RGBA8 with its k_mip_levels levels
-    for (int level = 0; level < k_mip_levels; ++level) page_bytes += std::uint64_t(256 >> level) * (256 >> level) * 4;
+    // a page of the largest map, 256² with its k_mip_levels levels: the normal-depth pages, RGBA16
+    // with depth over 8 bits (the default), else RGBA8 like the others
+    const std::uint64_t texel_bytes = package.has_fine_depth() ? 8 : 4;
+    std::uint64_t page_bytes = 0;
+    for (int level = 0; level < k_mip_levels; ++level) page_bytes += std::uint64_t(256 >> level) * (256 >> level) * texel_bytes;
 
     for (const char* style : {"seed", "corrected"}) {
         RenderOptions options;
@@ -921,6 +924,64 @@ TEST(ViewAtlasBake, FineDetailIsCapturedAtTheDetailResolution)
     EXPECT_EQ(s.settings.resolution, 256);
     EXPECT_LT(depth_edge_fraction(s), 0.5 * k_detail_edge_fraction);
     EXPECT_LT(depth_edge_fraction(f), depth_edge_fraction(g)) << "finer texels resolve more of the detail";
+}
+
+// Depth is kept to its bake.depth_bits (issues #14, #17): a square facing +Y, seen by the view along
+// -Y, lies at one analytic depth; every covered texel of that view holds it within half a step of
+// the package's bits (10, 8 and 16; 8 are off by more than 10 allow), and the 8-bit copy the hull
+// and the web export read is that depth rounded. Unset, the bits follow the capture resolution.
+TEST(ViewAtlasBake, DepthIsExactToItsBits)
+{
+    Mesh mesh;
+    const float height = 0.3137f; // between two 8-bit levels of the depth
+    for (glm::vec3 p : {glm::vec3(-1, height, -1), glm::vec3(1, height, -1), glm::vec3(1, height, 1), glm::vec3(-1, height, 1),
+                        glm::vec3(-1, -1, -1), glm::vec3(1, -1, -1), glm::vec3(1, -1, 1), glm::vec3(-1, -1, 1)}) {
+        mesh.positions.push_back(p);
+        mesh.normals.push_back(glm::vec3(0, p.y > 0 ? 1 : -1, 0));
+        mesh.colors.push_back(glm::vec4(0.7f, 0.7f, 0.7f, 1.0f));
+    }
+    mesh.indices = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7}; // the square, and one below it facing -Y
+    mesh.face_materials.assign(mesh.triangle_count(), 0);
+    mesh.materials.push_back(Material{});
+    for (int bits : {10, 8, 16}) {
+        SCOPED_TRACE(bits);
+        std::unique_ptr<Package> baked =
+            bake_atlas(mesh, {{"subdivisions", "0"}, {"resolution", "64"}, {"depth-bits", std::to_string(bits)}});
+        ASSERT_TRUE(baked);
+        const auto& p = dynamic_cast<const ViewAtlasPackage&>(*baked);
+        EXPECT_EQ(p.has_fine_depth(), bits > 8);
+        const auto top = std::find_if(p.views.begin(), p.views.end(), [](const View& v) { return v.direction.y > 0.9999f; });
+        ASSERT_NE(top, p.views.end()) << "the icosahedron is turned so that +Y is a view";
+        const float expected = (p.radius - (height - p.center.y)) / (2.0f * p.radius);
+        double worst = 0.0;
+        int texels = 0;
+        for (int y = 0; y < top->height; ++y)
+            for (int x = 0; x < top->width; ++x) {
+                const int ax = top->atlas_x + x, ay = top->atlas_y + y;
+                if (p.color_pages[std::size_t(top->page)].at(ax, ay)[3] != 255) continue;
+                const std::uint8_t eight = p.normal_depth_pages[std::size_t(top->page)].at(ax, ay)[3];
+                double depth = eight / 255.0;
+                if (bits > 8) {
+                    const std::uint16_t code = p.depth_pages[std::size_t(top->page)][std::size_t(ay) * p.settings.page_size + ax];
+                    ASSERT_EQ(code % (1u << (16 - bits)), 0u) << "on the " << bits << "-bit grid";
+                    ASSERT_EQ(eight, depth8(code, bits));
+                    depth = double(code) / double(depth_code_max(bits));
+                }
+                worst = std::max(worst, std::abs(depth - double(expected)));
+                ++texels;
+            }
+        std::printf("[ depth ] %d bits: %d texels, worst error %.2e of the diameter (half a step %.2e)\n", bits, texels,
+                    worst, 0.5 / double((1 << bits) - 1));
+        EXPECT_GT(texels, 64 * 64 / 4);
+        EXPECT_LE(worst, 0.5 / double((1 << bits) - 1) + 2e-6);
+        if (bits == 8) EXPECT_GT(worst, 0.5 / 1023.0) << "the square lies between 8-bit levels, off by more than 10 bits allow";
+    }
+    // unset, the bits follow the capture's texels: 8 under 512 px, 10 from 512 px
+    for (int resolution : {256, 512}) {
+        std::unique_ptr<Package> baked = bake_atlas(mesh, {{"subdivisions", "0"}, {"resolution", std::to_string(resolution)}});
+        ASSERT_TRUE(baked);
+        EXPECT_EQ(dynamic_cast<const ViewAtlasPackage&>(*baked).settings.depth_bits, resolution >= 512 ? 10 : 8) << resolution;
+    }
 }
 
 } // namespace

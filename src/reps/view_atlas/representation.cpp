@@ -35,6 +35,11 @@ std::vector<OptionSpec> bake_options()
                       "Pages in the package: bc (BC5 octahedral normals in KTX2 files, exact depth as grey PNG, "
                       "colour PNG; -29% bytes, +0.05-0.09 Luv, docs/RESULTS.md), none (PNG), bc-color (bc, colour "
                       "as the DXT5 blocks --texture-format bc3 uploads, mip levels included)"),
+        integer_option("depth-bits", 0, 0, 16,
+                       "Depth precision (surface maps), bits over the model's diameter, 8..16; 0: 10 for captures of "
+                       "512 px or more (a step of half their texel: closer surfaces stay apart), 8 under (a step of "
+                       "one 256 px texel; packages before it: 8). Each 2 bits: about +25% package, and over 8 the "
+                       "normal-depth pages take twice the GPU memory (docs/RESULTS.md)"),
     };
 }
 
@@ -78,11 +83,13 @@ PackageSummary summarise(const Package& base)
     std::uint64_t texels = 0;
     for (const View& v : package.views) texels += std::uint64_t(v.width) * v.height;
     std::uint64_t page_texels = std::uint64_t(settings.page_size) * settings.page_size * package.color_pages.size();
-    // RGBA8 pages with mips: colour, normal-depth (surface), ORM and emission (PBR models)
-    const int maps = 1 + (package.has_surface() ? 1 : 0) + (package.has_pbr() ? 2 : 0);
-    std::uint64_t gpu_bytes = page_texels * 4 * std::uint64_t(maps) * 4 / 3;
-    // --texture-format bc3: colour pages at one byte per texel (DXT5), the other maps still RGBA8
-    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + 4 * std::uint64_t(maps - 1)) * 4 / 3;
+    // pages with mips: colour, normal-depth (surface: RGBA16 with 16-bit depth), ORM and emission
+    // (PBR models), 4 bytes per texel but the normal-depth pages' 8 with 16-bit depth
+    const std::uint64_t normal_depth_bytes = package.has_surface() ? (package.has_fine_depth() ? 8 : 4) : 0;
+    const std::uint64_t other_bytes = normal_depth_bytes + (package.has_pbr() ? 8 : 0);
+    std::uint64_t gpu_bytes = page_texels * (4 + other_bytes) * 4 / 3;
+    // --texture-format bc3: colour pages at one byte per texel (DXT5), the other maps as they were
+    std::uint64_t gpu_bytes_bc3 = page_texels * (1 + other_bytes) * 4 / 3;
     PackageSummary summary;
     summary.details = {{"source", package.source.file_name},
                        {"layout", settings.layout},
@@ -92,6 +99,7 @@ PackageSummary summarise(const Package& base)
                        {"resolution", settings.resolution},
                        {"maps", settings.maps},
                        {"compression", settings.compression},
+                       {"depth_bits", package.has_surface() ? settings.depth_bits : 0},
                        {"pbr_pages", package.has_pbr()},
                        {"pages", package.color_pages.size()},
                        {"page_size", settings.page_size},
@@ -122,6 +130,7 @@ BakeSettings settings_from(const Options& parameters)
     s.maps = parameters.choice("maps");
     s.page_size = parameters.integer("page-size");
     s.compression = parameters.choice("compression");
+    s.depth_bits = parameters.integer("depth-bits");
     return s;
 }
 
@@ -131,6 +140,9 @@ Status check_settings(const BakeSettings& s)
         return error(StatusCode::invalid_argument, "--page-size: must be a multiple of " + std::to_string(k_cell));
     if (s.resolution + 2 * k_cell > s.page_size)
         return error(StatusCode::invalid_argument, "--page-size: must exceed --resolution by two cells");
+    if (s.depth_bits != 0 && s.depth_bits < 8)
+        return error(StatusCode::invalid_argument, "--depth-bits: must be 0 (chosen by the resolution) or 8..16, not " +
+                                                       std::to_string(s.depth_bits));
     return Status::ok();
 }
 

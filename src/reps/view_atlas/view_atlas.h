@@ -71,6 +71,11 @@ struct BakeSettings {
     // normals and exact R8 depth in KTX2 files, colour PNG; "bc-color" as bc, colour as the DXT5
     // blocks --texture-format bc3 uploads (color_page_blocks), mip levels included.
     std::string compression = "bc";
+    // Depth precision over the bounding sphere's diameter, 8..16 bits (issues #14, #17); 0 until the
+    // bake chooses it (depth_bits_for). At 8 (packages from before it) a step is 2r/255, two texels
+    // of a 512 px capture: surfaces closer than that merge into one and oblique rays meet the steps'
+    // treads and risers a texel from where the surface is, so the three blended views disagree.
+    int depth_bits = 0;
 };
 
 class ViewAtlasPackage final : public Package {
@@ -84,6 +89,7 @@ public:
     float capture_distance() const;
     bool has_surface() const { return settings.maps == "surface"; }
     bool has_pbr() const { return !orm_pages.empty(); }
+    bool has_fine_depth() const { return has_surface() && settings.depth_bits > 8; }
 
     Options parameters;    // as baked
     BakeSettings settings; // settings_from(parameters)
@@ -103,8 +109,13 @@ public:
     // models with alpha-tested materials the covered fraction of the texel (1..255 where covered).
     std::vector<ImageRGBA8> color_pages;
     // "surface" only. RGB: world normal * 0.5 + 0.5; A: depth (r - dot(p - centre, direction)) /
-    // (2r) in [0, 1], 0 nearest to the capture camera.
+    // (2r) in [0, 1], 0 nearest to the capture camera, in 8 bits.
     std::vector<ImageRGBA8> normal_depth_pages;
+    // "surface" with depth_bits over 8 only, else empty: per page, row-major, the same depth in
+    // depth_bits bits as a 16-bit code (depth_code; 0 where not covered). normal_depth_pages' A is it
+    // rounded to 8 bits, which what needs no more (the hull, the detail rule, the web export) keeps
+    // reading; the renderer's walk reads these.
+    std::vector<std::vector<std::uint16_t>> depth_pages;
     // "surface" packages of models with PBR materials only (issue #14), else empty: per page, as
     // reps::write_pbr_texel packs them, occlusion, perceptual roughness, metallic (linear) and
     // coverage; and the emission, sRGB-encoded and clamped to [0, 1], and coverage. Without them
@@ -126,8 +137,33 @@ public:
 // instead (the normal-depth pages' level 0: renderer.cpp, upload_pages, says why).
 std::vector<std::uint8_t> premultiplied(const ImageRGBA8& page, const ImageRGBA8& coverage, bool keep_alpha,
                                         bool any = false);
+// The normal-depth page of a package with depth over 8 bits as RGBA16 (normals x 257, A the depth
+// code), premultiplied by the colour page's alpha like premultiplied(..., false, any).
+std::vector<std::uint16_t> premultiplied16(const ImageRGBA8& normal_depth, const std::vector<std::uint16_t>& depth,
+                                           const ImageRGBA8& coverage, bool any = false);
 std::vector<std::uint8_t> half_level(const std::vector<std::uint8_t>& level, int size);
 std::vector<std::vector<std::uint8_t>> color_page_blocks(const ImageRGBA8& page);
+
+// Depth d in [0, 1] held in `bits` (9..16) bits as a 16-bit code: the `bits`-bit value in the
+// high bits, the low ones 0 (what a 16-bit grey PNG compresses best; a reader refuses other codes).
+// depth_code_max: the code of depth 1. depth8: a code rounded to the 8 bits of normal_depth_pages' A.
+inline std::uint32_t depth_code_max(int bits) { return 65536u - (1u << (16 - bits)); }
+
+// --depth-bits 0: the bits a capture of `resolution` px gets. 512 px and up (alpha-tested models,
+// models with fine detail): 10, a step of half a 512 px texel (the assembly's thesis Luv 2.28 ->
+// 2.11, the tree's at distance 1 5.52 -> 5.45, +25% package); under: 8, a step of one 256 px
+// texel, where 10 bits bought the bunny 0.003 Luv for the same +25% (docs/RESULTS.md, "Depth bits").
+inline int depth_bits_for(int resolution) { return resolution >= 512 ? 10 : 8; }
+inline std::uint16_t depth_code(float d, int bits)
+{
+    const std::uint32_t levels = (1u << bits) - 1u;
+    return std::uint16_t(std::uint32_t(std::lround(std::clamp(d, 0.0f, 1.0f) * float(levels))) << (16 - bits));
+}
+inline std::uint8_t depth8(std::uint16_t code, int bits)
+{
+    const std::uint32_t value = code >> (16 - bits), levels = (1u << bits) - 1u;
+    return std::uint8_t((value * 255u + levels / 2u) / levels);
+}
 
 // The share of a package's covered view texels that end their surface (bake.cpp, k_detail_edge_fraction).
 double depth_edge_fraction(const ViewAtlasPackage& package);
