@@ -200,9 +200,11 @@ float hit_coverage(Frame f, vec2 plane, float height)
 }
 
 // Intersects ray o + t d (object space) with one frame's height field (atlas.frag
-// `intersect_view`, without its empty-cell skipping): returns (t, k_hit / k_miss / k_hidden).
-vec2 intersect_frame(Frame f, vec3 o, vec3 d)
+// `intersect_view`, without its empty-cell skipping): returns (t, k_hit / k_miss / k_hidden);
+// `coverage`: a hit's filtered coverage.
+vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
 {
+    coverage = 0.0;
     vec3 q = o - center;
     vec3 ro = vec3(dot(q, f.axis_u), dot(q, f.axis_v), dot(q, f.direction));
     vec3 rd = vec3(dot(d, f.axis_u), dot(d, f.axis_v), dot(d, f.direction));
@@ -259,7 +261,8 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d)
                 t_hit = clamp((current.y - ro.z) / rd.z, t_enter, t_exit); // the top
             if (t_hit >= 0.0) {
                 vec3 hit = ro + t_hit * rd; // plane coordinates and height
-                if (hit_coverage(f, hit.xy, hit.z) >= 0.5) return vec2(t_hit, float(k_hit));
+                coverage = hit_coverage(f, hit.xy, hit.z);
+                if (coverage >= 0.5) return vec2(t_hit, float(k_hit));
             } else if (below) {
                 hidden = true; // entered under the top through a depth edge: space the frame did not see
             }
@@ -361,9 +364,12 @@ void main()
     for (int k = 0; k < 3; ++k) {
         hits[k] = vec2(-1.0, float(k_miss));
         if (f[k].weight <= 0.0) continue;
-        hits[k] = intersect_frame(f[k], origin, ray);
+        float coverage;
+        hits[k] = intersect_frame(f[k], origin, ray, coverage);
         if (int(hits[k].y) == k_hit) {
             t_min = min(t_min, hits[k].x);
+            // a hit counts by how sure its frame is of it (within half a texel of its outline: less)
+            f[k].weight *= smoothstep(0.5, 1.0, coverage) * 0.999 + 0.001;
             hit_vote += f[k].weight;
         } else if (int(hits[k].y) == k_miss) {
             miss_vote += f[k].weight;
