@@ -5,6 +5,8 @@
 // blocks of octahedral normals (Meyer et al. 2010) fitted over covered texels only, in the KTX2
 // files of reps/common/package_codec.h, and its depth exact as an 8-bit grey PNG (an R8 KTX2 in
 // format version 4, still read), as the enhanced billboards store theirs; colour stays PNG (BC3 colour cost the billboards +0.77 Luv, docs/RESULTS.md).
+// Depth of more than 8 bits (bake.depth_bits, format version 6) is a 16-bit grey PNG in either
+// mode, beside the normal-depth page or the BC5 normals, and read into depth_pages.
 // bc-color stores the colour as the premultiplied DXT5 levels --texture-format bc3 uploads, so that
 // loading compresses nothing. ORM and emission pages stay PNG in every mode (rare, and BC3 would
 // round the linear ORM channels to 5:6:5). Reading decodes the blocks into the in-memory pages PNG
@@ -49,8 +51,8 @@ unsigned min_surface_alpha(const ViewAtlasPackage& package) { return package.set
 
 // A page's depth codes (depth_bits over 8, depth_code) as a 16-bit grey PNG, "depth" on the page: 0
 // where the page holds no surface (min_surface_alpha), as a reader gives them.
-Status write_fine_depth(const ViewAtlasPackage& package, std::size_t k, const std::string& directory, nlohmann::json& files,
-                     nlohmann::json& page)
+Status write_fine_depth(const ViewAtlasPackage& package, std::size_t k, const std::string& directory,
+                        nlohmann::json& files, nlohmann::json& page)
 {
     const int size = package.settings.page_size;
     const std::vector<std::uint16_t>& samples = package.depth_pages[k];
@@ -70,7 +72,7 @@ Status write_fine_depth(const ViewAtlasPackage& package, std::size_t k, const st
 // and puts them, rounded to 8 bits (depth8), into the A of its normal-depth page, already read. A
 // code off the depth_bits grid (low bits set) is refused: the file is not what the manifest says.
 void read_fine_depth(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& name, int size,
-                  ViewAtlasPackage& package)
+                     ViewAtlasPackage& package)
 {
     BlockImage depth = manifest_io::read_exact_channel(in, files, name, BlockFormat::r16, size, size);
     std::vector<std::uint16_t> samples(std::size_t(size) * std::size_t(size));
@@ -89,8 +91,8 @@ void read_fine_depth(const manifest_io::Reader& in, const nlohmann::json& files,
     package.depth_pages.push_back(std::move(samples));
 }
 
-// A surface page's normals (BC5, octahedral) and depth (R8, or R16 with depth_bits 16, exact: a
-// grey PNG) as the package stores them.
+// A surface page's normals (BC5, octahedral) and depth (8 bits, or more: write_fine_depth; exact,
+// a grey PNG) as the package stores them.
 Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, const std::string& directory,
                             nlohmann::json& files, nlohmann::json& page)
 {
@@ -178,11 +180,11 @@ Status write(const Package& base, const std::string& directory)
          std::any_of(package.depth_pages.begin(), package.depth_pages.end(), [&](const auto& d) { return d.size() != page_texels; })))
         return error(StatusCode::invalid_argument, "view atlas: depth_bits over 8 without a depth page per page");
     // a newer format version only where the layout needs it: a lit package of bc is laid out as
-    // version 1; KTX2 colour needs 4, grey PNG depth 5
-    const int version = package.has_fine_depth()                ? k_package_format_version
+    // version 1; KTX2 colour needs 4, grey PNG depth 5, depth over 8 bits 6
+    const int version = package.has_fine_depth()              ? k_package_format_version
                         : compressed && package.has_surface() ? k_package_format_version_exact_depth
-                        : compression == "bc-color"         ? k_package_format_version_block_pages
-                                                            : 1;
+                        : compression == "bc-color"           ? k_package_format_version_block_pages
+                                                              : 1;
     for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
         nlohmann::json page = {{"color", page_file(k, "color")}};
         if (compression == "bc-color") {

@@ -63,9 +63,9 @@ static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed o
 
 // Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth of its covered
 // texels in 1/65535 of the range (8-bit depth x 257; finer depth rounded outwards: the nearest down,
-// the farthest up; 65535 / 0 when empty), from one pass over the pages: the
-// corrected walk skips cells a ray passes above (nearest codes, uploaded by upload_cell_tops), and
-// each view's height range is the range over its crop's cells (crops sit on whole cells).
+// the farthest up; 65535 / 0 when empty), from one pass over the pages: the corrected walk skips
+// cells a ray passes above (nearest codes, uploaded by upload_cell_tops), and each view's height
+// range is the range over its crop's cells (crops sit on whole cells).
 struct CellDepths {
     int cells = 0;                         // per page side
     std::vector<std::uint16_t> nearest, farthest; // page-major, then row-major cells

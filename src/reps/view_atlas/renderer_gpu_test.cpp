@@ -974,7 +974,9 @@ TEST(ViewAtlasBake, DepthIsExactToItsBits)
                     worst, 0.5 / double((1 << bits) - 1));
         EXPECT_GT(texels, 64 * 64 / 4);
         EXPECT_LE(worst, 0.5 / double((1 << bits) - 1) + 2e-6);
-        if (bits == 8) EXPECT_GT(worst, 0.5 / 1023.0) << "the square lies between 8-bit levels, off by more than 10 bits allow";
+        if (bits == 8) {
+            EXPECT_GT(worst, 0.5 / 1023.0) << "the square lies between 8-bit levels, off by more than 10 bits allow";
+        }
     }
     // unset, the bits follow the capture's texels: 8 under 512 px, 10 from 512 px
     for (int resolution : {256, 512}) {
