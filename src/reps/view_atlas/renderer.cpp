@@ -61,11 +61,22 @@ struct ViewGpu {
 static_assert(sizeof(ViewGpu) == 96, "std430 layout of ViewData");
 static_assert(ATLAS_CELL == k_cell, "the walk skips the cells crops are placed on");
 
+// The magnitudes of a texel top's slope along a view's axis_u and axis_v (height per plane unit)
+// from its stored normal, capped: atlas.frag's texel_gradient.
+glm::vec2 top_slope(const glm::vec3& normal, const View& view)
+{
+    const float across = std::max(glm::dot(normal, view.direction), 1e-6f);
+    return glm::min(glm::abs(glm::vec2(glm::dot(normal, view.axis_u), glm::dot(normal, view.axis_v))) / across,
+                    glm::vec2(ATLAS_TOP_MAX_SLOPE));
+}
+
 // Per ATLAS_CELL x ATLAS_CELL cell of every page, the nearest and farthest depth of its covered
-// texels in 1/65535 of the range (8-bit depth x 257; finer depth rounded outwards: the nearest down,
-// the farthest up; 65535 / 0 when empty), from one pass over the pages: the corrected walk skips
-// cells a ray passes above (nearest codes, uploaded by upload_cell_tops), and each view's height
-// range is the range over its crop's cells (crops sit on whole cells).
+// texels' tops in 1/65535 of the range (rounded outwards: the nearest down, the farthest up; 65535 /
+// 0 when empty), from one pass over the views' crops (every covered texel lies in one): the
+// corrected walk skips cells a ray passes above (nearest codes, uploaded by upload_cell_tops), and
+// each view's height range is the range over its crop's cells (crops sit on whole cells). A top is
+// tilted by its normal (atlas.frag, texel_gradient), so it reaches up to half a texel's tilt beyond
+// the stored depth at the texel's centre.
 struct CellDepths {
     int cells = 0;                         // per page side
     std::vector<std::uint16_t> nearest, farthest; // page-major, then row-major cells
@@ -81,27 +92,30 @@ CellDepths cell_depths(const ViewAtlasPackage& package)
     const std::size_t per_page = std::size_t(depths.cells) * depths.cells;
     depths.nearest.assign(per_page * package.color_pages.size(), 65535);
     depths.farthest.assign(per_page * package.color_pages.size(), 0);
-    for (std::size_t page = 0; page < package.color_pages.size(); ++page) {
-        const ImageRGBA8& color = package.color_pages[page];
-        const ImageRGBA8& normal_depth = package.normal_depth_pages[page];
-        for (int y = 0; y < size; ++y)
-            for (int x = 0; x < size; ++x)
-                if (const std::uint8_t alpha = color.at(x, y)[3]; alpha != 0) { // any coverage: the walk meets every covered texel
-                    depths.partial_coverage = depths.partial_coverage || alpha != 255;
-                    std::size_t cell = page * per_page + std::size_t(y / ATLAS_CELL) * depths.cells + std::size_t(x / ATLAS_CELL);
-                    const std::uint16_t code = package.has_fine_depth() ? package.depth_pages[page][std::size_t(y) * size + x]
-                                                                     : std::uint16_t(normal_depth.at(x, y)[3] * 257);
-                    depths.nearest[cell] = std::min(depths.nearest[cell], code);
-                    depths.farthest[cell] = std::max(depths.farthest[cell], code);
-                }
-    }
-    if (package.has_fine_depth()) { // codes (depth_code) to 1/65535 of the range, outwards
-        const std::uint64_t max = depth_code_max(package.settings.depth_bits);
-        for (std::size_t cell = 0; cell < depths.nearest.size(); ++cell) {
-            if (depths.nearest[cell] > depths.farthest[cell]) continue; // empty
-            depths.nearest[cell] = std::uint16_t(std::uint64_t(depths.nearest[cell]) * 65535u / max);
-            depths.farthest[cell] = std::uint16_t(std::min<std::uint64_t>((std::uint64_t(depths.farthest[cell]) * 65535u + max - 1) / max, 65535u));
-        }
+    // codes over 65535 per unit of depth, and half a texel's tilt in such codes per unit of slope
+    const double max_code = package.has_fine_depth() ? double(depth_code_max(package.settings.depth_bits)) : 255.0;
+    const double texel = 2.0 * package.half_extent() / package.settings.resolution;
+    const double tilt_codes = 0.5 * texel / (2.0 * package.radius) * 65535.0;
+    for (const View& view : package.views) {
+        if (view.width == 0) continue;
+        const ImageRGBA8& color = package.color_pages[std::size_t(view.page)];
+        const ImageRGBA8& normal_depth = package.normal_depth_pages[std::size_t(view.page)];
+        for (int y = view.atlas_y; y < view.atlas_y + view.height; ++y)
+            for (int x = view.atlas_x; x < view.atlas_x + view.width; ++x) {
+                const std::uint8_t alpha = color.at(x, y)[3];
+                if (alpha == 0) continue; // any coverage: the walk meets every covered texel
+                depths.partial_coverage = depths.partial_coverage || alpha != 255;
+                const std::uint8_t* nd = normal_depth.at(x, y);
+                const double code = (package.has_fine_depth() ? double(package.depth_pages[std::size_t(view.page)][std::size_t(y) * size + x])
+                                                              : double(nd[3])) * 65535.0 / max_code;
+                const glm::vec3 n = glm::vec3(nd[0], nd[1], nd[2]) / 127.5f - 1.0f;
+                const glm::vec2 slope = top_slope(n, view);
+                const double tilt = tilt_codes * (double(slope.x) + double(slope.y)) + 1.0; // + 1: float rounding
+                const std::size_t cell = std::size_t(view.page) * per_page + std::size_t(y / ATLAS_CELL) * depths.cells +
+                                         std::size_t(x / ATLAS_CELL);
+                depths.nearest[cell] = std::uint16_t(std::min<double>(depths.nearest[cell], std::max(std::floor(code - tilt), 0.0)));
+                depths.farthest[cell] = std::uint16_t(std::max<double>(depths.farthest[cell], std::min(std::ceil(code + tilt), 65535.0)));
+            }
     }
     return depths;
 }
@@ -556,6 +570,7 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
                        float(settings.options.number("baseline-below")));
     // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
     glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
+    glProgramUniform1i(id, renderer->program_.uniform("alpha_tested"), package.alpha_tested ? 1 : 0);
     glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
     // auto is level 0 for every package: nearer the truth at every distance, and its change under a
     // slow orbit, relative to the truth's, no larger than at distance 1 (docs/RESULTS.md "Colour from

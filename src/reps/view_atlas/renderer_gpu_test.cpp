@@ -198,6 +198,40 @@ TEST(ViewAtlasRenderer, CorrectedDoesNotJoinSurfacesAcrossDepthEdges)
     }
 }
 
+// Texel tops tilted by their normals: a sphere captured at coarse texels (about two pixels each
+// here), seen between captured views. Flat tops step away from the curved surface by up to half a
+// texel's rise: rays near the outline pass under a step (a view abstains, the others miss: holes)
+// and hits land off the surface (shading). Flat tops: 2.4% holes, Luv 1.56; tilted: 1.7%, 1.14.
+TEST(ViewAtlasRenderer, CorrectedTopsFollowTheSurfaceSlope)
+{
+    GenerateOptions options;
+    options.target_triangles = 4000;
+    Result<Mesh> sphere = generate_mesh(options);
+    ASSERT_TRUE(sphere.is_ok());
+    std::unique_ptr<Package> package = bake_atlas(*sphere, {{"subdivisions", "2"}, {"resolution", "64"}, {"page-size", "2048"}});
+    ASSERT_TRUE(package);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*sphere);
+    Result<std::unique_ptr<Renderer>> corrected = atlas_renderer(*package, "corrected");
+    ASSERT_TRUE(truth.is_ok() && corrected.is_ok());
+    double spill = 0.0, holes = 0.0, luv = 0.0;
+    const float azimuths[3] = {23.0f, 101.0f, 227.0f};
+    for (float azimuth : azimuths) {
+        OrbitView view;
+        view.azimuth_degrees = azimuth;
+        view.elevation_degrees = 41.0f;
+        ImageMetrics m = compare(**truth, **corrected, *sphere, view, 192);
+        std::printf("azimuth %g: spill %.4f holes %.4f IoU %.4f Luv %.3f\n", azimuth, m.spill_fraction, m.hole_fraction, m.iou,
+                    m.luv_mean);
+        spill += m.spill_fraction / 3.0;
+        holes += m.hole_fraction / 3.0;
+        luv += m.luv_mean / 3.0;
+    }
+    std::printf("mean: spill %.4f holes %.4f Luv %.3f\n", spill, holes, luv);
+    EXPECT_LT(holes, 0.02);
+    EXPECT_LT(luv, 1.35);
+    EXPECT_LT(spill, 0.004);
+}
+
 // A slow orbit (0.5 degree steps) changes the corrected picture little more than it changes the
 // truth: views enter and leave the blend with zero weight, and hits on one surface fade in and out.
 TEST(ViewAtlasRenderer, CorrectedDoesNotPopUnderASlowOrbit)

@@ -159,9 +159,10 @@ vec2 atlas_texel(ViewData view, vec2 plane)
 }
 
 // --- the corrected style's height-field intersection ---------------------------------------------
-// A view is a height field over its capture plane: texel (i, j) holds a flat top at its stored
-// height (object units above the centre plane, towards the capture camera). As in the enhanced
-// billboards' march (reps/enhanced_billboards/acceleration.h), the surface is the texel tops plus
+// A view is a height field over its capture plane: texel (i, j) holds a top through its stored
+// height (object units above the centre plane, towards the capture camera) at its centre, tilted by
+// its stored normal (texel_gradient, below; the enhanced billboards' tops are flat). As in the
+// enhanced billboards' march (reps/enhanced_billboards/acceleration.h), the surface is the texel tops plus
 // the walls between neighbours that continue one surface (height step within what their normals'
 // slope allows); a larger step is a depth edge, where the view saw one surface in front of another
 // and knows nothing of the gap between them. A ray that enters a column below its top through such
@@ -261,6 +262,7 @@ bool linked(vec4 a, vec4 b, int axis, float texel)
 // texel borders. Binary packages get the contour half-way between covered and empty texel centres
 // (their old edge on texel borders, with corners cut).
 uniform int binary_coverage; // 1: every colour alpha is 0 or 1 (renderer.cpp, cell_depths): no alpha to read
+uniform int alpha_tested;    // 1: the model has alpha-tested materials (foliage)
 
 float hit_coverage(ViewData view, vec2 plane, float height)
 {
@@ -280,6 +282,22 @@ float hit_coverage(ViewData view, vec2 plane, float height)
                                          : fetch_array(MAP_COLOR, view.atlas.w, ivec3(view.atlas.yz + base + corner - view.crop.xy, view.atlas.x)).a;
     }
     return hf_filtered_coverage(p - vec2(base), height, covered, heights, tolerances, alphas);
+}
+
+// The slope of a covered texel's top: its height change per plane unit along axis_u and axis_v,
+// from its stored normal nd (as read), capped at ATLAS_TOP_MAX_SLOPE (renderer.cpp's top_slope
+// bounds the cell tops with it). A top is the plane through the stored height at the texel's
+// centre with this slope, not a flat step: flat steps stand out of a curved or slanted surface by
+// up to half a texel's rise, and near an outline a ray that passes beside the model meets them (a
+// side view's hit outside the silhouette: spill). Capped because a steeper top would reach many
+// texels past the depth stored at its centre: the cap measured best between 1 and 8
+// (docs/RESULTS.md "Tilted texel tops").
+vec2 texel_gradient(ViewData view, vec4 nd)
+{
+    vec3 n = nd.rgb * 2.0 - 1.0;
+    float across = max(dot(n, view.direction.xyz), 1e-6);
+    vec2 g = -vec2(dot(n, view.axis_u.xyz), dot(n, view.axis_v.xyz)) / across;
+    return clamp(g, -ATLAS_TOP_MAX_SLOPE, ATLAS_TOP_MAX_SLOPE);
 }
 
 // Intersects ray o + t d (object space) with one view's height field: a digital walk over the
@@ -326,7 +344,7 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage)
 
     float t_enter = t0;
     int entered_across = -1; // axis crossed into the current texel, -1 at the start
-    vec4 previous = vec4(0.0);
+    vec4 previous = vec4(0.0), previous_nd = vec4(0.0);
     ivec2 previous_cell = cell;
     bool previous_unread = false; // the previous texel lies in a skipped cell: read it if needed
     bool previous_above = true;   // the ray left the previous texel above its top (or it was empty)
@@ -361,15 +379,25 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage)
                 continue;
             }
         }
-        vec4 current = height_texel(view, cell);
+        vec4 current_nd;
+        vec4 current = height_texel(view, cell, current_nd);
         float t_exit = min(min(t_next.x, t_next.y), t1);
+        // the tilted top: height current.y + g . (p - centre); the ray is compared with it as a
+        // ray (z_origin + t z_per_t) against the flat top current.y, shifted by the tilt
+        vec2 gradient = current.x > 0.5 ? texel_gradient(view, current_nd) : vec2(0.0);
+        vec2 centre = plane_from_capture(vec2(cell) + 0.5);
+        float z_origin = ro.z - dot(gradient, ro.xy - centre), z_per_t = rd.z - dot(gradient, rd.xy);
         if (current.x > 0.5) {
             // depth grows away from the view's camera: the negated height
-            bool below = ro.z + t_enter * rd.z <= current.y;
-            if (below && entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell);
+            bool below = z_origin + t_enter * z_per_t <= current.y;
+            if (below && entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell, previous_nd);
             bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
                                linked(previous, current, entered_across, texel);
-            vec2 crossing = hf_cross_column(t_enter, t_enter, t_exit, -ro.z, -rd.z, -current.y, from_linked, -previous.y);
+            // the neighbour's tilted top where the ray crosses the wall, in the shifted frame
+            vec2 wall_point = ro.xy + t_enter * rd.xy;
+            float previous_top = previous.y + dot(texel_gradient(view, previous_nd), wall_point - plane_from_capture(vec2(previous_cell) + 0.5))
+                                 - dot(gradient, wall_point - centre);
+            vec2 crossing = hf_cross_column(t_enter, t_enter, t_exit, -z_origin, -z_per_t, -current.y, from_linked, -previous_top);
             if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
                 vec3 hit = ro + crossing.x * rd; // plane coordinates and height
                 coverage = hit_coverage(view, hit.xy, hit.z);
@@ -378,8 +406,10 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage)
             hidden = hidden || crossing.y == HF_UNDER;
         }
         previous = current;
+        previous_nd = current_nd;
+        previous_cell = cell;
         previous_unread = false;
-        previous_above = current.x < 0.5 || ro.z + t_exit * rd.z > current.y;
+        previous_above = current.x < 0.5 || z_origin + t_exit * z_per_t > current.y;
         if (t_exit >= t1) break;
         if (t_next.x < t_next.y) {
             cell.x += step_dir.x;
@@ -635,6 +665,14 @@ void main()
             hit_vote += weights[k];
         } else if (hits[k].y == RAY_MISS) {
             miss_vote += weights[k];
+        } else if (alpha_tested == 0) {
+            // a solid model's view that passed under its surface abstains, but not wholly: else a
+            // lone hit within its view's outline, down-weighted above, is drawn wherever the other
+            // two views passed under a surface, which around every outline they do (half the spill
+            // of solid models). Foliage keeps the abstention whole: rays pass under other leaves
+            // in most views, and thin leaves are often met by one view only (docs/RESULTS.md
+            // "Tilted texel tops").
+            miss_vote += 0.05 * weights[k];
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) {
