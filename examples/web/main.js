@@ -417,6 +417,7 @@ async function grid_impostor_material(extras, parser, shaders, hull) {
             half_extent: { value: extras.half_extent },
             depth_near: { value: extras.depth_near },
             depth_scale: { value: extras.depth_scale },
+            alpha_tested: { value: extras.alpha_tested ? 1 : 0 }, // absent in exports before it: solid
             ...camera_uniforms(),
             blend_frames: { value: number('blend', 3) === 1 ? 1 : 3 },
             // the most texels the walk crosses per frame (a ray crosses at most 2 sin(angle between

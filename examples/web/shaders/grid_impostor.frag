@@ -10,8 +10,9 @@
 //     centres at integer g); `blend_frames` 3 takes the three frames of the grid triangle holding g
 //     with barycentric weights (the bakers' 3-frame blend), 1 the nearest frame alone;
 //  3. each frame is a height field over its plane (an orthographic view along `direction`): texel
-//     (x, y) with coverage a > 0 holds a flat top at height depth_near - d * depth_scale (towards
-//     the frame's camera). The ray is intersected with each frame exactly, as standin's own
+//     (x, y) with coverage a > 0 holds a top through height depth_near - d * depth_scale (towards
+//     the frame's camera) at its centre, tilted by its normal (slope capped at 3 heights per plane
+//     unit, atlas.frag `texel_gradient`). The ray is intersected with each frame exactly, as standin's own
 //     corrected walk does (src/reps/view_atlas/shaders/atlas.frag, `intersect_view`): a digital walk
 //     (Amanatides & Woo 1987) over the frame's texels under the ray, the surface being the tops and
 //     the walls between neighbours of one surface (a height step within what their normals' slope
@@ -22,7 +23,8 @@
 //     texels, where the truth's alpha test puts it; below 1/2 the ray passes beside the edge and
 //     walks on;
 //  4. the vote: the pixel is drawn where the frames that hit weigh at least as much as those whose
-//     walk found nothing (abstaining frames do not count), as standin's renderer decides; hits
+//     walk found nothing (abstaining frames do not count, but for models without alpha-tested
+//     materials, `alpha_tested` 0, a twentieth of their weight), as standin's renderer decides; hits
 //     within two texels of the nearest are the same surface and are blended by weight (fading out
 //     to four texels); the blended hit's depth is written as gl_FragDepth;
 //  5. colour and normal: each hitting frame's texels around its hit, bilinear over those of the
@@ -49,7 +51,7 @@
 //     (the covered fraction of the texel; > 0: the texel holds a surface)
 //   normal_depth_atlas: RGB object-space unit normal * 0.5 + 0.5, A depth code d (linear codes)
 // Uniforms: the node's extras (frames, hemi = layout "hemi-octahedral", center, radius,
-// half_extent, depth_near, depth_scale), the camera in object space (eye_object, forward_object,
+// half_extent, depth_near, depth_scale, alpha_tested), the camera in object space (eye_object, forward_object,
 // orthographic), clip_from_object (for the depth written), the light (to_light_object, unit;
 // light_terms = ambient, diffuse), and the walk's knobs (blend_frames 1 or 3, steps: the most
 // texels walked per frame, <= 1024).
@@ -70,6 +72,7 @@ uniform float radius;
 uniform float half_extent;
 uniform float depth_near;
 uniform float depth_scale;
+uniform int alpha_tested; // extras alpha_tested: the model has alpha-tested materials (foliage)
 uniform vec3 eye_object;
 uniform vec3 forward_object;
 uniform int orthographic;
@@ -130,6 +133,7 @@ const float k_slope_tolerance = 1.5;  // normals are sampled at texel centres: a
 const float k_curvature_texels = 0.5; // a curved surface turns between two normals: half a texel
 const float k_quanta = 2.0;           // a step of two depth codes is rounding, not an edge
 const float k_max_slope = 8.0;        // texels of depth per texel: steeper is a wall
+const float k_top_max_slope = 3.0;    // a top's tilt, height per plane unit (atlas_layout.glsl ATLAS_TOP_MAX_SLOPE)
 
 const int k_hit = 0, k_miss = 1, k_hidden = 2;
 
@@ -150,10 +154,12 @@ float slope_of(float along, float across)
 
 // One texel of a frame's height field: x: covered (0/1), y: height (towards the frame's camera),
 // zw: the normal's slope along axis_u and axis_v (height per unit of plane distance, capped);
-// `coverage`: the texel's covered fraction. Outside the frame: empty.
-vec4 height_texel(Frame f, ivec2 texel, out float coverage)
+// `coverage`: the texel's covered fraction; `gradient`: the top's tilt, its height change per
+// plane unit along axis_u and axis_v (signed, capped at k_top_max_slope). Outside the frame: empty.
+vec4 height_texel(Frame f, ivec2 texel, out float coverage, out vec2 gradient)
 {
     coverage = 0.0;
+    gradient = vec2(0.0);
     if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(g_texels)))) return vec4(0.0);
     ivec2 at = f.cell * g_texels + texel;
     coverage = texelFetch(color_atlas, at, 0).a;
@@ -162,7 +168,14 @@ vec4 height_texel(Frame f, ivec2 texel, out float coverage)
     vec4 nd = texelFetch(normal_depth_atlas, at, 0);
     vec3 n = nd.rgb * 2.0 - 1.0;
     vec3 n_frame = vec3(dot(n, f.axis_u), dot(n, f.axis_v), dot(n, f.direction));
+    gradient = clamp(-n_frame.xy / max(n_frame.z, 1e-6), -k_top_max_slope, k_top_max_slope);
     return vec4(1.0, depth_near - nd.a * depth_scale, slope_of(n_frame.x, n_frame.z), slope_of(n_frame.y, n_frame.z));
+}
+
+vec4 height_texel(Frame f, ivec2 texel, out float coverage)
+{
+    vec2 gradient;
+    return height_texel(f, texel, coverage, gradient);
 }
 
 // the largest height step between two neighbouring texels of one surface
@@ -212,8 +225,9 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
     // the slab of heights the depth codes span, and the frame's square
     float top = depth_near, bottom = depth_near - depth_scale;
     if (has_normal_depth == 0) top = bottom = 0.0;
-    float t0 = (top + 1e-4 * radius - ro.z) / rd.z;
-    float t1 = (bottom - 1e-4 * radius - ro.z) / rd.z;
+    float tilt = k_top_max_slope * texel_side(); // the most a tilted top rises or falls from its centre
+    float t0 = (top + tilt + 1e-4 * radius - ro.z) / rd.z;
+    float t1 = (bottom - tilt - 1e-4 * radius - ro.z) / rd.z;
     for (int a = 0; a < 2; ++a) {
         if (abs(rd[a]) < 1e-9) {
             if (abs(ro[a]) > half_extent) return vec2(-1.0, float(k_miss));
@@ -238,6 +252,8 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
     float t_enter = t0;
     int entered_across = -1; // axis crossed into the current texel, -1 at the start
     vec4 previous = vec4(0.0);
+    vec2 previous_gradient = vec2(0.0);
+    ivec2 previous_cell = cell;
     bool previous_above = true; // the ray left the previous texel above its top (or it was empty)
     bool hidden = false;
     vec2 p1 = texel_from_plane((ro + t1 * rd).xy);
@@ -246,19 +262,28 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
         if (i >= count) break;
         if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(g_texels)))) break;
         float a;
-        vec4 current = height_texel(f, cell, a);
+        vec2 gradient;
+        vec4 current = height_texel(f, cell, a, gradient);
         float t_exit = min(min(t_next.x, t_next.y), t1);
+        // the tilted top, height current.y + gradient . (p - centre): the ray is compared with the
+        // flat current.y as the ray z_origin + t z_per_t, shifted by the tilt (atlas.frag)
+        vec2 centre = (vec2(cell) + 0.5) * texel_side() - half_extent;
+        float z_origin = ro.z - dot(gradient, ro.xy - centre), z_per_t = rd.z - dot(gradient, rd.xy);
         if (current.x > 0.5) {
             // the crossing of this column (height_field.glsl `hf_cross_column`, in heights)
-            float z_enter = ro.z + t_enter * rd.z, z_exit = ro.z + t_exit * rd.z;
+            float z_enter = z_origin + t_enter * z_per_t, z_exit = z_origin + t_exit * z_per_t;
             bool below = z_enter <= current.y;
             bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
                                abs(previous.y - current.y) <= link_tolerance(previous, current, entered_across);
+            // the neighbour's tilted top where the ray crosses the wall, in the shifted frame
+            vec2 wall_point = ro.xy + t_enter * rd.xy;
+            float previous_top = previous.y + dot(previous_gradient, wall_point - ((vec2(previous_cell) + 0.5) * texel_side() - half_extent)) -
+                                 dot(gradient, wall_point - centre);
             float t_hit = -1.0;
-            if (from_linked && z_enter <= max(previous.y, current.y) && z_enter >= min(previous.y, current.y))
+            if (from_linked && z_enter <= max(previous_top, current.y) && z_enter >= min(previous_top, current.y))
                 t_hit = t_enter; // the wall between two texels of one surface
             else if (current.y <= z_enter && current.y >= z_exit)
-                t_hit = clamp((current.y - ro.z) / rd.z, t_enter, t_exit); // the top
+                t_hit = abs(z_per_t) > 1e-20 ? clamp((current.y - z_origin) / z_per_t, t_enter, t_exit) : t_enter; // the top
             if (t_hit >= 0.0) {
                 vec3 hit = ro + t_hit * rd; // plane coordinates and height
                 coverage = hit_coverage(f, hit.xy, hit.z);
@@ -268,7 +293,9 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
             }
         }
         previous = current;
-        previous_above = current.x < 0.5 || ro.z + t_exit * rd.z > current.y;
+        previous_gradient = gradient;
+        previous_cell = cell;
+        previous_above = current.x < 0.5 || z_origin + t_exit * z_per_t > current.y;
         if (t_exit >= t1) break;
         if (t_next.x < t_next.y) {
             cell.x += step_dir.x;
@@ -373,6 +400,8 @@ void main()
             hit_vote += f[k].weight;
         } else if (int(hits[k].y) == k_miss) {
             miss_vote += f[k].weight;
+        } else if (alpha_tested == 0) {
+            miss_vote += 0.05 * f[k].weight; // a solid model's abstaining frame, a little (atlas.frag)
         }
     }
     if (hit_vote <= 0.0 || hit_vote < miss_vote) discard;

@@ -147,7 +147,8 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                             {"half_extent", h},
                             {"projection", s.projection},
                             {"capture_resolution", s.resolution},
-                            {"frame_axes", axes}};
+                            {"frame_axes", axes},
+                            {"alpha_tested", package.alpha_tested}};
     if (s.projection == "perspective") {
         block["fov"] = s.fov;
         block["capture_distance"] = package.capture_distance();
