@@ -189,13 +189,16 @@ float link_tolerance(vec4 a, vec4 b, int axis)
 // the coverage of the four texels around it, filtered bilinearly; a neighbour of the same surface
 // adds its coverage, an empty one or one holding a surface behind adds none (the front surface
 // would have been stored there), one holding a nearer surface tells nothing about this one and is
-// left out of the weights.
-float hit_coverage(Frame f, vec2 plane, float height)
+// left out of the weights. `presence`: the same with a neighbour holding a surface behind adding its
+// coverage too (atlas.frag: whether the ray meets any surface here, which the vote on the background
+// uses).
+float hit_coverage(Frame f, vec2 plane, float height, out float presence)
 {
     vec2 p = texel_from_plane(plane) - 0.5;
     ivec2 base = ivec2(floor(p));
     vec2 fr = p - vec2(base);
     float coverage = 0.0, weight_sum = 0.0;
+    presence = 0.0;
     for (int k = 0; k < 4; ++k) {
         ivec2 corner = ivec2(k & 1, k >> 1);
         float w = (corner.x == 1 ? fr.x : 1.0 - fr.x) * (corner.y == 1 ? fr.y : 1.0 - fr.y);
@@ -206,18 +209,21 @@ float hit_coverage(Frame f, vec2 plane, float height)
                               k_quanta * depth_quantum();
             if (t.y > height + tolerance) continue;
             if (t.y >= height - tolerance) coverage += w * a;
+            presence += w * a;
         }
         weight_sum += w;
     }
+    presence = weight_sum > 0.0 ? presence / weight_sum : 1.0;
     return weight_sum > 0.0 ? coverage / weight_sum : 1.0;
 }
 
 // Intersects ray o + t d (object space) with one frame's height field (atlas.frag
 // `intersect_view`, without its empty-cell skipping): returns (t, k_hit / k_miss / k_hidden);
-// `coverage`: a hit's filtered coverage.
-vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
+// `coverage`: a hit's filtered coverage; `presence`: counting surfaces behind it too.
+vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage, out float presence)
 {
     coverage = 0.0;
+    presence = 0.0;
     vec3 q = o - center;
     vec3 ro = vec3(dot(q, f.axis_u), dot(q, f.axis_v), dot(q, f.direction));
     vec3 rd = vec3(dot(d, f.axis_u), dot(d, f.axis_v), dot(d, f.direction));
@@ -286,7 +292,7 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage)
                 t_hit = abs(z_per_t) > 1e-20 ? clamp((current.y - z_origin) / z_per_t, t_enter, t_exit) : t_enter; // the top
             if (t_hit >= 0.0) {
                 vec3 hit = ro + t_hit * rd; // plane coordinates and height
-                coverage = hit_coverage(f, hit.xy, hit.z);
+                coverage = hit_coverage(f, hit.xy, hit.z, presence);
                 if (coverage >= 0.5) return vec2(t_hit, float(k_hit));
             } else if (below) {
                 hidden = true; // entered under the top through a depth edge: space the frame did not see
@@ -391,13 +397,14 @@ void main()
     for (int k = 0; k < 3; ++k) {
         hits[k] = vec2(-1.0, float(k_miss));
         if (f[k].weight <= 0.0) continue;
-        float coverage;
-        hits[k] = intersect_frame(f[k], origin, ray, coverage);
+        float coverage, presence;
+        hits[k] = intersect_frame(f[k], origin, ray, coverage, presence);
         if (int(hits[k].y) == k_hit) {
             t_min = min(t_min, hits[k].x);
-            // a hit counts by how sure its frame is of it (within half a texel of its outline: less)
+            // a hit counts by how sure its frame is of it (within half a texel of its outline: less),
+            // of any surface for the vote on the background, of its own for the vote on the surface
+            hit_vote += f[k].weight * (smoothstep(0.5, 1.0, presence) * 0.999 + 0.001);
             f[k].weight *= smoothstep(0.5, 1.0, coverage) * 0.999 + 0.001;
-            hit_vote += f[k].weight;
         } else if (int(hits[k].y) == k_miss) {
             miss_vote += f[k].weight;
         } else if (alpha_tested == 0) {

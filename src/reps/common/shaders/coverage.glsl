@@ -24,19 +24,31 @@ float hf_coverage_tolerance(float slope_u, float slope_v, float texel, float qua
 // surface adds its alpha; an empty corner, or one holding a surface behind, adds none (the front
 // surface would have been stored there); one holding a nearer surface tells nothing about this one
 // and is left out of the weights. 1 when every corner is left out.
-float hf_filtered_coverage(vec2 f, float height, bvec4 covered, vec4 heights, vec4 tolerances, vec4 alphas)
+// `presence`: the same filter with a corner holding a surface behind adding its alpha too: how sure
+// the capture is that some surface lies along the ray here (one that passes beside this surface's
+// edge meets the one behind), where the coverage says how sure it is of this surface.
+float hf_filtered_coverage(vec2 f, float height, bvec4 covered, vec4 heights, vec4 tolerances, vec4 alphas, out float presence)
 {
     float coverage = 0.0, weight_sum = 0.0;
+    presence = 0.0;
     for (int k = 0; k < 4; ++k) {
         ivec2 corner = ivec2(k & 1, k >> 1);
         float w = (corner.x == 1 ? f.x : 1.0 - f.x) * (corner.y == 1 ? f.y : 1.0 - f.y);
         if (covered[k]) {
             if (heights[k] > height + tolerances[k]) continue;
             if (heights[k] >= height - tolerances[k]) coverage += w * alphas[k];
+            presence += w * alphas[k];
         }
         weight_sum += w;
     }
+    presence = weight_sum > 0.0 ? presence / weight_sum : 1.0;
     return weight_sum > 0.0 ? coverage / weight_sum : 1.0;
+}
+
+float hf_filtered_coverage(vec2 f, float height, bvec4 covered, vec4 heights, vec4 tolerances, vec4 alphas)
+{
+    float presence;
+    return hf_filtered_coverage(f, height, covered, heights, tolerances, alphas, presence);
 }
 
 #endif
