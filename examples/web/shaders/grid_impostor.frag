@@ -282,9 +282,12 @@ vec2 intersect_frame(Frame f, vec3 o, vec3 d, out float coverage, out float pres
             bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
                                abs(previous.y - current.y) <= link_tolerance(previous, current, entered_across);
             // the neighbour's tilted top where the ray crosses the wall, in the shifted frame
-            vec2 wall_point = ro.xy + t_enter * rd.xy;
-            float previous_top = previous.y + dot(previous_gradient, wall_point - ((vec2(previous_cell) + 0.5) * texel_side() - half_extent)) -
-                                 dot(gradient, wall_point - centre);
+            float previous_top = 0.0;
+            if (from_linked) {
+                vec2 wall_point = ro.xy + t_enter * rd.xy;
+                previous_top = previous.y + dot(previous_gradient, wall_point - ((vec2(previous_cell) + 0.5) * texel_side() - half_extent)) -
+                               dot(gradient, wall_point - centre);
+            }
             float t_hit = -1.0;
             if (from_linked && z_enter <= max(previous_top, current.y) && z_enter >= min(previous_top, current.y))
                 t_hit = t_enter; // the wall between two texels of one surface

@@ -204,13 +204,10 @@ TEST(ViewAtlasRenderer, CorrectedDoesNotJoinSurfacesAcrossDepthEdges)
 // and hits land off the surface (shading). Flat tops: 2.4% holes, Luv 1.56; tilted: 1.7%, 1.14.
 TEST(ViewAtlasRenderer, CorrectedTopsFollowTheSurfaceSlope)
 {
-    GenerateOptions options;
-    options.target_triangles = 4000;
-    Result<Mesh> sphere = generate_mesh(options);
-    ASSERT_TRUE(sphere.is_ok());
-    std::unique_ptr<Package> package = bake_atlas(*sphere, {{"subdivisions", "2"}, {"resolution", "64"}, {"page-size", "2048"}});
+    const Mesh sphere = test::generated(GeneratedShape::sphere, 4000);
+    std::unique_ptr<Package> package = bake_atlas(sphere, {{"subdivisions", "2"}, {"resolution", "64"}, {"page-size", "2048"}});
     ASSERT_TRUE(package);
-    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*sphere);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(sphere);
     Result<std::unique_ptr<Renderer>> corrected = atlas_renderer(*package, "corrected");
     ASSERT_TRUE(truth.is_ok() && corrected.is_ok());
     double spill = 0.0, holes = 0.0, luv = 0.0;
@@ -219,7 +216,7 @@ TEST(ViewAtlasRenderer, CorrectedTopsFollowTheSurfaceSlope)
         OrbitView view;
         view.azimuth_degrees = azimuth;
         view.elevation_degrees = 41.0f;
-        ImageMetrics m = compare(**truth, **corrected, *sphere, view, 192);
+        ImageMetrics m = compare(**truth, **corrected, sphere, view, 192);
         std::printf("azimuth %g: spill %.4f holes %.4f IoU %.4f Luv %.3f\n", azimuth, m.spill_fraction, m.hole_fraction, m.iou,
                     m.luv_mean);
         spill += m.spill_fraction / 3.0;

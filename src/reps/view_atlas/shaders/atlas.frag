@@ -346,7 +346,8 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage, out float
 
     float t_enter = t0;
     int entered_across = -1; // axis crossed into the current texel, -1 at the start
-    vec4 previous = vec4(0.0), previous_nd = vec4(0.0);
+    vec4 previous = vec4(0.0);
+    vec2 previous_gradient = vec2(0.0); // the previous texel's tilt (texel_gradient)
     ivec2 previous_cell = cell;
     bool previous_unread = false; // the previous texel lies in a skipped cell: read it if needed
     bool previous_above = true;   // the ray left the previous texel above its top (or it was empty)
@@ -392,13 +393,20 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage, out float
         if (current.x > 0.5) {
             // depth grows away from the view's camera: the negated height
             bool below = z_origin + t_enter * z_per_t <= current.y;
-            if (below && entered_across >= 0 && previous_above && previous_unread) previous = height_texel(view, previous_cell, previous_nd);
+            if (below && entered_across >= 0 && previous_above && previous_unread) {
+                vec4 previous_nd;
+                previous = height_texel(view, previous_cell, previous_nd);
+                previous_gradient = previous.x > 0.5 ? texel_gradient(view, previous_nd) : vec2(0.0);
+            }
             bool from_linked = below && entered_across >= 0 && previous.x > 0.5 && previous_above &&
                                linked(previous, current, entered_across, texel);
             // the neighbour's tilted top where the ray crosses the wall, in the shifted frame
-            vec2 wall_point = ro.xy + t_enter * rd.xy;
-            float previous_top = previous.y + dot(texel_gradient(view, previous_nd), wall_point - plane_from_capture(vec2(previous_cell) + 0.5))
-                                 - dot(gradient, wall_point - centre);
+            float previous_top = 0.0;
+            if (from_linked) {
+                vec2 wall_point = ro.xy + t_enter * rd.xy;
+                previous_top = previous.y + dot(previous_gradient, wall_point - plane_from_capture(vec2(previous_cell) + 0.5)) -
+                               dot(gradient, wall_point - centre);
+            }
             vec2 crossing = hf_cross_column(t_enter, t_enter, t_exit, -z_origin, -z_per_t, -current.y, from_linked, -previous_top);
             if (crossing.y == HF_TOP || crossing.y == HF_WALL) {
                 vec3 hit = ro + crossing.x * rd; // plane coordinates and height
@@ -408,7 +416,7 @@ vec2 intersect_view(ViewData view, vec3 o, vec3 d, out float coverage, out float
             hidden = hidden || crossing.y == HF_UNDER;
         }
         previous = current;
-        previous_nd = current_nd;
+        previous_gradient = gradient;
         previous_cell = cell;
         previous_unread = false;
         previous_above = current.x < 0.5 || z_origin + t_exit * z_per_t > current.y;
