@@ -15,8 +15,10 @@
 //   blend=1|3      impostor frames blended (default 3); steps=N grid impostor: the most texels its
 //                  walk crosses per frame (default 1024)
 //   billboards=plain          billboard boxes as textured meshes instead of the ray cast
-//   coarse=all     billboards: the coarse mesh everywhere, not only where a billboard ray came
-//                  near a surface and missed (standin's rule; the stencil, see billboard())
+//   coarse=near-misses  billboards: the coarse mesh only where a billboard ray came near a
+//                  surface and missed (standin's --coarse-fill near-misses), not on every pixel
+//                  without a hit (the default, standin's; the stencil, see billboard());
+//   coarse=all     the coarse mesh everywhere, depth-tested against the billboards' hits
 //   proxy=quad     grid impostor: draw on the camera-facing quad even when the file has the atlas
 //                  hull (role grid-impostor-hull, drawn by default)
 //   still=1        no animation and no mouse orbit: render once, then set window.standin.ready
@@ -347,14 +349,15 @@ async function billboard(node, extras, parser, shaders) {
             depth_quantum: { value: codes.bits === 16 ? 1 / 65535 : 1 / 255 },
             pyramid: { value: pyramid.texture },
             levels: { value: pyramid.levels },
+            mark_near_misses: { value: coarse_fill() === 'near-misses' ? 1 : 0 },
             pyramid_rows: { value: rows },
             ...camera_uniforms(),
         },
     });
     const mesh = node.isMesh ? node : node.children.find((c) => c.isMesh);
     if (!mesh) throw new Error('billboard node without a mesh');
-    // every fragment that is not discarded (a hit, or a near miss: alpha 0, which the blending
-    // leaves invisible) sets the stencil bit the coarse mesh is drawn through, whatever its depth
+    // every fragment that is not discarded (a hit, or with coarse=near-misses a near miss: alpha
+    // 0, which the blending leaves invisible) sets the stencil bit, whatever its depth
     material.blending = THREE.CustomBlending;
     material.blendSrc = THREE.SrcAlphaFactor;
     material.blendDst = THREE.OneMinusSrcAlphaFactor;
@@ -371,18 +374,23 @@ async function billboard(node, extras, parser, shaders) {
     track_camera(mesh, material);
 }
 
-// The stencil bit of pixels where a billboard ray hit or came near a surface and missed: standin's
-// renderer fills only those with the coarse mesh (src/reps/enhanced_billboards/shaders/coarse.frag),
-// which drawn everywhere would grow the silhouette wherever it is coarser than the billboards (leaf
-// cards simplified into solid triangles). Drawn there with the depth test, it may also cover a
-// billboard hit behind which it lies nearer, which standin's never does; no silhouette changes.
+// The stencil bit of pixels where a billboard ray hit (and with coarse=near-misses, where one came
+// near a surface and missed). standin's renderer fills every pixel without a front hit with the
+// coarse mesh (src/reps/enhanced_billboards/shaders/coarse.frag, --coarse-fill empty): here the
+// pixels without the bit. With coarse=near-misses, only the pixels with it (standin's
+// --coarse-fill near-misses), depth-tested, so it may also cover a billboard hit behind which it
+// lies nearer, which standin's never does; coarse=all draws it everywhere, depth-tested.
 const k_near_stencil = 1;
+function coarse_fill() {
+    const fill = params.get('coarse');
+    return fill === 'near-misses' || fill === 'all' ? fill : 'empty';
+}
 function coarse_mesh(node) {
-    if (params.get('coarse') === 'all') return;
+    if (coarse_fill() === 'all') return;
     node.traverse((m) => {
         if (!m.isMesh) return;
         m.material.stencilWrite = true;
-        m.material.stencilFunc = THREE.EqualStencilFunc;
+        m.material.stencilFunc = coarse_fill() === 'near-misses' ? THREE.EqualStencilFunc : THREE.NotEqualStencilFunc;
         m.material.stencilRef = k_near_stencil;
         m.material.stencilFuncMask = k_near_stencil;
         m.material.stencilWriteMask = 0;

@@ -18,12 +18,14 @@
 //     cell whose depth range the ray's segment above it misses is skipped whole); in each covered
 //     texel, the crossing of the wall it was entered through (when that neighbour is linked) or
 //     else of its top inside the texel (hf_cross_column); the first crossing is the hit;
-//  3. the hit's depth is written (gl_FragDepth), so boxes and the coarse mesh resolve by the depth
-//     test; no hit: discard, unless the ray came within a texel of a surface (its segment over a
-//     covered texel meets that texel's depth range, its walls to linked neighbours included): then
-//     a near miss, drawn with alpha 0 (blended away) and far depth, only to set the stencil bit
-//     that the coarse mesh is drawn through (main.js; standin fills only hits' and near misses'
-//     pixels with it, coarse.frag);
+//  3. the hit's depth is written (gl_FragDepth), so boxes resolve by the depth test, and every
+//     hit sets a stencil bit the coarse mesh is not drawn through (main.js: standin's coarse mesh
+//     fills every pixel without a front hit, coarse.frag); no hit: discard, unless
+//     mark_near_misses (main.js coarse=near-misses, standin's --coarse-fill near-misses) and the ray
+//     came within a texel of a surface (its segment over a covered texel meets that texel's depth
+//     range, its walls to linked neighbours included): then a near miss, drawn with alpha 0
+//     (blended away) and far depth, only to set the stencil bit that the coarse mesh is then drawn
+//     through;
 //  4. shading is standin's: Lambert + ambient, two-sided, linear light, sRGB in and out; the texel
 //     is the hit's (nearest, as texelFetch in standin).
 // Departures from the standin renderer: one box per billboard, not its sheared per-tile boxes;
@@ -54,6 +56,7 @@ uniform float depth_quantum; // one step of the depth codes as read, in [0, 1] o
 // texels) is the rectangle of rows from pyramid_rows[k], RG = lowest, highest depth (empty: 2, -1)
 uniform highp sampler2D pyramid;
 uniform int levels;
+uniform int mark_near_misses; // 1: near misses set the stencil too (main.js coarse=near-misses)
 uniform int pyramid_rows[9];
 uniform vec3 eye_object;
 uniform vec3 forward_object;
@@ -275,8 +278,9 @@ void main()
     }
     if (iteration == k_max_iterations) near = true; // out of iterations: let the coarse mesh decide
     if (!found) {
-        // 3. a near miss marks the stencil only (main.js); anything else is no part of the picture
-        if (!near) discard;
+        // 3. a near miss marks the stencil only (main.js, coarse=near-misses); anything else is no
+        // part of the picture
+        if (!near || mark_near_misses == 0) discard;
         gl_FragDepth = 1.0;
         out_color = vec4(0.0);
         return;

@@ -8,7 +8,9 @@
 //    load time (acceleration.cpp). "seed" keeps the paper's linear march and its holes.
 //  - every hit writes its true depth (conservative depth layout, so early depth testing stays);
 //  - boxes that cross the near plane are drawn from their back faces, rays starting at the eye;
-//  - the coarse mesh fills only pixels where rays came near a surface and missed;
+//  - the coarse mesh is depth-tested against the billboards' own hits (per-pixel images), not
+//    only the depth buffer, so it never covers a front hit it lies a little in front of; with
+//    --coarse-fill near-misses it fills only pixels where rays came near a surface and missed;
 //  - colour is the mean of the texels under the pixel that continue the hit's surface without a
 //    crease (a mip pyramid of one-surface cells built at load, build_color_pyramid, and bilinear
 //    weights over smooth links), as the truth filters its textures; the paper reads the hit texel
@@ -154,6 +156,9 @@ private:
     void draw_box_lines(DrawStats& stats);
     void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
     void prepare_pixel_images(glm::ivec2 viewport, bool flags);
+    // whether the march marks near misses: only the coarse mesh's near-miss fill reads them (sheet
+    // rims included, which are drawn without that test)
+    bool marks_near_misses() const { return coarse_index_count_ > 0 && fill_near_misses_only_; }
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
     void append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object, std::vector<DrawEntry>& out);
 
@@ -162,6 +167,8 @@ private:
     bool tile_layers_ = true;   // build_tiles splits tiles into depth layers (--tile-layers)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
+    // the coarse mesh fills only near misses (--coarse-fill near-misses), not every empty pixel
+    bool fill_near_misses_only_ = false;
     gpu::Program front_, inside_, coarse_;
     ProgramLocations front_at_, inside_at_;
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
@@ -268,6 +275,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->tile_layers_ = options.flag("tile-layers");
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
+    renderer->fill_near_misses_only_ = options.choice("coarse-fill") == "near-misses";
     // "proxies" is the shaded picture with the box lines drawn over it
     bool proxies = settings.debug_view == DebugView::proxies;
     renderer->debug_view_ = proxies ? DEBUG_VIEW_NONE : int(settings.debug_view);
@@ -595,7 +603,7 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     glProgramUniform1i(id, at.color_footprint, color_footprint_ ? 1 : 0);
     glProgramUniform1i(id, at.hide_back_hits, hide_back_hits_ ? 1 : 0);
     glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
-    glProgramUniform1i(id, at.mark_pixels, coarse_index_count_ > 0 ? 1 : 0);
+    glProgramUniform1i(id, at.mark_pixels, marks_near_misses() ? 1 : 0);
 }
 
 // the per-pixel nearest front hit and the hit / near-miss flags the coarse mesh reads, cleared
@@ -717,7 +725,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
     frame_.bind(params);
     GLsizei instances = GLsizei(frame_.instance_count());
     bool coarse = coarse_index_count_ > 0;
-    prepare_pixel_images(params.viewport, coarse);
+    prepare_pixel_images(params.viewport, marks_near_misses());
     glEnable(GL_DEPTH_TEST);
 
     // billboards: front faces of boxes beyond the near plane, back faces of boxes crossing it
@@ -752,8 +760,9 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glCullFace(GL_BACK);
     }
 
-    // the coarse mesh where rays came near a surface and missed, on instances large enough to
-    // show a hole (build_draw_list chose them; with no billboards at all, every instance)
+    // the coarse mesh on pixels without a front hit (--coarse-fill near-misses: only where rays
+    // came near a surface and missed), on instances large enough to show a hole (build_draw_list
+    // chose them; with no billboards at all, every instance)
     if (coarse && billboard_count_ == 0) {
         coarse_instances_.resize(std::size_t(instances));
         for (std::size_t i = 0; i < coarse_instances_.size(); ++i) coarse_instances_[i] = std::uint32_t(i);
@@ -767,7 +776,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
                              coarse_instances_.data());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_COARSE_LIST_SSBO, coarse_list_.get());
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-        glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
+        glProgramUniform1i(coarse_.id(), coarse_near_only_at_, fill_near_misses_only_ ? 1 : 0);
         glProgramUniform1i(coarse_.id(), coarse_debug_at_, debug_view_);
         coarse_.use();
         coarse_mesh_.bind();
@@ -779,16 +788,16 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
             glFrontFace(GL_CCW);
         }
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
-        if (coarse_rim_index_count_ > 0) {
+        if (coarse_rim_index_count_ > 0 && fill_near_misses_only_) {
             // sheet rims (rims_first): without the near-miss test
             glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 0);
             glDrawElementsInstanced(GL_TRIANGLES, coarse_rim_index_count_, GL_UNSIGNED_INT, nullptr, coarse_count);
             glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
             stats.draw_calls += 1;
         }
-        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_ - coarse_rim_index_count_, GL_UNSIGNED_INT,
-                                reinterpret_cast<const void*>(std::uintptr_t(coarse_rim_index_count_) * sizeof(std::uint32_t)),
-                                coarse_count);
+        GLsizei first = fill_near_misses_only_ ? coarse_rim_index_count_ : 0;
+        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_ - first, GL_UNSIGNED_INT,
+                                reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)), coarse_count);
         stats.draw_calls += 1;
         stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
         glDisable(GL_CULL_FACE);

@@ -74,6 +74,11 @@ std::vector<OptionSpec> render_options()
         number_option("hit-range", "0.01", 0.0, 1.0,
                       "Seed march: hit range e as a fraction of the box depth (0.02 fills holes)", true),
         flag_option("coarse", true, "Fill holes with the package's coarse mesh"),
+        choice_option("coarse-fill", "empty", {"empty", "near-misses"},
+                      "Where the coarse mesh fills: empty (every pixel without a billboard's front hit, as the "
+                      "paper draws it, Vichitvejpaisal 2005 §3.4: also surfaces no billboard captured) or "
+                      "near-misses (only pixels where a ray came within a texel of a surface and missed: an "
+                      "outline that cannot grow where the coarse mesh lies outside the model)"),
         flag_option("tile-layers", true,
                     "Split a tile's proxy box into one box per depth layer where nested parts lie apart (the same "
                     "picture as one box per tile, with fewer fragments and fetches)"),

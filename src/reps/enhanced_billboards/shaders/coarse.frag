@@ -1,8 +1,11 @@
 #version 450 core
-// Hole filling with the coarse mesh (Vichitvejpaisal 2005 §3.4), restricted to pixels where a billboard ray
-// came within a texel of a surface and missed or saw the back of a sheet (march.frag marks them),
-// and never where the nearest billboard hit is a front one: so it fills holes but neither covers a
-// billboard hit nor grows the silhouette.
+// Hole filling with the coarse mesh (Vichitvejpaisal 2005 §3.4): it fills the pixels the billboards
+// leave empty, as the paper draws it, but never where the nearest billboard hit is a front one,
+// whatever the depths (the coarse mesh lies within a texel of the surface, in front of it as often
+// as behind). fill_near_misses_only (--coarse-fill near-misses) restricts it further to pixels
+// where a billboard ray came within a texel of a surface and missed or saw the back of a sheet
+// (march.frag marks them): the outline cannot grow then, but surfaces no billboard captured (seen
+// from where the bake's directions saw them edge-on) stay holes, since no ray comes near them.
 #include "gpu/shaders/common/frame.glsl"
 #include "gpu/shaders/common/fade.glsl"
 #include "gpu/shaders/common/lighting.glsl"
