@@ -124,13 +124,29 @@ vec2 cross_column(float t_wall, float t_enter, float t_exit, float z_origin, flo
     return vec2(-1.0, k_miss);
 }
 
-// whether covered texel `texel` (normal + depth nd) and its covered neighbour `other` continue one
-// surface (hf_link_tolerance); `axis_vector`: the box axis from one to the other
-bool linked(vec4 nd, vec4 other_nd, vec3 axis_vector)
+// whether the step from depth `a` to `b` repeats from the covered texel `beyond` (a plane seen
+// steeply: standin's acceleration.cpp texels_continue_plane, whatever the shading normals say)
+bool step_repeats(float a, float b, ivec2 beyond, bool beyond_is_after)
+{
+    if (any(lessThan(beyond, ivec2(0))) || any(greaterThanEqual(beyond, ivec2(size_texels)))) return false;
+    if (texelFetch(color_map, beyond, 0).a <= 0.5 / 255.0) return false;
+    float d = normal_depth(beyond).a, step = b - a;
+    float other_step = beyond_is_after ? d - b : a - d;
+    return abs(other_step - step) <= k_curvature_texels * texel_size / depth_range + k_quanta * depth_quantum;
+}
+
+// whether covered texel `texel` (normal + depth nd) and its covered neighbour `other` (other_nd)
+// continue one surface: the step is within what their normals allow (hf_link_tolerance), or is
+// at most k_max_slope texels and repeats on a covered texel before or after them
+bool linked(ivec2 texel, vec4 nd, ivec2 other, vec4 other_nd, vec3 axis_vector)
 {
     float slope = max(slope_along(nd.rgb * 2.0 - 1.0, axis_vector), slope_along(other_nd.rgb * 2.0 - 1.0, axis_vector));
     float allowed = (k_slope_tolerance * slope + k_curvature_texels) * texel_size / depth_range + k_quanta * depth_quantum;
-    return abs(nd.a - other_nd.a) <= allowed;
+    float step = abs(nd.a - other_nd.a);
+    if (step <= allowed) return true;
+    if (step > k_max_slope * texel_size / depth_range) return false;
+    ivec2 along = other - texel;
+    return step_repeats(nd.a, other_nd.a, texel - along, false) || step_repeats(nd.a, other_nd.a, other + along, true);
 }
 
 // the depth range of a covered texel's column and of the walls to its linked neighbours (the
@@ -146,7 +162,7 @@ vec2 texel_range(ivec2 texel, vec4 nd)
         if (any(lessThan(other, ivec2(0))) || any(greaterThanEqual(other, size))) continue;
         if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
         vec4 other_nd = normal_depth(other);
-        if (linked(nd, other_nd, k < 2 ? axis_u : axis_v)) range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
+        if (linked(texel, nd, other, other_nd, k < 2 ? axis_u : axis_v)) range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
     }
     return range;
 }
@@ -230,7 +246,7 @@ void main()
                         from_covered = texelFetch(color_map, from, 0).a > 0.5 / 255.0;
                         from_nd = normal_depth(from);
                     }
-                    from_linked = from_covered && linked(nd, from_nd, entry_axis == 0 ? axis_u : axis_v);
+                    from_linked = from_covered && linked(texel, nd, from, from_nd, entry_axis == 0 ? axis_u : axis_v);
                 }
                 vec2 crossing = cross_column(t_in, t, t_exit, o.z, d.z, nd.a, from_linked, from_nd.a);
                 // standin's edge lines (a sheet's rim, a leaf's cut-out contour): a crossing beyond

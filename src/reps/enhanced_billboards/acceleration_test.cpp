@@ -1,7 +1,11 @@
 // Billboards packed into texture layers (acceleration.h pack_layers): every billboard's cell-aligned
 // rectangle inside its layer, none overlapping, offsets on the pyramid's top cells, and fewer
-// texels allocated than one layer per billboard would take.
+// texels allocated than one layer per billboard would take. Links (build_acceleration): a plane
+// seen steeply is one surface whatever its stored shading normals say, and a depth edge is not.
 #include "reps/enhanced_billboards/acceleration.h"
+#include "reps/common/surface_image.h"
+
+#include <cmath>
 
 #include <gtest/gtest.h>
 
@@ -106,6 +110,47 @@ TEST(PackLayers, GpuBytesCountEveryArrayAndPyramid)
     for (int level = 1; level <= 6; ++level) pyramid += std::uint64_t(p.width >> level) * (p.height >> level) * p.layers * 8;
     EXPECT_EQ(gpu_texture_bytes(layout, false), texels * 16 + pyramid);
     EXPECT_EQ(gpu_texture_bytes(layout, true), texels * 24 + pyramid);
+}
+
+// A flat face 20 degrees from the billboard's plane (2.75 texels of depth per texel along u) whose
+// shading normals, smoothed across the model's edges, lean to 35 degrees (1.43 per texel: the link
+// rule allows 2.64): assimp's minigun.MDL, whose rings showed stripes of holes. Depths that change
+// at one rate are linked; a step that does not repeat on either side (a depth edge) is not.
+TEST(Links, ASteepPlaneIsOneSurfaceWhateverItsShadingNormals)
+{
+    Billboard b;
+    b.width = 16;
+    b.height = 4;
+    b.texel_size = 1.0f;
+    b.depth_range = 200.0f;
+    b.direction = {0, 0, 1};
+    b.axis_u = {1, 0, 0};
+    b.axis_v = {0, 1, 0};
+    b.color = ImageRGBA8(b.width, b.height);
+    b.normal_depth = ImageRGBA16(b.width, b.height);
+    const float steep = std::tan(glm::radians(70.0f)), leaning = std::tan(glm::radians(55.0f));
+    const glm::vec3 shading = glm::normalize(glm::vec3(-leaning, 0.0f, -1.0f)); // a shallower slope than the depths
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i < b.width; ++i) {
+            float depth = 10.0f + steep * float(i) + (i >= 12 ? 30.0f : 0.0f); // a depth edge between 11 and 12
+            std::uint8_t* c = b.color.at(i, j);
+            c[0] = c[1] = c[2] = 200;
+            c[3] = 255;
+            std::uint16_t* nd = b.normal_depth.at(i, j);
+            for (int k = 0; k < 3; ++k) nd[k] = reps::encode_normal(shading[k]);
+            nd[3] = reps::encode_depth(depth / b.depth_range);
+        }
+    }
+    ASSERT_FALSE(texels_linked(b, 3, 1, 0, 1.0f)) << "the shading normals alone refuse the plane's steps";
+    const HeightFieldAcceleration acc = build_acceleration(b, 16, 4, 2, LinkSettings{});
+    auto flags = [&](int i, int j) { return acc.surface[std::size_t(j) * acc.width + i].flags; };
+    for (int j = 0; j < b.height; ++j) {
+        for (int i = 0; i + 1 < b.width; ++i) {
+            bool linked = (flags(i, j) & k_link_plus_u) != 0;
+            EXPECT_EQ(linked, i != 11) << "texel " << i << ", " << j;
+            EXPECT_EQ((flags(i + 1, j) & k_link_minus_u) != 0, linked);
+        }
+    }
 }
 
 } // namespace
