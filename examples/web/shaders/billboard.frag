@@ -16,8 +16,10 @@
 //  1. the eye ray in box space, clipped to the box (slabs);
 //  2. a walk (DDA) from the entry through a min/max pyramid as standin's march climbs its own (a
 //     cell whose depth range the ray's segment above it misses is skipped whole); in each covered
-//     texel, the crossing of the wall it was entered through (when that neighbour is linked) or
-//     else of its top inside the texel (hf_cross_column); the first crossing is the hit;
+//     texel whose range (its depth and its linked neighbours') the ray's segment over it meets,
+//     the crossing of the wall it was entered through (when that neighbour is linked) or else of
+//     its top inside the texel (hf_cross_column), tops tilted by their normals as in standin
+//     (top_tilt); the first crossing is the hit;
 //  3. the hit's depth is written (gl_FragDepth), so boxes resolve by the depth test, and every
 //     hit sets a stencil bit the coarse mesh is not drawn through (main.js: standin's coarse mesh
 //     fills every pixel without a front hit, coarse.frag); no hit: discard, unless
@@ -73,6 +75,8 @@ const float k_slope_tolerance = 1.5;
 const float k_curvature_texels = 0.5;
 const float k_quanta = 2.0;
 const float k_max_slope = 8.0;
+const float k_top_max_slope = 3.0;     // HF_TOP_MAX_SLOPE
+const float k_top_reach_fraction = 0.25; // acceleration.cpp
 const float k_miss = 0.0, k_top = 1.0, k_wall = 2.0;
 // standin's edge-line codes (docs/FORMAT.md "Sheet edge lines"; billboard_layout.glsl in standin):
 // a covered texel whose colour alpha is FIRST..FIRST + ANGLES * OFFSETS - 1 holds the line its
@@ -86,6 +90,17 @@ vec3 box_from_object(vec3 p)
 {
     vec3 q = p - origin;
     return vec3(dot(q, axis_u) / texel_size, dot(q, axis_v) / texel_size, dot(q, direction) / depth_range);
+}
+
+// a covered texel's top tilt: the change of its box depth per texel along x and y that its normal
+// implies, capped at k_top_max_slope texels of depth per texel (standin's acceleration.cpp top_slope)
+vec2 top_tilt(vec4 nd)
+{
+    vec3 n = nd.rgb * 2.0 - 1.0;
+    float across = dot(n, direction);
+    if (abs(across) < 1e-6) return vec2(0.0);
+    vec2 slope = clamp(-vec2(dot(n, axis_u), dot(n, axis_v)) / across, vec2(-k_top_max_slope), vec2(k_top_max_slope));
+    return slope * (texel_size / depth_range);
 }
 
 // depth change per texel along `axis` that normal n implies, in texels of depth, capped (hf_slope)
@@ -248,7 +263,26 @@ void main()
                     }
                     from_linked = from_covered && linked(texel, nd, from, from_nd, entry_axis == 0 ? axis_u : axis_v);
                 }
-                vec2 crossing = cross_column(t_in, t, t_exit, o.z, d.z, nd.a, from_linked, from_nd.a);
+                // standin's tilted tops: each top is the plane through its depth at the texel's
+                // centre with its normal's slope (capped), the ray shifted by the tilt, the wall
+                // between the two tilted tops; crossed only where the ray's segment over the texel
+                // meets the texel's range (its depth and its linked neighbours'), as in standin
+                vec2 tilt = top_tilt(nd), centre = vec2(texel) + 0.5;
+                float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
+                float from_top = from_nd.a;
+                if (from_linked) {
+                    vec2 wall_point = o.xy + t_in * d.xy;
+                    from_top += dot(top_tilt(from_nd), wall_point - vec2(from) - 0.5) - dot(tilt, wall_point - centre);
+                }
+                // (the range holds a quarter of the top's own reach, and the top ends at the range:
+                // standin's acceleration.cpp k_top_reach_fraction, march.frag)
+                float reach = k_top_reach_fraction * 0.5 * (abs(tilt.x) + abs(tilt.y));
+                vec2 own_range = texel_range(texel, nd) + vec2(-reach, reach);
+                vec2 crossing = own_range.x <= z_hi && own_range.y >= z_lo
+                                    ? cross_column(t_in, t, t_exit, z_origin, z_per_t, nd.a, from_linked, from_top)
+                                    : vec2(-1.0, k_miss);
+                float z_cross = o.z + crossing.x * d.z;
+                if (z_cross < own_range.x || z_cross > own_range.y) crossing.y = k_miss;
                 // standin's edge lines (a sheet's rim, a leaf's cut-out contour): a crossing beyond
                 // the line its texel holds is no hit, and the ray walks on
                 vec2 p_cross = o.xy + crossing.x * d.xy;
@@ -257,8 +291,8 @@ void main()
                 if (crossing.y != k_miss && on) {
                     t_hit = crossing.x;
                     // on a wall, the texel whose top is nearer the crossing
-                    float z_in = o.z + t_in * d.z;
-                    hit_texel = crossing.y == k_wall && abs(z_in - from_nd.a) < abs(z_in - nd.a) ? from : texel;
+                    float z_in = z_origin + t_in * z_per_t;
+                    hit_texel = crossing.y == k_wall && abs(z_in - from_top) < abs(z_in - nd.a) ? from : texel;
                     found = true;
                     break;
                 }

@@ -21,6 +21,27 @@ static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
     return reps::decode_normal(billboard.normal_depth.at(i, j));
 }
 
+// How much of a tilted top's reach past its texel's depth a texel's range holds (build_acceleration),
+// where its links do not: the march ends a top at the range, so an outline texel's top stops short
+// of where a slope capped at HF_TOP_MAX_SLOPE would stand out of a surface curving away. Measured
+// (thesis protocol, BCN_Epileptic / 2CylinderEngine Luv, BCN holes and spill): 0 1.563 / 1.320,
+// 0.011% / 0.97%; 0.25 1.547 / 1.217, 0.009% / 1.08%; 0.5 1.577 / 1.251, 0.008% / 1.16%; the whole
+// reach 1.656 / 1.330, 0.007% / 1.30%.
+constexpr float k_top_reach_fraction = 0.25f;
+
+// The tilt of a covered texel's top (SurfaceTexel::slope): the depth change per texel along u and
+// v of the plane its stored normal describes, capped at HF_TOP_MAX_SLOPE (the view atlas's
+// texel_gradient, atlas.frag). Flat tops stood out of curved surfaces by up to half a texel's rise
+// where the billboard sees them obliquely, and other views saw those steps as the outline: spill
+// all round it (docs/RESULTS.md "Tilted texel tops for the billboards").
+static glm::vec2 top_slope(glm::vec3 normal, const Billboard& b)
+{
+    float across = glm::dot(normal, b.direction);
+    if (std::abs(across) < 1e-6f) return glm::vec2(0.0f);
+    glm::vec2 slope = -glm::vec2(glm::dot(normal, b.axis_u), glm::dot(normal, b.axis_v)) / across;
+    return glm::clamp(slope, glm::vec2(-float(HF_TOP_MAX_SLOPE)), glm::vec2(float(HF_TOP_MAX_SLOPE)));
+}
+
 bool texels_linked(const Billboard& b, int i, int j, int axis, float quantum_codes)
 {
     const int ni = i + (axis == 0 ? 1 : 0), nj = j + (axis == 0 ? 0 : 1);
@@ -107,12 +128,14 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
             if (b.color.at(i, j)[3] == 0) continue;
             texel.depth = b.normal_depth.at(i, j)[3];
             texel.flags = k_texel_covered;
+            texel.slope = top_slope(texel_normal(b, i, j), b);
             if (settings.edge_lines && b.color.at(i, j)[3] < 255) texel.flags |= k_texel_clipped;
         }
     }
 
     // links between texels of one surface, then each texel's range over itself and its links
     link_neighbours(b, settings, acc);
+    const float texel_codes = b.texel_size * reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {
             SurfaceTexel& texel = acc.surface[std::size_t(j) * padded_width + i];
@@ -128,6 +151,12 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
             include(k_link_plus_u, i + 1, j);
             include(k_link_minus_v, i, j - 1);
             include(k_link_plus_v, i, j + 1);
+            // and a part of the texel's own tilted top, whose corners reach half its tilt above
+            // and below its depth: the march ends a top at the range (march.frag), and every proxy
+            // box and the pyramid hold the range
+            int reach = int(std::ceil(k_top_reach_fraction * 0.5f * (std::abs(texel.slope.x) + std::abs(texel.slope.y)) * texel_codes));
+            texel.min = std::uint16_t(std::max(0, int(texel.min) - reach));
+            texel.max = std::uint16_t(std::min(65535, int(texel.max) + reach));
         }
     }
 
@@ -155,6 +184,30 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
         h = lh;
     }
     return acc;
+}
+
+std::vector<std::uint16_t> pack_surface(const HeightFieldAcceleration& acc, int& range_unit)
+{
+    int widest = 0;
+    for (const SurfaceTexel& t : acc.surface)
+        if (t.flags & k_texel_covered) widest = std::max({widest, int(t.depth) - int(t.min), int(t.max) - int(t.depth)});
+    range_unit = std::max(1, (widest + 254) / 255);
+    auto quantise_slope = [](float slope) {
+        return std::uint16_t(std::lround(slope / float(HF_TOP_MAX_SLOPE) * 127.0f) + 128);
+    };
+    std::vector<std::uint16_t> packed(acc.surface.size() * 4, 0);
+    for (std::size_t k = 0; k < acc.surface.size(); ++k) {
+        const SurfaceTexel& t = acc.surface[k];
+        std::uint16_t* out = &packed[4 * k];
+        out[0] = t.depth;
+        out[3] = t.flags;
+        if (!(t.flags & k_texel_covered)) continue;
+        int below = (int(t.depth) - int(t.min) + range_unit - 1) / range_unit;
+        int above = (int(t.max) - int(t.depth) + range_unit - 1) / range_unit;
+        out[1] = std::uint16_t(below | (above << 8));
+        out[2] = std::uint16_t(quantise_slope(t.slope.x) | (quantise_slope(t.slope.y) << 8));
+    }
+    return packed;
 }
 
 // Built bottom up: a cell is one surface when its non-empty children are (level 0: a covered

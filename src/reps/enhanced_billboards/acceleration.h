@@ -31,11 +31,14 @@ constexpr int k_smooth_link_shift = 5; // k_link_* << 5 = k_smooth_*
 // leaves that touch mostly meet at a larger angle
 constexpr float k_smooth_link_cos = 0.94f;
 
-// Level 0 of the march, one RGBA16UI texel. Depths are the package's 16-bit depth codes.
-// [min, max] holds the texel's depth and the depths of the neighbours it links to, so the range
-// contains the walls between linked texels; an uncovered texel holds the empty range [65535, 0].
+// Level 0 of the march. Depths are the package's 16-bit depth codes. [min, max] holds the texel's
+// depth and the depths of the neighbours it links to, so the range contains the walls between
+// linked texels; an uncovered texel holds the empty range [65535, 0]. The top is tilted: the plane
+// through `depth` at the texel's centre that changes by `slope` texels of depth per texel along u
+// and v (its stored normal's, capped at HF_TOP_MAX_SLOPE; zero on uncovered texels).
 struct SurfaceTexel {
     std::uint16_t depth = 0, min = 65535, max = 0, flags = 0;
+    glm::vec2 slope{0.0f};
 };
 
 struct MinMax {
@@ -48,6 +51,13 @@ struct HeightFieldAcceleration {
     std::vector<SurfaceTexel> surface;        // width * height, row j = texel row j
     std::vector<std::vector<MinMax>> pyramid; // level k (k = 1..levels) at pyramid[k - 1], cells of 2^k texels
 };
+
+// The march's level-0 texture, one RGBA16UI texel per SurfaceTexel (billboard_layout.glsl,
+// SURFACE_*): depth; (depth - min) and (max - depth) in whole `range_unit` codes, rounded outwards,
+// in the low and high byte; the slope along u and v quantised to 8 bits each; the flags. One
+// texel per read, so the tilt costs no fetch. range_unit (at least 1) is the smallest that holds
+// the largest range in 8 bits.
+std::vector<std::uint16_t> pack_surface(const HeightFieldAcceleration& acc, int& range_unit);
 
 // Two neighbouring covered texels belong to one surface when their depth difference is within
 // what the steeper of their stored normals allows across one texel: the rule every image-based

@@ -4,6 +4,7 @@
 // seen steeply is one surface whatever its stored shading normals say, and a depth edge is not.
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/common/surface_image.h"
+#include "reps/common/shaders/height_field.h"
 
 #include <cmath>
 
@@ -151,6 +152,47 @@ TEST(Links, ASteepPlaneIsOneSurfaceWhateverItsShadingNormals)
             EXPECT_EQ((flags(i + 1, j) & k_link_minus_u) != 0, linked);
         }
     }
+}
+
+// The march's packed level 0 (pack_surface): every covered texel's range decodes to one that holds
+// [min, max] and is at most a range unit wider on each side, and its tilt decodes to within half a
+// quantisation step of the slope (tilted tops, issue #17).
+TEST(Links, PackedSurfaceHoldsEachRangeAndTilt)
+{
+    HeightFieldAcceleration acc;
+    acc.width = 4;
+    acc.height = 1;
+    const std::uint16_t depths[4][3] = {{1000, 900, 1200}, {30000, 29000, 31500}, {65000, 64000, 65535}, {10, 0, 700}};
+    const glm::vec2 slopes[4] = {{0.0f, 0.0f}, {2.9f, -3.0f}, {-1.37f, 0.5f}, {3.0f, 0.01f}};
+    for (int k = 0; k < 4; ++k) {
+        SurfaceTexel t;
+        t.depth = depths[k][0];
+        t.min = depths[k][1];
+        t.max = depths[k][2];
+        t.flags = k_texel_covered;
+        t.slope = slopes[k];
+        acc.surface.push_back(t);
+    }
+    acc.surface.push_back(SurfaceTexel{}); // uncovered: only depth and flags
+    int unit = 0;
+    const std::vector<std::uint16_t> packed = pack_surface(acc, unit);
+    ASSERT_EQ(packed.size(), acc.surface.size() * 4);
+    EXPECT_EQ(unit, 6); // the widest range, 1,500 codes, in 8 bits (255 x 6 = 1,530)
+    const float step = float(HF_TOP_MAX_SLOPE) / 127.0f;
+    for (int k = 0; k < 4; ++k) {
+        const std::uint16_t* p = &packed[std::size_t(k) * 4];
+        EXPECT_EQ(p[0], depths[k][0]);
+        EXPECT_EQ(p[3], k_texel_covered);
+        int lo = int(p[0]) - int(p[1] & 255u) * unit, hi = int(p[0]) + int(p[1] >> 8) * unit;
+        EXPECT_LE(lo, depths[k][1]) << k;
+        EXPECT_GT(lo, int(depths[k][1]) - unit) << k;
+        EXPECT_GE(hi, depths[k][2]) << k;
+        EXPECT_LT(hi, int(depths[k][2]) + unit) << k;
+        glm::vec2 tilt = (glm::vec2(float(p[2] & 255u), float(p[2] >> 8)) - 128.0f) * step;
+        EXPECT_NEAR(tilt.x, slopes[k].x, 0.5f * step) << k;
+        EXPECT_NEAR(tilt.y, slopes[k].y, 0.5f * step) << k;
+    }
+    EXPECT_EQ(packed[16 + 3], 0u);
 }
 
 } // namespace

@@ -63,7 +63,7 @@ namespace {
 struct BillboardGpu {
     glm::mat4 object_from_box;
     glm::mat4 box_from_object;
-    glm::ivec4 info; // layer, unused, width, height
+    glm::ivec4 info; // layer, the surface map's range unit (pack_surface), width, height
     glm::vec4 box_min, box_max;
     glm::ivec4 offset; // xy: texel offset of the billboard's maps in its layer (pack_layers)
 };
@@ -82,7 +82,7 @@ static_assert(sizeof(TileGpu) == 48, "std430 layout of TileData");
 // a margin of a hundredth of a texel in depth keeps flat sheets inside their box
 constexpr float k_depth_margin = 1e-4f;
 
-// The box of the covered texels and their depths, in box space (a billboard's box is often larger
+// The box of the covered texels and their depth ranges (their walls and tilted tops), in box space (a billboard's box is often larger
 // than what it holds; a tighter box means fewer fragments and shorter rays). Empty: min > max.
 void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, BillboardGpu& g)
 {
@@ -91,8 +91,8 @@ void covered_box(const HeightFieldAcceleration& acc, const Billboard& b, Billboa
         for (int i = 0; i < b.width; ++i) {
             const SurfaceTexel& texel = acc.surface[std::size_t(j) * acc.width + i];
             if (!(texel.flags & k_texel_covered)) continue;
-            lo = glm::min(lo, glm::vec3(float(i), float(j), reps::decode_depth(texel.depth)));
-            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), reps::decode_depth(texel.depth)));
+            lo = glm::min(lo, glm::vec3(float(i), float(j), reps::decode_depth(texel.min)));
+            hi = glm::max(hi, glm::vec3(float(i + 1), float(j + 1), reps::decode_depth(texel.max)));
         }
     }
     g.box_min = glm::vec4(lo - glm::vec3(0.0f, 0.0f, k_depth_margin), 0.0f);
@@ -402,6 +402,9 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                                 GL_RGBA, GL_UNSIGNED_BYTE, b.emission.pixels.data());
         }
         HeightFieldAcceleration acc = build_acceleration(b, padded.x, padded.y, levels, links);
+        int range_unit = 1;
+        const std::vector<std::uint16_t> surface = pack_surface(acc, range_unit);
+        g.info.y = range_unit;
         covered_box(acc, b, g);
         gpu_billboards.push_back(g);
         // proxies: the occupied tiles, the coarse tiles, and the whole box of covered texels
@@ -440,7 +443,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
             }
         }
         glTextureSubImage3D(surface_maps_.get(), 0, at.offset.x, at.offset.y, at.layer, padded.x, padded.y, 1,
-                            GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, acc.surface.data());
+                            GL_RGBA_INTEGER, GL_UNSIGNED_SHORT, surface.data());
         for (int level = 1; level <= levels; ++level)
             glTextureSubImage3D(minmax_maps_.get(), level - 1, at.offset.x >> level, at.offset.y >> level, at.layer,
                                 padded.x >> level, padded.y >> level, 1, GL_RG_INTEGER, GL_UNSIGNED_SHORT,

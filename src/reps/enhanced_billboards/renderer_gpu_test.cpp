@@ -382,6 +382,26 @@ TEST(BillboardRenderer, CoarseMeshFillsHolesWithoutGrowingTheSilhouette)
     EXPECT_EQ(exact.spill, 0u);
 }
 
+// Tilted tops (issue #17): a sphere in coarse texels (16 across its radius), seen between its
+// billboards at a size where a texel is about 5 pixels. Flat tops stand out of the curved surface
+// by up to half a texel's rise wherever a billboard sees it obliquely, and from between them those
+// steps are the outline: spill all round it. Tops tilted by their normals follow the sphere.
+// Measured: flat tops 1,104 spill pixels (4.7% of the 23,452 inside), tilted 50 (0.2%), no holes.
+TEST(BillboardRenderer, TiltedTopsFollowTheSurfaceSlope)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package(32);
+    RenderOptions options;
+    options.values.set("coarse", "off");
+    Camera camera = orbit(45, 35, 3.0f, k_width, k_height);
+    Rendered r = render_package(package, options, camera, default_light(camera), k_width, k_height);
+    Coverage c = compare_with_sphere(r.image.color, camera, 0.01f);
+    std::printf("32-texel sphere from between its billboards: %zu spill of %zu outside, %zu holes of %zu inside\n",
+                c.spill, c.outside, c.holes, c.inside);
+    EXPECT_LT(double(c.spill), 0.01 * double(c.inside));
+    EXPECT_LT(double(c.holes), 0.002 * double(c.inside));
+}
+
 // A surface no billboard captured (issue #17: the held-out minigun's rings seen from below, 0.2%
 // holes) is a hole no ray comes near, so only the paper's fill of every empty pixel (the default)
 // shows the coarse mesh there: one billboard looking down -z captures the sphere's z > 0 half, and

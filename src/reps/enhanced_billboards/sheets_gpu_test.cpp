@@ -87,12 +87,13 @@ TEST(BillboardSheets, SheetRimsClosedWithoutCoarseMesh)
     SheetFigures centre = evaluate_sheets(*mesh, {{"sheet-edges", "centre"}}, false);
     std::printf("[ sheets ] --no-coarse: holes %.4f%% (centre %.4f%%), spill %.4f%% (centre %.4f%%)\n", 100.0 * clip.holes,
                 100.0 * centre.holes, 100.0 * clip.spill, 100.0 * centre.spill);
-    // measured: holes 0.11-0.19% per view (mean 0.147%) clipped, 0.25-0.34% (mean 0.295%) by
-    // centres; spill 0.27-0.31% either way (--sheet-edges overlap closes rims by spilling: 0.59-0.69%)
+    // measured with tilted tops (session 19): holes 0.06-0.08% per view (mean 0.070%) clipped,
+    // 0.10-0.14% (mean 0.120%) by centres; spill 0.11% clipped, 0.21% by centres (--sheet-edges
+    // overlap closes rims by spilling: 0.71%). With flat tops: 0.147% / 0.295%, spill 0.27-0.31%.
     EXPECT_LT(clip.holes, 0.002);
     EXPECT_LT(clip.worst_holes, 0.0023);
     EXPECT_LT(clip.spill, 0.0035);
-    EXPECT_GT(centre.holes, 0.0025); // the staircase this test is about is still there without the lines
+    EXPECT_GT(centre.holes, 1.4 * clip.holes); // the staircase this test is about is still there without the lines
 }
 
 // A sphere over a single-sided plane (assimp's COLLADA.dae: text over a plane): the truth culls the

@@ -15,6 +15,10 @@
 #define HF_QUANTA 2.0           // a step of two depth codes is rounding, not an edge
 #define HF_MAX_SLOPE 8.0        // texels of depth per texel (about 83 degrees): steeper is a wall
 #define HF_DEPTH_CODES 65535.0  // the one depth encoding: d in [0, 1] as a 16-bit code (surface_image.h)
+// A covered texel's top tilts by its stored normal up to this slope (texels of depth per texel,
+// about 72 degrees; the view atlas's and the billboards' walks): steeper normals are unsure near an
+// outline, and a steeper top would reach far past its texel's depth
+#define HF_TOP_MAX_SLOPE 3.0
 
 // what a ray met in one texel column (hf_cross_column)
 #define HF_MISS 0  // nothing in this column

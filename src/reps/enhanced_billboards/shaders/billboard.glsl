@@ -6,7 +6,7 @@
 struct BillboardData {
     mat4 object_from_box;
     mat4 box_from_object;
-    ivec4 info;    // layer, unused, width, height (texels)
+    ivec4 info;    // layer, the surface map's range unit in depth codes (acceleration.h pack_surface), width, height (texels)
     vec4 box_min;  // box space bounds of the covered texels and their depths (min > max: empty)
     vec4 box_max;
     ivec4 offset;  // xy: where the billboard's texel (0, 0) lies in its layer (acceleration.h pack_layers)

@@ -13,7 +13,7 @@
 #define BINDING_COARSE_LIST_SSBO (BINDING_FIRST_RENDERER_SSBO + 3) // uint instance index per coarse-mesh instance
 #define BINDING_COLOR_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 0)   // albedo + coverage, one layer per billboard
 #define BINDING_NORMAL_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 1)  // normal + depth
-#define BINDING_SURFACE_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 2) // depth, min, max, link flags (acceleration.h)
+#define BINDING_SURFACE_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 2) // depth, range, tilt, link flags (acceleration.h pack_surface)
 #define BINDING_MINMAX_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 3)  // the min/max pyramid above level 0
 #define BINDING_ORM_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 4)      // occlusion, roughness, metallic (PBR packages)
 #define BINDING_EMISSION_MAPS (BINDING_FIRST_RENDERER_TEXTURE + 5) // emission, sRGB (PBR packages)

@@ -4,10 +4,11 @@
 // §3.3; Vichitvejpaisal & Kanongchaiyos 2006 Fig. 7). The march stops at the nearest front hit found so far at the pixel (an image
 // the shader keeps itself: a fragment whose depth the shader writes is tested late on some GPUs and
 // on llvmpipe, and boxes are drawn front to back, so most rays behind a hit never start).
-// MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel is a square at its
-// depth, and linked neighbours (acceleration.h: same surface, jump within the normals' slope) are
-// joined by walls, so a surface has no gaps at any view, grazing included, and silhouettes are the
-// covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
+// MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel's top is the plane
+// through its depth at its centre, tilted by its stored normal (capped at HF_TOP_MAX_SLOPE; the
+// view atlas's tops likewise), and linked neighbours (acceleration.h: same surface, jump within the
+// normals' slope, or a step that repeats) are joined by walls between their tilted tops, so a
+// surface has no gaps at any view, grazing included, and silhouettes are the covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
 // in its colour alpha (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
 // a node whose depth range the ray segment above it misses is skipped whole; at level 0 the
 // crossing of the texel's top and of the wall it was entered through is computed exactly.
@@ -35,7 +36,7 @@ flat in mat4 v_world_from_box;
 
 layout(binding = BINDING_COLOR_MAPS) uniform sampler2DArray color_maps;
 layout(binding = BINDING_NORMAL_MAPS) uniform sampler2DArray normal_maps;
-layout(binding = BINDING_SURFACE_MAPS) uniform usampler2DArray surface_maps; // depth, min, max, flags
+layout(binding = BINDING_SURFACE_MAPS) uniform usampler2DArray surface_maps; // depth, range, tilt, flags (acceleration.h pack_surface)
 layout(binding = BINDING_MINMAX_MAPS) uniform usampler2DArray minmax_maps;   // level k: cells of 2^(k+1)
 layout(binding = BINDING_ORM_MAPS) uniform sampler2DArray orm_maps;           // only when has_pbr_maps
 layout(binding = BINDING_EMISSION_MAPS) uniform sampler2DArray emission_maps;
@@ -78,6 +79,22 @@ uvec4 fetch_surface(ivec2 texel, int layer)
 {
     ++g_fetches;
     return texelFetch(surface_maps, at(texel, layer), 0);
+}
+
+// a surface texel's depth range [min, max] in codes: its depth and its linked neighbours' (the
+// walls), stored as whole range units below and above the depth (pack_surface)
+float g_range_unit = 1.0;
+vec2 surface_range(uvec4 s)
+{
+    return vec2(float(s.x) - float(s.y & 255u) * g_range_unit, float(s.x) + float(s.y >> 8u) * g_range_unit);
+}
+
+// a covered texel's tilt: the change of its top's box depth (z) per texel along x and y
+float g_texel_depth = 1.0; // one texel of depth in box z (texel size over depth range)
+vec2 surface_tilt(uvec4 s)
+{
+    vec2 q = vec2(float(s.z & 255u), float(s.z >> 8u)) - 128.0;
+    return q * (HF_TOP_MAX_SLOPE / 127.0) * g_texel_depth;
 }
 
 // Whether box-space point p (x, y in texels) is on the surface of covered texel `texel` (surface
@@ -193,7 +210,8 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
             uvec4 previous_surface = last_surface;
             last_texel = texel;
             last_surface = s;
-            if ((s.a & TEXEL_COVERED) != 0u && float(s.y) <= z_hi + 0.5 && float(s.z) >= z_lo - 0.5) {
+            vec2 range = surface_range(s);
+            if ((s.a & TEXEL_COVERED) != 0u && range.x <= z_hi + 0.5 && range.y >= z_lo - 0.5) {
                 near = true;
                 // the wall to the texel the ray came from, if it continues this surface, then the top
                 vec2 entry_bound = vec2(texel + ivec2(1) - ahead);
@@ -207,9 +225,24 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                 from[entry_axis] -= dir[entry_axis];
                 uvec4 from_surface = uvec4(0u);
                 if (from_linked) from_surface = from == previous_texel ? previous_surface : fetch_surface(from, layer);
-                float d_from = float(from_surface.x) / k_codes;
+                // the tilted tops: the ray is compared with this texel's top as the ray z_origin +
+                // t z_per_t against the flat top `top`, shifted by the tilt (the view atlas's
+                // walk, atlas.frag), and with the neighbour's tilted top where it crosses the wall
                 float top = float(s.x) / k_codes;
-                vec2 crossing = hf_cross_column(t_in, t, t_exit, o.z, d.z, top, from_linked, d_from);
+                vec2 tilt = surface_tilt(s), centre = vec2(texel) + 0.5;
+                float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
+                float d_from = 0.0;
+                if (from_linked) {
+                    vec2 wall_point = o.xy + t_in * d.xy;
+                    d_from = float(from_surface.x) / k_codes + dot(surface_tilt(from_surface), wall_point - vec2(from) - 0.5) -
+                             dot(tilt, wall_point - centre);
+                }
+                vec2 crossing = hf_cross_column(t_in, t, t_exit, z_origin, z_per_t, top, from_linked, d_from);
+                // a tilted top ends at the texel's range (its depth and its linked neighbours'),
+                // which every proxy box holds: an outline texel's top does not reach past its
+                // depth towards the outside, and a box's layers keep the picture (build_tiles)
+                float z_cross = (o.z + crossing.x * d.z) * k_codes;
+                if (z_cross < range.x - 0.5 || z_cross > range.y + 0.5) crossing.y = HF_MISS;
                 // a sheet's edge line ends the top, and a wall, on the texels that hold one
                 vec2 p_cross = o.xy + crossing.x * d.xy;
                 bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross, layer)
@@ -217,7 +250,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                 if (on) {
                     t_hit = crossing.x;
                     // on a wall, the texel whose top is nearer the crossing
-                    float z_in = o.z + t_in * d.z;
+                    float z_in = z_origin + t_in * z_per_t;
                     hit_texel = crossing.y == HF_WALL && abs(z_in - d_from) < abs(z_in - top) ? from : texel;
                     return true;
                 }
@@ -332,6 +365,8 @@ void main()
     int layer = data.info.x;
     ivec2 size = data.info.zw;
     g_offset = data.offset.xy;
+    g_range_unit = float(data.info.y);
+    g_texel_depth = length(mat3(data.object_from_box)[0]) / length(mat3(data.object_from_box)[2]);
 
     // the eye ray in box space, clipped to the proxy box (and to the near plane: t >= 0); t is the
     // distance along the world ray in both spaces

@@ -5,6 +5,7 @@
 
 #include "gpu/shaders/common/bindings.h"
 #include "gpu/shaders/common/debug_views.h"
+#include "reps/common/shaders/height_field.h"
 
 // shader storage blocks of this renderer (gpu/shaders/common/bindings.h)
 #define ATLAS_VIEWS_SSBO (BINDING_FIRST_RENDERER_SSBO + 0) // ViewData[]
@@ -27,9 +28,8 @@
 #define ATLAS_NEAREST_IMAGE (BINDING_FIRST_RENDERER_IMAGE + 0) // R32UI, viewport-sized: the nearest depth this draw
                                      // wrote per pixel (float bits), so later fragments behind it stop before the walk
 // the corrected walk's texel tops tilt by their stored normal up to this slope (height per plane
-// unit, about 72 degrees): steeper normals are unsure near an outline, and a steeper top would reach
-// far past its texel's depth
-#define ATLAS_TOP_MAX_SLOPE 3.0
+// unit: reps/common/shaders/height_field.h)
+#define ATLAS_TOP_MAX_SLOPE HF_TOP_MAX_SLOPE
 #define ATLAS_CELL 16                // texels per cell side: view_atlas.h k_cell, crops sit on cells
 
 // styles (the run-time option "style")
