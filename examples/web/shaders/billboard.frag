@@ -9,8 +9,9 @@
 // maps covers [i, i + 1) x [j, j + 1) (row 0 at origin: glTF UVs, three's GLTFLoader, flipY false).
 // The surface is the one standin's exact march intersects (src/reps/enhanced_billboards/shaders/
 // march.frag, MARCH_EXACT; reps/common/shaders/height_field.{h,glsl}): a covered texel (coverage
-// code > 0) is a flat top at its depth, and two neighbouring covered texels whose depth step is
-// within what their normals' slopes allow (the shared link rule) are joined by a wall, so thin
+// code > 0) is a top at its depth tilted by its normal (top_tilt), and two neighbouring covered
+// texels whose depth step is within what their normals' slopes allow (the shared link rule), or
+// repeats beyond them, are joined by a wall, so thin
 // leaves one texel wide and grazing views keep every texel the renderer keeps.
 // Steps, per pixel of the box's back faces:
 //  1. the eye ray in box space, clipped to the box (slabs);
