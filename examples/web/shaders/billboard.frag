@@ -9,17 +9,17 @@
 // maps covers [i, i + 1) x [j, j + 1) (row 0 at origin: glTF UVs, three's GLTFLoader, flipY false).
 // The surface is the one standin's exact march intersects (src/reps/enhanced_billboards/shaders/
 // march.frag, MARCH_EXACT; reps/common/shaders/height_field.{h,glsl}): a covered texel (coverage
-// code > 0) is a top at its depth tilted by its normal (top_tilt), and two neighbouring covered
-// texels whose depth step is within what their normals' slopes allow (the shared link rule), or
-// repeats beyond them, are joined by a wall, so thin
-// leaves one texel wide and grazing views keep every texel the renderer keeps.
+// code > 0) is a top at its depth tilted as its linked neighbours' depths say (top_tilt), and two
+// neighbouring covered texels whose depth step is within what their normals' slopes allow (the
+// shared link rule), or repeats beyond them, are joined by a wall, so thin leaves one texel wide
+// and grazing views keep every texel the renderer keeps.
 // Steps, per pixel of the box's back faces:
 //  1. the eye ray in box space, clipped to the box (slabs);
 //  2. a walk (DDA) from the entry through a min/max pyramid as standin's march climbs its own (a
 //     cell whose depth range the ray's segment above it misses is skipped whole); in each covered
 //     texel whose range (its depth and its linked neighbours') the ray's segment over it meets,
 //     the crossing of the wall it was entered through (when that neighbour is linked) or else of
-//     its top inside the texel (hf_cross_column), tops tilted by their normals as in standin
+//     its top inside the texel (hf_cross_column), tops tilted as in standin
 //     (top_tilt); the first crossing is the hit;
 //  3. the hit's depth is written (gl_FragDepth), so boxes resolve by the depth test, and every
 //     hit sets a stencil bit the coarse mesh is not drawn through (main.js: standin's coarse mesh
@@ -93,17 +93,6 @@ vec3 box_from_object(vec3 p)
     return vec3(dot(q, axis_u) / texel_size, dot(q, axis_v) / texel_size, dot(q, direction) / depth_range);
 }
 
-// a covered texel's top tilt: the change of its box depth per texel along x and y that its normal
-// implies, capped at k_top_max_slope texels of depth per texel (standin's acceleration.cpp top_slope)
-vec2 top_tilt(vec4 nd)
-{
-    vec3 n = nd.rgb * 2.0 - 1.0;
-    float across = dot(n, direction);
-    if (abs(across) < 1e-6) return vec2(0.0);
-    vec2 slope = clamp(-vec2(dot(n, axis_u), dot(n, axis_v)) / across, vec2(-k_top_max_slope), vec2(k_top_max_slope));
-    return slope * (texel_size / depth_range);
-}
-
 // depth change per texel along `axis` that normal n implies, in texels of depth, capped (hf_slope)
 float slope_along(vec3 n, vec3 axis)
 {
@@ -163,6 +152,32 @@ bool linked(ivec2 texel, vec4 nd, ivec2 other, vec4 other_nd, vec3 axis_vector)
     if (step > k_max_slope * texel_size / depth_range) return false;
     ivec2 along = other - texel;
     return step_repeats(nd.a, other_nd.a, texel - along, false) || step_repeats(nd.a, other_nd.a, other + along, true);
+}
+
+// a covered texel's top tilt (standin's acceleration.cpp): the change of its box depth per texel
+// along x and y, from the depths of its linked neighbours (central where it has both, one-sided at
+// an edge, flat where it has none), capped at k_top_max_slope texels of depth per texel
+vec2 top_tilt(ivec2 texel, vec4 nd)
+{
+    vec2 tilt = vec2(0.0);
+    for (int a = 0; a < 2; ++a) {
+        ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        vec3 axis_vector = a == 0 ? axis_u : axis_v;
+        bool before = false, after = false;
+        float d_before = 0.0, d_after = 0.0;
+        for (int side = -1; side <= 1; side += 2) {
+            ivec2 other = texel + side * step;
+            if (any(lessThan(other, ivec2(0))) || any(greaterThanEqual(other, ivec2(size_texels)))) continue;
+            if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
+            vec4 other_nd = normal_depth(other);
+            if (!linked(texel, nd, other, other_nd, axis_vector)) continue;
+            if (side < 0) { before = true; d_before = other_nd.a; }
+            else { after = true; d_after = other_nd.a; }
+        }
+        tilt[a] = before && after ? 0.5 * (d_after - d_before) : after ? d_after - nd.a : before ? nd.a - d_before : 0.0;
+    }
+    float cap = k_top_max_slope * texel_size / depth_range;
+    return clamp(tilt, vec2(-cap), vec2(cap));
 }
 
 // the depth range of a covered texel's column and of the walls to its linked neighbours (the
@@ -268,12 +283,12 @@ void main()
                 // centre with its normal's slope (capped), the ray shifted by the tilt, the wall
                 // between the two tilted tops; crossed only where the ray's segment over the texel
                 // meets the texel's range (its depth and its linked neighbours'), as in standin
-                vec2 tilt = top_tilt(nd), centre = vec2(texel) + 0.5;
+                vec2 tilt = top_tilt(texel, nd), centre = vec2(texel) + 0.5;
                 float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
                 float from_top = from_nd.a;
                 if (from_linked) {
                     vec2 wall_point = o.xy + t_in * d.xy;
-                    from_top += dot(top_tilt(from_nd), wall_point - vec2(from) - 0.5) - dot(tilt, wall_point - centre);
+                    from_top += dot(top_tilt(from, from_nd), wall_point - vec2(from) - 0.5) - dot(tilt, wall_point - centre);
                 }
                 // (the range holds a quarter of the top's own reach, and the top ends at the range:
                 // standin's acceleration.cpp k_top_reach_fraction, march.frag)

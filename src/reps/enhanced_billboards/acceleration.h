@@ -35,7 +35,8 @@ constexpr float k_smooth_link_cos = 0.94f;
 // depth and the depths of the neighbours it links to, so the range contains the walls between
 // linked texels; an uncovered texel holds the empty range [65535, 0]. The top is tilted: the plane
 // through `depth` at the texel's centre that changes by `slope` texels of depth per texel along u
-// and v (its stored normal's, capped at HF_TOP_MAX_SLOPE; zero on uncovered texels).
+// and v (from the depths of its linked neighbours, capped at HF_TOP_MAX_SLOPE; zero on uncovered
+// texels and on texels without links).
 struct SurfaceTexel {
     std::uint16_t depth = 0, min = 65535, max = 0, flags = 0;
     glm::vec2 slope{0.0f};

@@ -1,8 +1,8 @@
 // The height-field surface of image-based stand-ins (enhanced billboards, view atlas views): its
 // constants, included by C++ (which static_asserts against them) and by GLSL
 // (height_field.glsl). Plain #defines only: both languages must parse this file.
-// A covered texel is a top at its stored depth (tilted by its stored normal up to HF_TOP_MAX_SLOPE
-// in both walks); two neighbouring covered texels continue one surface, joined by a wall, when
+// A covered texel is a top at its stored depth (tilted up to HF_TOP_MAX_SLOPE in both walks: by
+// its stored normal in the view atlas's, by its linked neighbours' depths in the billboards'); two neighbouring covered texels continue one surface, joined by a wall, when
 // their depth step is within
 //   (HF_SLOPE_TOLERANCE * slope + HF_CURVATURE_TEXELS) * texel + HF_QUANTA * quantum,
 // slope being the steeper of their stored normals' depth change per texel (capped at

@@ -5,8 +5,9 @@
 // the shader keeps itself: a fragment whose depth the shader writes is tested late on some GPUs and
 // on llvmpipe, and boxes are drawn front to back, so most rays behind a hit never start).
 // MARCH_EXACT: the depth map is a sheet of texel-sized columns: a covered texel's top is the plane
-// through its depth at its centre, tilted by its stored normal (capped at HF_TOP_MAX_SLOPE; the
-// view atlas's tops likewise), and linked neighbours (acceleration.h: same surface, jump within the
+// through its depth at its centre, tilted as its linked neighbours' depths say (capped at
+// HF_TOP_MAX_SLOPE, ended at the texel's range: acceleration.cpp; the view atlas's tilt by
+// normals), and linked neighbours (acceleration.h: same surface, jump within the
 // normals' slope, or a step that repeats) are joined by walls between their tilted tops, so a
 // surface has no gaps at any view, grazing included, and silhouettes are the covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
 // in its colour alpha (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):

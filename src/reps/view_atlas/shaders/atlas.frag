@@ -161,7 +161,7 @@ vec2 atlas_texel(ViewData view, vec2 plane)
 // --- the corrected style's height-field intersection ---------------------------------------------
 // A view is a height field over its capture plane: texel (i, j) holds a top through its stored
 // height (object units above the centre plane, towards the capture camera) at its centre, tilted by
-// its stored normal (texel_gradient, below; the enhanced billboards' tops likewise). As in the
+// its stored normal (texel_gradient, below; the enhanced billboards' tops tilt by their depths). As in the
 // enhanced billboards' march (reps/enhanced_billboards/acceleration.h), the surface is the texel tops plus
 // the walls between neighbours that continue one surface (height step within what their normals'
 // slope allows); a larger step is a depth edge, where the view saw one surface in front of another
