@@ -23,10 +23,11 @@ static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
 
 // How much of a tilted top's reach past its texel's depth a texel's range holds (build_acceleration),
 // where its links do not: the march ends a top at the range, so an outline texel's top stops short
-// of where a slope capped at HF_TOP_MAX_SLOPE would stand out of a surface curving away. Measured
-// (thesis protocol, BCN_Epileptic / 2CylinderEngine Luv, BCN holes and spill): 0 1.563 / 1.320,
-// 0.011% / 0.97%; 0.25 1.547 / 1.217, 0.009% / 1.08%; 0.5 1.577 / 1.251, 0.008% / 1.16%; the whole
-// reach 1.656 / 1.330, 0.007% / 1.30%.
+// of where a slope capped at HF_TOP_MAX_SLOPE would stand out of a surface curving away. Measured with
+// tops tilted by their normals (thesis protocol, BCN_Epileptic / 2CylinderEngine Luv, BCN holes and
+// spill): 0 1.563 / 1.320, 0.011% / 0.97%; 0.25 1.547 / 1.217, 0.009% / 1.08%; 0.5 1.577 / 1.251,
+// 0.008% / 1.16%; the whole reach 1.656 / 1.330, 0.007% / 1.30% (by the depths, at 0.25: 1.455 /
+// 1.310, 0.007% / 0.95%).
 constexpr float k_top_reach_fraction = 0.25f;
 
 bool texels_linked(const Billboard& b, int i, int j, int axis, float quantum_codes)
