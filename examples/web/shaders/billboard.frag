@@ -9,8 +9,8 @@
 // maps covers [i, i + 1) x [j, j + 1) (row 0 at origin: glTF UVs, three's GLTFLoader, flipY false).
 // The surface is the one standin's exact march intersects (src/reps/enhanced_billboards/shaders/
 // march.frag, MARCH_EXACT; reps/common/shaders/height_field.{h,glsl}): a covered texel (coverage
-// code > 0) is a top at its depth tilted as its linked neighbours' depths say (top_tilt), and two
-// neighbouring covered texels whose depth step is within what their normals' slopes allow (the
+// code > 0) is a top at its depth tilted as its linked neighbours' depths say (texel_surface), and
+// two neighbouring covered texels whose depth step is within what their normals' slopes allow (the
 // shared link rule), or repeats beyond them, are joined by a wall, so thin leaves one texel wide
 // and grazing views keep every texel the renderer keeps.
 // Steps, per pixel of the box's back faces:
@@ -20,7 +20,7 @@
 //     texel whose range (its depth and its linked neighbours') the ray's segment over it meets,
 //     the crossing of the wall it was entered through (when that neighbour is linked) or else of
 //     its top inside the texel (hf_cross_column), tops tilted as in standin
-//     (top_tilt); the first crossing is the hit;
+//     (texel_surface); the first crossing is the hit;
 //  3. the hit's depth is written (gl_FragDepth), so boxes resolve by the depth test, and every
 //     hit sets a stencil bit the coarse mesh is not drawn through (main.js: standin's coarse mesh
 //     fills every pixel without a front hit, coarse.frag); no hit: discard, unless
@@ -154,11 +154,15 @@ bool linked(ivec2 texel, vec4 nd, ivec2 other, vec4 other_nd, vec3 axis_vector)
     return step_repeats(nd.a, other_nd.a, texel - along, false) || step_repeats(nd.a, other_nd.a, other + along, true);
 }
 
-// a covered texel's top tilt (standin's acceleration.cpp): the change of its box depth per texel
-// along x and y, from the depths of its linked neighbours (central where it has both, one-sided at
-// an edge, flat where it has none), capped at k_top_max_slope texels of depth per texel
-vec2 top_tilt(ivec2 texel, vec4 nd)
+// A covered texel's links, read once: its depth range (its depth and its linked neighbours', the
+// renderer's SurfaceTexel min / max before the tilt's reach: a ray whose segment over the texel
+// meets it came within a texel of the surface) and its top's tilt (standin's acceleration.cpp: the
+// change of its box depth per texel along x and y from the depths of its linked neighbours,
+// central where it has both, one-sided at an edge, flat where it has none, capped at
+// k_top_max_slope texels of depth per texel).
+vec2 texel_surface(ivec2 texel, vec4 nd, out vec2 range)
 {
+    range = vec2(nd.a);
     vec2 tilt = vec2(0.0);
     for (int a = 0; a < 2; ++a) {
         ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
@@ -171,6 +175,7 @@ vec2 top_tilt(ivec2 texel, vec4 nd)
             if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
             vec4 other_nd = normal_depth(other);
             if (!linked(texel, nd, other, other_nd, axis_vector)) continue;
+            range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
             if (side < 0) { before = true; d_before = other_nd.a; }
             else { after = true; d_after = other_nd.a; }
         }
@@ -178,24 +183,6 @@ vec2 top_tilt(ivec2 texel, vec4 nd)
     }
     float cap = k_top_max_slope * texel_size / depth_range;
     return clamp(tilt, vec2(-cap), vec2(cap));
-}
-
-// the depth range of a covered texel's column and of the walls to its linked neighbours (the
-// renderer's SurfaceTexel min / max): a ray whose segment over the texel meets it came within a
-// texel of the surface
-vec2 texel_range(ivec2 texel, vec4 nd)
-{
-    vec2 range = vec2(nd.a);
-    ivec2 size = ivec2(size_texels);
-    for (int k = 0; k < 4; ++k) {
-        ivec2 step = k == 0 ? ivec2(1, 0) : k == 1 ? ivec2(-1, 0) : k == 2 ? ivec2(0, 1) : ivec2(0, -1);
-        ivec2 other = texel + step;
-        if (any(lessThan(other, ivec2(0))) || any(greaterThanEqual(other, size))) continue;
-        if (texelFetch(color_map, other, 0).a <= 0.5 / 255.0) continue;
-        vec4 other_nd = normal_depth(other);
-        if (linked(texel, nd, other, other_nd, k < 2 ? axis_u : axis_v)) range = vec2(min(range.x, other_nd.a), max(range.y, other_nd.a));
-    }
-    return range;
 }
 
 vec3 srgb_to_linear(vec3 c)
@@ -280,20 +267,23 @@ void main()
                     from_linked = from_covered && linked(texel, nd, from, from_nd, entry_axis == 0 ? axis_u : axis_v);
                 }
                 // standin's tilted tops: each top is the plane through its depth at the texel's
-                // centre with its normal's slope (capped), the ray shifted by the tilt, the wall
-                // between the two tilted tops; crossed only where the ray's segment over the texel
-                // meets the texel's range (its depth and its linked neighbours'), as in standin
-                vec2 tilt = top_tilt(texel, nd), centre = vec2(texel) + 0.5;
+                // centre with its linked neighbours' slope (capped), the ray shifted by the tilt,
+                // the wall between the two tilted tops; crossed only where the ray's segment over
+                // the texel meets the texel's range (its depth and its linked neighbours'), as in
+                // standin
+                vec2 links_range;
+                vec2 tilt = texel_surface(texel, nd, links_range), centre = vec2(texel) + 0.5;
                 float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
                 float from_top = from_nd.a;
                 if (from_linked) {
                     vec2 wall_point = o.xy + t_in * d.xy;
-                    from_top += dot(top_tilt(from, from_nd), wall_point - vec2(from) - 0.5) - dot(tilt, wall_point - centre);
+                    vec2 from_range;
+                    from_top += dot(texel_surface(from, from_nd, from_range), wall_point - vec2(from) - 0.5) - dot(tilt, wall_point - centre);
                 }
                 // (the range holds a quarter of the top's own reach, and the top ends at the range:
                 // standin's acceleration.cpp k_top_reach_fraction, march.frag)
                 float reach = k_top_reach_fraction * 0.5 * (abs(tilt.x) + abs(tilt.y));
-                vec2 own_range = texel_range(texel, nd) + vec2(-reach, reach);
+                vec2 own_range = links_range + vec2(-reach, reach);
                 vec2 crossing = own_range.x <= z_hi && own_range.y >= z_lo
                                     ? cross_column(t_in, t, t_exit, z_origin, z_per_t, nd.a, from_linked, from_top)
                                     : vec2(-1.0, k_miss);
@@ -317,10 +307,8 @@ void main()
                     // a link allows bounds it first, so most texels the ray passes high above cost no more)
                     float widest = (k_slope_tolerance * k_max_slope + k_curvature_texels) * link_scale + k_quanta * depth_quantum;
                     float slack = 0.5 / 65535.0;
-                    if (nd.a - widest <= z_hi + slack && nd.a + widest >= z_lo - slack) {
-                        vec2 range = texel_range(texel, nd);
-                        near = range.x <= z_hi + slack && range.y >= z_lo - slack;
-                    }
+                    if (nd.a - widest <= z_hi + slack && nd.a + widest >= z_lo - slack)
+                        near = links_range.x <= z_hi + slack && links_range.y >= z_lo - slack;
                 }
             }
             last_texel = texel;

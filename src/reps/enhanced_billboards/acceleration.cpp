@@ -21,6 +21,12 @@ static glm::vec3 texel_normal(const Billboard& billboard, int i, int j)
     return reps::decode_normal(billboard.normal_depth.at(i, j));
 }
 
+// one texel of the billboard's plane in depth codes
+static float texel_depth_codes(const Billboard& b)
+{
+    return b.texel_size * reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
+}
+
 // How much of a tilted top's reach past its texel's depth a texel's range holds (build_acceleration),
 // where its links do not: the march ends a top at the range, so an outline texel's top stops short
 // of where a slope capped at HF_TOP_MAX_SLOPE would stand out of a surface curving away. Measured with
@@ -50,7 +56,7 @@ bool texels_linked(const Billboard& b, int i, int j, int axis, float quantum_cod
 // holes, 0.8% of the pictures without the coarse mesh). Depths that change at one rate are one
 // surface whatever its normals say.
 static bool texels_continue_plane(const Billboard& b, const HeightFieldAcceleration& acc, int i, int j, int axis,
-                                  float quantum_codes)
+                                  float texel_codes, float quantum_codes)
 {
     const int di = axis == 0 ? 1 : 0, dj = axis == 0 ? 0 : 1;
     auto covered = [&](int x, int y) {
@@ -58,7 +64,6 @@ static bool texels_continue_plane(const Billboard& b, const HeightFieldAccelerat
                (acc.surface[std::size_t(y) * acc.width + x].flags & k_texel_covered) != 0;
     };
     auto depth = [&](int x, int y) { return float(b.normal_depth.at(x, y)[3]); };
-    const float texel_codes = b.texel_size * reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
     const float step = depth(i + di, j + dj) - depth(i, j);
     if (std::abs(step) > float(HF_MAX_SLOPE) * texel_codes) return false;
     const float tolerance = float(HF_CURVATURE_TEXELS) * texel_codes + float(HF_QUANTA) * quantum_codes;
@@ -70,6 +75,7 @@ static bool texels_continue_plane(const Billboard& b, const HeightFieldAccelerat
 static void link_neighbours(const Billboard& b, const LinkSettings& settings, HeightFieldAcceleration& acc)
 {
     float quantum_codes = settings.depth_bits >= 16 ? 1.0f : reps::k_depth_codes / float((1 << settings.depth_bits) - 1);
+    const float texel_codes = texel_depth_codes(b);
     auto at = [&](int i, int j) -> SurfaceTexel& { return acc.surface[std::size_t(j) * acc.width + i]; };
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {
@@ -83,7 +89,7 @@ static void link_neighbours(const Billboard& b, const LinkSettings& settings, He
                 if (ni >= b.width || nj >= b.height) continue;
                 SurfaceTexel& other = at(ni, nj);
                 if (!(other.flags & k_texel_covered)) continue;
-                if (!texels_linked(b, i, j, k, quantum_codes) && !texels_continue_plane(b, acc, i, j, k, quantum_codes))
+                if (!texels_linked(b, i, j, k, quantum_codes) && !texels_continue_plane(b, acc, i, j, k, texel_codes, quantum_codes))
                     continue;
                 texel.flags |= bit_here[k];
                 other.flags |= bit_there[k];
@@ -122,7 +128,7 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
 
     // links between texels of one surface, then each texel's range over itself and its links
     link_neighbours(b, settings, acc);
-    const float texel_codes = b.texel_size * reps::k_depth_codes / std::max(b.depth_range, 1e-30f);
+    const float texel_codes = texel_depth_codes(b);
     for (int j = 0; j < b.height; ++j) {
         for (int i = 0; i < b.width; ++i) {
             SurfaceTexel& texel = acc.surface[std::size_t(j) * padded_width + i];

@@ -25,11 +25,11 @@ layout(location = 0) out vec4 out_color;
 void main()
 {
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
-    uint flags = imageLoad(pixel_flags, ivec2(gl_FragCoord.xy)).r;
     uint nearest = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
     bool front_hit = uintBitsToFloat(nearest & ~PIXEL_DEPTH_BACK) < 1.0 && (nearest & PIXEL_DEPTH_BACK) == 0u;
     if (front_hit) discard;
-    if (fill_near_misses_only != 0 && (flags & PIXEL_NEAR_MISS) == 0u) discard;
+    // (the flags are written and cleared only for this rule: renderer.cpp marks_near_misses)
+    if (fill_near_misses_only != 0 && (imageLoad(pixel_flags, ivec2(gl_FragCoord.xy)).r & PIXEL_NEAR_MISS) == 0u) discard;
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);
     vec3 color = shade_at(v_color.rgb, v_normal_world, to_eye, v_position_world);
