@@ -100,7 +100,9 @@ TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
     Mesh mesh;
     add_square(mesh, 0.0f);
     one_sided(mesh);
-    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "16"}, {"coarse-ratio", "0"}});
+    // texels by their centres, as the seed covers them (the default clips the outline texels to the
+    // square's edges: OutlineLinesFollowAClosedSurfacesSilhouette)
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "16"}, {"coarse-ratio", "0"}, {"sheet-edges", "centre"}});
     ASSERT_TRUE(baked.status) << baked.status.message();
     const EnhancedBillboardsPackage& p = *baked.package;
     ASSERT_EQ(p.billboards.size(), 1u);
@@ -221,6 +223,21 @@ std::pair<Baked, Baked> bake_clipped_and_centred(const Mesh& mesh)
     return {std::move(clipped), std::move(centred)};
 }
 
+// The mean width (texels) by which the outline of the billboard facing -z misses a disc of
+// `radius` round the origin, clipped (the default) and by texel centres.
+std::pair<double, double> disc_outline_error_widths(const Mesh& mesh, float radius)
+{
+    auto [clipped, centred] = bake_clipped_and_centred(mesh);
+    if (!clipped.status || !centred.status) {
+        ADD_FAILURE() << "bake failed";
+        return {1e30, 1e30};
+    }
+    auto inside_disc = [&](glm::vec2 q) { return glm::length(q) <= radius; };
+    double perimeter = 2.0 * 3.14159265358979 * radius / clipped.package->billboards[0].texel_size;
+    return {outline_error_texels(*clipped.package, inside_disc) / perimeter,
+            outline_error_texels(*centred.package, inside_disc) / perimeter};
+}
+
 TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
 {
     // issue #17: a sheet's rim crosses texels; by their centres the billboard's outline is a
@@ -246,17 +263,37 @@ TEST(BakeBillboards, AlphaContourLinesFollowTheLeaf)
     // by texel centres the billboard's outline is a staircase off it, with the contour's line in
     // the texels it crosses (--sheet-edges clip, the default for alpha-tested models) it follows it.
     // The card's texture is a disc: alpha 1 - r / 0.5 against the cutoff 0.5, a circle of radius 0.25
-    const Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, false);
-    auto [clipped, centred] = bake_clipped_and_centred(mesh);
-    ASSERT_TRUE(clipped.status && centred.status);
-    const float radius = 0.25f;
-    auto inside_disc = [&](glm::vec2 q) { return glm::length(q) <= radius; };
-    float texel = clipped.package->billboards[0].texel_size;
-    double perimeter = 2.0 * 3.14159265358979 * radius / texel;
-    double clip_width = outline_error_texels(*clipped.package, inside_disc) / perimeter;
-    double centre_width = outline_error_texels(*centred.package, inside_disc) / perimeter;
+    auto [clip_width, centre_width] = disc_outline_error_widths(test::alpha_quad(AlphaMode::mask, 0.5f, false), 0.25f);
     std::printf("[ leaf ] mean error width: %.3f texels clipped, %.3f by centres\n", clip_width, centre_width);
     EXPECT_LT(clip_width, 0.08); // measured 0.044 (0.223 by centres)
+    EXPECT_GT(centre_width, 0.15);
+}
+
+TEST(BakeBillboards, OutlineLinesFollowAClosedSurfacesSilhouette)
+{
+    // issue #17: where a closed surface ends within a texel (here a flat cylinder's cap, seen along
+    // its axis: the wall beyond it is edge-on) the texels by their centres were a staircase off the
+    // outline; the outline's line in the texels it crosses, and the texels beyond grown into where
+    // the cap reaches them (--sheet-edges clip, now the default for every model), follow it
+    const int segments = 96;
+    const float radius = 0.25f, half_height = 0.02f;
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices;
+    for (float z : {half_height, -half_height})
+        for (int k = 0; k < segments; ++k) {
+            float angle = 2.0f * 3.14159265f * float(k) / float(segments);
+            positions.push_back({radius * std::cos(angle), radius * std::sin(angle), z});
+        }
+    const std::uint32_t n = segments, top = 2 * n, bottom = 2 * n + 1;
+    positions.push_back({0.0f, 0.0f, half_height});
+    positions.push_back({0.0f, 0.0f, -half_height});
+    for (std::uint32_t k = 0; k < n; ++k) {
+        std::uint32_t next = (k + 1) % n;
+        for (std::uint32_t i : {top, k, next, bottom, n + next, n + k, k, n + k, n + next, k, n + next, next}) indices.push_back(i);
+    }
+    auto [clip_width, centre_width] = disc_outline_error_widths(make_mesh(positions, indices), radius);
+    std::printf("[ cap ] mean error width: %.3f texels clipped, %.3f by centres\n", clip_width, centre_width);
+    EXPECT_LT(clip_width, 0.08); // measured 0.041 (0.274 by centres)
     EXPECT_GT(centre_width, 0.15);
 }
 

@@ -33,8 +33,11 @@ struct CaptureSettings {
     float depth_limit = 1.0f;   // world units: captured faces lie within this depth of the plane
     float min_facing = 0.0f;    // sin(grazing angle): faces with -n.w below it are not projected
     bool write_maps = false;    // fill Capture::billboard (the final pass); off when only scoring
-    // --sheet-edges clip: texels an open edge crosses are covered and store its line, and texels an
-    // alpha-tested face's cut-out contour crosses store the contour's line (capture.cpp)
+    // --sheet-edges clip: texels an open edge crosses are covered and store its line, texels an
+    // alpha-tested face's cut-out contour crosses store the contour's line, and every other texel
+    // the outline of its own surface crosses (a silhouette, the end of a part over what lies behind
+    // it) stores that outline's line, grown into the texels beyond where the outline reaches into
+    // them (capture.cpp: sheet edge lines, alpha contour lines, outline lines)
     bool edge_lines = false;
 };
 

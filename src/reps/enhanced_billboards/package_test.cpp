@@ -99,8 +99,8 @@ TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
     std::string directory = test::fresh_directory("billboard_no_sheet_edges") + "/sphere.standin";
     ASSERT_TRUE(write_package(*baked, directory));
     nlohmann::json manifest = read_manifest(directory);
-    ASSERT_EQ(manifest["bake"]["sheet_edges"], "centre");
-    ASSERT_EQ(manifest["bake"]["back_hits"], "show"); // what auto resolves to
+    ASSERT_EQ(manifest["bake"]["sheet_edges"], "clip"); // what auto resolves to
+    ASSERT_EQ(manifest["bake"]["back_hits"], "show");
     manifest["bake"].erase("sheet_edges");
     manifest["bake"].erase("back_hits");
     write_manifest(directory, manifest);
@@ -142,12 +142,12 @@ TEST(BillboardPackage, SheetPackagesMarkTheirCoarseRims)
     expect_refused(directory, "coarse_mesh.rims");
 }
 
-// Sheet edge lines (issue #17): the default bake of a sheet model records sheet_edges "clip" (a
-// closed model's stays "centre"), its rim texels hold line codes 128-254 in the colour alpha, and
-// both packagings give those codes back exactly.
+// Sheet edge lines (issue #17): the default bake of a sheet model records sheet_edges "clip" (as a
+// closed model's does since outline lines), its rim texels hold line codes 128-254 in the colour
+// alpha, and both packagings give those codes back exactly.
 TEST(BillboardPackage, SheetEdgeLinesRoundTripInBothPackagings)
 {
-    EXPECT_EQ(baked_sphere()->settings.sheet_edges, "centre");
+    EXPECT_EQ(baked_sphere()->settings.sheet_edges, "clip");
     Result<Mesh> mesh = generate_assembly(3000, 1.0f, true);
     ASSERT_TRUE(mesh) << mesh.status().message();
     Result<SourceInfo> source = describe_source("", *mesh);

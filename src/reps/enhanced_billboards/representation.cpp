@@ -49,11 +49,12 @@ std::vector<OptionSpec> bake_options()
                       "many would stray further than a texel from it; models with alpha-tested materials: of their "
                       "opaque faces only"),
         choice_option("sheet-edges", "auto", {"auto", "centre", "clip", "overlap"},
-                      "Texels at the edge of an open surface (a sheet): centre (covered where the texel centre is on "
-                      "it, as everywhere), clip (every texel it crosses, clipped by the march to the edge's line "
-                      "stored in the texel; on alpha-tested faces the line of the leaf's cut-out contour instead), "
-                      "overlap (every texel it overlaps, unclipped: more spill) or auto (clip for models with open "
-                      "double-sided parts or alpha-tested materials, else centre; the package records which)"),
+                      "Texels an outline crosses (a surface's silhouette as the billboard sees it, the edge of an "
+                      "open surface, a leaf's cut-out contour): centre (covered where the texel centre is on the "
+                      "surface: the seed's), clip (the outline's line is stored in the texel and the march clips "
+                      "to it; texels beyond that the surface reaches into are added and clipped the same way), "
+                      "overlap (a sheet's every rim texel, unclipped: more spill; elsewhere centre) or auto (clip; "
+                      "the package records which)"),
         choice_option("back-hits", "auto", {"auto", "show", "hide"},
                       "Rays meeting a billboard's surface from behind: show (drawn where nothing nearer is, as the "
                       "back of a double-sided sheet, or the inside of a part through a seam), hide (dropped, and "
