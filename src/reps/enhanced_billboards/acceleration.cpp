@@ -8,6 +8,7 @@
 #include "reps/enhanced_billboards/acceleration.h"
 
 #include "reps/common/shaders/height_field.h"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 #include <algorithm>
 #include <cassert>
@@ -122,7 +123,11 @@ HeightFieldAcceleration build_acceleration(const Billboard& b, int padded_width,
             if (b.color.at(i, j)[3] == 0) continue;
             texel.depth = b.normal_depth.at(i, j)[3];
             texel.flags = k_texel_covered;
-            if (settings.edge_lines && b.color.at(i, j)[3] < 255) texel.flags |= k_texel_clipped;
+            std::uint8_t alpha = b.color.at(i, j)[3];
+            if (settings.edge_lines && alpha < 255) {
+                texel.flags |= k_texel_clipped;
+                texel.edge_line = std::uint8_t(alpha - EDGE_LINE_FIRST_CODE + 1);
+            }
         }
     }
 
@@ -209,7 +214,8 @@ std::vector<std::uint16_t> pack_surface(const HeightFieldAcceleration& acc, int&
         const SurfaceTexel& t = acc.surface[k];
         std::uint16_t* out = &packed[4 * k];
         out[0] = t.depth;
-        out[3] = t.flags;
+        out[3] = std::uint16_t((t.flags & ~k_texel_clipped) | ((t.edge_line & 1u) << TEXEL_LINE_LOW_BIT) |
+                               ((t.edge_line >> 1) << TEXEL_LINE_HIGH_SHIFT));
         if (!(t.flags & k_texel_covered)) continue;
         int below = (int(t.depth) - int(t.min) + range_unit - 1) / range_unit;
         int above = (int(t.max) - int(t.depth) + range_unit - 1) / range_unit;

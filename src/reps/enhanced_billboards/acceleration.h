@@ -40,6 +40,7 @@ constexpr float k_smooth_link_cos = 0.94f;
 struct SurfaceTexel {
     std::uint16_t depth = 0, min = 65535, max = 0, flags = 0;
     glm::vec2 slope{0.0f};
+    std::uint8_t edge_line = 0; // with k_texel_clipped: 1 + the index of its colour alpha's edge line code
 };
 
 struct MinMax {
@@ -55,8 +56,9 @@ struct HeightFieldAcceleration {
 
 // The march's level-0 texture, one RGBA16UI texel per SurfaceTexel (billboard_layout.glsl,
 // SURFACE_*): depth; (depth - min) and (max - depth) in whole `range_unit` codes, rounded outwards,
-// in the low and high byte; the slope along u and v quantised to 8 bits each; the flags. One
-// texel per read, so the tilt costs no fetch. range_unit (at least 1) is the smallest that holds
+// in the low and high byte; the slope along u and v quantised to 8 bits each; the flags, with the
+// edge line (1 + its code's index, 7 bits) in place of k_texel_clipped (its low bit) and in bits
+// 10-15 (TEXEL_LINE_*). One texel per read, so neither the tilt nor the line costs a fetch. range_unit (at least 1) is the smallest that holds
 // the largest range in 8 bits.
 std::vector<std::uint16_t> pack_surface(const HeightFieldAcceleration& acc, int& range_unit);
 

@@ -3,6 +3,7 @@
 // texels allocated than one layer per billboard would take. Links (build_acceleration): a plane
 // seen steeply is one surface whatever its stored shading normals say, and a depth edge is not.
 #include "reps/enhanced_billboards/acceleration.h"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 #include "reps/common/surface_image.h"
 #include "reps/common/shaders/height_field.h"
 
@@ -193,6 +194,33 @@ TEST(Links, PackedSurfaceHoldsEachRangeAndTilt)
         EXPECT_NEAR(tilt.y, slopes[k].y, 0.5f * step) << k;
     }
     EXPECT_EQ(packed[16 + 3], 0u);
+}
+
+// Edge lines (issue #17) ride in the packed flags, so the march reads them without a colour fetch:
+// every code's index + 1 (7 bits) comes back as march.frag decodes it, next to every other flag
+TEST(Links, PackedSurfaceHoldsEveryEdgeLine)
+{
+    HeightFieldAcceleration acc;
+    acc.width = EDGE_LINE_ANGLES * EDGE_LINE_OFFSETS + 1;
+    acc.height = 1;
+    const std::uint16_t others = k_texel_covered | k_link_minus_u | k_link_plus_v | k_smooth_plus_u | k_smooth_plus_v;
+    for (int code = -1; code < EDGE_LINE_ANGLES * EDGE_LINE_OFFSETS; ++code) {
+        SurfaceTexel t;
+        t.depth = 100;
+        t.min = 90;
+        t.max = 110;
+        t.flags = std::uint16_t(others | (code >= 0 ? k_texel_clipped : 0));
+        t.edge_line = std::uint8_t(code + 1);
+        acc.surface.push_back(t);
+    }
+    int unit = 0;
+    const std::vector<std::uint16_t> packed = pack_surface(acc, unit);
+    for (int code = -1; code < EDGE_LINE_ANGLES * EDGE_LINE_OFFSETS; ++code) {
+        std::uint16_t flags = packed[std::size_t(code + 1) * 4 + 3];
+        unsigned line = ((flags >> TEXEL_LINE_LOW_BIT) & 1u) | ((unsigned(flags) >> TEXEL_LINE_HIGH_SHIFT) << 1u);
+        EXPECT_EQ(int(line), code + 1);
+        EXPECT_EQ(flags & ~((1u << TEXEL_LINE_LOW_BIT) | (0xffffu << TEXEL_LINE_HIGH_SHIFT)), others) << code;
+    }
 }
 
 } // namespace

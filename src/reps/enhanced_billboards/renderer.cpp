@@ -68,7 +68,8 @@ struct BillboardGpu {
     glm::ivec4 offset; // xy: texel offset of the billboard's maps in its layer (pack_layers)
 };
 static_assert(sizeof(BillboardGpu) == 192, "std430 layout of BillboardData");
-static_assert(k_texel_clipped == TEXEL_CLIPPED && k_texel_covered == TEXEL_COVERED && k_smooth_plus_u == SMOOTH_PLUS_U &&
+static_assert(k_texel_clipped == (1u << TEXEL_LINE_LOW_BIT) && (k_smooth_plus_v >> TEXEL_LINE_HIGH_SHIFT) == 0 &&
+                  EDGE_LINE_ANGLES * EDGE_LINE_OFFSETS + 1 <= 127 && k_texel_covered == TEXEL_COVERED && k_smooth_plus_u == SMOOTH_PLUS_U &&
                   k_smooth_minus_v == SMOOTH_MINUS_V && (k_link_plus_v << k_smooth_link_shift) == k_smooth_plus_v,
               "surface flags of march.frag");
 

@@ -49,11 +49,12 @@
 #define LINK_PLUS_U 4u
 #define LINK_MINUS_V 8u
 #define LINK_PLUS_V 16u
-#define TEXEL_CLIPPED 32u // the texel holds a sheet edge line: its colour alpha is a code below
+#define TEXEL_LINE_LOW_BIT 5u // with bits TEXEL_LINE_HIGH_SHIFT..15: 1 + the texel's edge line code
 #define SMOOTH_MINUS_U 64u // the link continues the surface without a crease (colour is filtered across it)
 #define SMOOTH_PLUS_U 128u
 #define SMOOTH_MINUS_V 256u
 #define SMOOTH_PLUS_V 512u
+#define TEXEL_LINE_HIGH_SHIFT 10u // (acceleration.h pack_surface), 0 where the texel holds none
 
 // sheet edge lines (issue #17, --sheet-edges clip; capture.cpp, edge_line_code): the colour alpha of
 // a covered texel an open edge crosses is EDGE_LINE_FIRST_CODE + angle * EDGE_LINE_OFFSETS + offset,
@@ -61,7 +62,8 @@
 // outward normal at angle * 360 / EDGE_LINE_ANGLES degrees from +u, e = ((offset + 0.5) /
 // EDGE_LINE_OFFSETS * 2 - 1) * (|n.x| + |n.y|) / 2. Codes stay at or above 128, so readers that take
 // alpha >= 128 as coverage (older ones, the BC encoders, glTF export's mask) see the texel covered;
-// 255 is a whole texel
+// 255 is a whole texel. The march reads the line from the surface texel's flags (TEXEL_LINE_*: the
+// code's index + 1 in 7 bits), not from the colour map: no fetch of its own
 #define EDGE_LINE_FIRST_CODE 128
 #define EDGE_LINE_ANGLES 18
 #define EDGE_LINE_OFFSETS 7

@@ -9,8 +9,8 @@
 // HF_TOP_MAX_SLOPE, ended at the texel's range: acceleration.cpp; the view atlas's tilt by
 // normals), and linked neighbours (acceleration.h: same surface, jump within the
 // normals' slope, or a step that repeats) are joined by walls between their tilted tops, so a
-// surface has no gaps at any view, grazing included, and silhouettes are the covered texels' outline; a sheet's rim texel (TEXEL_CLIPPED) is cut by the rim's line stored
-// in its colour alpha (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
+// surface has no gaps at any view, grazing included, and silhouettes are the covered texels' outline; a texel an outline crosses (a sheet's rim, a surface's silhouette)
+// is cut by the outline's line stored with it (on_surface, issue #17). The ray visits texels through a min/max pyramid (Tevs et al., I3D 2008):
 // a node whose depth range the ray segment above it misses is skipped whole; at level 0 the
 // crossing of the texel's top and of the wall it was entered through is computed exactly.
 // Level of detail: where a pyramid node is no wider than half the pixel's footprint on the billboard,
@@ -99,13 +99,14 @@ vec2 surface_tilt(uvec4 s)
 }
 
 // Whether box-space point p (x, y in texels) is on the surface of covered texel `texel` (surface
-// map entry s): everywhere, unless the texel holds a sheet edge line (TEXEL_CLIPPED, issue #17:
-// capture.cpp, edge_line_code; the code layout in billboard_layout.glsl), which the surface ends at.
-bool on_surface(uvec4 s, ivec2 texel, vec2 p, int layer)
+// map entry s): everywhere, unless the texel holds an edge line (issue #17: a sheet's rim, a leaf's
+// contour, a surface's outline; capture.cpp, edge_line_code; the code layout in
+// billboard_layout.glsl), which the surface ends at. The line rides in the flags (TEXEL_LINE_*).
+bool on_surface(uvec4 s, ivec2 texel, vec2 p)
 {
-    if ((s.a & TEXEL_CLIPPED) == 0u) return true;
-    ++g_fetches;
-    uint code = uint(round(texelFetch(color_maps, at(texel, layer), 0).a * 255.0)) - uint(EDGE_LINE_FIRST_CODE);
+    uint line = ((s.a >> TEXEL_LINE_LOW_BIT) & 1u) | ((s.a >> TEXEL_LINE_HIGH_SHIFT) << 1u);
+    if (line == 0u) return true;
+    uint code = line - 1u;
     float angle = float(code / uint(EDGE_LINE_OFFSETS)) * (6.28318530718 / float(EDGE_LINE_ANGLES));
     vec2 n = vec2(cos(angle), sin(angle));
     float e = ((float(code % uint(EDGE_LINE_OFFSETS)) + 0.5) / float(EDGE_LINE_OFFSETS) * 2.0 - 1.0) * 0.5 * (abs(n.x) + abs(n.y));
@@ -195,7 +196,7 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                     // its depth is the texel's, not the node's nearest
                     float t_top = abs(d.z) > 1e-20 ? clamp((float(c.x) / k_codes - o.z) / d.z, t_in, t_out) : t_in;
                     if ((c.a & TEXEL_COVERED) != 0u && t_in <= t_out && float(c.x) <= max(zc_a, zc_b) + 0.5 && float(c.x) >= min(zc_a, zc_b) - 0.5 &&
-                        on_surface(c, contact, o.xy + t_top * d.xy, layer)) {
+                        on_surface(c, contact, o.xy + t_top * d.xy)) {
                         near = true;
                         t_hit = t_top;
                         hit_texel = contact;
@@ -246,8 +247,8 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
                 if (z_cross < range.x - 0.5 || z_cross > range.y + 0.5) crossing.y = HF_MISS;
                 // a sheet's edge line ends the top, and a wall, on the texels that hold one
                 vec2 p_cross = o.xy + crossing.x * d.xy;
-                bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross, layer)
-                        : crossing.y == HF_WALL && on_surface(s, texel, p_cross, layer) && on_surface(from_surface, from, p_cross, layer);
+                bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross)
+                        : crossing.y == HF_WALL && on_surface(s, texel, p_cross) && on_surface(from_surface, from, p_cross);
                 if (on) {
                     t_hit = crossing.x;
                     // on a wall, the texel whose top is nearer the crossing
