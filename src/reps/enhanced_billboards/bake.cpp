@@ -616,6 +616,13 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
             too_small = std::move(capture.faces);
             break;
         }
+        if (capture.billboard.width == 0) {
+            // every texel of what it holds is cut out by its alpha (assimp's earthCylindrical.DAE,
+            // opacity 0: the truth draws nothing): captured, as nothing, with no billboard to store
+            package->area_captured += capture.area;
+            remaining = without(remaining, capture.faces);
+            continue;
+        }
         if (settings.depth_bits == 8) quantise_to_8_bits(capture.billboard);
         capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
         package->area_captured += capture.area;

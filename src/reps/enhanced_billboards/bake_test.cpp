@@ -257,6 +257,24 @@ TEST(BakeBillboards, SheetEdgeLinesFollowTheRim)
     EXPECT_GT(centre_width, 0.15);
 }
 
+// A model whose every texel is cut out by its alpha (assimp's earthCylindrical.DAE has opacity 0:
+// the truth draws nothing) captured its faces into a billboard of no texels, which the package
+// writer refused ("image size 0x0"): valid input, exit status 2. Such a capture adds no billboard.
+TEST(BakeBillboards, FullyCutOutFacesAddNoEmptyBillboard)
+{
+    Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, false);
+    for (std::size_t k = 3; k < mesh.textures[0].rgba.size(); k += 4) mesh.textures[0].rgba[k] = 0;
+    Baked baked = bake_mesh(mesh, {{"resolution", "64"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    for (const Billboard& b : baked.package->billboards) {
+        EXPECT_GT(b.width, 0);
+        EXPECT_GT(b.height, 0);
+    }
+    EXPECT_NEAR(baked.package->area_captured, baked.package->area_total, 1e-9);
+    std::string directory = test::fresh_directory("billboard_cut_out") + "/card.standin";
+    EXPECT_TRUE(write_package(*baked.package, directory));
+}
+
 TEST(BakeBillboards, AlphaContourLinesFollowTheLeaf)
 {
     // issue #14: an alpha-tested leaf's outline is its texture's cut-out contour, inside the card;
