@@ -18,7 +18,7 @@ enum : std::uint16_t {
     k_link_plus_u = 1u << 2,  // ... (i + 1, j)
     k_link_minus_v = 1u << 3, // ... (i, j - 1)
     k_link_plus_v = 1u << 4,  // ... (i, j + 1)
-    k_texel_clipped = 1u << 5, // holds a sheet edge line in its colour alpha (billboard_layout.glsl, EDGE_LINE_*)
+    k_texel_clipped = 1u << 5, // holds an edge line (SurfaceTexel::edge_line; billboard_layout.glsl, EDGE_LINE_*)
     // the link continues the surface without a crease (normals within k_smooth_link_cos): colour is
     // filtered across it (build_color_pyramid, march.frag footprint_color)
     k_smooth_minus_u = 1u << 6,
@@ -67,7 +67,7 @@ std::vector<std::uint16_t> pack_surface(const HeightFieldAcceleration& acc, int&
 // stand-in shares (reps/common/shaders/height_field.h), with the package's depth quantisation.
 struct LinkSettings {
     int depth_bits = 16; // of the package: 8-bit depths quantise more coarsely
-    // packages of --sheet-edges clip: colour alphas below 255 are sheet edge lines (k_texel_clipped)
+    // packages of --sheet-edges clip: colour alphas below 255 are edge lines (k_texel_clipped)
     bool edge_lines = false;
 };
 

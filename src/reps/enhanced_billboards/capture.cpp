@@ -721,6 +721,16 @@ struct OutlinePoints {
 constexpr int k_outline_points = k_contour_subsamples * k_contour_subsamples;
 constexpr float k_grow_tolerance_texels = 0.25f;
 
+// Barycentric weights of fixed-point point (px, py) in face c (`inverse`: 1 / its doubled area),
+// unclamped: negative outside the face, and the depth of the face's plane there.
+float plane_depth_at(const Corners& c, double inverse, std::int64_t px, std::int64_t py, double w[3])
+{
+    w[0] = double(edge(c, 1, 2, px, py)) * inverse;
+    w[1] = double(edge(c, 2, 0, px, py)) * inverse;
+    w[2] = double(edge(c, 0, 1, px, py)) * inverse;
+    return float(w[0] * c.z[0] + w[1] * c.z[1] + w[2] * c.z[2]);
+}
+
 OutlinePoints rasterise_outline_points(const Mesh& mesh, const Grid& grid, const std::vector<std::uint32_t>& occluders,
                                        const std::vector<std::size_t>& texels)
 {
@@ -745,12 +755,10 @@ OutlinePoints rasterise_outline_points(const Mesh& mesh, const Grid& grid, const
                 if (s < 0) continue;
                 for (int b = 0; b < k_contour_subsamples; ++b)
                     for (int a = 0; a < k_contour_subsamples; ++a) {
-                        std::int64_t px = contour_point(i, a), py = contour_point(j, b);
-                        double w[3] = {double(edge(c, 1, 2, px, py)) * inverse, double(edge(c, 2, 0, px, py)) * inverse,
-                                       double(edge(c, 0, 1, px, py)) * inverse};
+                        double w[3];
+                        float depth = plane_depth_at(c, inverse, contour_point(i, a), contour_point(j, b), w);
                         if (w[0] < 0.0 || w[1] < 0.0 || w[2] < 0.0) continue;
                         if (alpha_tested && !mesh.covered_at(f, float(w[1]), float(w[2]))) continue;
-                        float depth = float(w[0] * c.z[0] + w[1] * c.z[1] + w[2] * c.z[2]);
                         atomic_min(points.keys[std::size_t(s) * k_outline_points + std::size_t(b * k_contour_subsamples + a)],
                                    (std::uint64_t(grid.key_depth(depth)) << 32) | f);
                     }
@@ -782,9 +790,8 @@ std::uint64_t outline_surface_points(const Mesh& mesh, const FaceData& faces, co
         for (int a = 0; a < k_contour_subsamples; ++a) {
             std::uint64_t key = points.keys[std::size_t(s) * k_outline_points + std::size_t(b * k_contour_subsamples + a)];
             if (key == k_empty) continue;
-            std::int64_t px = contour_point(i, a), py = contour_point(j, b);
-            float plane = float((double(edge(c, 1, 2, px, py)) * c.z[0] + double(edge(c, 2, 0, px, py)) * c.z[1] +
-                                 double(edge(c, 0, 1, px, py)) * c.z[2]) * inverse);
+            double w[3];
+            float plane = plane_depth_at(c, inverse, contour_point(i, a), contour_point(j, b), w);
             float depth = grid.depth_of_key(key);
             if (depth > plane + tolerance || (growing && depth < plane - tolerance)) continue;
             mask |= 1ull << (b * k_contour_subsamples + a);
