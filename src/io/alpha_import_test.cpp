@@ -134,6 +134,39 @@ TEST(Alpha, ObjOpacityMapIsAMaskAndOpacityBelowOneBlends)
     EXPECT_TRUE(warned);
 }
 
+// A model whose every face its opacity cuts out would draw nothing (exporters writing opacity
+// inverted): it is drawn opaque, with one warning; one visible face and the file is read as written.
+TEST(Alpha, AModelThatWouldDrawNothingIsDrawnOpaque)
+{
+    std::string dir = alpha_test_dir("invisible");
+    std::ofstream(dir + "/inverted.mtl") << "newmtl wall\nKd 0.7 0.2 0.2\nd 0\n\nnewmtl window\nKd 0.5 0.5 0.9\nd 0.3\n";
+    const std::string geometry = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\n"
+                                 "usemtl wall\nf 1 2 3\nf 1 3 4\nusemtl window\nf 5 6 7\n";
+    std::ofstream(dir + "/inverted.obj") << "mtllib inverted.mtl\n" << geometry;
+    ImportReport report;
+    Result<Mesh> mesh = import_mesh(dir + "/inverted.obj", &report);
+    ASSERT_TRUE(mesh.is_ok()) << mesh.status().message();
+    for (const Material& m : mesh->materials) EXPECT_EQ(m.alpha_mode, AlphaMode::opaque) << m.name;
+    for (std::size_t t = 0; t < mesh->triangle_count(); ++t) EXPECT_TRUE(mesh->covered_at(t, 0.3f, 0.3f));
+    EXPECT_EQ(std::count_if(report.warnings.begin(), report.warnings.end(),
+                            [](const std::string& w) { return w.find("would draw nothing; drawn opaque") != std::string::npos; }),
+              1);
+    EXPECT_TRUE(std::none_of(report.warnings.begin(), report.warnings.end(),
+                             [](const std::string& w) { return w.find("blends") != std::string::npos; }));
+
+    // the same with one visible material: read as written
+    std::ofstream(dir + "/visible.mtl") << "newmtl wall\nKd 0.7 0.2 0.2\n\nnewmtl window\nKd 0.5 0.5 0.9\nd 0.3\n";
+    std::ofstream(dir + "/visible.obj") << "mtllib visible.mtl\n" << geometry;
+    ImportReport kept;
+    Result<Mesh> visible = import_mesh(dir + "/visible.obj", &kept);
+    ASSERT_TRUE(visible.is_ok()) << visible.status().message();
+    std::size_t covered = 0;
+    for (std::size_t t = 0; t < visible->triangle_count(); ++t) covered += visible->covered_at(t, 0.3f, 0.3f);
+    EXPECT_EQ(covered, 2u); // the wall's two triangles, not the window
+    EXPECT_TRUE(std::none_of(kept.warnings.begin(), kept.warnings.end(),
+                             [](const std::string& w) { return w.find("would draw nothing") != std::string::npos; }));
+}
+
 TEST(Alpha, GeneratedTreeIsDeterministicWithAMaskedDoubleSidedLeafMaterial)
 {
     GenerateOptions options;

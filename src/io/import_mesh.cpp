@@ -604,6 +604,7 @@ private:
     int use_map(const aiMaterial& material, aiTextureType type, unsigned* uv_channel);
     bool read_pbr(const aiMaterial& material, const aiMesh& source, unsigned uv_channel, Material& converted);
     void remove_unused_vertices();
+    void keep_a_model_that_would_draw_nothing();
     Status check_extent() const;
 
     const aiScene& scene_;
@@ -970,6 +971,7 @@ Status SceneConverter::convert()
         return error(StatusCode::bad_data, path_ + ": contains no triangles" + detail);
     }
     remove_unused_vertices();
+    keep_a_model_that_would_draw_nothing();
     STANDIN_RETURN_IF_ERROR(check_extent());
     bool any_texture = std::any_of(mesh_.materials.begin(), mesh_.materials.end(),
                                    [](const Material& m) {
@@ -978,6 +980,44 @@ Status SceneConverter::convert()
                                    });
     if (!any_texture) mesh_.uvs.clear();
     return validate_mesh(mesh_, path_);
+}
+
+// A model none of whose faces can pass its alpha test (every material's opacity below its cutoff,
+// its texture's alpha included) would draw nothing, in the truth and in every stand-in, and a
+// stand-in of nothing is no package. Such files are almost always exporters writing opacity
+// inverted: COLLADA's <transparency> 0 meant as opaque (3ds Max and Blender 2.4x exporters; among
+// Debian's assimp-testmodels Collada/teapots.DAE and regr01.dae, whose A_ONE mode makes it 0
+// opacity by the specification). Only then are the materials drawn opaque, with a warning: one
+// visible face and the file is read as written (glTF's hidden helpers stay hidden).
+void SceneConverter::keep_a_model_that_would_draw_nothing()
+{
+    std::vector<float> texture_max_alpha(mesh_.textures.size(), 0.0f);
+    for (std::size_t t = 0; t < mesh_.textures.size(); ++t) {
+        const std::vector<std::uint8_t>& rgba = mesh_.textures[t].rgba;
+        std::uint8_t most = 0;
+        for (std::size_t i = 3; i < rgba.size(); i += 4) most = std::max(most, rgba[i]);
+        texture_max_alpha[t] = float(most) / 255.0f;
+    }
+    for (std::size_t f = 0; f < mesh_.triangle_count(); ++f) {
+        const Material& material = mesh_.materials[mesh_.face_materials[f]];
+        const float cutoff = alpha_test_cutoff(material);
+        if (cutoff <= 0.0f) return;
+        float alpha = 0.0f; // the most any point of the face can have: its corners bound the interpolation
+        for (int k = 0; k < 3; ++k) alpha = std::max(alpha, mesh_.colors[mesh_.indices[3 * f + std::size_t(k)]].w);
+        const int texture = material.base_color_texture;
+        if (texture >= 0 && std::size_t(texture) < texture_max_alpha.size()) alpha *= texture_max_alpha[std::size_t(texture)];
+        if (alpha >= cutoff) return;
+    }
+    for (Material& material : mesh_.materials) {
+        material.alpha_mode = AlphaMode::opaque;
+        material.base_color.w = 1.0f;
+    }
+    for (glm::vec4& colour : mesh_.colors) colour.w = 1.0f;
+    // (the per-material "blends" warnings no longer hold)
+    std::erase_if(report_.warnings, [](const std::string& w) { return w.find("' blends (alpha); drawn alpha-tested") != std::string::npos; });
+    report_.warnings.push_back(path_ + ": every face is cut out by its material's opacity, so the model would draw "
+                                       "nothing; drawn opaque instead (exporters often write opacity inverted, "
+                                       "e.g. COLLADA <transparency> 0 for opaque)");
 }
 
 // Renderers, cameras and bakers work in float: squares of coordinates must stay finite, and a model
