@@ -18,15 +18,16 @@
 //   normals makes this cheap for every candidate), then captures the best k_exact_candidates,
 //   angularly apart, exactly at half resolution and takes the one that really captures the most
 //   area.
-// - grazing angle 30 degrees instead of the seed's 10 (§4.3): a face is projected only onto a
-//   billboard it faces by at least that much. A face captured steeply is a streak of texels joined
-//   by walls, whose tiles are as deep as the face is long: rays from other directions cross more
-//   texels there (fetches), meet the walls a texel off (colour, spill), and pass between texels the
-//   links do not join (holes). Measured on 13 models (docs/RESULTS.md "A grazing angle of 30
-//   degrees"): thesis Luv lower on 11 (the noisy sphere 0.261 -> 0.183, the held-out engine 1.214 ->
-//   0.992), holes without the coarse mesh lower on 10, fetches per covered pixel 11.8 -> 7.2, for
-//   about 30% more texels; still lower Luv at the old texel count. Leaf cards (issue #14): on the
-//   generated tree at 1024 texels Luv at distance 1 was 5.22 at 10 degrees, 4.41 at 30.
+// - grazing angle 20 degrees instead of the seed's 10 (§4.3; 30 for alpha-tested models, below): a
+//   face is projected only onto a billboard it faces by at least that much. A face captured steeply
+//   is a streak of texels joined by walls, whose tiles are as deep as the face is long: rays from
+//   other directions cross more texels there (fetches), meet the walls a texel off (colour, spill),
+//   and pass between texels the links do not join (holes). Measured on 13 models (docs/RESULTS.md
+//   "A grazing angle of 20 degrees"): thesis Luv lower on 11 (the noisy sphere 0.261 -> 0.202, the
+//   held-out engine 1.214 -> 1.107), holes without the coarse mesh lower on most, fetches per
+//   covered pixel 11.8 -> 9.4. 30 degrees gained more (0.183, 0.992; 7.2 fetches) but drew 39% more
+//   proxy triangles in a crowd of tiny instances, whose frame it slowed by half on llvmpipe (20
+//   degrees: +18%).
 // - stopping: when nothing is left, when what is left cannot be captured (grazing in every
 //   candidate direction, degenerate, or hidden in a way the intersection bypass does not resolve),
 //   at --max-billboards, or when the best billboard would capture less than --min-coverage of the
@@ -47,6 +48,9 @@
 //   are coarser than a pixel at distance 1, and the crown's silhouette IoU at distance 8 falls
 //   under 0.95; at 1024 the leaves' edges inside the crown still sit half a texel off, where half a
 //   pixel of the truth itself costs over 1 Luv.
+//   Their faces are projected only onto billboards they face by at least k_alpha_grazing_angle
+//   (30 degrees instead of 20): a card captured edge-on is a streak of texels with walls, which
+//   rays from other directions hit where the truth shows another card.
 //   Their coarse mesh is made of the opaque faces only (trunk, branches): it cannot cut out a
 //   leaf card, and whole cards filled the near-miss ring around every leaf (see opaque_faces).
 #include "reps/enhanced_billboards/acceleration.h"
@@ -670,6 +674,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     const bool alpha_tested = std::any_of(mesh.materials.begin(), mesh.materials.end(),
                                           [](const Material& m) { return alpha_test_cutoff(m) > 0.0f; });
     if (alpha_tested && default_resolution) parameters.set_integer("resolution", cutout_resolution(mesh));
+    // and faces more squarely facing their billboard (k_alpha_grazing_angle)
+    if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);
     if (!package) return package.status();
     // alpha-tested models above k_alpha_resolution: again, coarser, where the maps exceed the budget

@@ -599,9 +599,9 @@ TEST(BakeBillboards, OnlyAlphaTestedFacesGiveAnEmptyCoarseMesh)
 
 // Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal, finer
 // up to k_alpha_max_resolution where their leaf texture is finer (opaque ones keep 512; --resolution and --texel-size still decide),
-// and their coarse mesh leaves the cut-out faces out: whole cards would fill the ring of near-miss
-// pixels around every leaf. Every model's faces face their billboard by 30 degrees unless
-// --grazing-angle says otherwise.
+// and to k_alpha_grazing_angle (opaque ones
+// keep 20; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole cards
+// would fill the ring of near-miss pixels around every leaf.
 TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
 {
     const Mesh mesh = card_and_sphere();
@@ -612,7 +612,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
     ASSERT_TRUE(masked.status) << masked.status.message();
     EXPECT_EQ(masked.package->settings.resolution, k_alpha_resolution);
     EXPECT_NEAR(masked.package->settings.texel_size, diagonal / float(k_alpha_resolution), 1e-6f * diagonal);
-    EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, 30.0f);
+    EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, k_alpha_grazing_angle);
     EXPECT_TRUE(masked.package->parameters.requested().empty()); // defaults, not something asked for
     EXPECT_EQ(masked.package->settings.sheet_edges, "clip");      // alpha contour lines
     // the coarse mesh: the sphere's triangles (small models keep all), none of the card's
@@ -656,7 +656,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
     Baked solid = bake_mesh(opaque);
     ASSERT_TRUE(solid.status) << solid.status.message();
     EXPECT_EQ(solid.package->settings.resolution, 512);
-    EXPECT_FLOAT_EQ(solid.package->settings.grazing_angle, 30.0f);
+    EXPECT_FLOAT_EQ(solid.package->settings.grazing_angle, 20.0f);
     EXPECT_EQ(solid.package->coarse_mesh.triangle_count(), mesh.triangle_count());
 }
 
