@@ -792,9 +792,8 @@ void SceneConverter::convert_alpha(const aiMaterial& material, const aiMesh& sou
     }
     int two_sided = 1;
     if (material.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) converted.double_sided = two_sided != 0;
-    if (converted.alpha_mode == AlphaMode::blend)
-        report_.warnings.push_back(path_ + ": material '" + converted.name +
-                                   "' blends (alpha); drawn alpha-tested at 0.5, as every stand-in keeps binary coverage");
+    // (blending materials are reported once the whole model is read: keep_a_model_that_would_draw_nothing
+    // may turn them opaque)
 }
 
 // The base-colour texture (white where there is none) with the opacity map's alpha, or its red
@@ -972,6 +971,10 @@ Status SceneConverter::convert()
     }
     remove_unused_vertices();
     keep_a_model_that_would_draw_nothing();
+    for (const Material& m : mesh_.materials)
+        if (m.alpha_mode == AlphaMode::blend)
+            report_.warnings.push_back(path_ + ": material '" + m.name +
+                                       "' blends (alpha); drawn alpha-tested at 0.5, as every stand-in keeps binary coverage");
     STANDIN_RETURN_IF_ERROR(check_extent());
     bool any_texture = std::any_of(mesh_.materials.begin(), mesh_.materials.end(),
                                    [](const Material& m) {
@@ -991,13 +994,17 @@ Status SceneConverter::convert()
 // visible face and the file is read as written (glTF's hidden helpers stay hidden).
 void SceneConverter::keep_a_model_that_would_draw_nothing()
 {
-    std::vector<float> texture_max_alpha(mesh_.textures.size(), 0.0f);
-    for (std::size_t t = 0; t < mesh_.textures.size(); ++t) {
-        const std::vector<std::uint8_t>& rgba = mesh_.textures[t].rgba;
-        std::uint8_t most = 0;
-        for (std::size_t i = 3; i < rgba.size(); i += 4) most = std::max(most, rgba[i]);
-        texture_max_alpha[t] = float(most) / 255.0f;
-    }
+    // the most alpha a texture holds, read only for textures a face needs (-1: not read yet)
+    std::vector<float> texture_max_alpha(mesh_.textures.size(), -1.0f);
+    auto max_alpha = [&](std::size_t t) {
+        if (texture_max_alpha[t] < 0.0f) {
+            std::uint8_t most = 0;
+            const std::vector<std::uint8_t>& rgba = mesh_.textures[t].rgba;
+            for (std::size_t i = 3; i < rgba.size() && most < 255; i += 4) most = std::max(most, rgba[i]);
+            texture_max_alpha[t] = float(most) / 255.0f;
+        }
+        return texture_max_alpha[t];
+    };
     for (std::size_t f = 0; f < mesh_.triangle_count(); ++f) {
         const Material& material = mesh_.materials[mesh_.face_materials[f]];
         const float cutoff = alpha_test_cutoff(material);
@@ -1005,7 +1012,7 @@ void SceneConverter::keep_a_model_that_would_draw_nothing()
         float alpha = 0.0f; // the most any point of the face can have: its corners bound the interpolation
         for (int k = 0; k < 3; ++k) alpha = std::max(alpha, mesh_.colors[mesh_.indices[3 * f + std::size_t(k)]].w);
         const int texture = material.base_color_texture;
-        if (texture >= 0 && std::size_t(texture) < texture_max_alpha.size()) alpha *= texture_max_alpha[std::size_t(texture)];
+        if (texture >= 0 && std::size_t(texture) < mesh_.textures.size()) alpha *= max_alpha(std::size_t(texture));
         if (alpha >= cutoff) return;
     }
     for (Material& material : mesh_.materials) {
@@ -1013,8 +1020,6 @@ void SceneConverter::keep_a_model_that_would_draw_nothing()
         material.base_color.w = 1.0f;
     }
     for (glm::vec4& colour : mesh_.colors) colour.w = 1.0f;
-    // (the per-material "blends" warnings no longer hold)
-    std::erase_if(report_.warnings, [](const std::string& w) { return w.find("' blends (alpha); drawn alpha-tested") != std::string::npos; });
     report_.warnings.push_back(path_ + ": every face is cut out by its material's opacity, so the model would draw "
                                        "nothing; drawn opaque instead (exporters often write opacity inverted, "
                                        "e.g. COLLADA <transparency> 0 for opaque)");

@@ -598,11 +598,10 @@ TEST(BakeBillboards, OnlyAlphaTestedFacesGiveAnEmptyCoarseMesh)
 }
 
 // Alpha-tested models (issue #14) default to k_alpha_resolution texels along the diagonal, finer
-// up to k_alpha_max_resolution where their leaf texture is finer (opaque ones keep 512; --resolution and --texel-size still decide),
-// and to k_alpha_grazing_angle (opaque ones
-// keep 20; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole cards
-// would fill the ring of near-miss pixels around every leaf.
-TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsAndAnOpaqueCoarseMesh)
+// up to k_alpha_max_resolution where their leaf texture is finer (opaque ones keep 512; --resolution and --texel-size still decide) and to k_alpha_grazing_angle (opaque
+// ones keep 20; --grazing-angle decides), and their coarse mesh leaves the cut-out faces out: whole
+// cards would fill the ring of near-miss pixels around every leaf.
+TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoarseMesh)
 {
     const Mesh mesh = card_and_sphere();
     const std::size_t sphere_triangles = mesh.triangle_count() - 2; // the card is 2
