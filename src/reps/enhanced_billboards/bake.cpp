@@ -28,6 +28,12 @@
 //   covered pixel 11.8 -> 9.4. 30 degrees gained more (0.183, 0.992; 7.2 fetches) but drew 39% more
 //   proxy triangles in a crowd of tiny instances, whose frame it slowed by half on llvmpipe (20
 //   degrees: +18%).
+// - face assignment (--face-assignment squarer, not the default): the greedy captures every face a
+//   direction can hold, however steeply; squarer keeps the greedy's directions and moves a face seen
+//   over k_squarer_angle off its normal to a later billboard that sees it more squarely
+//   (assign_squarer). Measured on 14 models (docs/RESULTS.md "Faces on the billboard that sees them
+//   squarely"): thesis Luv lower on 11 (up to 29%) and lower than the same bytes spent on texels,
+//   up to 3 more billboards, 9-41% more package bytes and 1.7-3.1x the bake time, so an option.
 // - stopping: when nothing is left, when what is left cannot be captured (grazing in every
 //   candidate direction, degenerate, or hidden in a way the intersection bypass does not resolve),
 //   at --max-billboards, or when the best billboard would capture less than --min-coverage of the
@@ -404,6 +410,85 @@ std::vector<std::uint32_t> without(const std::vector<std::uint32_t>& from, const
     return out;
 }
 
+// --face-assignment squarer. The greedy captures every face a direction can hold, so a face goes to
+// the first billboard that sees it within the grazing angle, however steeply (assimp's COLLADA.dae:
+// letter fronts 20.3 degrees off the billboard's plane, streaks of texels whose outlines the march
+// meets a texel off). Here the greedy only chooses the directions (as the first pass would); then a
+// face the billboard at hand sees more than k_squarer_angle off its normal is left for the later
+// direction that sees it most squarely, among those that can capture it with every face present.
+// Deferring a face also defers what it hides: a surface the greedy reached only once the faces in
+// front of it were taken can be left hidden at every billboard. Rounds without maps find such
+// faces and pin them and the faces that hid them to the first billboard able to hold them (the
+// greedy's rule), until no fewer are left; what is still left goes on to further greedy billboards.
+struct SquarerAssignment {
+    std::vector<glm::vec3> directions;              // the greedy's, in its order
+    std::vector<std::vector<std::uint8_t>> visible; // per direction, per face: capturable with every face present
+    std::vector<std::uint8_t> pinned;               // per face: to the first billboard able to hold it
+
+    // Per face of `left`, whether billboard i may hold it.
+    void allow(std::size_t i, const FaceData& faces, const std::vector<std::uint32_t>& left, std::vector<std::uint8_t>& allowed) const
+    {
+        const float squarer = glm::radians(k_squarer_angle);
+        tbb::parallel_for(std::size_t(0), left.size(), [&](std::size_t r) {
+            std::uint32_t f = left[r];
+            if (pinned[f]) {
+                allowed[f] = 1;
+                return;
+            }
+            float best = -1.0f; // the squarest of the later billboards that can hold it
+            for (std::size_t j = i + 1; j < directions.size(); ++j)
+                if (visible[j][f]) best = std::max(best, -glm::dot(faces.normal[f], directions[j]));
+            float here = std::acos(std::clamp(-glm::dot(faces.normal[f], directions[i]), -1.0f, 1.0f));
+            allowed[f] = here <= std::max(squarer, std::acos(std::clamp(best, -1.0f, 1.0f)));
+        });
+    }
+};
+
+SquarerAssignment assign_squarer(const Mesh& mesh, const FaceData& faces, const std::vector<std::uint32_t>& all,
+                                 const std::vector<glm::vec3>& candidates, const BakeSettings& settings,
+                                 const CaptureSettings& capture_settings, double area_total, const Progress& progress)
+{
+    SquarerAssignment result;
+    // the greedy's directions, captured without maps
+    std::vector<std::uint32_t> left = all;
+    while (!left.empty() && int(result.directions.size()) < settings.max_billboards) {
+        std::optional<glm::vec3> w = choose_direction(mesh, faces, left, candidates, settings, capture_settings);
+        if (!w) break;
+        Capture capture = capture_direction(mesh, faces, left, *w, capture_settings);
+        if (capture.faces.empty() || capture.area < double(settings.min_coverage) * area_total) break;
+        result.directions.push_back(*w);
+        left = without(left, capture.faces);
+    }
+    // with fewer faces left to hide them, these stay capturable
+    result.visible.assign(result.directions.size(), std::vector<std::uint8_t>(mesh.triangle_count(), 0));
+    for (std::size_t j = 0; j < result.directions.size(); ++j)
+        for (std::uint32_t f : capture_direction(mesh, faces, all, result.directions[j], capture_settings).faces) result.visible[j][f] = 1;
+    result.pinned.assign(mesh.triangle_count(), 0);
+    std::size_t previous = all.size() + 1;
+    std::vector<std::uint8_t> allowed(mesh.triangle_count(), 0), is_left(mesh.triangle_count(), 0);
+    for (int round = 0; round < k_squarer_rounds; ++round) {
+        left = all;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> hidden_by;
+        CaptureSettings round_settings = capture_settings;
+        round_settings.allowed = &allowed;
+        for (std::size_t i = 0; i < result.directions.size(); ++i) {
+            progress.report("enhanced billboards: assigning faces",
+                            (double(round) + double(i) / double(result.directions.size())) / double(k_squarer_rounds));
+            result.allow(i, faces, left, allowed);
+            Capture capture = capture_direction(mesh, faces, left, result.directions[i], round_settings);
+            hidden_by.insert(hidden_by.end(), capture.hidden_by.begin(), capture.hidden_by.end());
+            left = without(left, capture.faces);
+        }
+        if (left.empty() || left.size() >= previous) break;
+        previous = left.size();
+        for (std::uint32_t f : left) is_left[f] = result.pinned[f] = 1;
+        for (auto [f, by] : hidden_by)
+            if (is_left[f]) result.pinned[by] = 1;
+        for (std::uint32_t f : left) is_left[f] = 0;
+    }
+    return result;
+}
+
 // 8-bit packages hold depth and normal in 8 bits; the in-memory maps match what reading gives.
 void quantise_to_8_bits(Billboard& board)
 {
@@ -606,9 +691,43 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     std::vector<std::uint32_t> remaining(work.triangle_count());
     for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
 
-    // greedy loop over the faces not yet captured
     bool hit_limit = false;
     std::vector<std::uint32_t> too_small;
+    // a capture with its maps becomes a billboard (or, cut out entirely by alpha, nothing)
+    auto keep = [&](Capture& capture) {
+        if (capture.billboard.width == 0) {
+            // every texel of what it holds is cut out by its alpha (assimp's earthCylindrical.DAE,
+            // opacity 0: the truth draws nothing): captured, as nothing, with no billboard to store
+            package->area_captured += capture.area;
+            remaining = without(remaining, capture.faces);
+            return;
+        }
+        if (settings.depth_bits == 8) quantise_to_8_bits(capture.billboard);
+        capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
+        package->area_captured += capture.area;
+        package->billboards.push_back(std::move(capture.billboard));
+        remaining = without(remaining, capture.faces);
+    };
+
+    if (settings.face_assignment == "squarer") {
+        context.progress.report("enhanced billboards: assigning faces", 0.0);
+        const SquarerAssignment squarer = assign_squarer(work, faces, remaining, directions, settings, capture_settings,
+                                                         package->area_total, context.progress);
+        context.progress.report("enhanced billboards: assigning faces", 1.0);
+        std::vector<std::uint8_t> allowed(work.triangle_count(), 0);
+        for (std::size_t i = 0; i < squarer.directions.size(); ++i) {
+            context.progress.report("enhanced billboards: capturing", package->area_captured / std::max(package->area_total, 1e-300));
+            squarer.allow(i, faces, remaining, allowed);
+            CaptureSettings final_settings = capture_settings;
+            final_settings.write_maps = true;
+            final_settings.allowed = &allowed;
+            Capture capture = capture_direction(work, faces, remaining, squarer.directions[i], final_settings);
+            if (!capture.faces.empty()) keep(capture);
+        }
+        // what it left hidden everywhere goes on to the greedy below
+    }
+
+    // greedy loop over the faces not yet captured
     while (!remaining.empty()) {
         context.progress.report("enhanced billboards: capturing", package->area_captured / std::max(package->area_total, 1e-300));
         if (int(package->billboards.size()) >= settings.max_billboards) {
@@ -626,18 +745,7 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
             too_small = std::move(capture.faces);
             break;
         }
-        if (capture.billboard.width == 0) {
-            // every texel of what it holds is cut out by its alpha (assimp's earthCylindrical.DAE,
-            // opacity 0: the truth draws nothing): captured, as nothing, with no billboard to store
-            package->area_captured += capture.area;
-            remaining = without(remaining, capture.faces);
-            continue;
-        }
-        if (settings.depth_bits == 8) quantise_to_8_bits(capture.billboard);
-        capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
-        package->area_captured += capture.area;
-        package->billboards.push_back(std::move(capture.billboard));
-        remaining = without(remaining, capture.faces);
+        keep(capture);
     }
     context.progress.report("enhanced billboards: capturing", 1.0);
 

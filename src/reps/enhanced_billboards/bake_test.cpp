@@ -513,6 +513,78 @@ TEST(BakeBillboards, ResultDoesNotDependOnThreads)
     EXPECT_EQ(one.package->coarse_mesh.indices, two.package->coarse_mesh.indices);
 }
 
+// Appends the box [lo, hi] turned by `degrees` about y through the origin, with vertices of their
+// own per face (so that the normals are the faces').
+void add_turned_box(std::vector<glm::vec3>& positions, std::vector<std::uint32_t>& indices, glm::vec3 lo, glm::vec3 hi,
+                    float degrees)
+{
+    // a box face: its four corners (of the box's 8, bit 0 x, bit 1 y, bit 2 z) counter-clockwise seen from outside
+    const std::uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    const float c = std::cos(glm::radians(degrees)), s = std::sin(glm::radians(degrees));
+    for (const auto& quad : quads) {
+        std::uint32_t base = std::uint32_t(positions.size());
+        for (std::uint32_t k : quad) {
+            glm::vec3 p(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+            positions.push_back({c * p.x + s * p.z, p.y, -s * p.x + c * p.z});
+        }
+        for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) indices.push_back(base + i);
+    }
+}
+
+// A box turned 60 degrees about y, each of whose upright faces the axes see 30 degrees off one
+// axis and 60 off another, beside a plate facing +-z, which only the z axis can capture.
+Mesh turned_box_and_plate()
+{
+    std::vector<glm::vec3> positions;
+    std::vector<std::uint32_t> indices;
+    add_turned_box(positions, indices, {-0.5f, -0.25f, -0.35f}, {0.5f, 0.25f, 0.35f}, 60.0f);
+    add_turned_box(positions, indices, {1.5f, -0.6f, -0.05f}, {2.7f, 0.6f, 0.05f}, 0.0f);
+    return make_mesh(std::move(positions), std::move(indices));
+}
+
+// The fraction of covered texels whose normal lies more than 45 degrees off their billboard's view.
+double steep_texel_fraction(const EnhancedBillboardsPackage& p)
+{
+    std::size_t covered = 0, steep = 0;
+    for (const Billboard& b : p.billboards)
+        for (int y = 0; y < b.height; ++y)
+            for (int x = 0; x < b.width; ++x) {
+                if (b.color.at(x, y)[3] != 255) continue;
+                const std::uint16_t* t = b.normal_depth.at(x, y);
+                glm::vec3 n = glm::normalize(glm::vec3(t[0], t[1], t[2]) / 65535.0f * 2.0f - 1.0f);
+                ++covered;
+                steep += -glm::dot(n, b.direction) < std::cos(glm::radians(45.0f));
+            }
+    return covered ? double(steep) / double(covered) : 0.0;
+}
+
+TEST(BakeBillboards, SquarerAssignmentSeesSteepFacesFromAnotherChosenBillboard)
+{
+    const Mesh mesh = turned_box_and_plate();
+    Baked first = bake_mesh(mesh, {{"directions", "axis"}});
+    Baked squarer = bake_mesh(mesh, {{"directions", "axis"}, {"face-assignment", "squarer"}});
+    ASSERT_TRUE(first.status && squarer.status) << squarer.status.message();
+    double steep_first = steep_texel_fraction(*first.package), steep_squarer = steep_texel_fraction(*squarer.package);
+    // the greedy puts the box's faces on the first axis that sees them, 60 degrees off for half of
+    // them; squarer moves those that a later axis sees 30 degrees off (measured: 8.4% of the
+    // texels steep, 1.9%)
+    EXPECT_GT(steep_first, 0.05);
+    EXPECT_LT(steep_squarer, 0.4 * steep_first);
+    // by the directions the greedy chose: no more billboards
+    EXPECT_LE(squarer.package->billboards.size(), first.package->billboards.size());
+    EXPECT_EQ(squarer.package->parameters.choice("face-assignment"), "squarer");
+    expect_accounted(*squarer.package);
+    EXPECT_NEAR(squarer.package->area_captured, first.package->area_captured, 1e-6 * first.package->area_total);
+    // and, like the greedy, the same at any thread count
+    Baked one = bake_mesh(mesh, {{"directions", "axis"}, {"face-assignment", "squarer"}}, 1);
+    ASSERT_TRUE(one.status);
+    ASSERT_EQ(one.package->billboards.size(), squarer.package->billboards.size());
+    for (std::size_t k = 0; k < one.package->billboards.size(); ++k) {
+        EXPECT_EQ(one.package->billboards[k].color.pixels, squarer.package->billboards[k].color.pixels);
+        EXPECT_EQ(one.package->billboards[k].normal_depth.pixels, squarer.package->billboards[k].normal_depth.pixels);
+    }
+}
+
 // A leaf card (the alpha quad: a disc cut out of it) beside an opaque closed sphere of about 48
 // triangles in x >= 1.5.
 Mesh card_and_sphere()

@@ -78,6 +78,17 @@ constexpr double k_detail_edge_fraction = 0.21;
 // 4.41 at 30, 4.39 at 40; holes 1.00% -> 0.50% at 30 (the faces left at the 64-billboard limit lie
 // inside the crown: 128 billboards gave 4.37).
 constexpr float k_alpha_grazing_angle = 30.0f;
+// --face-assignment squarer: a face the first billboard able to hold it would see at more than this
+// many degrees from its normal waits for a later billboard of the same bake that sees it more
+// squarely (bake.cpp, assign_squarer). 45 keeps the billboard count (0, every face on its squarest
+// billboard, gave 40-55% more billboards on concave models, the faces deferred past the ones hiding
+// them) while it moves the steeply captured faces: assimp's COLLADA.dae, whose letter fronts the
+// greedy put on a billboard 20.3 degrees from their plane (docs/RESULTS.md "Faces on the billboard
+// that sees them squarely").
+constexpr float k_squarer_angle = 45.0f;
+// Rounds of squarer assignment without maps (each re-captures every billboard) before the one that
+// writes them; they stop early once no fewer faces are left hidden.
+constexpr int k_squarer_rounds = 5;
 // The coarse mesh may stray from the model by at most this many texels (make_coarse_mesh's
 // max_error; issue #17): it fills the pixels the billboards' texel-centre outlines lose at
 // silhouettes, so it must reach them, and the model's 10% simplification lay inside its convex
@@ -115,6 +126,10 @@ struct BakeSettings {
     // from below). "auto" (the bake's default) is resolved to "show" by the baker (bake.cpp says
     // why); packages from before it read "show".
     std::string back_hits = "show";
+    // "first": each face on the first billboard able to hold it (the greedy's, Vichitvejpaisal 2005
+    // §3.2); "squarer": the greedy chooses the directions, then a face seen steeper than
+    // k_squarer_angle goes to a later one of them that sees it more squarely (bake.cpp)
+    std::string face_assignment = "first";
 };
 
 class EnhancedBillboardsPackage final : public Package {

@@ -1152,6 +1152,16 @@ Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::ve
     for (std::size_t r = 0; r < sets.candidates.size(); ++r) slot[sets.candidates[r]] = std::uint32_t(r);
     std::vector<Visibility> visibility = test_visibility(mesh, sets, grid);
     std::vector<std::uint8_t> captured = decide_captured(sets, visibility, slot);
+    // faces left for another billboard decide visibility like the rest (they hide, they stand for a
+    // sub-texel face's texel, they intersect), but are not captured here
+    if (settings.allowed)
+        for (std::size_t r = 0; r < sets.candidates.size(); ++r) {
+            if (!(*settings.allowed)[sets.candidates[r]]) {
+                captured[r] = 0;
+            } else if (!captured[r] && visibility[r].hidden) {
+                for (int k = 0; k < visibility[r].occluder_count; ++k) capture.hidden_by.push_back({sets.candidates[r], visibility[r].occluders[k]});
+            }
+        }
 
     for (std::size_t r = 0; r < sets.candidates.size(); ++r)
         if (captured[r]) {

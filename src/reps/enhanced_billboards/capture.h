@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace standin::billboards {
@@ -39,11 +40,16 @@ struct CaptureSettings {
     // it) stores that outline's line, grown into the texels beyond where the outline reaches into
     // them (capture.cpp: sheet edge lines, alpha contour lines, outline lines)
     bool edge_lines = false;
+    // Per face id, whether this billboard may capture it (null: every face); a face it may not
+    // capture still hides what lies behind it
+    const std::vector<std::uint8_t>* allowed = nullptr;
 };
 
 struct Capture {
     std::vector<std::uint32_t> faces; // captured face ids (S''), ascending
     double area = 0.0;                // their total area
+    // with CaptureSettings::allowed: (allowed face not captured because hidden, a face hiding it)
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> hidden_by;
     Billboard billboard;              // with write_maps and a non-empty capture
 };
 

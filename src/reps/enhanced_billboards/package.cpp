@@ -244,13 +244,16 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         auto package = std::make_unique<EnhancedBillboardsPackage>();
         package->source = manifest_io::read_source(in, manifest);
         // packages from before --compression hold PNG maps
-        nlohmann::json patched, patched_sheets, patched_back;
+        nlohmann::json patched, patched_sheets, patched_back, patched_assignment;
         const nlohmann::json& with_compression = manifest_io::with_setting_default(manifest, "compression", "none", patched);
         // and from before --sheet-edges covered texels by their centres
         const nlohmann::json& with_sheets =
             manifest_io::with_setting_default(with_compression, "sheet_edges", "centre", patched_sheets);
         // and from before --back-hits drew every back hit
-        const nlohmann::json& settings = manifest_io::with_setting_default(with_sheets, "back_hits", "show", patched_back);
+        const nlohmann::json& with_back = manifest_io::with_setting_default(with_sheets, "back_hits", "show", patched_back);
+        // and from before --face-assignment put each face on the first billboard that could hold it
+        const nlohmann::json& settings =
+            manifest_io::with_setting_default(with_back, "face_assignment", "first", patched_assignment);
         package->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         package->settings = settings_from(package->parameters);
         int depth_bits = package->settings.depth_bits;

@@ -91,8 +91,9 @@ TEST(BillboardPackage, RoundTripKeepsEverything)
     EXPECT_EQ(summary["representation"], "enhanced-billboards");
 }
 
-// Packages from before --sheet-edges (no bake.sheet_edges) read as centre-covered, and from before
-// --back-hits (no bake.back_hits) as showing back hits, as they were baked and drawn.
+// Packages from before --sheet-edges (no bake.sheet_edges) read as centre-covered, from before
+// --back-hits (no bake.back_hits) as showing back hits, as they were baked and drawn, and from before
+// --face-assignment as the greedy's first billboard.
 TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
 {
     auto baked = baked_sphere();
@@ -101,13 +102,16 @@ TEST(BillboardPackage, PackagesFromBeforeSheetEdgesAreRead)
     nlohmann::json manifest = read_manifest(directory);
     ASSERT_EQ(manifest["bake"]["sheet_edges"], "clip"); // what auto resolves to
     ASSERT_EQ(manifest["bake"]["back_hits"], "show");
+    ASSERT_EQ(manifest["bake"]["face_assignment"], "first");
     manifest["bake"].erase("sheet_edges");
     manifest["bake"].erase("back_hits");
+    manifest["bake"].erase("face_assignment");
     write_manifest(directory, manifest);
     Result<std::unique_ptr<Package>> read = read_package(directory);
     ASSERT_TRUE(read) << read.status().message();
     EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.sheet_edges, "centre");
     EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.back_hits, "show");
+    EXPECT_EQ(static_cast<const EnhancedBillboardsPackage&>(**read).settings.face_assignment, "first");
 }
 
 // Sheet rims (issue #17): a model with open opaque parts gets coarse_mesh.rims (the renderer fills
