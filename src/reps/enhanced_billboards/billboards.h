@@ -80,11 +80,11 @@ constexpr double k_detail_edge_fraction = 0.21;
 constexpr float k_alpha_grazing_angle = 30.0f;
 // --face-assignment squarer: a face the first billboard able to hold it would see at more than this
 // many degrees from its normal waits for a later billboard of the same bake that sees it more
-// squarely (bake.cpp, assign_squarer). 45 keeps the billboard count (0, every face on its squarest
-// billboard, gave 40-55% more billboards on concave models, the faces deferred past the ones hiding
-// them) while it moves the steeply captured faces: assimp's COLLADA.dae, whose letter fronts the
-// greedy put on a billboard 20.3 degrees from their plane (docs/RESULTS.md "Faces on the billboard
-// that sees them squarely").
+// squarely (bake.cpp, assign_squarer). 45 adds at most 3 billboards on 14 models (0, every face on
+// its squarest billboard, gave 40-55% more billboards on concave models, the faces deferred past
+// the ones hiding them) while it moves the steeply captured faces: assimp's COLLADA.dae, whose
+// letter fronts the greedy put on a billboard 20.3 degrees from their plane (docs/RESULTS.md "Faces
+// on the billboard that sees them squarely").
 constexpr float k_squarer_angle = 45.0f;
 // Rounds of squarer assignment without maps (each re-captures every billboard) before the one that
 // writes them; they stop early once no fewer faces are left hidden.
