@@ -112,10 +112,10 @@ Result<std::string> encode_png_grey_bytes(int width, int height, int bit_depth, 
     if ((bit_depth != 8 && bit_depth != 16) || samples.size() != std::size_t(width) * std::size_t(height))
         return error(StatusCode::invalid_argument, "PNG: grey image of " + std::to_string(samples.size()) +
                                                        " samples at " + std::to_string(bit_depth) + " bits");
-    if (bit_depth == 16) return encode_png(width, height, 16, samples.data(), 1, 9);
+    if (bit_depth == 16) return encode_png(width, height, 16, samples.data(), 1);
     std::vector<std::uint8_t> narrow(samples.size());
     for (std::size_t k = 0; k < samples.size(); ++k) narrow[k] = std::uint8_t(std::min<std::uint16_t>(samples[k], 255));
-    return encode_png(width, height, 8, narrow.data(), 1, 9);
+    return encode_png(width, height, 8, narrow.data(), 1);
 }
 
 // The decoded image must fit the memory budget: a few bytes of PNG can declare 65535 x 65535.

@@ -456,7 +456,9 @@ std::string encode_ktx2(const BlockImage& image)
         const std::vector<std::uint8_t>& level = image.levels[m];
         uLongf size = compressBound(uLong(level.size()));
         packed[m].resize(size);
-        if (compress2(reinterpret_cast<Bytef*>(packed[m].data()), &size, level.data(), uLong(level.size()), 9) != Z_OK)
+        // zlib's default level: 9 made a view atlas bake 1.2-1.4x as long for 0.3% fewer bytes on
+        // BC blocks (docs/RESULTS.md, "zlib level 6")
+        if (compress2(reinterpret_cast<Bytef*>(packed[m].data()), &size, level.data(), uLong(level.size()), 6) != Z_OK)
             throw std::bad_alloc(); // zlib fails only without memory
         packed[m].resize(size);
     }

@@ -144,7 +144,7 @@ std::uint64_t level_bytes(BlockFormat format, int width, int height);
 // Largest uncompressed level a package may hold (1 GiB: a 32768² BC3 level).
 constexpr std::uint64_t k_max_level_bytes = 1ull << 30;
 
-// The KTX2 file of an image (deterministic: fixed header, zlib level 9).
+// The KTX2 file of an image (deterministic: fixed header, zlib level 6).
 std::string encode_ktx2(const BlockImage& image);
 // Parses a KTX2 file of `bytes`, refusing (one line naming `path`) anything but an image of `format`,
 // width x height and `levels` levels, with every level's offsets inside the file and every level
