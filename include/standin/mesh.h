@@ -21,6 +21,8 @@ struct Texture {
 
     // Bilinear lookup with wrap-around addressing, returns sRGB-encoded colour in [0,1].
     glm::vec4 sample(glm::vec2 uv) const;
+    // sample(uv).w, reading only the alpha bytes (the alpha test of every texel of a leaf card).
+    float sample_alpha(glm::vec2 uv) const;
 };
 
 // Colour convention: Mesh::colors already holds vertex colour x material base colour (import folds

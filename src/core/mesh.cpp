@@ -17,6 +17,7 @@ namespace standin {
 
 static int wrap_index(int i, int n)
 {
+    if (i >= 0 && i < n) return i; // the usual case, without a division
     int r = i % n;
     return r < 0 ? r + n : r;
 }
@@ -27,25 +28,62 @@ static glm::vec4 texel(const Texture& texture, int x, int y)
     return glm::vec4(p[0], p[1], p[2], p[3]) * (1.0f / 255.0f);
 }
 
+namespace {
+
+// The four texels a bilinear lookup at uv reads, and its weights (texel centres at (i + 0.5) / size).
+struct BilinearFootprint {
+    int x0, x1, y0, y1;
+    float fx, fy;
+};
+
+// floor(x) for |x| < 2^31, exact, without the libm call x86-64's baseline (no SSE4.1) makes of it
+float floor_small(float x)
+{
+    float t = float(int(x));
+    return t > x ? t - 1.0f : t;
+}
+
+BilinearFootprint footprint(const Texture& texture, glm::vec2 uv)
+{
+    // reduce to one period first so float keeps its precision (uv - floor(uv) is uv itself in [0, 1))
+    glm::vec2 wrapped = uv;
+    if (!(uv.x >= 0.0f && uv.x < 1.0f)) wrapped.x = uv.x - std::floor(uv.x);
+    if (!(uv.y >= 0.0f && uv.y < 1.0f)) wrapped.y = uv.y - std::floor(uv.y);
+    float x = wrapped.x * float(texture.width) - 0.5f;
+    float y = wrapped.y * float(texture.height) - 0.5f;
+    float x0f = floor_small(x), y0f = floor_small(y); // x, y in [-0.5, size): sizes are below 2^31
+    return {wrap_index(int(x0f), texture.width), wrap_index(int(x0f) + 1, texture.width),
+            wrap_index(int(y0f), texture.height), wrap_index(int(y0f) + 1, texture.height), x - x0f, y - y0f};
+}
+
+bool sampleable(const Texture& texture)
+{
+    return texture.width > 0 && texture.height > 0 && texture.rgba.size() >= std::size_t(texture.width) * texture.height * 4;
+}
+
+} // namespace
+
 glm::vec4 Texture::sample(glm::vec2 uv) const
 {
-    if (width <= 0 || height <= 0 || rgba.size() < std::size_t(width) * height * 4)
-        return glm::vec4(1.0f);
+    if (!sampleable(*this)) return glm::vec4(1.0f);
     // a NaN UV would turn into an arbitrary index below; the first texel is as good as any
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texel(*this, 0, 0);
+    const BilinearFootprint f = footprint(*this, uv);
+    glm::vec4 bottom = glm::mix(texel(*this, f.x0, f.y0), texel(*this, f.x1, f.y0), f.fx);
+    glm::vec4 top = glm::mix(texel(*this, f.x0, f.y1), texel(*this, f.x1, f.y1), f.fx);
+    return glm::mix(bottom, top, f.fy);
+}
 
-    // texel centres sit at (i + 0.5) / size; reduce to one period first so float keeps its precision
-    glm::vec2 wrapped = uv - glm::floor(uv);
-    float x = wrapped.x * float(width) - 0.5f;
-    float y = wrapped.y * float(height) - 0.5f;
-    float x0f = std::floor(x), y0f = std::floor(y);
-    float fx = x - x0f, fy = y - y0f;
-    int x0 = wrap_index(int(x0f), width), x1 = wrap_index(int(x0f) + 1, width);
-    int y0 = wrap_index(int(y0f), height), y1 = wrap_index(int(y0f) + 1, height);
-
-    glm::vec4 bottom = glm::mix(texel(*this, x0, y0), texel(*this, x1, y0), fx);
-    glm::vec4 top = glm::mix(texel(*this, x0, y1), texel(*this, x1, y1), fx);
-    return glm::mix(bottom, top, fy);
+float Texture::sample_alpha(glm::vec2 uv) const
+{
+    if (!sampleable(*this)) return 1.0f;
+    auto alpha = [&](int x, int y) { return float(rgba[(std::size_t(y) * width + x) * 4 + 3]) * (1.0f / 255.0f); };
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return alpha(0, 0);
+    const BilinearFootprint f = footprint(*this, uv);
+    // the operations of sample() on its w: the same float
+    float bottom = glm::mix(alpha(f.x0, f.y0), alpha(f.x1, f.y0), f.fx);
+    float top = glm::mix(alpha(f.x0, f.y1), alpha(f.x1, f.y1), f.fx);
+    return glm::mix(bottom, top, f.fy);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -103,8 +141,18 @@ glm::vec4 Mesh::albedo_at(std::size_t triangle, float b1, float b2) const
 
 bool Mesh::covered_at(std::size_t triangle, float b1, float b2) const
 {
-    float cutoff = alpha_test_cutoff(materials[face_materials[triangle]]);
-    return cutoff <= 0.0f || albedo_at(triangle, b1, b2).w >= cutoff;
+    const Material& material = materials[face_materials[triangle]];
+    float cutoff = alpha_test_cutoff(material);
+    if (cutoff <= 0.0f) return true;
+    // albedo_at(...).w without the colour channels: the bakes test every texel of a leaf card
+    std::uint32_t i0 = indices[triangle * 3 + 0], i1 = indices[triangle * 3 + 1], i2 = indices[triangle * 3 + 2];
+    float b0 = 1.0f - b1 - b2;
+    float alpha = b0 * colors[i0].w + b1 * colors[i1].w + b2 * colors[i2].w;
+    if (material.base_color_texture >= 0 && has_texture_coordinates()) {
+        glm::vec2 uv = b0 * uvs[i0] + b1 * uvs[i1] + b2 * uvs[i2];
+        alpha *= textures[std::size_t(material.base_color_texture)].sample_alpha(uv);
+    }
+    return alpha >= cutoff;
 }
 
 bool Mesh::has_alpha_test() const

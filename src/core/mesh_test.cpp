@@ -137,6 +137,40 @@ TEST(Mesh, VertexAlbedoFoldsTheTextureIn)
     expect_near(albedo[3], {0, 0, 1, 1});
 }
 
+// The alpha test reads only the alpha bytes (sample_alpha), and must decide exactly as the albedo's
+// w does: a leaf texel must not flip between the bakes' coverage test and their colour.
+TEST(Mesh, CoveredAtIsTheAlbedosAlphaAgainstTheCutoff)
+{
+    Mesh mesh = two_triangles();
+    Texture ramp;
+    ramp.width = 5;
+    ramp.height = 3;
+    for (int t = 0; t < ramp.width * ramp.height; ++t)
+        for (std::uint8_t c : {std::uint8_t(40), std::uint8_t(90), std::uint8_t(140), std::uint8_t(t * 17)}) ramp.rgba.push_back(c);
+    mesh.textures.push_back(ramp);
+    mesh.materials[0].base_color_texture = 0;
+    mesh.materials[0].alpha_mode = AlphaMode::mask;
+    mesh.materials[0].alpha_cutoff = 0.5f;
+    mesh.uvs = {{-1.3f, 0.1f}, {2.7f, -0.4f}, {0.2f, 1.9f}, {0.0f, 0.0f}, {1.0f, 0.0f}, {0.0f, 1.0f}};
+    mesh.colors[1].w = 0.8f;
+    int covered = 0, total = 0;
+    for (int face = 0; face < 2; ++face)
+        for (int i = 0; i <= 40; ++i)
+            for (int j = 0; i + j <= 40; ++j) {
+                float b1 = float(i) / 40.0f, b2 = float(j) / 40.0f;
+                glm::vec2 uv = (1.0f - b1 - b2) * mesh.uvs[std::size_t(face) * 3] + b1 * mesh.uvs[std::size_t(face) * 3 + 1] +
+                               b2 * mesh.uvs[std::size_t(face) * 3 + 2];
+                ASSERT_EQ(mesh.textures[0].sample_alpha(uv), mesh.textures[0].sample(uv).w) << uv.x << ", " << uv.y;
+                bool expected = mesh.albedo_at(std::size_t(face), b1, b2).w >= 0.5f;
+                ASSERT_EQ(mesh.covered_at(std::size_t(face), b1, b2), expected) << face << ": " << b1 << ", " << b2;
+                covered += expected;
+                ++total;
+            }
+    EXPECT_GT(covered, total / 10); // both outcomes are exercised
+    EXPECT_LT(covered, total * 9 / 10);
+    EXPECT_EQ(mesh.textures[0].sample_alpha({NAN, 0.5f}), mesh.textures[0].sample({NAN, 0.5f}).w);
+}
+
 TEST(ValidateMesh, AcceptsAConsistentMesh)
 {
     Status s = validate_mesh(two_triangles(), "ok");
