@@ -24,6 +24,10 @@ constexpr float k_reach_texels = 1.5f;
 // The link rule's largest step between neighbours of one surface (height_field.h: 1.5 x a slope
 // of at most 8, plus half a texel and two depth codes): deeper steps are never walked across.
 constexpr float k_max_wall_texels = 13.0f;
+// Entries of the per-view cache of marked voxels (a power of two: indexed by a morton code's low
+// bits, which neighbouring voxels differ in).
+constexpr std::size_t k_mark_cache = 4096;
+static_assert(3 * k_max_grid_level < 32, "the cache's empty slot is a code no voxel has");
 
 // index of `code` in the sorted `codes`, or -1
 std::int64_t find(const std::vector<std::uint32_t>& codes, std::uint32_t code)
@@ -62,6 +66,13 @@ SeenViews seen_views(const MicrofacetsPackage& package)
         };
         auto height = [&](int x, int y) { return r - 2.0f * r * float(page.at(view.atlas_x + x, view.atlas_y + y)[3]) / 65535.0f; };
         const std::uint32_t bit = 1u << (k % 32);
+        // Neighbouring texels reach mostly the same voxels (a voxel spans several texels): a small
+        // direct-mapped cache of the voxels this view has marked skips their search and atomic OR
+        // (the renderer built this in 1-2 s per microfacets package, most of it searching again).
+        struct Marked {
+            std::uint32_t code = ~0u; // no morton code of k_max_grid_level (3 bits a level) is all ones
+        };
+        std::vector<Marked> marked(k_mark_cache);
         for (int y = 0; y < view.height; ++y)
             for (int x = 0; x < view.width; ++x) {
                 if (!covered(x, y)) continue;
@@ -80,7 +91,11 @@ SeenViews seen_views(const MicrofacetsPackage& package)
                 for (int cz = a.z; cz <= b.z; ++cz)
                     for (int cy = a.y; cy <= b.y; ++cy)
                         for (int cx = a.x; cx <= b.x; ++cx) {
-                            std::int64_t index = find(fine, morton_encode(glm::uvec3(cx, cy, cz)));
+                            const std::uint32_t code = morton_encode(glm::uvec3(cx, cy, cz));
+                            Marked& slot = marked[code & (k_mark_cache - 1)];
+                            if (slot.code == code) continue;
+                            slot.code = code;
+                            std::int64_t index = find(fine, code);
                             if (index < 0) continue;
                             std::atomic_ref<std::uint32_t> word(out.words[(fine_first + std::size_t(index)) * words + k / 32]);
                             word.fetch_or(bit, std::memory_order_relaxed);
