@@ -568,6 +568,11 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
     glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"),
                        float(settings.options.number("baseline-below")));
+    // the baseline style draws as impostor bakers do (one step); the corrected style's level takes
+    // k_level_parallax_steps, which keep it near the walk it replaces (view_atlas.h)
+    int parallax_steps = settings.options.integer("parallax-steps");
+    if (parallax_steps == 0) parallax_steps = style == STYLE_BASELINE ? 1 : k_level_parallax_steps;
+    glProgramUniform1i(id, renderer->program_.uniform("parallax_steps"), parallax_steps);
     // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
     glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
     glProgramUniform1i(id, renderer->program_.uniform("alpha_tested"), package.alpha_tested ? 1 : 0);

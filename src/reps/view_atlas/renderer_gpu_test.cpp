@@ -720,6 +720,8 @@ LevelPicture level_picture(const Package& package, Renderer& truth, const Mesh& 
         options.values.set("style", "corrected");
         options.values.set("seed-below", k == 0 ? "0" : std::to_string(seed_below));
         options.values.set("baseline-below", k == 0 ? "0" : std::to_string(baseline_below));
+        // the table for another step count than the default (docs/RESULTS.md "Parallax steps")
+        if (const char* steps = std::getenv("STANDIN_LOD_PARALLAX_STEPS")) options.values.set("parallax-steps", steps);
         Result<std::unique_ptr<Renderer>> atlas = make_package_renderer(package, options);
         EXPECT_TRUE(atlas.is_ok()) << atlas.status().message();
         if (!atlas.is_ok()) return result;
@@ -771,10 +773,12 @@ TEST(ViewAtlasRenderer, LevelOfDetailLadderMatchesCorrectedAtTheSwitchSizes)
         ASSERT_TRUE(package);
         Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(meshes[m]);
         ASSERT_TRUE(truth.is_ok());
-        // Bounds from the measurement (STANDIN_LOD_TABLE): the baseline stays within Luv 3, IoU 0.95
-        // of the corrected picture on both models from 24 px up (at 47 px: Luv 1.2 / 2.6, IoU 0.984 /
-        // 0.963; at 128 px 1.1 / 3.2, IoU 0.987 / 0.952: one parallax step) since solid models' minified coverage is cut at 1/2 instead of dithered (session
-        // 22; before, it held only from 48 px, at 24 px Luv 4.9-6.0, IoU 0.90-0.92). The seed is
+        // Bounds from the measurement (STANDIN_LOD_TABLE): with the level's 3 parallax steps the
+        // baseline stays within Luv 2.3, IoU 0.96 of the corrected picture on both models from 24 px
+        // up to 128 px (at 48 px noisy sphere / torus Luv 0.82 / 1.66, IoU 0.988 / 0.976; one step,
+        // the bakers': 1.13 / 2.42, 0.986 / 0.966, and at 128 px 1.09 / 3.15;
+        // STANDIN_LOD_PARALLAX_STEPS=1 prints that table), since solid models' minified coverage is
+        // cut at 1/2 instead of dithered (session 22; before, one step held only from 48 px). The seed is
         // never that close on the torus (Luv 10 at 64 px, no parallax); its default of 8 px is kept
         // for speed, and its bound says how far it is (at 7 px: Luv 5.4 / 18.2, IoU 0.934 / 0.771;
         // dithered, 16-19 and 0.75-0.77 at 8 px), so that it does not get worse unnoticed.
@@ -783,7 +787,7 @@ TEST(ViewAtlasRenderer, LevelOfDetailLadderMatchesCorrectedAtTheSwitchSizes)
             double seed, baseline; // thresholds that put an instance of any radius at this level
             int switch_radius;     // just under the default switch
             double max_luv, min_iou;
-        } levels[2] = {{"baseline", 0.0, 1.0e6, int(std::ceil(baseline_below)) - 1, 3.0, 0.95},
+        } levels[2] = {{"baseline", 0.0, 1.0e6, int(std::ceil(baseline_below)) - 1, 2.5, 0.96},
                        {"seed", 1.0e6, 0.0, int(std::ceil(seed_below)) - 1, 21.0, 0.73}};
         for (const Level& level : levels) {
             std::vector<int> radii = {level.switch_radius};

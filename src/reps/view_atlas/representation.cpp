@@ -55,7 +55,12 @@ std::vector<OptionSpec> render_options()
         number_option("baseline-below", "0", 0.0, 1.0e6,
                       "Corrected style, level of detail: an instance under this many pixels in radius (and not "
                       "under --seed-below) keeps its hull but is shaded as the octahedral baseline (three views, "
-                      "one parallax step, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
+                      "--parallax-steps, no walk; 0: never; 48 for crowds of solid models, docs/RESULTS.md)"),
+        integer_option("parallax-steps", 0, 0, 16,
+                       "Octahedral baseline (the style, or the corrected style's level under --baseline-below): steps "
+                       "from the centre plane to the depth read where the ray met it, then to the depth read there, ... "
+                       "(1: the impostor bakers' one step; more: iterative parallax mapping, 2 texture reads per step; "
+                       "0: 1 for the style, 3 for the level: nearer the walk it stands for, docs/RESULTS.md)"),
         number_option("hull-above", "80", 0.0, 1.0e6,
                       "Corrected style: an instance at least this many pixels in radius is drawn on the package's "
                       "proxy hull (planes tangent to the model: the fewest fragments), a smaller one on its nearest "

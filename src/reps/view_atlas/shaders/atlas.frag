@@ -68,6 +68,8 @@ uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 // more than it under motion (docs/RESULTS.md "Colour from level 0 for every model"): the host sets it
 // unless --color-level mips.
 uniform int finest_color;
+// The octahedral baseline's parallax steps (style or level; --parallax-steps; 1: impostor bakers')
+uniform int parallax_steps;
 // The stored depth: 2^bits - 1 steps over the bounding sphere's diameter, and the factor from the
 // normal-depth pages' A to the fraction of the diameter (renderer.cpp; 1 for 8-bit depth).
 uniform float depth_codes;
@@ -621,17 +623,23 @@ void main()
             float t = -dot(o - atlas_center, w) / dw; // the centre plane
             vec3 p = o + t * d - atlas_center;
             vec2 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
-            vec4 nd = sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
-            float coverage = sample_page(MAP_COLOR, view, texel, lod).a;
-            if (coverage > 0.0) { // one parallax step to the depth read there
+            // parallax steps: the ray's point whose height over the centre plane is the depth read at
+            // the last point (1: the impostor bakers' one step; more: iterative parallax mapping, which
+            // converges where the surface under the ray is less steep than the ray)
+            const float t_plane = t;
+            for (int step = 0; step < parallax_steps; ++step) {
+                vec4 nd = sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
+                float coverage = sample_page(MAP_COLOR, view, texel, lod).a;
+                g_fetches += 2u;
+                if (coverage <= 0.0) break;
                 float height = atlas_radius - 2.0 * atlas_radius * nd.a * depth_scale / coverage;
-                t += height / dw;
+                t = t_plane + height / dw;
                 p = o + t * d - atlas_center;
                 texel = atlas_texel(view, vec2(dot(p, view.axis_u.xyz), dot(p, view.axis_v.xyz)));
             }
             color_sum += v_weights[k] * sample_page(MAP_COLOR, view, texel, lod);
             normal_sum += v_weights[k] * sample_page(MAP_NORMAL_DEPTH, view, texel, lod);
-            g_fetches += 6u;
+            g_fetches += 4u;
 #if ATLAS_PBR
             g_fetches += 2u;
             orm_sum += v_weights[k] * pbr_sample(MAP_ORM, view, texel, lod, 1.0);
