@@ -32,6 +32,7 @@ struct BenchArgs {
     int warmup = 3;
     std::size_t crowd = 0;
     bool no_coverage = false;
+    bool no_mesh = false;
     DeclaredOptions render; // the representations' run-time options, as for render and eval
 };
 
@@ -206,7 +207,7 @@ static int run_bench(BenchArgs& args)
             variants.push_back(std::move(*made));
             subjects.package_variants.push_back({label, variants.back().get()});
         }
-        subjects.mesh = i == 0 ? mesh_renderer->get() : nullptr;
+        subjects.mesh = i == 0 && !args.no_mesh ? mesh_renderer->get() : nullptr;
         Result<std::vector<FrameRecord>> records = benchmark_frames(subjects, *mesh, options, stderr_progress());
         if (!records) return fail(records.status());
         for (const FrameRecord& r : *records) frames.push_back(frame_json(r, m.path));
@@ -280,6 +281,9 @@ CommandRun add_bench_command(CLI::App& root)
                         "Also draw crowds of 1, 100, 1000, 10000 instances up to N on a ground grid (0: no crowd)")
         ->capture_default_str();
     command->add_flag("--no-coverage", args->no_coverage, "Skip the frame time vs. distance (coverage) series");
+    command->add_flag("--no-mesh", args->no_mesh,
+                      "Time the packages only, not the mesh (no mesh/package ratios): to compare packages or render "
+                      "options quickly (a crowd of 1000 meshes takes a minute on llvmpipe)");
     command->add_option("--representation", args->representation, "Representation to bake when no package is given")
         ->capture_default_str();
     command->add_option("--param", args->parameters,
