@@ -385,14 +385,20 @@ public:
 
 private:
 
-    gpu::Program program_;
+    // One program per fragment path (atlas.frag ATLAS_PATH), indexed by ATLAS_LOD_*: only those the
+    // style and the level-of-detail options draw are made (id 0 for the others).
+    struct PathProgram {
+        gpu::Program program;
+        GLint counting_at = -1, early_reject_at = -1, hull_pass_at = -1, instance_offset_at = -1, draw_lod_at = -1;
+    };
+    PathProgram paths_[3];
+    int level_of(const glm::mat4& world_from_object, const DrawParams& params) const;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     std::vector<gpu::Texture> orm_arrays_, emission_arrays_;       // PBR packages only
     gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
     gpu::Texture nearest_;   // early rejection's record (atlas.frag nearest_depth), grown to the viewport
     glm::ivec2 nearest_size_{0, 0};
     bool early_reject_ = true; // the run-time option
-    GLint early_reject_at_ = -1;
     gpu::Buffer views_, index_;
     // the proxy hull (hull.h proxy_polytope): vertices (SSBO), fan triangles (element buffer), face
     // corners for the near-plane test; empty: the prism for every instance
@@ -400,8 +406,8 @@ private:
     gpu::VertexArray hull_vertex_array_;
     GLsizei hull_index_count_ = 0;
     std::vector<glm::vec4> hull_corners_;
-    float seed_below_ = 0.0f, hull_above_ = 0.0f;
-    GLint hull_pass_at_ = -1, instance_offset_at_ = -1;
+    float seed_below_ = 0.0f, baseline_below_ = 0.0f, hull_above_ = 0.0f;
+    float sphere_pixels(const glm::mat4& world_from_object, const DrawParams& params) const;
     bool on_hull(const glm::mat4& world_from_object, const DrawParams& params) const;
     gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
@@ -411,7 +417,7 @@ private:
     std::vector<glm::mat4> sorted_;         // this frame's instances, front to back (draw)
     std::vector<std::pair<float, std::uint32_t>> order_; // (view depth, index), reused across frames
     std::vector<char> hull_chosen_;                      // per instance: on_hull, this frame
-    GLint counting_at_ = -1;
+    std::vector<std::uint8_t> level_chosen_;             // per instance: ATLAS_LOD_*, this frame
     gpu::VertexArray empty_vertex_array_;
     gpu::FrameResources frame_;
 };
@@ -483,11 +489,26 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     }
 
     auto renderer = std::make_unique<AtlasRenderer>();
-    Result<gpu::Program> program = gpu::Program::create(
-        {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
-        {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}, {"ATLAS_PBR", pbr ? "1" : "0"}});
-    if (!program) return program.status();
-    renderer->program_ = std::move(*program);
+    renderer->seed_below_ = style == STYLE_CORRECTED ? float(settings.options.number("seed-below")) : 0.0f;
+    renderer->baseline_below_ = style == STYLE_CORRECTED ? float(settings.options.number("baseline-below")) : 0.0f;
+    // the fragment paths drawn: the style's, and the corrected style's levels that are on
+    const int style_path = style == STYLE_SEED ? ATLAS_LOD_SEED : style == STYLE_BASELINE ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
+    for (int path = 0; path < 3; ++path) {
+        const bool drawn = path == style_path || (path == ATLAS_LOD_SEED && renderer->seed_below_ > 0.0f) ||
+                           (path == ATLAS_LOD_BASELINE && renderer->baseline_below_ > 0.0f);
+        if (!drawn) continue;
+        Result<gpu::Program> program = gpu::Program::create(
+            {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
+            {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}, {"ATLAS_PBR", pbr ? "1" : "0"}, {"ATLAS_PATH", std::to_string(path)}});
+        if (!program) return program.status();
+        PathProgram& slot = renderer->paths_[path];
+        slot.program = std::move(*program);
+        slot.counting_at = slot.program.uniform("counting");
+        slot.early_reject_at = slot.program.uniform("early_reject");
+        slot.hull_pass_at = slot.program.uniform("hull_pass");
+        slot.instance_offset_at = slot.program.uniform("instance_offset");
+        slot.draw_lod_at = slot.program.uniform("draw_lod");
+    }
 
     int size = package.settings.page_size;
     const CellDepths depths = cell_depths(package); // one pass over the pages for the walk's tables
@@ -521,11 +542,8 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->style_ = style;
     renderer->center_ = package.center;
     renderer->radius_ = package.radius;
-    renderer->counting_at_ = renderer->program_.uniform("counting");
-    renderer->early_reject_at_ = renderer->program_.uniform("early_reject");
     renderer->early_reject_ = settings.options.flag("early-reject");
 
-    GLuint id = renderer->program_.id();
     if (style == STYLE_CORRECTED) {
         const ConvexPolytope proxy = proxy_polytope(package);
         std::vector<glm::vec4> vertices;
@@ -546,43 +564,41 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
             renderer->hull_index_count_ = GLsizei(indices.size());
         }
     }
-    renderer->seed_below_ = float(settings.options.number("seed-below"));
     renderer->hull_above_ = float(settings.options.number("hull-above"));
-    renderer->hull_pass_at_ = renderer->program_.uniform("hull_pass");
-    renderer->instance_offset_at_ = renderer->program_.uniform("instance_offset");
-    glProgramUniform3fv(id, renderer->program_.uniform("atlas_center"), 1, &package.center.x);
-    glProgramUniform1f(id, renderer->program_.uniform("atlas_radius"), package.radius);
-    glProgramUniform1f(id, renderer->program_.uniform("half_extent"), package.half_extent());
-    glProgramUniform1f(id, renderer->program_.uniform("resolution"), float(package.settings.resolution));
-    // depth steps, and the factor from the normal-depth pages' A to depth (fine depth: codes over
-    // depth_code_max, read as over 65535)
-    const int depth_bits = package.has_fine_depth() ? package.settings.depth_bits : 8;
-    glProgramUniform1f(id, renderer->program_.uniform("depth_codes"), float((1 << depth_bits) - 1));
-    glProgramUniform1f(id, renderer->program_.uniform("depth_scale"),
-                       package.has_fine_depth() ? float(65535.0 / double(depth_code_max(depth_bits))) : 1.0f);
-    glProgramUniform1f(id, renderer->program_.uniform("capture_distance"), package.capture_distance());
-    glProgramUniform1i(id, renderer->program_.uniform("capture_ortho"), package.settings.projection == "ortho");
-    glProgramUniform1i(id, renderer->program_.uniform("view_count"), int(package.views.size()));
-    glProgramUniform1f(id, renderer->program_.uniform("page_size"), float(size));
-    glProgramUniform1i(id, renderer->program_.uniform("style"), style);
-    glProgramUniform1f(id, renderer->program_.uniform("seed_below_pixels"), float(settings.options.number("seed-below")));
-    glProgramUniform1f(id, renderer->program_.uniform("baseline_below_pixels"),
-                       float(settings.options.number("baseline-below")));
-    // the baseline style draws as impostor bakers do (one step); the corrected style's level takes
-    // k_level_parallax_steps, which keep it near the walk it replaces (view_atlas.h)
-    int parallax_steps = settings.options.integer("parallax-steps");
-    if (parallax_steps == 0) parallax_steps = style == STYLE_BASELINE ? 1 : k_level_parallax_steps;
-    glProgramUniform1i(id, renderer->program_.uniform("parallax_steps"), parallax_steps);
-    // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
-    glProgramUniform1i(id, renderer->program_.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
-    glProgramUniform1i(id, renderer->program_.uniform("alpha_tested"), package.alpha_tested ? 1 : 0);
-    glProgramUniform1i(id, renderer->program_.uniform("debug_view"), debug_view);
-    // auto is level 0 for every package: nearer the truth at every distance, and its change under a
-    // slow orbit, relative to the truth's, no larger than at distance 1 (docs/RESULTS.md "Colour from
-    // level 0 for every model")
-    glProgramUniform1i(id, renderer->program_.uniform("finest_color"), settings.options.choice("color-level") != "mips");
-    glProgramUniform1i(id, renderer->program_.uniform("pages_per_array"), plan->pages_per_array);
-    glProgramUniform1i(id, renderer->program_.uniform("lit_maps"), package.has_surface() ? 0 : 1);
+    for (PathProgram& slot : renderer->paths_) {
+        if (slot.program.id() == 0) continue;
+        GLuint id = slot.program.id();
+        glProgramUniform3fv(id, slot.program.uniform("atlas_center"), 1, &package.center.x);
+        glProgramUniform1f(id, slot.program.uniform("atlas_radius"), package.radius);
+        glProgramUniform1f(id, slot.program.uniform("half_extent"), package.half_extent());
+        glProgramUniform1f(id, slot.program.uniform("resolution"), float(package.settings.resolution));
+        // depth steps, and the factor from the normal-depth pages' A to depth (fine depth: codes over
+        // depth_code_max, read as over 65535)
+        const int depth_bits = package.has_fine_depth() ? package.settings.depth_bits : 8;
+        glProgramUniform1f(id, slot.program.uniform("depth_codes"), float((1 << depth_bits) - 1));
+        glProgramUniform1f(id, slot.program.uniform("depth_scale"),
+                           package.has_fine_depth() ? float(65535.0 / double(depth_code_max(depth_bits))) : 1.0f);
+        glProgramUniform1f(id, slot.program.uniform("capture_distance"), package.capture_distance());
+        glProgramUniform1i(id, slot.program.uniform("capture_ortho"), package.settings.projection == "ortho");
+        glProgramUniform1i(id, slot.program.uniform("view_count"), int(package.views.size()));
+        glProgramUniform1f(id, slot.program.uniform("page_size"), float(size));
+        glProgramUniform1i(id, slot.program.uniform("style"), style);
+        // the baseline style draws as impostor bakers do (one step); the corrected style's level takes
+        // k_level_parallax_steps, which keep it near the walk it replaces (view_atlas.h)
+        int parallax_steps = settings.options.integer("parallax-steps");
+        if (parallax_steps == 0) parallax_steps = style == STYLE_BASELINE ? 1 : k_level_parallax_steps;
+        glProgramUniform1i(id, slot.program.uniform("parallax_steps"), parallax_steps);
+        // a solid model's texels are whole or empty: the walk's coverage test need not read their alpha
+        glProgramUniform1i(id, slot.program.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
+        glProgramUniform1i(id, slot.program.uniform("alpha_tested"), package.alpha_tested ? 1 : 0);
+        glProgramUniform1i(id, slot.program.uniform("debug_view"), debug_view);
+        // auto is level 0 for every package: nearer the truth at every distance, and its change under a
+        // slow orbit, relative to the truth's, no larger than at distance 1 (docs/RESULTS.md "Colour from
+        // level 0 for every model")
+        glProgramUniform1i(id, slot.program.uniform("finest_color"), settings.options.choice("color-level") != "mips");
+        glProgramUniform1i(id, slot.program.uniform("pages_per_array"), plan->pages_per_array);
+        glProgramUniform1i(id, slot.program.uniform("lit_maps"), package.has_surface() ? 0 : 1);
+    }
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "view atlas: " + gpu::gl_error_text(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
@@ -621,28 +637,43 @@ bool AtlasRenderer::bind_early_reject()
 // pixels in radius (and not under --seed-below, whose level draws a quad). llvmpipe shades whole
 // 4x4 blocks along every triangle's edges, so on a small instance the hull's tens of triangles
 // cost more than the prism's few large ones save (docs/RESULTS.md, "View atlas: a proxy hull"). The others take
-// the prism, which also handles an eye inside. The size mirrors sphere_pixels in
-// shaders/atlas.vert; where the two round differently the instance is drawn either way, correctly.
+// the prism, which also handles an eye inside.
 bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams& params) const
 {
     if (hull_index_count_ == 0 || glm::determinant(glm::mat3(world_from_object)) <= 0.0f) return false;
-    const Camera& camera = params.camera;
-    const float scale = std::max({glm::length(glm::vec3(world_from_object[0])), glm::length(glm::vec3(world_from_object[1])),
-                                  glm::length(glm::vec3(world_from_object[2]))});
-    if (std::max(seed_below_, hull_above_) > 0.0f) {
-        const glm::vec3 c(world_from_object * glm::vec4(center_, 1.0f));
-        const glm::vec3 up(camera.view_from_world[0][1], camera.view_from_world[1][1], camera.view_from_world[2][1]);
-        const glm::mat4 clip_from_world = camera.clip_from_world();
-        const glm::vec4 a = clip_from_world * glm::vec4(c, 1.0f), b = clip_from_world * glm::vec4(c + up * (radius_ * scale), 1.0f);
-        if (a.w > 0.0f && b.w > 0.0f &&
-            glm::length(glm::vec2(b) / b.w - glm::vec2(a) / a.w) * 0.5f * float(params.viewport.y) < std::max(seed_below_, hull_above_))
-            return false;
-    }
+    if (std::max(seed_below_, hull_above_) > 0.0f && sphere_pixels(world_from_object, params) < std::max(seed_below_, hull_above_))
+        return false;
     // every corner beyond the near plane: then the whole hull is (it is convex), the eye outside it
+    const Camera& camera = params.camera;
     const glm::mat4 view_from_object = camera.view_from_world * world_from_object;
     for (const glm::vec4& corner : hull_corners_)
         if (!(-(view_from_object * corner).z > camera.near_plane * 1.001f)) return false;
     return true;
+}
+
+// Radius in pixels of an instance's bounding sphere (largest axis scale), measured along the
+// camera's up vector so that orthographic and perspective cameras are treated alike; huge where the
+// sphere's centre or top is behind the eye (never simplified).
+float AtlasRenderer::sphere_pixels(const glm::mat4& world_from_object, const DrawParams& params) const
+{
+    const Camera& camera = params.camera;
+    const float scale = std::max({glm::length(glm::vec3(world_from_object[0])), glm::length(glm::vec3(world_from_object[1])),
+                                  glm::length(glm::vec3(world_from_object[2]))});
+    const glm::vec3 c(world_from_object * glm::vec4(center_, 1.0f));
+    const glm::vec3 up(camera.view_from_world[0][1], camera.view_from_world[1][1], camera.view_from_world[2][1]);
+    const glm::mat4 clip_from_world = camera.clip_from_world();
+    const glm::vec4 a = clip_from_world * glm::vec4(c, 1.0f), b = clip_from_world * glm::vec4(c + up * (radius_ * scale), 1.0f);
+    if (!(a.w > 0.0f && b.w > 0.0f)) return std::numeric_limits<float>::max();
+    return glm::length(glm::vec2(b) / b.w - glm::vec2(a) / a.w) * 0.5f * float(params.viewport.y);
+}
+
+// The corrected style's level of detail for an instance (ATLAS_LOD_*): the seed's quad under
+// --seed-below pixels, the baseline's shading under --baseline-below, else the walk.
+int AtlasRenderer::level_of(const glm::mat4& world_from_object, const DrawParams& params) const
+{
+    if (std::max(seed_below_, baseline_below_) <= 0.0f) return ATLAS_LOD_CORRECTED;
+    const float pixels = sphere_pixels(world_from_object, params);
+    return pixels < seed_below_ ? ATLAS_LOD_SEED : pixels < baseline_below_ ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
 }
 
 // Instances front to back: each one's bounding-sphere centre by its depth along the camera's view
@@ -650,8 +681,9 @@ bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams
 // depend on the sort. Every style writes a depth at or behind its proxy's (depth_greater in
 // atlas.frag), so a GPU's early depth test can reject the fragments of instances hidden behind
 // nearer ones before they walk; drawn back to front, each would walk and then be overwritten.
-// Corrected style: the instances on the proxy hull (on_hull) first, in that order, as one indexed
-// draw with back faces culled; then the rest on the prism.
+// Corrected style: the instances on the proxy hull (on_hull) first, in that order, as indexed draws
+// with back faces culled; then the rest on the prism; each level of detail (level_of) a draw of its
+// own with its path's program (llvmpipe runs a fragment program's every path for each fragment).
 DrawStats AtlasRenderer::draw(const DrawParams& params)
 {
     static const glm::mat4 identity(1.0f);
@@ -666,27 +698,42 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         order_[i] = {std::isnan(depth) ? std::numeric_limits<float>::max() : depth, std::uint32_t(i)};
     }
     std::sort(order_.begin(), order_.end());
+    // the draws, in this order, each a run of sorted_ front to back: corrected style, the hull's
+    // instances at the walk's level, then at the baseline's; the prism's likewise; the seed's quads
+    struct Run {
+        int path;  // ATLAS_LOD_*: the program
+        bool hull; // the proxy hull's indexed draw, else the prism (or the styles' quads)
+        std::size_t first = 0, count = 0;
+    };
+    std::vector<Run> runs;
     sorted_.clear();
-    std::size_t hull_instances = 0;
     if (style_ == STYLE_CORRECTED) {
         hull_chosen_.resize(count);
-        for (const auto& [depth, i] : order_)
-            if ((hull_chosen_[i] = on_hull(transforms[i], params))) sorted_.push_back(transforms[i]);
-        hull_instances = sorted_.size();
-        for (const auto& [depth, i] : order_)
-            if (!hull_chosen_[i]) sorted_.push_back(transforms[i]);
+        level_chosen_.resize(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            level_chosen_[i] = std::uint8_t(level_of(transforms[i], params));
+            hull_chosen_[i] = level_chosen_[i] != ATLAS_LOD_SEED && on_hull(transforms[i], params);
+        }
+        const Run order[5] = {{ATLAS_LOD_CORRECTED, true}, {ATLAS_LOD_BASELINE, true}, {ATLAS_LOD_CORRECTED, false},
+                              {ATLAS_LOD_BASELINE, false}, {ATLAS_LOD_SEED, false}};
+        for (Run run : order) {
+            run.first = sorted_.size();
+            for (const auto& [depth, i] : order_)
+                if (level_chosen_[i] == run.path && bool(hull_chosen_[i]) == run.hull) sorted_.push_back(transforms[i]);
+            run.count = sorted_.size() - run.first;
+            if (run.count > 0) runs.push_back(run);
+        }
     } else {
         for (const auto& [depth, i] : order_) sorted_.push_back(transforms[i]);
+        runs.push_back({style_ == STYLE_SEED ? ATLAS_LOD_SEED : ATLAS_LOD_BASELINE, false, 0, count});
     }
     DrawParams sorted_params = params;
     sorted_params.world_from_object = sorted_;
     frame_.bind(sorted_params);
-    GLsizei instances = GLsizei(frame_.instance_count());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_VIEWS_SSBO, views_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_INDEX_SSBO, index_.get());
     if (hull_index_count_ > 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, ATLAS_HULL_SSBO, hull_vertices_.get());
     counters_.bind();
-    glProgramUniform1i(program_.id(), counting_at_, counters_.counting() ? 1 : 0);
     for (std::size_t a = 0; a < color_arrays_.size(); ++a) {
         glBindTextureUnit(GLuint(ATLAS_COLOR_TEXTURE + a), color_arrays_[a].get());
         glBindTextureUnit(GLuint(ATLAS_NORMAL_DEPTH_TEXTURE + a),
@@ -697,35 +744,39 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         }
     }
     if (cell_tops_.get() != 0) glBindTextureUnit(ATLAS_CELL_TEXTURE, cell_tops_.get());
-    glProgramUniform1i(program_.id(), early_reject_at_, bind_early_reject() ? 1 : 0);
+    const bool early_reject = bind_early_reject(); // one record for every run: they are one draw
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
-    program_.use();
     DrawStats stats{0, 0};
-    const GLsizei hull_count = GLsizei(hull_instances);
-    if (hull_count > 0) {
-        glProgramUniform1i(program_.id(), hull_pass_at_, 1);
-        glProgramUniform1i(program_.id(), instance_offset_at_, 0);
-        glBindVertexArray(hull_vertex_array_.get());
-        glEnable(GL_CULL_FACE);
-        glFrontFace(GL_CCW);
-        glCullFace(GL_BACK);
-        glDrawElementsInstanced(GL_TRIANGLES, hull_index_count_, GL_UNSIGNED_INT, nullptr, hull_count);
-        glDisable(GL_CULL_FACE);
-        stats.draw_calls += 1;
-        stats.primitives += std::uint64_t(hull_count) * std::uint64_t(hull_index_count_ / 3);
-    }
-    glProgramUniform1i(program_.id(), hull_pass_at_, 0);
-    glProgramUniform1i(program_.id(), instance_offset_at_, hull_count);
-    glBindVertexArray(empty_vertex_array_.get());
-    if (instances > hull_count) {
-        if (style_ == STYLE_CORRECTED) { // the prism: a box, 36 vertices (shaders/atlas.vert)
-            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, instances - hull_count);
-        } else {
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, instances);
+    for (const Run& run : runs) {
+        const PathProgram& slot = paths_[run.path];
+        const GLuint id = slot.program.id();
+        glProgramUniform1i(id, slot.counting_at, counters_.counting() ? 1 : 0);
+        glProgramUniform1i(id, slot.early_reject_at, early_reject ? 1 : 0);
+        glProgramUniform1i(id, slot.hull_pass_at, run.hull ? 1 : 0);
+        glProgramUniform1i(id, slot.instance_offset_at, GLint(run.first));
+        glProgramUniform1i(id, slot.draw_lod_at, run.path);
+        slot.program.use();
+        const GLsizei n = GLsizei(run.count);
+        if (run.hull) {
+            glBindVertexArray(hull_vertex_array_.get());
+            glEnable(GL_CULL_FACE);
+            glFrontFace(GL_CCW);
+            glCullFace(GL_BACK);
+            glDrawElementsInstanced(GL_TRIANGLES, hull_index_count_, GL_UNSIGNED_INT, nullptr, n);
+            glDisable(GL_CULL_FACE);
+            stats.primitives += std::uint64_t(n) * std::uint64_t(hull_index_count_ / 3);
+        } else if (style_ != STYLE_CORRECTED) { // the styles' camera-facing quads
+            glBindVertexArray(empty_vertex_array_.get());
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, n);
+            stats.primitives += std::uint64_t(n) * 2u;
+        } else { // the prism: a box, 36 vertices, or the seed's quad, its first 6 (shaders/atlas.vert)
+            const bool quad = run.path == ATLAS_LOD_SEED;
+            glBindVertexArray(empty_vertex_array_.get());
+            glDrawArraysInstanced(GL_TRIANGLES, 0, quad ? 6 : 36, n);
+            stats.primitives += std::uint64_t(n) * (quad ? 2u : 12u);
         }
         stats.draw_calls += 1;
-        stats.primitives += std::uint64_t(instances - hull_count) * (style_ == STYLE_CORRECTED ? 12u : 2u);
     }
     glBindVertexArray(0);
     if (counters_.counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);

@@ -27,6 +27,14 @@ flat in ivec3 v_views;
 flat in vec3 v_weights;
 flat in int v_instance;
 flat in int v_lod; // atlas.vert: ATLAS_LOD_*, the level a corrected-style instance is shaded at
+// The one path this program shades, ATLAS_LOD_* (renderer.cpp compiles one program per path it
+// draws, and draws each level's instances apart): llvmpipe runs the whole of main() for every
+// fragment, the other paths' code included, masked, so the seed's quad cost as much as the walk's
+// set-up (a crowd's frame at 1000 copies: docs/RESULTS.md "One fragment program per level").
+// Without it, the path is chosen per fragment from the style and v_lod (one program for all).
+#ifndef ATLAS_PATH
+#define ATLAS_PATH -1
+#endif
 in vec2 v_atlas_texel;
 
 #ifndef ATLAS_ARRAYS
@@ -605,7 +613,7 @@ void main()
     vec3 o = (object_from_world * vec4(origin_world, 1.0)).xyz;
     vec3 d = normalize(mat3(object_from_world) * direction_world);
 
-    if (style == STYLE_SEED || v_lod == ATLAS_LOD_SEED) {
+    if (ATLAS_PATH == -1 ? style == STYLE_SEED || v_lod == ATLAS_LOD_SEED : ATLAS_PATH == ATLAS_LOD_SEED) {
         ViewData view = views.items[v_views.x];
         vec2 dx = dFdx(v_atlas_texel), dy = dFdy(v_atlas_texel);
         float lod = log2(max(max(length(dx), length(dy)), 1e-8));
@@ -647,7 +655,7 @@ void main()
     vec4 color_sum = vec4(0.0), normal_sum = vec4(0.0);
     vec3 orm_sum = vec3(0.0), emission_sum = vec3(0.0); // premultiplied (baseline) or weighted (corrected)
     float t_sum = 0.0, t_weight = 0.0;
-    if (style == STYLE_BASELINE || v_lod == ATLAS_LOD_BASELINE) {
+    if (ATLAS_PATH == -1 ? style == STYLE_BASELINE || v_lod == ATLAS_LOD_BASELINE : ATLAS_PATH == ATLAS_LOD_BASELINE) {
         for (int k = 0; k < 3; ++k) {
             if (v_weights[k] <= 0.0) continue;
             ViewData view = views.items[v_views[k]];

@@ -8,38 +8,26 @@
 // clipping the hull, a mirroring transform, the seed's level, no planes in the package), the
 // nearest view's crop prism below (36 vertices). The fragment stage casts the rays; with the eye
 // inside the prism, the whole screen.
-// Level of detail (beyond the paper, for crowds), by the radius in pixels of the instance's bounding
-// sphere, corrected style only: under baseline_below_pixels an instance keeps its cut-out hull but is
-// shaded as the octahedral baseline (three views around its direction, one parallax step: no walk);
-// under seed_below_pixels it is drawn as the seed's quad (its first 6 vertices, the other 30
-// collapsed) and shaded as the seed. v_lod says which. The thresholds were chosen by comparing each
-// level's picture with the corrected one at the switch size (docs/RESULTS.md, "View atlas crowd:
-// level of detail"): there the walk's parallax is below a pixel or two, and its hull and walk cost
-// most of a crowd's frame. 0 turns a level off.
+// Level of detail (beyond the paper, for crowds), corrected style only: renderer.cpp sorts the
+// instances by the radius in pixels of their bounding spheres into one draw per level (draw_lod),
+// each with a fragment program of that level alone. Under --baseline-below an instance keeps its
+// cut-out hull but is shaded as the octahedral baseline (three views around its direction, a few
+// parallax steps: no walk); under --seed-below it is drawn as the seed's quad (the prism draw's
+// first 6 vertices) and shaded as the seed. The thresholds were chosen by comparing each level's
+// picture with the corrected one at the switch size (docs/RESULTS.md, "View atlas crowd: level of
+// detail"): there the walk's parallax is below a pixel or two, and its hull and walk cost most of a
+// crowd's frame.
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
 
 uniform int style;
-uniform float seed_below_pixels;     // corrected style: radius in pixels under which the seed's quad is drawn
-uniform float baseline_below_pixels; // corrected style: radius in pixels under which the baseline shades the hull
+uniform int draw_lod; // corrected style: ATLAS_LOD_*, the level of this draw's instances (renderer.cpp)
 // The proxy hull's vertices (object space, xyz), indexed by the hull pass's element buffer.
 layout(std430, binding = ATLAS_HULL_SSBO) readonly buffer HullBlock {
     vec4 vertices[];
 } hull;
 uniform int hull_pass;       // 1: this draw is the proxy hull's (never the seed's level)
 uniform int instance_offset; // this draw's first instance in the frame's instance block
-
-// Radius in pixels of the instance's bounding sphere (largest axis scale), measured along the
-// camera's up vector so that orthographic and perspective cameras are treated alike.
-float sphere_pixels(mat4 world_from_object)
-{
-    vec3 c = (world_from_object * vec4(atlas_center, 1.0)).xyz;
-    float scale = max(length(world_from_object[0].xyz), max(length(world_from_object[1].xyz), length(world_from_object[2].xyz)));
-    vec3 up = vec3(frame.view_from_world[0][1], frame.view_from_world[1][1], frame.view_from_world[2][1]);
-    vec4 a = frame.clip_from_world * vec4(c, 1.0), b = frame.clip_from_world * vec4(c + up * (atlas_radius * scale), 1.0);
-    if (a.w <= 0.0 || b.w <= 0.0) return 1e9; // behind the eye or around it: never simplified
-    return length(b.xy / b.w - a.xy / a.w) * 0.5 * frame.viewport_size.y;
-}
 
 flat out ivec3 v_views;
 flat out vec3 v_weights;
@@ -57,13 +45,7 @@ void main()
                                          : normalize(eye_object - atlas_center);
     vec2 corner = vec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);
     v_instance = instance;
-    v_lod = ATLAS_LOD_CORRECTED;
-    if (style == STYLE_CORRECTED && max(seed_below_pixels, baseline_below_pixels) > 0.0) {
-        float pixels = sphere_pixels(world_from_object);
-        v_lod = pixels < seed_below_pixels && hull_pass == 0 ? ATLAS_LOD_SEED
-              : pixels < baseline_below_pixels              ? ATLAS_LOD_BASELINE
-                                                            : ATLAS_LOD_CORRECTED;
-    }
+    v_lod = style == STYLE_CORRECTED ? draw_lod : ATLAS_LOD_CORRECTED;
     bool lod_seed = v_lod == ATLAS_LOD_SEED;
     bool ortho = frame.forward_world.w > 0.5;
     if (hull_pass != 0) { // every vertex may be a triangle's provoking one: each writes the views
