@@ -245,9 +245,9 @@ Status check_billboard(const Billboard& b, std::size_t index)
     return Status::ok();
 }
 
-Result<gpu::Program> make_march_program(bool inside, ProgramLocations& at)
+Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLocations& at)
 {
-    std::vector<std::pair<std::string, std::string>> defines;
+    std::vector<std::pair<std::string, std::string>> defines = {{"MARCH_MODE", std::to_string(march_mode)}};
     if (inside) defines.push_back({"INSIDE_PASS", "1"});
     Result<gpu::Program> program = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
@@ -283,10 +283,10 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     for (std::size_t i = 0; i < package.billboards.size(); ++i)
         STANDIN_RETURN_IF_ERROR(check_billboard(package.billboards[i], i));
 
-    Result<gpu::Program> front = make_march_program(false, renderer->front_at_);
+    Result<gpu::Program> front = make_march_program(false, renderer->march_mode_, renderer->front_at_);
     if (!front) return front.status();
     renderer->front_ = std::move(*front);
-    Result<gpu::Program> inside = make_march_program(true, renderer->inside_at_);
+    Result<gpu::Program> inside = make_march_program(true, renderer->march_mode_, renderer->inside_at_);
     if (!inside) return inside.status();
     renderer->inside_ = std::move(*inside);
     Result<gpu::Program> coarse = gpu::Program::create(
