@@ -285,7 +285,10 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
                                    {&r->scatter_, {"reps/microfacets/shaders/scatter.comp"}},
                                    {&r->quads_program_, {"reps/microfacets/shaders/facets.vert", "reps/microfacets/shaders/facets.frag"}},
                                    {&r->points_program_, {"reps/microfacets/shaders/points.vert", "reps/microfacets/shaders/points.frag"}}}) {
-        Result<gpu::Program> made = gpu::Program::create(stages, {{"MF_PBR", package.has_pbr() ? "1" : "0"}});
+        std::vector<std::pair<std::string, std::string>> defines = {{"MF_PBR", package.has_pbr() ? "1" : "0"}};
+        if (program == &r->quads_program_) // facets.frag's microfacets_sample.glsl
+            defines.push_back({"MF_CLIP_RULE", std::to_string(r->codes_.clip)});
+        Result<gpu::Program> made = gpu::Program::create(stages, defines);
         if (!made) return made.status();
         *program = std::move(*made);
     }

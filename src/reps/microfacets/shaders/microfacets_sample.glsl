@@ -19,7 +19,14 @@ layout(binding = MF_EMISSION_TEXTURE) uniform sampler2DArray emission_pages;
 
 uniform float page_size;  // texels per page side
 uniform int max_color_lod; // mip levels of the colour pages that never mix two crops
-uniform int clip_rule;     // MF_CLIP_*
+// MF_CLIP_*: renderer.cpp compiles it into the fragment programs (MF_CLIP_RULE), since llvmpipe
+// runs every branch for every fragment, masked (the ray clip paid for eq. 1's sampling of each view
+// too); without the define, a uniform.
+#ifdef MF_CLIP_RULE
+const int clip_rule = MF_CLIP_RULE;
+#else
+uniform int clip_rule;
+#endif
 // 1 (the default, binary pages too): a surface is kept where the colour pages' coverage (alpha),
 // filtered at the hit, reaches 1/2 (hit_coverage, issue #14); 0: every covered texel is surface
 // (renderer.cpp: STANDIN_MICROFACETS_FILTER_BINARY=0, for measurements)
