@@ -497,9 +497,15 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         const bool drawn = path == style_path || (path == ATLAS_LOD_SEED && renderer->seed_below_ > 0.0f) ||
                            (path == ATLAS_LOD_BASELINE && renderer->baseline_below_ > 0.0f);
         if (!drawn) continue;
+        // --color-level auto is level 0 for every package: nearer the truth at every distance, and its
+        // change under a slow orbit, relative to the truth's, no larger than at distance 1
+        // (docs/RESULTS.md "Colour from level 0 for every model")
         Result<gpu::Program> program = gpu::Program::create(
             {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
-            {{"ATLAS_ARRAYS", std::to_string(plan->arrays)}, {"ATLAS_PBR", pbr ? "1" : "0"}, {"ATLAS_PATH", std::to_string(path)}});
+            {{"ATLAS_ARRAYS", std::to_string(plan->arrays)},
+             {"ATLAS_PBR", pbr ? "1" : "0"},
+             {"ATLAS_PATH", std::to_string(path)},
+             {"ATLAS_FINEST_COLOR", settings.options.choice("color-level") != "mips" ? "1" : "0"}});
         if (!program) return program.status();
         PathProgram& slot = renderer->paths_[path];
         slot.program = std::move(*program);
@@ -592,10 +598,6 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         glProgramUniform1i(id, slot.program.uniform("binary_coverage"), depths.partial_coverage ? 0 : 1);
         glProgramUniform1i(id, slot.program.uniform("alpha_tested"), package.alpha_tested ? 1 : 0);
         glProgramUniform1i(id, slot.program.uniform("debug_view"), debug_view);
-        // auto is level 0 for every package: nearer the truth at every distance, and its change under a
-        // slow orbit, relative to the truth's, no larger than at distance 1 (docs/RESULTS.md "Colour from
-        // level 0 for every model")
-        glProgramUniform1i(id, slot.program.uniform("finest_color"), settings.options.choice("color-level") != "mips");
         glProgramUniform1i(id, slot.program.uniform("pages_per_array"), plan->pages_per_array);
         glProgramUniform1i(id, slot.program.uniform("lit_maps"), package.has_surface() ? 0 : 1);
     }

@@ -75,7 +75,13 @@ uniform int lit_maps; // 1: colour pages hold the baked lit colour (no normals)
 // point-sampled for every model, so level 0 is nearer it for opaque models too, and does not shimmer
 // more than it under motion (docs/RESULTS.md "Colour from level 0 for every model"): the host sets it
 // unless --color-level mips.
+// renderer.cpp compiles it in (ATLAS_FINEST_COLOR): llvmpipe runs the filtered levels' reads
+// masked in every fragment otherwise.
+#ifdef ATLAS_FINEST_COLOR
+const int finest_color = ATLAS_FINEST_COLOR;
+#else
 uniform int finest_color;
+#endif
 // The octahedral baseline's parallax steps (style or level; --parallax-steps; 1: impostor bakers')
 uniform int parallax_steps;
 // The stored depth: 2^bits - 1 steps over the bounding sphere's diameter, and the factor from the
@@ -535,7 +541,7 @@ void surface_sample(ViewData view, vec2 plane, float height, float lod, out vec4
     normal_depth /= weight_sum;
     orm /= weight_sum;
     emission /= weight_sum;
-    if (lod > 0.0) {
+    if (finest_color == 0 && lod > 0.0) { // (finest colour: lod <= 0 here)
         color = mix(color, sample_page(MAP_COLOR, view, texel_position, lod), lod);
         normal_depth = mix(normal_depth, sample_page(MAP_NORMAL_DEPTH, view, texel_position, lod), lod);
 #if ATLAS_PBR
