@@ -138,7 +138,7 @@ struct BoxLineVertex {
 };
 
 struct ProgramLocations {
-    GLint first_entry = -1, march_mode = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
+    GLint first_entry = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
           mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1, hide_back_hits = -1;
 };
 
@@ -253,7 +253,6 @@ Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLoca
         {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
     if (!program) return program;
     at.first_entry = program->uniform("first_entry");
-    at.march_mode = program->uniform("march_mode");
     at.seed_steps = program->uniform("seed_steps");
     at.seed_hit_range = program->uniform("seed_hit_range");
     at.debug_view = program->uniform("debug_view");
@@ -599,7 +598,6 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
 {
     GLuint id = program.id();
     glProgramUniform1i(id, at.first_entry, first_entry);
-    glProgramUniform1i(id, at.march_mode, march_mode_);
     glProgramUniform1i(id, at.seed_steps, seed_steps_);
     glProgramUniform1f(id, at.seed_hit_range, seed_hit_range_);
     glProgramUniform1i(id, at.debug_view, debug_view_);

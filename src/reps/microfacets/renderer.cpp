@@ -374,7 +374,6 @@ Result<std::unique_ptr<Renderer>> MicrofacetRenderer::create(const MicrofacetsPa
         glProgramUniform1i(id, program->uniform("max_color_lod"), k_mip_levels - 1);
         glProgramUniform1i(id, program->uniform("debug_view"), int(config.debug_view));
         glProgramUniform1i(id, program->uniform("coverage_rule"), r->codes_.coverage);
-        glProgramUniform1i(id, program->uniform("clip_rule"), r->codes_.clip);
         glProgramUniform1i(id, program->uniform("min_level"), package.settings.min_level);
         glProgramUniform1i(id, program->uniform("max_level"), package.settings.level);
     }

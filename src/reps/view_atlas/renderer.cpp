@@ -392,7 +392,7 @@ private:
         GLint counting_at = -1, early_reject_at = -1, hull_pass_at = -1, instance_offset_at = -1, draw_lod_at = -1;
     };
     PathProgram paths_[3];
-    int level_of(const glm::mat4& world_from_object, const DrawParams& params) const;
+    int level_of(float pixels) const;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     std::vector<gpu::Texture> orm_arrays_, emission_arrays_;       // PBR packages only
     gpu::Texture cell_tops_; // surface maps only (upload_cell_tops)
@@ -408,7 +408,7 @@ private:
     std::vector<glm::vec4> hull_corners_;
     float seed_below_ = 0.0f, baseline_below_ = 0.0f, hull_above_ = 0.0f;
     float sphere_pixels(const glm::mat4& world_from_object, const DrawParams& params) const;
-    bool on_hull(const glm::mat4& world_from_object, const DrawParams& params) const;
+    bool on_hull(const glm::mat4& world_from_object, const DrawParams& params, float pixels) const;
     gpu::Counters counters_;
     int style_ = STYLE_CORRECTED;
     bool bind_early_reject();
@@ -640,11 +640,10 @@ bool AtlasRenderer::bind_early_reject()
 // 4x4 blocks along every triangle's edges, so on a small instance the hull's tens of triangles
 // cost more than the prism's few large ones save (docs/RESULTS.md, "View atlas: a proxy hull"). The others take
 // the prism, which also handles an eye inside.
-bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams& params) const
+bool AtlasRenderer::on_hull(const glm::mat4& world_from_object, const DrawParams& params, float pixels) const
 {
     if (hull_index_count_ == 0 || glm::determinant(glm::mat3(world_from_object)) <= 0.0f) return false;
-    if (std::max(seed_below_, hull_above_) > 0.0f && sphere_pixels(world_from_object, params) < std::max(seed_below_, hull_above_))
-        return false;
+    if (pixels < std::max(seed_below_, hull_above_)) return false;
     // every corner beyond the near plane: then the whole hull is (it is convex), the eye outside it
     const Camera& camera = params.camera;
     const glm::mat4 view_from_object = camera.view_from_world * world_from_object;
@@ -671,10 +670,8 @@ float AtlasRenderer::sphere_pixels(const glm::mat4& world_from_object, const Dra
 
 // The corrected style's level of detail for an instance (ATLAS_LOD_*): the seed's quad under
 // --seed-below pixels, the baseline's shading under --baseline-below, else the walk.
-int AtlasRenderer::level_of(const glm::mat4& world_from_object, const DrawParams& params) const
+int AtlasRenderer::level_of(float pixels) const
 {
-    if (std::max(seed_below_, baseline_below_) <= 0.0f) return ATLAS_LOD_CORRECTED;
-    const float pixels = sphere_pixels(world_from_object, params);
     return pixels < seed_below_ ? ATLAS_LOD_SEED : pixels < baseline_below_ ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
 }
 
@@ -713,8 +710,9 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
         hull_chosen_.resize(count);
         level_chosen_.resize(count);
         for (std::size_t i = 0; i < count; ++i) {
-            level_chosen_[i] = std::uint8_t(level_of(transforms[i], params));
-            hull_chosen_[i] = level_chosen_[i] != ATLAS_LOD_SEED && on_hull(transforms[i], params);
+            const float pixels = sphere_pixels(transforms[i], params); // measured once for both choices
+            level_chosen_[i] = std::uint8_t(level_of(pixels));
+            hull_chosen_[i] = level_chosen_[i] != ATLAS_LOD_SEED && on_hull(transforms[i], params, pixels);
         }
         const Run order[5] = {{ATLAS_LOD_CORRECTED, true}, {ATLAS_LOD_BASELINE, true}, {ATLAS_LOD_CORRECTED, false},
                               {ATLAS_LOD_BASELINE, false}, {ATLAS_LOD_SEED, false}};

@@ -59,10 +59,6 @@ void main()
         }
         return;
     }
-    if (lod_seed && gl_VertexID >= 6) { // the seed's quad is the prism draw's first 6 vertices
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-        return;
-    }
     if (lod_seed) {
         const int strip_corner[6] = int[6](0, 1, 3, 0, 3, 2); // the strip's quad as two triangles
         int c = strip_corner[min(gl_VertexID, 5)];
