@@ -73,34 +73,54 @@ int nearest_view(vec3 e)
 }
 
 // The three views around e and their blend weights: cosine above the fourth-nearest's, so a view
-// enters and leaves the blend with weight 0 (no popping).
+// enters and leaves the blend with weight 0 (no popping). The nearest view's walk (nearest_view)
+// and the ranking of its neighbours share one pass over each neighbour list: the ranking of the
+// last list walked, where no neighbour was nearer, is the blend's. The three best neighbours are
+// kept in scalars, not an array: llvmpipe runs a fragment program's every path masked, and a
+// dynamically indexed local array became a ladder of selects on every fragment (the corrected
+// style picks its views per pixel: the frame of a crowd of 1000 -15%, docs/RESULTS.md "Views per
+// pixel without arrays").
 void blend_views(vec3 e, out ivec3 ids, out vec3 weights)
 {
-    int k = nearest_view(e);
-    int best[4] = int[4](k, -1, -1, -1);
-    float cosines[4] = float[4](dot(views.items[k].direction.xyz, e), -2.0, -2.0, -2.0);
+    int k = index_data.entries[lookup_cell(e)];
+    float best = dot(views.items[k].direction.xyz, e);
     int neighbour_base = 6 * LOOKUP_SIDE * LOOKUP_SIDE;
-    for (int i = 0; i < NEIGHBOURS; ++i) {
-        int n = index_data.entries[neighbour_base + k * NEIGHBOURS + i];
-        if (n < 0) continue;
-        float c = dot(views.items[n].direction.xyz, e);
-        for (int slot = 1; slot < 4; ++slot) {
-            if (c > cosines[slot]) {
-                for (int m = 3; m > slot; --m) {
-                    cosines[m] = cosines[m - 1];
-                    best[m] = best[m - 1];
-                }
-                cosines[slot] = c;
-                best[slot] = n;
-                break;
+    int b1 = -1, b2 = -1, b3 = -1;        // the nearest neighbours of k, nearest first
+    float c1 = -2.0, c2 = -2.0, c3 = -2.0; // their cosines
+    for (int step = 0; step < 65; ++step) {
+        int next = k;
+        float next_cosine = best;
+        b1 = -1, b2 = -1, b3 = -1;
+        c1 = -2.0, c2 = -2.0, c3 = -2.0;
+        for (int i = 0; i < NEIGHBOURS; ++i) {
+            int n = index_data.entries[neighbour_base + k * NEIGHBOURS + i];
+            if (n < 0) continue;
+            float c = dot(views.items[n].direction.xyz, e);
+            if (c > next_cosine || (c == next_cosine && n < next)) {
+                next_cosine = c;
+                next = n;
+            }
+            if (c > c1) {
+                c3 = c2, b3 = b2;
+                c2 = c1, b2 = b1;
+                c1 = c, b1 = n;
+            } else if (c > c2) {
+                c3 = c2, b3 = b2;
+                c2 = c, b2 = n;
+            } else if (c > c3) {
+                c3 = c, b3 = n;
             }
         }
+        // nearest_view's 64 steps: the 65th pass only ranks the neighbours of where they ended
+        if (next == k || step == 64) break;
+        k = next;
+        best = next_cosine;
     }
-    float floor_cosine = cosines[3] > -1.5 ? cosines[3] : cosines[2] - 1e-3;
-    ids = ivec3(best[0], max(best[1], 0), max(best[2], 0));
-    weights = max(vec3(cosines[0], cosines[1], cosines[2]) - floor_cosine, vec3(0.0));
-    if (best[1] < 0) weights.y = 0.0;
-    if (best[2] < 0) weights.z = 0.0;
+    float floor_cosine = b3 >= 0 ? c3 : c2 - 1e-3;
+    ids = ivec3(k, max(b1, 0), max(b2, 0));
+    weights = max(vec3(best, c1, c2) - floor_cosine, vec3(0.0));
+    if (b1 < 0) weights.y = 0.0;
+    if (b2 < 0) weights.z = 0.0;
     float sum = weights.x + weights.y + weights.z;
     weights = sum > 0.0 ? weights / sum : vec3(1.0, 0.0, 0.0);
 }
