@@ -70,7 +70,7 @@ bool is_model_file_name(const std::string& path)
 static Status check_source_file(const std::string& path, const std::string& extension)
 {
     STANDIN_RETURN_IF_ERROR(check_regular_file(path));
-    if (extension.empty()) return error(StatusCode::unsupported, quoted(path) + ": no file extension to tell the format by");
+    if (extension.empty()) return error(StatusCode::unsupported, quoted(path) + ": no file extension to tell the format by (rename it with its format's extension, e.g. .obj, .glb, .ply)");
     Assimp::Importer importer;
     if (!importer.IsExtensionSupported("." + extension))
         return error(StatusCode::unsupported, quoted(path) + ": unsupported model format " + quoted("." + extension));

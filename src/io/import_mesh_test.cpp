@@ -456,6 +456,13 @@ TEST(ImportMesh, UnknownExtensionIsUnsupported)
     expect_error(path, StatusCode::unsupported, ".xyz123");
 }
 
+// The format is told by the extension; without one the message says how to give it.
+TEST(ImportMesh, NoExtensionIsUnsupportedAndSaysWhatToDo)
+{
+    std::string path = write_text(import_test_dir("no_extension"), "model", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_error(path, StatusCode::unsupported, "rename it with its format's extension");
+}
+
 TEST(ImportMesh, CorruptFilesAreBadData)
 {
     std::string dir = import_test_dir("corrupt");
