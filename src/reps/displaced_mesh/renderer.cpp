@@ -107,9 +107,17 @@ private:
     DrawStats draw_patches(std::uint32_t instances);
     void set_face_culling();
 
-    gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_, draw_, patches_;
-    // the same with depth tested after the fragment stage, for cross-faded draws (draw.frag)
-    gpu::Program draw_faded_, patches_faded_;
+    gpu::Program cull_, scatter_roots_, decide_, scan_groups_, scatter_;
+    // The draw programs (draw.frag), indexed [faded][measuring]: faded ones test depth after the
+    // fragment stage (cross-faded draws, cut-outs); measuring ones compute each fragment's error in
+    // pixels (counted frames, the error debug view). Each is compiled with only what it draws
+    // (DM_MEASURE_ERROR, DM_FOLLOW_CONTROL, DM_PBR): llvmpipe runs every branch of a fragment
+    // program for every fragment, and the error's lookup of the finest surface, run masked on
+    // frames that do not want it, was a third of an 800x600 frame (docs/RESULTS.md "The displaced
+    // mesh's draw programs, compiled for what they draw"). patches_: the same for --subdivision tess.
+    gpu::Program draw_[2][2], patches_[2][2];
+    Status compile_draw_programs(); // for the package and moved_
+    bool tessellated_ = false; // --subdivision tess
     bool faded_ = false; // this draw is part of a cross-fade (DrawParams::fade)
     // the package stores coverage (issue #14): every draw discards cut-outs, so every draw tests
     // depth after the fragment stage (the faded programs), or the holes would still write depth
@@ -150,25 +158,8 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
         if (!program) return program.status();
         *s.program = std::move(*program);
     }
-    Result<gpu::Program> draw = gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"});
-    if (!draw) return draw.status();
-    draw_ = std::move(*draw);
-    Result<gpu::Program> draw_faded = gpu::Program::create(
-        {"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"}, {{"DM_FADED", "1"}});
-    if (!draw_faded) return draw_faded.status();
-    draw_faded_ = std::move(*draw_faded);
     if (settings.subdivision == "tess") {
-        Result<gpu::Program> patches = gpu::Program::create(
-            {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
-             "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"});
-        if (!patches) return patches.status();
-        patches_ = std::move(*patches);
-        Result<gpu::Program> patches_faded = gpu::Program::create(
-            {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
-             "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"},
-            {{"DM_FADED", "1"}});
-        if (!patches_faded) return patches_faded.status();
-        patches_faded_ = std::move(*patches_faded);
+        tessellated_ = true;
         primitives_query_ = gpu::make_query(GL_PRIMITIVES_GENERATED);
     } else if (settings.subdivision != "leb") {
         return error(StatusCode::invalid_argument, "--subdivision: must be leb or tess, not '" + settings.subdivision + "'");
@@ -223,6 +214,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
         for (std::size_t i = 0; i < pbr.size(); ++i) pbr[i] = {package.orm[i], package.emission[i]};
         pbr_ = gpu::make_buffer(pbr);
     }
+    STANDIN_RETURN_IF_ERROR(compile_draw_programs());
     refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);
     std::vector<std::uint32_t> zero(DM_STATE_UINTS, 0u);
     state_ = gpu::make_buffer(zero, GL_DYNAMIC_STORAGE_BIT);
@@ -231,6 +223,29 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     ensure_capacity(k_initial_records, k_initial_records);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "displaced mesh: " + gpu::gl_error_text(e) + " while uploading");
+    return Status::ok();
+}
+
+Status Impl::compile_draw_programs()
+{
+    for (int faded = 0; faded < 2; ++faded) {
+        for (int measuring = 0; measuring < 2; ++measuring) {
+            std::vector<std::pair<std::string, std::string>> defines = {
+                {"DM_MEASURE_ERROR", measuring ? "1" : "0"}, {"DM_FOLLOW_CONTROL", moved_ ? "1" : "0"}, {"DM_PBR", pbr_ ? "1" : "0"}};
+            if (faded) defines.push_back({"DM_FADED", "1"});
+            Result<gpu::Program> draw =
+                gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"}, defines);
+            if (!draw) return draw.status();
+            draw_[faded][measuring] = std::move(*draw);
+            if (!tessellated_) continue;
+            Result<gpu::Program> patches = gpu::Program::create(
+                {"reps/displaced_mesh/shaders/patch.vert", "reps/displaced_mesh/shaders/patch.tesc",
+                 "reps/displaced_mesh/shaders/patch.tese", "reps/displaced_mesh/shaders/draw.frag"},
+                defines);
+            if (!patches) return patches.status();
+            patches_[faded][measuring] = std::move(*patches);
+        }
+    }
     return Status::ok();
 }
 
@@ -360,7 +375,7 @@ DrawStats Impl::draw(const DrawParams& params)
                         state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    const gpu::Program& draw_program = faded_ || cutouts_ ? draw_faded_ : draw_;
+    const gpu::Program& draw_program = draw_[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
     glProgramUniform1i(draw_program.id(), draw_program.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
@@ -392,7 +407,7 @@ void Impl::set_face_culling()
 // tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
-    const gpu::Program& patches = faded_ || cutouts_ ? patches_faded_ : patches_;
+    const gpu::Program& patches = patches_[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
     glProgramUniform1i(patches.id(), patches.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
@@ -432,8 +447,11 @@ Status Impl::update_control(std::span<const glm::vec3> positions, std::span<cons
     std::vector<ControlVertex> vertices = rest_;
     for (std::size_t v = 0; v < vertices.size(); ++v)
         vertices[v].position = glm::vec4(positions[v], 1.0f), vertices[v].normal = glm::vec4(normals[v], 0.0f);
-    moved_ = true;
     glNamedBufferSubData(vertices_.get(), 0, GLsizeiptr(vertices.size() * sizeof(ControlVertex)), vertices.data());
+    if (!moved_) { // from now on the shading normals follow the control mesh: programs that turn them
+        moved_ = true;
+        return compile_draw_programs();
+    }
     return Status::ok();
 }
 

@@ -30,6 +30,20 @@ layout(early_fragment_tests) in;
 
 uniform int counting; // 1: add this fragment, its reads and its error to the counters
 
+// What this program draws, compiled in by the renderer (renderer.cpp compile_draw_programs):
+// llvmpipe runs every branch of a fragment program for every fragment, masked, so a branch taken
+// only on some frames costs all of them. Without the defines (a program built from this file
+// alone) every path is in and the uniforms choose.
+#ifndef DM_MEASURE_ERROR
+#define DM_MEASURE_ERROR 1 // the fragment's error in pixels, for counted frames and the error view
+#endif
+#ifndef DM_FOLLOW_CONTROL
+#define DM_FOLLOW_CONTROL 1 // the control mesh has moved: turn the shading normals with it
+#endif
+#ifndef DM_PBR
+#define DM_PBR 1 // the package may have ORM and emission samples (has_pbr_maps says)
+#endif
+
 in vec3 v_position_world;
 in vec2 v_face_bary;
 flat in uint v_face;
@@ -119,12 +133,12 @@ void main()
         albedo += weight[k] * unpackUnorm4x8(s.y);
     }
     if (has_coverage != 0 && albedo.a < 0.5) discard;
-    if (refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
+    if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);
     vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);
-    if (has_pbr_maps != 0) {
+    if (DM_PBR != 0 && has_pbr_maps != 0) {
         vec4 orm_sum = vec4(0.0), emission_sum = vec4(0.0);
         for (int k = 0; k < 3; ++k) {
             uvec2 s = pbr_samples[index[k]];
@@ -137,7 +151,7 @@ void main()
     vec3 color = shade_pbr_at(albedo.rgb, orm, emissive, normal_world, to_eye, v_position_world);
 
     uint debug_view = refine.options.w;
-    bool want_error = debug_view == DEBUG_VIEW_ERROR || counting != 0;
+    bool want_error = DM_MEASURE_ERROR != 0 && (debug_view == DEBUG_VIEW_ERROR || counting != 0);
     float error_px = want_error ? error_pixels(world_from_object) : 0.0;
     if (counting != 0) {
         count_fragment(3u);
