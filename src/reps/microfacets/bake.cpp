@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace standin::microfacets {
 
@@ -166,11 +167,83 @@ Options with_cutout_resolution(const Mesh& mesh, float radius, Options parameter
     return parameters;
 }
 
+namespace {
+
+// Each view's extent on its capture plane (u min, u max, v min, v max, object units from the
+// centre): the model's vertices projected, which bound every texel the capture can cover.
+std::vector<glm::vec4> view_extents(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions)
+{
+    std::vector<glm::vec4> extents;
+    for (glm::vec3 direction : directions) {
+        glm::vec3 axis_u, axis_v;
+        capture_axes(sphere, direction, axis_u, axis_v);
+        glm::vec4 e(std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+                    -std::numeric_limits<float>::max());
+        for (const glm::vec3& p : mesh.positions) {
+            const float u = glm::dot(p - sphere.center, axis_u), v = glm::dot(p - sphere.center, axis_v);
+            e = glm::vec4(std::min(e.x, u), std::max(e.y, u), std::min(e.z, v), std::max(e.w, v));
+        }
+        extents.push_back(e);
+    }
+    return extents;
+}
+
+// The crops' sizes at `resolution` from their extents, with encode_and_crop's margin and cells.
+std::vector<View> crops_of(const std::vector<glm::vec4>& extents, float radius, int resolution, int page_size)
+{
+    const int cell = reps::k_cell;
+    auto pixel = [&](float plane) {
+        return std::clamp(int(std::floor((plane + radius) / (2.0f * radius) * float(resolution))), 0, resolution - 1);
+    };
+    std::vector<View> views(extents.size());
+    for (std::size_t k = 0; k < extents.size(); ++k) {
+        const glm::vec4& e = extents[k];
+        views[k].width = std::min((pixel(e.y) - pixel(e.x) + 3 + cell - 1) / cell * cell, page_size);
+        views[k].height = std::min((pixel(e.w) - pixel(e.z) + 3 + cell - 1) / cell * cell, page_size);
+    }
+    return views;
+}
+
+} // namespace
+
+std::vector<View> estimated_crops(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
+                                  int resolution, int page_size)
+{
+    return crops_of(view_extents(mesh, sphere, directions), sphere.radius, resolution, page_size);
+}
+
+// Step 1 (continued): a model whose views its cut-out texture's rule fills (a textured box with
+// cut-outs) needed 67 pages of 2048^2 at 1536 px, twice what the renderer takes: the package was
+// written and could not be drawn. The estimate packs the crops as reps::pack_views packs the real
+// ones, so the pages it counts are at least theirs.
+int fitting_resolution(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
+                       int resolution, int floor_resolution, int page_size)
+{
+    const std::uint64_t page_bytes = std::uint64_t(page_size) * std::uint64_t(page_size) * k_page_texel_bytes;
+    const int budget_pages = int(k_texture_budget_bytes / page_bytes);
+    const std::vector<glm::vec4> extents = view_extents(mesh, sphere, directions);
+    auto pages = [&](int r) {
+        std::vector<View> views = crops_of(extents, sphere.radius, r, page_size);
+        return reps::pack_views(views, page_size);
+    };
+    while (resolution > floor_resolution && pages(resolution) > budget_pages)
+        resolution = std::max(floor_resolution, resolution * 15 / 16);
+    return resolution;
+}
+
 Result<std::unique_ptr<Package>> bake(const BakeContext& context)
 {
     const BoundingSphere sphere = context.mesh.bounding_sphere();
-    const Options parameters = with_cutout_resolution(context.mesh, sphere.radius, context.parameters);
-    const BakeSettings s = settings_from(parameters);
+    Options parameters = with_cutout_resolution(context.mesh, sphere.radius, context.parameters);
+    BakeSettings s = settings_from(parameters);
+    if (s.resolution > context.parameters.integer("resolution") && context.mesh.positions.size() > 0) {
+        const int fitting = fitting_resolution(context.mesh, sphere, capture_directions(s), s.resolution,
+                                               context.parameters.integer("resolution"), s.page_size);
+        if (fitting != s.resolution) {
+            parameters.set_integer("resolution", fitting);
+            s = settings_from(parameters);
+        }
+    }
     STANDIN_RETURN_IF_ERROR(check_settings(s));
     STANDIN_RETURN_IF_ERROR(validate_mesh(context.mesh, "microfacets"));
     const bool degraded = s.geometry_from != "full";
@@ -216,6 +289,13 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // pack the crops into pages, a page at a time, each crop freed once copied: the bake's peak is the
     // crops and one page, not the crops and every page (1536^2 captures of a tree: 1.86 -> 1.35 GB)
     int pages = reps::pack_views(package->views, s.page_size);
+    // a package the renderer would refuse is not written (an explicit --resolution or view count)
+    if (std::uint64_t(pages) * std::uint64_t(s.page_size) * std::uint64_t(s.page_size) * k_page_texel_bytes > k_texture_budget_bytes)
+        return error(StatusCode::invalid_argument,
+                     "microfacets: " + std::to_string(directions.size()) + " views of " + std::to_string(s.resolution) +
+                         " px need " + std::to_string(pages) + " pages of " + std::to_string(s.page_size) + "^2, more than the " +
+                         std::to_string(k_texture_budget_bytes / (std::uint64_t(s.page_size) * s.page_size * k_page_texel_bytes)) +
+                         " one texture array holds: bake with a lower --resolution or fewer views (--subdivisions)");
     const bool pbr = context.mesh.has_pbr_materials();
     package->color_pages.resize(std::size_t(pages));
     package->normal_depth_pages.resize(std::size_t(pages));

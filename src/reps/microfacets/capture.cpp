@@ -53,6 +53,13 @@ Camera capture_camera(const BoundingSphere& sphere, glm::vec3 direction)
 
 } // namespace
 
+void capture_axes(const BoundingSphere& sphere, glm::vec3 direction, glm::vec3& axis_u, glm::vec3& axis_v)
+{
+    const glm::mat4& m = capture_camera(sphere, direction).view_from_world; // rows 0 and 1: camera right and up
+    axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
+    axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
+}
+
 Result<std::unique_ptr<SurfaceCapturer>> SurfaceCapturer::create(const Mesh& color_mesh, const Mesh* geometry,
                                                                   const BoundingSphere& sphere, int resolution,
                                                                   int coverage_samples)
@@ -82,9 +89,7 @@ Result<SurfaceCapture> SurfaceCapturer::capture(glm::vec3 direction) const
     Camera camera = capture_camera(sphere_, direction);
     SurfaceCapture out;
     out.direction = -camera.forward_world;
-    const glm::mat4& m = camera.view_from_world; // rows 0 and 1: camera right and up
-    out.axis_u = glm::vec3(m[0][0], m[1][0], m[2][0]);
-    out.axis_v = -glm::vec3(m[0][1], m[1][1], m[2][1]);
+    capture_axes(sphere_, direction, out.axis_u, out.axis_v);
     // pure ambient under the Lambert model: the renderer's shading returns the albedo
     const Light albedo_light{out.direction, 1.0f, 0.0f, 0.0f, 1.0f, ShadingModel::lambert_blinn_phong};
 

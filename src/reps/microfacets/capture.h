@@ -36,6 +36,10 @@ struct SurfaceCapture {
     reps::MaterialImages material;
 };
 
+// The image axes of the capture along `direction` (towards the camera): columns and rows, as
+// SurfaceCapture::axis_u / axis_v.
+void capture_axes(const BoundingSphere& sphere, glm::vec3 direction, glm::vec3& axis_u, glm::vec3& axis_v);
+
 // Captures views of a sphere's content: the pixel (x, y) of a resolution^2 capture (continuous, y
 // down) lies on the plane through the centre at centre + (-r + x 2r / res) axis_u + (-r + y 2r /
 // res) axis_v. Needs a current GL context; holds the meshes' GPU copies. With `coverage_samples` f

@@ -38,6 +38,12 @@ constexpr int k_coverage_samples = 1;
 // arrays: 9 pages of 4096^2 for the generated tree).
 constexpr int k_alpha_max_resolution = 1536;
 
+// Bytes one texture array of pages may take (the normal-depth pages, 8 bytes a texel, are the
+// largest): the renderer refuses packages over it (llvmpipe refuses 1 GiB), and the bake lowers a
+// resolution it raised itself until the pages fit (bake.cpp fitting_resolution).
+constexpr std::uint64_t k_texture_budget_bytes = 960ull << 20;
+constexpr std::uint64_t k_page_texel_bytes = 8;
+
 struct BakeSettings {
     int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
     int min_level = 2;               // coarsest level kept (2: 4^3), what distant instances draw
@@ -85,6 +91,16 @@ public:
 // The capture directions of a layout: the view atlas's sphere layouts (reps::layout_directions)
 // or "circle": `frames` directions on the horizontal circle, azimuth 360 k / frames from +Z.
 std::vector<glm::vec3> capture_directions(const BakeSettings& settings);
+
+// bake.cpp, step 1: the crops (width and height) the views along `directions` would take at
+// `resolution`, from the model's vertices projected on each view: never smaller than the crop its
+// capture covers. fitting_resolution: `resolution` lowered by sixteenths, not under
+// `floor_resolution`, until those crops pack into the pages one texture array holds
+// (k_texture_budget_bytes).
+std::vector<View> estimated_crops(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
+                                  int resolution, int page_size);
+int fitting_resolution(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
+                       int resolution, int floor_resolution, int page_size);
 
 // The bake parameters typed (representation.cpp), and the checks between them.
 BakeSettings settings_from(const Options& parameters);

@@ -66,7 +66,6 @@ static_assert(sizeof(InstanceLodGpu) == 64, "std430 layout of InstanceLod");
 
 constexpr std::size_t k_facet_bytes = 32;          // Facet: two uvec4
 constexpr std::uint64_t k_max_work = 8u << 20;     // work items per draw: 256 MiB of selected facets
-constexpr std::uint64_t k_texture_budget = 960ull << 20; // bytes per texture (llvmpipe refuses 1 GiB)
 constexpr GLuint k_max_groups_x = 65535;
 constexpr int k_fallback_views = 8; // facets.frag: views walked where every blended one abstained
 
@@ -249,7 +248,7 @@ Status check_package(const MicrofacetsPackage& package)
     GLint max_layers = 0, max_size = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-    if (s.page_size > max_size || int(package.color_pages.size()) > max_layers || texels * 8 > k_texture_budget) {
+    if (s.page_size > max_size || int(package.color_pages.size()) > max_layers || texels * k_page_texel_bytes > k_texture_budget_bytes) {
         std::string name = !package.directory.empty() ? package.directory : "(baked from " + package.source.file_name + ")";
         return error(StatusCode::unsupported, "microfacets: package " + name + " does not fit one texture array: " +
                                                   std::to_string(package.color_pages.size()) + " pages of " +

@@ -442,6 +442,29 @@ TEST(MicrofacetRenderer, InstancesDrawAsTheSingleModel)
     EXPECT_GT(m.iou, 0.93);
 }
 
+// The bake's estimate of the crops (bake.cpp estimated_crops, which decides how far a raised
+// resolution comes down) holds every crop the captures really took, so its page count is at least
+// theirs: a torus, whose views it covers partly and differently.
+TEST(MicrofacetRenderer, EstimatedCropsHoldTheCapturedOnes)
+{
+    Mesh mesh = generated(GeneratedShape::torus, 2000);
+    std::unique_ptr<Package> package = bake_small(mesh);
+    ASSERT_TRUE(package);
+    const MicrofacetsPackage& p = as_microfacets(package);
+    std::vector<View> estimated =
+        estimated_crops(mesh, mesh.bounding_sphere(), capture_directions(p.settings), p.settings.resolution, p.settings.page_size);
+    ASSERT_EQ(estimated.size(), p.views.size());
+    int tight = 0;
+    for (std::size_t k = 0; k < estimated.size(); ++k) {
+        EXPECT_GE(estimated[k].width, p.views[k].width) << "view " << k;
+        EXPECT_GE(estimated[k].height, p.views[k].height) << "view " << k;
+        tight += estimated[k].width == p.views[k].width && estimated[k].height == p.views[k].height;
+    }
+    EXPECT_GT(tight, int(estimated.size()) / 2) << "the estimate should be the crop itself on most views";
+    std::vector<View> copy = estimated;
+    EXPECT_GE(reps::pack_views(copy, p.settings.page_size), int(p.color_pages.size()));
+}
+
 TEST(MicrofacetRenderer, OptionsAndRefusals)
 {
     Mesh mesh = generated(GeneratedShape::torus, 2000);
