@@ -335,6 +335,34 @@ void bleed_into_cutouts(int n, std::size_t per_face, std::size_t face, const std
     }
 }
 
+// Step 3's departure: a corner or edge sample is shared by the faces that meet there, so its
+// elevation is one (no cracks); its shading need not be, and on a crease it cannot be: a cube's
+// edge sample lies on both faces and took either face's normal (and colour), so the pattern
+// triangles along every edge of the other face were shaded as its neighbour, in notches
+// (docs/RESULTS.md "Shading on both sides of a crease"). Each face reads its own copy of the
+// shading arrays, so where the surface a hair inside this face (1/32 of a pattern step towards its
+// centre) is shaded otherwise (normals over 10 degrees apart, or a colour channel over 8/255), the
+// face's copy takes that shading. Smooth, evenly coloured surfaces keep the shared sample's bytes.
+void take_own_shading(const Mesh& original, const RayScene& scene, const ControlGeometry& control, const std::uint32_t corner[3],
+                      int n, int i, int j, float range, bool cutouts, Sample& shared)
+{
+    const double nudge = 3.0 / (32.0 * double(n)); // of the way to the centroid
+    auto toward_centre = [&](int index) {
+        const double b = double(index) / double(n);
+        return std::uint32_t(std::lround((b + (1.0 / 3.0 - b) * nudge) * double(k_bary_one)));
+    };
+    FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
+    Sample own = sample_at(original, scene, inside, range, cutouts);
+    if (own.missed || shared.missed) return;
+    const bool creased = glm::dot(glm::normalize(own.normal), glm::normalize(shared.normal)) < std::cos(glm::radians(10.0f));
+    const glm::vec4 colour_step = glm::abs(own.albedo - shared.albedo);
+    const bool colour_edge = std::max({colour_step.x, colour_step.y, colour_step.z}) > 8.0f / 255.0f;
+    if (!creased && !colour_edge) return;
+    shared.normal = own.normal;
+    shared.albedo = glm::vec4(glm::vec3(own.albedo), shared.albedo.w); // the alpha is the shared coverage's
+    shared.pbr = own.pbr;
+}
+
 } // namespace
 
 Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
@@ -389,6 +417,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                                            face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
                                            range, cutouts)
                                : shared_sample(f, kind, which, along);
+                if (kind != VertexKind::interior) take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, s);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
                 out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
                 if (!out.pbr.empty()) out.pbr[at] = s.pbr;
