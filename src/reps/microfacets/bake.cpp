@@ -214,8 +214,9 @@ std::vector<View> estimated_crops(const Mesh& mesh, const BoundingSphere& sphere
 
 // Step 1 (continued): a model whose views its cut-out texture's rule fills (a textured box with
 // cut-outs) needed 67 pages of 2048^2 at 1536 px, twice what the renderer takes: the package was
-// written and could not be drawn. The estimate packs the crops as reps::pack_views packs the real
-// ones, so the pages it counts are at least theirs.
+// written and could not be drawn. The estimate packs crops no smaller than the real ones as
+// reps::pack_views packs those (shelf packing is not strictly monotone in the crops' sizes, so the
+// bake checks the real pages again and refuses, rather than writes, a package over the budget).
 int fitting_resolution(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
                        int resolution, int floor_resolution, int page_size)
 {
