@@ -48,37 +48,14 @@ int lookup_cell(vec3 d)
     return face * LOOKUP_SIDE * LOOKUP_SIDE + cell.y * LOOKUP_SIDE + cell.x;
 }
 
-// The view nearest to direction e (largest cosine): the lookup cube's guess, then a walk over
-// nearest-neighbour lists while a neighbour is nearer.
-int nearest_view(vec3 e)
-{
-    int k = index_data.entries[lookup_cell(e)];
-    float best = dot(views.items[k].direction.xyz, e);
-    int neighbour_base = 6 * LOOKUP_SIDE * LOOKUP_SIDE;
-    for (int step = 0; step < 64; ++step) {
-        int next = k;
-        for (int i = 0; i < NEIGHBOURS; ++i) {
-            int n = index_data.entries[neighbour_base + k * NEIGHBOURS + i];
-            if (n < 0) continue;
-            float c = dot(views.items[n].direction.xyz, e);
-            if (c > best || (c == best && n < next)) {
-                best = c;
-                next = n;
-            }
-        }
-        if (next == k) break;
-        k = next;
-    }
-    return k;
-}
-
 // The three views around e and their blend weights: cosine above the fourth-nearest's, so a view
-// enters and leaves the blend with weight 0 (no popping). The nearest view's walk (nearest_view)
+// enters and leaves the blend with weight 0 (no popping). The nearest view is found by the lookup
+// cube's guess, then a walk over nearest-neighbour lists while a neighbour is nearer; the walk
 // and the ranking of its neighbours share one pass over each neighbour list: the ranking of the
 // last list walked, where no neighbour was nearer, is the blend's. The three best neighbours are
 // kept in scalars, not an array: llvmpipe runs a fragment program's every path masked, and a
 // dynamically indexed local array became a ladder of selects on every fragment (the corrected
-// style picks its views per pixel: the frame of a crowd of 1000 -15%, docs/RESULTS.md "Views per
+// style picks its views per pixel: the frame of a crowd of 1000 about -20%, docs/RESULTS.md "Views per
 // pixel without arrays").
 void blend_views(vec3 e, out ivec3 ids, out vec3 weights)
 {
@@ -111,7 +88,7 @@ void blend_views(vec3 e, out ivec3 ids, out vec3 weights)
                 c3 = c, b3 = n;
             }
         }
-        // nearest_view's 64 steps: the 65th pass only ranks the neighbours of where they ended
+        // 64 steps of the walk at most: the 65th pass only ranks the neighbours of where they ended
         if (next == k || step == 64) break;
         k = next;
         best = next_cosine;
@@ -123,6 +100,15 @@ void blend_views(vec3 e, out ivec3 ids, out vec3 weights)
     if (b2 < 0) weights.z = 0.0;
     float sum = weights.x + weights.y + weights.z;
     weights = sum > 0.0 ? weights / sum : vec3(1.0, 0.0, 0.0);
+}
+
+// The view nearest to direction e (largest cosine): blend_views' first.
+int nearest_view(vec3 e)
+{
+    ivec3 ids;
+    vec3 weights;
+    blend_views(e, ids, weights);
+    return ids.x;
 }
 
 // Rotation taking unit a onto unit b (Rodrigues).
