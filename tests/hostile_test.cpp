@@ -148,6 +148,18 @@ const HostileCase k_refused[] = {
          ::mkfifo((p + "/billboard_000_color.png").c_str(), 0600);
          return std::pair{"info " + p, std::string("billboard_000_color.png")};
      }},
+    {"a folder of packages (a batch bake's output) as the package",
+     [](const std::string& d) {
+         fs::create_directories(d + "/batch");
+         copy_package(d + "/batch", "a.standin");
+         copy_package(d + "/batch", "b.standin");
+         return std::pair{"render " + d + "/batch -o " + d + "/out.png", std::string("a folder of 2 (a batch bake's output)")};
+     }},
+    {"an empty folder as the package",
+     [](const std::string& d) {
+         fs::create_directories(d + "/empty.standin");
+         return std::pair{"info " + d + "/empty.standin", std::string("not a package (no manifest.json)")};
+     }},
     {"/dev/zero as the model",
      [](const std::string& d) { fs::create_symlink("/dev/zero", d + "/zero.ply"); return std::pair{"info " + d + "/zero.ply", std::string("zero.ply")}; }},
     {"/dev/zero as a manifest",

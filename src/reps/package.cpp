@@ -141,6 +141,16 @@ Result<std::unique_ptr<Package>> read_package(const std::string& directory)
         return is_directory;
     }
     std::string manifest_path = (fs::path(directory) / "manifest.json").string();
+    std::error_code ec;
+    if (!fs::exists(manifest_path, ec)) { // a folder of packages (a batch bake's output) is named as one
+        std::size_t held = 0;
+        for (fs::directory_iterator it(directory, ec), end; !ec && it != end && held < 1000; it.increment(ec))
+            held += fs::exists(it->path() / "manifest.json", ec);
+        if (held > 0)
+            return error(StatusCode::not_found, quoted(directory) + ": not a package but a folder of " + std::to_string(held) +
+                                                    " (a batch bake's output): name one of them");
+        return error(StatusCode::not_found, quoted(directory) + ": not a package (no manifest.json)");
+    }
     Result<std::string> text = read_file(manifest_path, k_max_manifest_bytes);
     if (!text) return text.status();
     if (!json_nesting_within(*text, 64)) return error(StatusCode::bad_data, quoted(manifest_path) + ": nested more than 64 levels deep");
