@@ -353,7 +353,7 @@ void take_own_shading(const Mesh& original, const RayScene& scene, const Control
     };
     FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
     Sample own = sample_at(original, scene, inside, range, cutouts);
-    if (own.missed || shared.missed) return;
+    if (own.missed || shared.missed || (cutouts && !own.covered)) return; // a cut-out's colour is no shading
     const bool creased = glm::dot(glm::normalize(own.normal), glm::normalize(shared.normal)) < std::cos(glm::radians(10.0f));
     const glm::vec4 colour_step = glm::abs(own.albedo - shared.albedo);
     const bool colour_edge = std::max({colour_step.x, colour_step.y, colour_step.z}) > 8.0f / 255.0f;
