@@ -117,6 +117,11 @@ private:
     // mesh's draw programs, compiled for what they draw"). patches_: the same for --subdivision tess.
     gpu::Program draw_[2][2], patches_[2][2];
     Status compile_draw_programs(); // for the package and moved_
+    // this draw's program of draw_ or patches_: late depth tests, measuring
+    const gpu::Program& chosen(gpu::Program (&programs)[2][2]) const
+    {
+        return programs[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
+    }
     bool tessellated_ = false; // --subdivision tess
     bool faded_ = false; // this draw is part of a cross-fade (DrawParams::fade)
     // the package stores coverage (issue #14): every draw discards cut-outs, so every draw tests
@@ -375,7 +380,7 @@ DrawStats Impl::draw(const DrawParams& params)
                         state[DM_STATE_OVERFLOWED], state[DM_STATE_DROPPED]};
 
     // draw the final list
-    const gpu::Program& draw_program = draw_[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
+    const gpu::Program& draw_program = chosen(draw_);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
@@ -407,7 +412,7 @@ void Impl::set_face_culling()
 // tessellator made are counted with a GL_PRIMITIVES_GENERATED query.
 DrawStats Impl::draw_patches(std::uint32_t instances)
 {
-    const gpu::Program& patches = patches_[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
+    const gpu::Program& patches = chosen(patches_);
     glProgramUniform1i(patches.id(), patches.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);

@@ -346,6 +346,7 @@ void bleed_into_cutouts(int n, std::size_t per_face, std::size_t face, const std
 void take_own_shading(const Mesh& original, const RayScene& scene, const ControlGeometry& control, const std::uint32_t corner[3],
                       int n, int i, int j, float range, bool cutouts, Sample& shared)
 {
+    if (shared.missed) return;
     const double nudge = 3.0 / (32.0 * double(n)); // of the way to the centroid
     auto toward_centre = [&](int index) {
         const double b = double(index) / double(n);
@@ -353,7 +354,7 @@ void take_own_shading(const Mesh& original, const RayScene& scene, const Control
     };
     FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
     Sample own = sample_at(original, scene, inside, range, cutouts);
-    if (own.missed || shared.missed || (cutouts && !own.covered)) return; // a cut-out's colour is no shading
+    if (own.missed || (cutouts && !own.covered)) return; // a cut-out's colour is no shading
     const bool creased = glm::dot(glm::normalize(own.normal), glm::normalize(shared.normal)) < std::cos(glm::radians(10.0f));
     const glm::vec4 colour_step = glm::abs(own.albedo - shared.albedo);
     const bool colour_edge = std::max({colour_step.x, colour_step.y, colour_step.z}) > 8.0f / 255.0f;

@@ -220,14 +220,13 @@ std::vector<View> estimated_crops(const Mesh& mesh, const BoundingSphere& sphere
 int fitting_resolution(const Mesh& mesh, const BoundingSphere& sphere, const std::vector<glm::vec3>& directions,
                        int resolution, int floor_resolution, int page_size)
 {
-    const std::uint64_t page_bytes = std::uint64_t(page_size) * std::uint64_t(page_size) * k_page_texel_bytes;
-    const int budget_pages = int(k_texture_budget_bytes / page_bytes);
+    const int budget = budget_pages(page_size);
     const std::vector<glm::vec4> extents = view_extents(mesh, sphere, directions);
     auto pages = [&](int r) {
         std::vector<View> views = crops_of(extents, sphere.radius, r, page_size);
         return reps::pack_views(views, page_size);
     };
-    while (resolution > floor_resolution && pages(resolution) > budget_pages)
+    while (resolution > floor_resolution && pages(resolution) > budget)
         resolution = std::max(floor_resolution, resolution * 15 / 16);
     return resolution;
 }
@@ -291,11 +290,11 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     // crops and one page, not the crops and every page (1536^2 captures of a tree: 1.86 -> 1.35 GB)
     int pages = reps::pack_views(package->views, s.page_size);
     // a package the renderer would refuse is not written (an explicit --resolution or view count)
-    if (std::uint64_t(pages) * std::uint64_t(s.page_size) * std::uint64_t(s.page_size) * k_page_texel_bytes > k_texture_budget_bytes)
+    if (pages > budget_pages(s.page_size))
         return error(StatusCode::invalid_argument,
                      "microfacets: " + std::to_string(directions.size()) + " views of " + std::to_string(s.resolution) +
                          " px need " + std::to_string(pages) + " pages of " + std::to_string(s.page_size) + "^2, more than the " +
-                         std::to_string(k_texture_budget_bytes / (std::uint64_t(s.page_size) * s.page_size * k_page_texel_bytes)) +
+                         std::to_string(budget_pages(s.page_size)) +
                          " one texture array holds: bake with a lower --resolution or fewer views (--subdivisions)");
     const bool pbr = context.mesh.has_pbr_materials();
     package->color_pages.resize(std::size_t(pages));

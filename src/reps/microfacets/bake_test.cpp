@@ -25,7 +25,7 @@ Mesh cube()
 }
 
 constexpr int k_page = 2048;
-const int k_budget_pages = int(k_texture_budget_bytes / (std::uint64_t(k_page) * k_page * k_page_texel_bytes));
+const int k_budget_pages = budget_pages(k_page);
 
 // A cube fills most of every view: at 1536 px most crops take a page of their own, more pages than
 // the 30 one texture array holds, so the resolution comes down until they fit, and no further than

@@ -43,6 +43,11 @@ constexpr int k_alpha_max_resolution = 1536;
 // resolution it raised itself until the pages fit (bake.cpp fitting_resolution).
 constexpr std::uint64_t k_texture_budget_bytes = 960ull << 20;
 constexpr std::uint64_t k_page_texel_bytes = 8;
+// How many pages of page_size^2 one texture array holds within that budget.
+constexpr int budget_pages(int page_size)
+{
+    return int(k_texture_budget_bytes / (std::uint64_t(page_size) * std::uint64_t(page_size) * k_page_texel_bytes));
+}
 
 struct BakeSettings {
     int level = 7;                   // finest octree level: 2^level cells per side (7: 128^3)
