@@ -1,4 +1,5 @@
 // Sampling: an icosphere control mesh inside a sphere gets the radius difference as elevation;
+// surfaces hidden inside closed parts give way to the one enclosing them, other parts do not;
 // shared edges and corners hold bit-identical values on every face and every level, for both
 // samplers; levels on an edge depend on the edge alone; quantisation round-trips within a step.
 #include "reps/displaced_mesh/control_mesh.h"
@@ -105,6 +106,135 @@ TEST(DisplacedMeshSample, IcosphereOverASphereGivesTheRadiusDifference)
         mean_difference += std::abs(averaged->elevation[i] - sampled->elevation[i]) / double(averaged->elevation.size());
     }
     EXPECT_LT(mean_difference, 0.004);
+}
+
+// One mesh of closed spheres (each wound outward, or inward where `inward`), each of one colour,
+// each turned a different way so that no ray through one's vertices passes through another's
+// (concentric icospheres share vertex directions, where a ray tracer that is not watertight
+// may miss the second).
+struct Ball {
+    glm::vec3 centre;
+    float radius;
+    glm::vec4 colour;
+    bool inward = false;
+};
+Mesh balls(const std::vector<Ball>& parts)
+{
+    Mesh mesh;
+    mesh.materials.emplace_back();
+    for (const Ball& ball : parts) {
+        std::vector<glm::vec3> positions, normals;
+        std::vector<std::uint32_t> indices;
+        icosphere(4, ball.radius, positions, normals, indices);
+        const auto base = std::uint32_t(mesh.positions.size());
+        const float angle = 0.37f * float(&ball - parts.data() + 1);
+        const glm::vec3 axis = glm::normalize(glm::vec3(0.3f, 0.8f, 0.5f));
+        auto turn = [&](glm::vec3 v) { // Rodrigues' rotation by `angle` about `axis`
+            return v * std::cos(angle) + glm::cross(axis, v) * std::sin(angle) + axis * glm::dot(axis, v) * (1.0f - std::cos(angle));
+        };
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+            mesh.positions.push_back(ball.centre + turn(positions[v]));
+            mesh.normals.push_back(turn(ball.inward ? -normals[v] : normals[v]));
+            mesh.colors.push_back(ball.colour);
+        }
+        for (std::size_t i = 0; i < indices.size(); i += 3) {
+            const std::uint32_t a = indices[i], b = ball.inward ? indices[i + 2] : indices[i + 1],
+                                c = ball.inward ? indices[i + 1] : indices[i + 2];
+            mesh.indices.insert(mesh.indices.end(), {base + a, base + b, base + c});
+            mesh.face_materials.push_back(0);
+        }
+    }
+    return mesh;
+}
+
+// Samples of an icosphere control mesh of radius `control_radius` over `mesh`, and the radius of
+// the point each sample displaces to (from the origin).
+SampledSurface sample_over(const Mesh& mesh, float control_radius, float range, std::vector<float>& radii)
+{
+    std::vector<glm::vec3> positions, normals;
+    std::vector<std::uint32_t> indices;
+    icosphere(1, control_radius, positions, normals, indices);
+    Result<ControlTopology> topology = build_topology(positions.size(), indices);
+    Result<std::unique_ptr<RayScene>> scene = RayScene::create(mesh.positions, mesh.indices);
+    EXPECT_TRUE(topology.is_ok() && scene.is_ok());
+    ControlGeometry control{positions, normals, indices, *topology};
+    SampleOptions options;
+    options.degree = 9;
+    options.ray_range = range;
+    Result<SampledSurface> sampled = sample_surface(mesh, **scene, control, options, Progress());
+    EXPECT_TRUE(sampled.is_ok());
+    const PatternLayout layout(9);
+    const int n = layout.segments;
+    radii.assign(sampled->elevation.size(), 0.0f);
+    for (std::size_t f = 0; f < indices.size() / 3; ++f)
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; j <= n - i; ++j) {
+                FacePoint p = face_point(positions.data(), normals.data(), &indices[3 * f], std::uint32_t(j) * (k_bary_one / n),
+                                         std::uint32_t(i) * (k_bary_one / n));
+                const std::size_t at = f * layout.finest_samples + triangle_index(n, i, j);
+                radii[at] = glm::length(p.position + sampled->elevation[at] * unit_direction(p.normal));
+            }
+    return std::move(*sampled);
+}
+
+TEST(DisplacedMeshSample, SurfacesInsideClosedPartsGiveWayToTheOneEnclosingThem)
+{
+    const glm::vec4 white(1.0f), black(0.0f, 0.0f, 0.0f, 1.0f);
+    std::vector<float> radii;
+    // nested shells (assimp's UglyVertexColors.lwo): a control mesh at 0.85 is nearest to the
+    // black shell at 0.9, which no eye sees; every sample takes the white one at 1 instead
+    SampledSurface nested = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black}}), 0.85f, 0.5f, radii);
+    ASSERT_FALSE(nested.elevation.empty());
+    for (std::size_t i = 0; i < nested.elevation.size(); ++i) {
+        ASSERT_NEAR(radii[i], 1.0f, 0.01f) << i;
+        ASSERT_GT(nested.albedo[i].x, 0.99f) << i;
+    }
+    // interpenetrating parts: a black ball pokes out of the white one. Around the axis they share
+    // both surfaces run nearly parallel, and every sample there lies on the black ball's outer
+    // surface, never on the white one inside it; further round they cross at an angle, and a
+    // sample keeps the paper's hit (its neighbours would otherwise jump between the two)
+    const glm::vec3 poke(0.6f, 0.0f, 0.0f);
+    const Mesh both = balls({{{0, 0, 0}, 1.0f, white}, {poke, 0.5f, black}});
+    SampledSurface joined = sample_over(both, 0.85f, 0.5f, radii);
+    {
+        std::vector<glm::vec3> positions, normals;
+        std::vector<std::uint32_t> indices;
+        icosphere(1, 0.85f, positions, normals, indices);
+        const PatternLayout layout(9);
+        const int n = layout.segments;
+        std::size_t near_axis = 0;
+        for (std::size_t f = 0; f < indices.size() / 3; ++f)
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n - i; ++j) {
+                    FacePoint p = face_point(positions.data(), normals.data(), &indices[3 * f], std::uint32_t(j) * (k_bary_one / n),
+                                             std::uint32_t(i) * (k_bary_one / n));
+                    const glm::vec3 direction = unit_direction(p.normal);
+                    if (direction.x < std::cos(glm::radians(20.0f))) continue;
+                    const std::size_t at = f * layout.finest_samples + triangle_index(n, i, j);
+                    const glm::vec3 q = p.position + joined.elevation[at] * direction;
+                    ASSERT_NEAR(glm::length(q - poke), 0.5f, 0.01f) << at; // on the black ball
+                    ASSERT_GT(glm::length(q), 1.0f) << at;                 // outside the white one
+                    ASSERT_LT(joined.albedo[at].x, 0.01f) << at;
+                    ++near_axis;
+                }
+        EXPECT_GT(near_axis, 20u);
+    }
+    // a hollow ball: the cavity's wall (wound inward, at 0.9) faces the control mesh across open
+    // air, so it is not hidden from it: the paper's nearer hit stays (the same rule keeps a gap
+    // between a bundle's barrels a gap instead of spanning it with the barrels' far sides)
+    SampledSurface hollow = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black, true}}), 0.85f, 0.5f, radii);
+    for (std::size_t i = 0; i < hollow.elevation.size(); ++i) {
+        ASSERT_NEAR(radii[i], 0.9f, 0.01f) << i;
+        ASSERT_LT(hollow.albedo[i].x, 0.01f) << i;
+    }
+    // the paper's rule is kept where nothing hides: a separate part within the ray range above
+    // the sphere (entered, not left, by the ray) does not pull samples onto it, so every sample
+    // still takes the black sphere it lies nearest
+    SampledSurface apart = sample_over(balls({{{0, 0, 0}, 0.9f, black}, {{0, 1.05f, 0}, 0.1f, white}}), 0.85f, 0.5f, radii);
+    for (std::size_t i = 0; i < apart.elevation.size(); ++i) {
+        ASSERT_NEAR(radii[i], 0.9f, 0.01f) << i;
+        ASSERT_LT(apart.albedo[i].x, 0.01f) << i;
+    }
 }
 
 // Every face's values along each edge, in the edge's canonical direction, at every level.
