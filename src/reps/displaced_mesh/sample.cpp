@@ -160,6 +160,8 @@ bool inside_closed_part(const RayScene& scene, const Mesh& original, glm::vec3 p
             SurfacePoint hit = scene.intersect(point, directions[k], unbounded, t_min);
             if (!hit.found) break;
             winding += leaves_through(original, hit, directions[k]) ? 1 : -1;
+            // past the hit by its own distance's scale (an unbounded ray has no range to scale
+            // by; `past` rounds differently and moves some of the engine's samples)
             t_min = std::nextafter(hit.t * (1.0f + 1e-6f) + 1e-30f, unbounded);
         }
         enclosed += winding > 0;

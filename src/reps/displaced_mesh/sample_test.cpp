@@ -147,9 +147,13 @@ Mesh balls(const std::vector<Ball>& parts)
     return mesh;
 }
 
-// Samples of an icosphere control mesh of radius `control_radius` over `mesh`, and the radius of
-// the point each sample displaces to (from the origin).
-SampledSurface sample_over(const Mesh& mesh, float control_radius, float range, std::vector<float>& radii)
+// Samples of an icosphere control mesh of radius `control_radius` over `mesh`: the sampled
+// surface, and per sample the point it displaces to and its displacement direction.
+struct SampledOver {
+    SampledSurface surface;
+    std::vector<glm::vec3> points, directions;
+};
+SampledOver sample_over(const Mesh& mesh, float control_radius, float range)
 {
     std::vector<glm::vec3> positions, normals;
     std::vector<std::uint32_t> indices;
@@ -163,77 +167,64 @@ SampledSurface sample_over(const Mesh& mesh, float control_radius, float range, 
     options.ray_range = range;
     Result<SampledSurface> sampled = sample_surface(mesh, **scene, control, options, Progress());
     EXPECT_TRUE(sampled.is_ok());
+    SampledOver out{std::move(*sampled), {}, {}};
     const PatternLayout layout(9);
     const int n = layout.segments;
-    radii.assign(sampled->elevation.size(), 0.0f);
+    out.points.resize(out.surface.elevation.size());
+    out.directions.resize(out.surface.elevation.size());
     for (std::size_t f = 0; f < indices.size() / 3; ++f)
         for (int i = 0; i <= n; ++i)
             for (int j = 0; j <= n - i; ++j) {
                 FacePoint p = face_point(positions.data(), normals.data(), &indices[3 * f], std::uint32_t(j) * (k_bary_one / n),
                                          std::uint32_t(i) * (k_bary_one / n));
                 const std::size_t at = f * layout.finest_samples + triangle_index(n, i, j);
-                radii[at] = glm::length(p.position + sampled->elevation[at] * unit_direction(p.normal));
+                out.directions[at] = unit_direction(p.normal);
+                out.points[at] = p.position + out.surface.elevation[at] * out.directions[at];
             }
-    return std::move(*sampled);
+    return out;
 }
 
 TEST(DisplacedMeshSample, SurfacesInsideClosedPartsGiveWayToTheOneEnclosingThem)
 {
     const glm::vec4 white(1.0f), black(0.0f, 0.0f, 0.0f, 1.0f);
-    std::vector<float> radii;
     // nested shells (assimp's UglyVertexColors.lwo): a control mesh at 0.85 is nearest to the
     // black shell at 0.9, which no eye sees; every sample takes the white one at 1 instead
-    SampledSurface nested = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black}}), 0.85f, 0.5f, radii);
-    ASSERT_FALSE(nested.elevation.empty());
-    for (std::size_t i = 0; i < nested.elevation.size(); ++i) {
-        ASSERT_NEAR(radii[i], 1.0f, 0.01f) << i;
-        ASSERT_GT(nested.albedo[i].x, 0.99f) << i;
+    SampledOver nested = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black}}), 0.85f, 0.5f);
+    ASSERT_FALSE(nested.points.empty());
+    for (std::size_t i = 0; i < nested.points.size(); ++i) {
+        ASSERT_NEAR(glm::length(nested.points[i]), 1.0f, 0.01f) << i;
+        ASSERT_GT(nested.surface.albedo[i].x, 0.99f) << i;
     }
     // interpenetrating parts: a black ball pokes out of the white one. Around the axis they share
     // both surfaces run nearly parallel, and every sample there lies on the black ball's outer
     // surface, never on the white one inside it; further round they cross at an angle, and a
     // sample keeps the paper's hit (its neighbours would otherwise jump between the two)
     const glm::vec3 poke(0.6f, 0.0f, 0.0f);
-    const Mesh both = balls({{{0, 0, 0}, 1.0f, white}, {poke, 0.5f, black}});
-    SampledSurface joined = sample_over(both, 0.85f, 0.5f, radii);
-    {
-        std::vector<glm::vec3> positions, normals;
-        std::vector<std::uint32_t> indices;
-        icosphere(1, 0.85f, positions, normals, indices);
-        const PatternLayout layout(9);
-        const int n = layout.segments;
-        std::size_t near_axis = 0;
-        for (std::size_t f = 0; f < indices.size() / 3; ++f)
-            for (int i = 0; i <= n; ++i)
-                for (int j = 0; j <= n - i; ++j) {
-                    FacePoint p = face_point(positions.data(), normals.data(), &indices[3 * f], std::uint32_t(j) * (k_bary_one / n),
-                                             std::uint32_t(i) * (k_bary_one / n));
-                    const glm::vec3 direction = unit_direction(p.normal);
-                    if (direction.x < std::cos(glm::radians(20.0f))) continue;
-                    const std::size_t at = f * layout.finest_samples + triangle_index(n, i, j);
-                    const glm::vec3 q = p.position + joined.elevation[at] * direction;
-                    ASSERT_NEAR(glm::length(q - poke), 0.5f, 0.01f) << at; // on the black ball
-                    ASSERT_GT(glm::length(q), 1.0f) << at;                 // outside the white one
-                    ASSERT_LT(joined.albedo[at].x, 0.01f) << at;
-                    ++near_axis;
-                }
-        EXPECT_GT(near_axis, 20u);
+    SampledOver joined = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {poke, 0.5f, black}}), 0.85f, 0.5f);
+    std::size_t near_axis = 0;
+    for (std::size_t i = 0; i < joined.points.size(); ++i) {
+        if (joined.directions[i].x < std::cos(glm::radians(20.0f))) continue;
+        ASSERT_NEAR(glm::length(joined.points[i] - poke), 0.5f, 0.01f) << i; // on the black ball
+        ASSERT_GT(glm::length(joined.points[i]), 1.0f) << i;                 // outside the white one
+        ASSERT_LT(joined.surface.albedo[i].x, 0.01f) << i;
+        ++near_axis;
     }
+    EXPECT_GT(near_axis, 20u);
     // a hollow ball: the cavity's wall (wound inward, at 0.9) faces the control mesh across open
     // air, so it is not hidden from it: the paper's nearer hit stays (the same rule keeps a gap
     // between a bundle's barrels a gap instead of spanning it with the barrels' far sides)
-    SampledSurface hollow = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black, true}}), 0.85f, 0.5f, radii);
-    for (std::size_t i = 0; i < hollow.elevation.size(); ++i) {
-        ASSERT_NEAR(radii[i], 0.9f, 0.01f) << i;
-        ASSERT_LT(hollow.albedo[i].x, 0.01f) << i;
+    SampledOver hollow = sample_over(balls({{{0, 0, 0}, 1.0f, white}, {{0, 0, 0}, 0.9f, black, true}}), 0.85f, 0.5f);
+    for (std::size_t i = 0; i < hollow.points.size(); ++i) {
+        ASSERT_NEAR(glm::length(hollow.points[i]), 0.9f, 0.01f) << i;
+        ASSERT_LT(hollow.surface.albedo[i].x, 0.01f) << i;
     }
     // the paper's rule is kept where nothing hides: a separate part within the ray range above
     // the sphere (entered, not left, by the ray) does not pull samples onto it, so every sample
     // still takes the black sphere it lies nearest
-    SampledSurface apart = sample_over(balls({{{0, 0, 0}, 0.9f, black}, {{0, 1.05f, 0}, 0.1f, white}}), 0.85f, 0.5f, radii);
-    for (std::size_t i = 0; i < apart.elevation.size(); ++i) {
-        ASSERT_NEAR(radii[i], 0.9f, 0.01f) << i;
-        ASSERT_LT(apart.albedo[i].x, 0.01f) << i;
+    SampledOver apart = sample_over(balls({{{0, 0, 0}, 0.9f, black}, {{0, 1.05f, 0}, 0.1f, white}}), 0.85f, 0.5f);
+    for (std::size_t i = 0; i < apart.points.size(); ++i) {
+        ASSERT_NEAR(glm::length(apart.points[i]), 0.9f, 0.01f) << i;
+        ASSERT_LT(apart.surface.albedo[i].x, 0.01f) << i;
     }
 }
 
