@@ -610,6 +610,72 @@ TEST(BillboardRenderer, TileLayersKeepThePictureWithFewerFragments)
     }
 }
 
+// --cull-back-proxies leaves out the tiles whose texels all face away from the eye. On a closed
+// convex model every pixel has a front hit, so the picture is the same byte for byte, with fewer
+// fragments; under perspective, orthographic and similarity transforms, and not at all under a
+// non-uniform scale (march.frag's normals would turn otherwise than the test assumes).
+TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragments)
+{
+    test::gpu_context();
+    const EnhancedBillboardsPackage package = sphere_package(128);
+    RenderOptions all, culled;
+    all.values.set("coarse", "off");
+    culled.values.set("coarse", "off");
+    culled.values.set("cull-back-proxies", "on");
+    struct Drawn {
+        RenderedImage image;
+        std::uint64_t fragments = 0;
+    };
+    auto draw = [&](const RenderOptions& options, const Camera& camera, const glm::mat4& transform) {
+        Drawn out;
+        auto renderer = make_package_renderer(package, options);
+        EXPECT_TRUE(renderer.is_ok());
+        if (!renderer.is_ok()) return out;
+        (*renderer)->set_counting(true);
+        const std::vector<glm::mat4> instances = {transform};
+        auto image = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height, instances);
+        EXPECT_TRUE(image.is_ok());
+        if (!image.is_ok()) return out;
+        out.fragments = (*renderer)->read_counter(Counter::fragments);
+        out.image = std::move(*image);
+        return out;
+    };
+    Camera orthographic = orbit(70.0f, -20.0f, 2.5f, k_width, k_height);
+    orthographic.orthographic = true;
+    orthographic.ortho_half_height = 1.2f * k_radius;
+    orthographic.clip_from_view = glm::ortho(-orthographic.ortho_half_height * float(k_width) / float(k_height),
+                                             orthographic.ortho_half_height * float(k_width) / float(k_height),
+                                             -orthographic.ortho_half_height, orthographic.ortho_half_height,
+                                             orthographic.near_plane, orthographic.far_plane);
+    const glm::mat4 turned = glm::rotate(glm::scale(glm::mat4(1.0f), glm::vec3(0.8f)), 0.7f, glm::normalize(glm::vec3(1, 2, 3)));
+    const struct {
+        const char* name;
+        Camera camera;
+        glm::mat4 transform;
+        bool culls;
+    } cases[] = {
+        {"perspective", orbit(20.0f, 30.0f, 2.5f, k_width, k_height), glm::mat4(1.0f), true},
+        {"orthographic", orthographic, glm::mat4(1.0f), true},
+        {"turned and scaled", orbit(-40.0f, 10.0f, 2.5f, k_width, k_height), turned, true},
+        {"stretched", orbit(20.0f, 30.0f, 2.5f, k_width, k_height), glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.3f, 1.0f)), false},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        Drawn every = draw(all, c.camera, c.transform), fewer = draw(culled, c.camera, c.transform);
+        ASSERT_FALSE(every.image.color.pixels.empty());
+        std::size_t covered = 0;
+        for (std::size_t k = 3; k < every.image.color.pixels.size(); k += 4) covered += every.image.color.pixels[k] != 0;
+        EXPECT_GT(covered, 3000u);
+        EXPECT_EQ(every.image.color.pixels, fewer.image.color.pixels);
+        std::printf("[ cull ] %s: fragments %llu -> %llu\n", c.name, (unsigned long long)every.fragments,
+                    (unsigned long long)fewer.fragments);
+        if (c.culls)
+            EXPECT_LT(double(fewer.fragments), 0.8 * double(every.fragments)); // the six hemispheres' far halves
+        else
+            EXPECT_EQ(fewer.fragments, every.fragments);
+    }
+}
+
 TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)
 {
     test::gpu_context();
