@@ -292,6 +292,53 @@ std::vector<std::uint32_t> weld_by_position(const Mesh& mesh)
 
 namespace {
 
+// Whether the model is one closed, outward surface: its faces (corners welded by position) form one
+// connected part in which every edge joins exactly two faces wound against each other, enclosing a
+// positive volume. Its back can then be the nearest surface only through a hole between the
+// billboards' captures, which the coarse mesh fills, so the renderer may leave out proxies that
+// hold only back hits (--cull-back-proxies auto). Several closed parts are not: where they meet,
+// a gap between their captures shows one part's inside through the other, and back hits drew it
+// (the generated assembly: Luv 0.74 -> 0.85 without them, docs/RESULTS.md).
+bool one_closed_surface(const Mesh& mesh)
+{
+    const std::size_t n = mesh.triangle_count();
+    if (n == 0) return false;
+    const std::vector<std::uint32_t> weld = weld_by_position(mesh);
+    std::vector<std::uint32_t> parent(mesh.vertex_count());
+    for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = std::uint32_t(k);
+    auto root = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    std::vector<std::uint64_t> directed; // (from, to) welded corners, one per face side
+    directed.reserve(3 * n);
+    double volume = 0.0;
+    for (std::size_t f = 0; f < n; ++f) {
+        const std::uint32_t* idx = &mesh.indices[3 * f];
+        const std::uint32_t w0 = weld[idx[0]], w1 = weld[idx[1]], w2 = weld[idx[2]];
+        if (w0 == w1 || w1 == w2 || w0 == w2) continue; // collapsed to an edge (a pole's sliver): no area, no sides
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = weld[idx[k]], b = weld[idx[(k + 1) % 3]];
+            directed.push_back(std::uint64_t(a) << 32 | b);
+            std::uint32_t ra = root(a), rb = root(b);
+            if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+        }
+        const glm::dvec3 p0(mesh.positions[idx[0]]), p1(mesh.positions[idx[1]]), p2(mesh.positions[idx[2]]);
+        volume += glm::dot(p0, glm::cross(p1, p2)) / 6.0;
+    }
+    if (directed.empty()) return false;
+    const std::uint32_t part = root(std::uint32_t(directed[0] >> 32));
+    for (std::uint64_t side : directed)
+        if (root(std::uint32_t(side >> 32)) != part) return false;
+    std::sort(directed.begin(), directed.end());
+    for (std::size_t k = 0; k < directed.size(); ++k) {
+        if (k > 0 && directed[k] == directed[k - 1]) return false; // an edge used twice the same way
+        const std::uint64_t reverse = (directed[k] & 0xffffffffu) << 32 | directed[k] >> 32;
+        if (!std::binary_search(directed.begin(), directed.end(), reverse)) return false; // an open edge
+    }
+    return volume > 0.0;
+}
+
 // Sheets (issue #17): the ground truth draws both sides of a double-sided face, but a capture takes
 // a face from its front only, and a face facing away from a direction neither is captured nor hides
 // anything there. A closed surface never shows its back, but an open one (a CAD sheet-metal part,
@@ -757,6 +804,8 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     // alpha-tested: a leaf card's outline is not its leaf's (measured: the generated tree's IoU
     // fell from 0.954 to 0.896, the coarse cards drawn whole)
     package->coarse_rims = two_sided && !alpha_tested;
+    // (a cut-out shows a closed surface's inside)
+    package->one_closed_surface = !alpha_tested && one_closed_surface(mesh);
     // alpha-tested models: the coarse mesh of the opaque faces only (see opaque_faces)
     const Mesh opaque = alpha_tested ? opaque_faces(mesh) : Mesh{};
     // and no further from the surface than a texel (k_coarse_error_texels, issue #17), so that it

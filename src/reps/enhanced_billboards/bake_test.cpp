@@ -780,6 +780,49 @@ TEST(BakeBillboards, VisibleSingleSidedBacksAreTheOpenSheetsOnes)
     EXPECT_EQ(closed.package->settings.back_hits, "show");
 }
 
+// The bake's one-closed-surface mark (--cull-back-proxies auto): a closed sphere, its vertices split
+// at seams or not; not the sphere with a hole, turned inside out, with a second sphere beside it,
+// or an open square.
+TEST(BakeBillboards, OneClosedSurfaceIsOneClosedOutwardPart)
+{
+    auto closed = [](const Mesh& mesh) {
+        Baked baked = bake_mesh(mesh);
+        EXPECT_TRUE(baked.status) << baked.status.message();
+        return baked.status && baked.package->one_closed_surface;
+    };
+    const Mesh sphere = test::generated(GeneratedShape::sphere, 800);
+    EXPECT_TRUE(closed(sphere));
+    Mesh split = sphere; // every face its own corners, as flat-shaded exports write them
+    split.indices.clear();
+    split.positions.clear(), split.normals.clear(), split.colors.clear(), split.uvs.clear();
+    for (std::uint32_t i : sphere.indices) {
+        split.indices.push_back(std::uint32_t(split.positions.size()));
+        split.positions.push_back(sphere.positions[i]), split.normals.push_back(sphere.normals[i]), split.colors.push_back(sphere.colors[i]);
+        if (!sphere.uvs.empty()) split.uvs.push_back(sphere.uvs[i]);
+    }
+    EXPECT_TRUE(closed(split));
+    Mesh holed = sphere;
+    holed.indices.resize(holed.indices.size() - 3), holed.face_materials.pop_back();
+    EXPECT_FALSE(closed(holed));
+    Mesh inside_out = sphere;
+    for (std::size_t f = 0; f < inside_out.triangle_count(); ++f) std::swap(inside_out.indices[3 * f + 1], inside_out.indices[3 * f + 2]);
+    for (glm::vec3& n : inside_out.normals) n = -n;
+    EXPECT_FALSE(closed(inside_out));
+    Mesh two = sphere;
+    const std::uint32_t offset = std::uint32_t(two.positions.size());
+    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
+        two.positions.push_back(sphere.positions[v] + glm::vec3(3.0f, 0.0f, 0.0f));
+        two.normals.push_back(sphere.normals[v]), two.colors.push_back(sphere.colors[v]);
+        if (!sphere.uvs.empty()) two.uvs.push_back(sphere.uvs[v]);
+    }
+    for (std::uint32_t i : sphere.indices) two.indices.push_back(offset + i);
+    two.face_materials.insert(two.face_materials.end(), sphere.face_materials.begin(), sphere.face_materials.end());
+    EXPECT_FALSE(closed(two));
+    Mesh square;
+    add_square(square, 0.0f);
+    EXPECT_FALSE(closed(square));
+}
+
 TEST(BakeBillboards, BadParametersAndMeshesAreRefused)
 {
     Mesh mesh;

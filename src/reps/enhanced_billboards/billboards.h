@@ -145,6 +145,10 @@ public:
     // double-sided parts and no alpha-tested material (a leaf card's outline is not its leaf's).
     // Packages without it (older ones, closed models) render as before.
     bool coarse_rims = false;
+    // The model is one closed, outward surface (bake.cpp, one_closed_surface; manifest
+    // one_closed_surface, absent: false): back hits are never the surface to show, and the renderer
+    // leaves out proxies that hold only them (--cull-back-proxies auto).
+    bool one_closed_surface = false;
     // The compact coarse-mesh file as read from a bc package (coarse_mesh.h), written back as it is:
     // quantising and reordering again would not give the same bytes (read, write: byte-identical).
     std::string coarse_file;

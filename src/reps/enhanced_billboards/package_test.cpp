@@ -61,6 +61,20 @@ void expect_refused(const std::string& directory, const std::string& needle)
     EXPECT_NE(read.status().message().find(needle), std::string::npos) << read.status().message();
 }
 
+// The generated assembly's default bake (PNG maps): open sheets or closed parts. Null if it fails.
+std::unique_ptr<Package> baked_assembly(bool sheets)
+{
+    Result<Mesh> mesh = generate_assembly(3000, 1.0f, sheets);
+    EXPECT_TRUE(mesh) << mesh.status().message();
+    if (!mesh) return nullptr;
+    Result<SourceInfo> source = describe_source("", *mesh);
+    OptionValues parameters;
+    parameters.set("compression", "none");
+    Result<std::unique_ptr<Package>> baked = bake_package(registration(), *mesh, *source, parameters);
+    EXPECT_TRUE(baked) << baked.status().message();
+    return baked ? std::move(*baked) : nullptr;
+}
+
 TEST(BillboardPackage, RoundTripKeepsEverything)
 {
     auto baked = baked_sphere();
@@ -125,14 +139,9 @@ TEST(BillboardPackage, SheetPackagesMarkTheirCoarseRims)
     ASSERT_TRUE(write_package(*sphere, base + "/sphere.standin"));
     EXPECT_FALSE(read_manifest(base + "/sphere.standin")["coarse_mesh"].contains("rims"));
 
-    Result<Mesh> mesh = generate_assembly(3000, 1.0f, true);
-    ASSERT_TRUE(mesh) << mesh.status().message();
-    Result<SourceInfo> source = describe_source("", *mesh);
-    OptionValues parameters;
-    parameters.set("compression", "none");
-    Result<std::unique_ptr<Package>> baked = bake_package(registration(), *mesh, *source, parameters);
-    ASSERT_TRUE(baked) << baked.status().message();
-    const auto& sheet = static_cast<const EnhancedBillboardsPackage&>(**baked);
+    std::unique_ptr<Package> baked = baked_assembly(true);
+    ASSERT_TRUE(baked);
+    const auto& sheet = static_cast<const EnhancedBillboardsPackage&>(*baked);
     EXPECT_TRUE(sheet.coarse_rims);
     std::string directory = base + "/sheet.standin";
     ASSERT_TRUE(write_package(sheet, directory));
@@ -144,6 +153,37 @@ TEST(BillboardPackage, SheetPackagesMarkTheirCoarseRims)
     manifest["coarse_mesh"]["rims"] = "yes";
     write_manifest(directory, manifest);
     expect_refused(directory, "coarse_mesh.rims");
+}
+
+// One closed surface (--cull-back-proxies auto): the bake marks the noisy sphere, not an assembly
+// of closed parts; the mark survives the round trip, is absent where false (other packages keep
+// their bytes), and a mark that is not a boolean is refused.
+TEST(BillboardPackage, OneClosedSurfaceIsMarkedAndReadBack)
+{
+    auto sphere = baked_sphere();
+    EXPECT_TRUE(sphere->one_closed_surface);
+    std::string base = test::fresh_directory("billboard_closed_surface");
+    std::string directory = base + "/sphere.standin";
+    ASSERT_TRUE(write_package(*sphere, directory));
+    nlohmann::json manifest = read_manifest(directory);
+    EXPECT_EQ(manifest["one_closed_surface"], true);
+    Result<std::unique_ptr<Package>> read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    EXPECT_TRUE(static_cast<const EnhancedBillboardsPackage&>(**read).one_closed_surface);
+    manifest.erase("one_closed_surface"); // as written before it
+    write_manifest(directory, manifest);
+    read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    EXPECT_FALSE(static_cast<const EnhancedBillboardsPackage&>(**read).one_closed_surface);
+    manifest["one_closed_surface"] = 1;
+    write_manifest(directory, manifest);
+    expect_refused(directory, "one_closed_surface");
+
+    std::unique_ptr<Package> assembly = baked_assembly(false); // closed parts
+    ASSERT_TRUE(assembly);
+    EXPECT_FALSE(static_cast<const EnhancedBillboardsPackage&>(*assembly).one_closed_surface);
+    ASSERT_TRUE(write_package(*assembly, base + "/assembly.standin"));
+    EXPECT_FALSE(read_manifest(base + "/assembly.standin").contains("one_closed_surface"));
 }
 
 // Sheet edge lines (issue #17): the default bake of a sheet model records sheet_edges "clip" (as a

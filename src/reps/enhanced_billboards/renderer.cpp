@@ -31,11 +31,12 @@
 // be small on screen draw coarse tiles of 64 x 64 texels (layered the same way), those smaller
 // still (and the "seed" march) one box per billboard, and the march stops at pyramid nodes no wider
 // than half a pixel (level of detail: far instances in a crowd walk a few nodes, not texels).
-// With --cull-back-proxies the CPU also leaves out proxies whose texels' normals (a cone per proxy,
-// built at load) all face away from the eye: llvmpipe starts a fragment for every pixel of every
-// box, however early its ray stops (ns235k, 800x600: 3.80 -> 2.16 fragments per covered pixel).
-// Off by default: where such a back hit was the nearest surface (open sheets, seams between
-// parts) the coarse mesh or what lies behind shows instead (docs/RESULTS.md).
+// The CPU also leaves out proxies whose texels' normals (a cone per proxy, built at load) all face
+// away from the eye (--cull-back-proxies): llvmpipe starts a fragment for every pixel of every box,
+// however early its ray stops (ns235k, 800x600: 3.80 -> 2.16 fragments per covered pixel). By
+// default only for packages of one closed surface (bake.cpp one_closed_surface): elsewhere a back
+// hit can be the surface to show (an open sheet's back, a part's inside through a seam), and the
+// coarse mesh or what lies behind would show instead (docs/RESULTS.md).
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
 // with texelFetch (no filtering, so the empty background never bleeds into the colour).
@@ -248,7 +249,7 @@ private:
     int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
     float seed_hit_range_ = 0.01f;
     bool tile_layers_ = true;   // build_tiles splits tiles into depth layers (--tile-layers)
-    bool cull_back_proxies_ = false; // proxies whose hits can only be back hits are not drawn (--cull-back-proxies)
+    bool cull_back_proxies_ = false; // proxies that can hold only back hits are not drawn (--cull-back-proxies)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
     // the coarse mesh fills only near misses (--coarse-fill near-misses), not every empty pixel
@@ -356,7 +357,8 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->seed_steps_ = options.integer("steps");
     renderer->seed_hit_range_ = options.number("hit-range");
     renderer->tile_layers_ = options.flag("tile-layers");
-    renderer->cull_back_proxies_ = options.flag("cull-back-proxies");
+    const std::string cull = options.choice("cull-back-proxies");
+    renderer->cull_back_proxies_ = cull == "on" || (cull == "auto" && package.one_closed_surface);
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
     renderer->fill_near_misses_only_ = options.choice("coarse-fill") == "near-misses";
@@ -798,9 +800,9 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
         glm::vec3 forward_world = camera.orthographic ? camera.forward_world : centre - camera.eye_world;
         glm::vec3 forward_object = glm::transpose(glm::mat3(m)) * forward_world; // ordering only: no scale needed
         // --cull-back-proxies: proxies holding only back hits are left out. Where such a hit was
-        // the nearest, the coarse mesh (which fills every pixel without a front hit, --coarse-fill
-        // empty) or what lies behind shows instead; not with --coarse-fill near-misses, which reads
-        // the near misses back hits mark. march.frag turns normals by mat3(world_from_object): the
+        // the nearest (on one closed surface: a hole between captures), the coarse mesh (which
+        // fills every pixel without a front hit, --coarse-fill empty) or what lies behind shows
+        // instead; not with --coarse-fill near-misses, which reads the near misses back hits mark. march.frag turns normals by mat3(world_from_object): the
         // object-space test decides as it does only for rotations and uniform scales.
         BackCull cull;
         const bool culls = cull_back_proxies_ && !marks_near_misses() && similarity(glm::mat3(m));

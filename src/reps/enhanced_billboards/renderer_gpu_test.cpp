@@ -617,9 +617,10 @@ TEST(BillboardRenderer, TileLayersKeepThePictureWithFewerFragments)
 TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragments)
 {
     test::gpu_context();
-    const EnhancedBillboardsPackage package = sphere_package(128);
+    EnhancedBillboardsPackage package = sphere_package(128);
     RenderOptions all, culled;
     all.values.set("coarse", "off");
+    all.values.set("cull-back-proxies", "off");
     culled.values.set("coarse", "off");
     culled.values.set("cull-back-proxies", "on");
     struct Drawn {
@@ -674,6 +675,14 @@ TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragme
         else
             EXPECT_EQ(fewer.fragments, every.fragments);
     }
+    // auto (the default) culls for packages the bake found to be one closed surface, and only those
+    RenderOptions automatic;
+    automatic.values.set("coarse", "off");
+    const Camera camera = orbit(20.0f, 30.0f, 2.5f, k_width, k_height);
+    const std::uint64_t on = draw(culled, camera, glm::mat4(1.0f)).fragments;
+    EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, draw(all, camera, glm::mat4(1.0f)).fragments);
+    package.one_closed_surface = true;
+    EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, on);
 }
 
 TEST(BillboardRenderer, TileProxiesAndEarlyRayStopKeepFetchesLow)

@@ -88,11 +88,11 @@ std::vector<OptionSpec> render_options()
                       "paper draws it, Vichitvejpaisal 2005 §3.4: also surfaces no billboard captured) or "
                       "near-misses (only pixels where a ray came within a texel of a surface and missed: an "
                       "outline that cannot grow where the coarse mesh lies outside the model)"),
-        flag_option("cull-back-proxies", false,
-                    "Leave out proxy boxes whose texels' normals all face away from the eye: they can draw only back "
-                    "hits, the coarse mesh's or nothing's pixels then (a scan's single stand-in 30-40% and its crowd "
-                    "17-20% less CPU on llvmpipe, the picture unchanged on closed smooth models; open sheets and "
-                    "assemblies lose the backs that showed, up to +0.3 Luv: docs/RESULTS.md)"),
+        choice_option("cull-back-proxies", "auto", {"auto", "on", "off"},
+                      "Leave out proxy boxes whose texels' normals all face away from the eye, which can draw only "
+                      "back hits (a scan's stand-in 25-35% and its crowd about 20% less CPU on llvmpipe): auto does "
+                      "for packages of one closed surface, whose picture it keeps; on also for others, where open "
+                      "sheets and the seams between parts lose the backs that showed (up to +0.3 Luv, docs/RESULTS.md)"),
         flag_option("tile-layers", true,
                     "Split a tile's proxy box into one box per depth layer where nested parts lie apart (the same "
                     "picture as one box per tile, with fewer fragments and fetches)"),
