@@ -55,12 +55,12 @@
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 #include <algorithm>
-#include <numbers>
 #include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <numbers>
 
 namespace standin::billboards {
 
@@ -243,7 +243,7 @@ private:
     // rims included, which are drawn without that test)
     bool marks_near_misses() const { return coarse_index_count_ > 0 && fill_near_misses_only_; }
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
-    void append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object, const struct BackCull* cull,
+    void append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object, const BackCull* cull,
                         std::vector<DrawEntry>& out);
 
     int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
@@ -802,8 +802,9 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
         // --cull-back-proxies: proxies holding only back hits are left out. Where such a hit was
         // the nearest (on one closed surface: a hole between captures), the coarse mesh (which
         // fills every pixel without a front hit, --coarse-fill empty) or what lies behind shows
-        // instead; not with --coarse-fill near-misses, which reads the near misses back hits mark. march.frag turns normals by mat3(world_from_object): the
-        // object-space test decides as it does only for rotations and uniform scales.
+        // instead; not with --coarse-fill near-misses, which reads the near misses back hits mark.
+        // march.frag turns normals by mat3(world_from_object): the object-space test decides as
+        // it does only for rotations and uniform scales.
         BackCull cull;
         const bool culls = cull_back_proxies_ && !marks_near_misses() && similarity(glm::mat3(m));
         if (culls) {
