@@ -117,18 +117,22 @@ namespace {
 
 struct ClosestQuery {
     const RayScene::State* state;
+    const std::function<bool(std::uint32_t)>* accept;
+    float limit; // the query's radius: embree visits triangles whose bounds reach it, nearer or not
     SurfacePoint best;
 };
 
 bool closest_callback(RTCPointQueryFunctionArguments* args)
 {
     auto* q = static_cast<ClosestQuery*>(args->userPtr);
+    if (*q->accept && !(*q->accept)(args->primID)) return false;
     const std::vector<glm::vec3>& positions = *q->state->positions;
     const std::uint32_t* t = &(*q->state->indices)[3 * std::size_t(args->primID)];
     glm::vec3 p(args->query->x, args->query->y, args->query->z);
     float b1 = 0.0f, b2 = 0.0f;
     glm::vec3 c = closest_point_in_triangle(p, positions[t[0]], positions[t[1]], positions[t[2]], b1, b2);
     float distance = glm::length(p - c);
+    if (distance > q->limit) return false;
     // ties (a point closest to an edge two triangles share) go to the lower triangle index, so the
     // answer does not depend on the order embree visits them
     if (q->best.found && (distance > q->best.distance || (distance == q->best.distance && args->primID > q->best.triangle)))
@@ -140,7 +144,7 @@ bool closest_callback(RTCPointQueryFunctionArguments* args)
 
 } // namespace
 
-SurfacePoint RayScene::closest(glm::vec3 point, float radius) const
+SurfacePoint RayScene::closest(glm::vec3 point, float radius, const std::function<bool(std::uint32_t triangle)>& accept) const
 {
     RTCPointQuery query;
     query.x = point.x, query.y = point.y, query.z = point.z;
@@ -148,7 +152,7 @@ SurfacePoint RayScene::closest(glm::vec3 point, float radius) const
     query.radius = radius;
     RTCPointQueryContext context;
     rtcInitPointQueryContext(&context);
-    ClosestQuery q{state_.get(), {}};
+    ClosestQuery q{state_.get(), &accept, radius, {}};
     rtcPointQuery(state_->scene, &query, &context, closest_callback, &q);
     return q.best;
 }

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -39,8 +40,9 @@ public:
     // The first hit along origin + t * direction, t in [t_min, t_max] (t_min: to walk on past a
     // hit that an alpha test cuts out).
     SurfacePoint intersect(glm::vec3 origin, glm::vec3 direction, float t_max, float t_min = 0.0f) const;
-    // The closest point of the mesh to `point` within `radius` (infinite: anywhere).
-    SurfacePoint closest(glm::vec3 point, float radius) const;
+    // The closest point of the mesh to `point` within `radius` (infinite: anywhere), among the
+    // triangles `accept` takes (all where it is empty).
+    SurfacePoint closest(glm::vec3 point, float radius, const std::function<bool(std::uint32_t triangle)>& accept = {}) const;
 
     struct State; // embree's device and scene (ray_scene.cpp)
 
