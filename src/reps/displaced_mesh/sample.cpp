@@ -9,9 +9,14 @@
 //     signed elevation; where both rays miss, the closest point of the surface, its offset along
 //     the normal as the elevation (counted as a miss). Each hit also gives the original's shading
 //     normal and albedo there (the paper never says where its shading normals came from).
+//     Departure: a sample that lies on the original (every control vertex is an input vertex; a
+//     CAD model's control faces lie on its planes) is the point it lies on: a ray starting on a
+//     face may not report it and meet some other part further on.
 //     Departure: the nearer hit may be a surface hidden inside a closed part (nested shells,
 //     interpenetrating parts); while it is, the sample moves out along the normal to the surface
-//     enclosing it (outermost_visible), so the stand-in shows what the model shows.
+//     enclosing it (outermost_visible), so the stand-in shows what the model shows; a move onto a
+//     surface that the samples of other control faces already draw is undone once all samples
+//     are known (undo_covered_moves: a part sunk into another keeps its crease).
 //     Departure (issue #14): on a model with alpha-masked materials a ray walks on through hits
 //     the alpha test cuts out (texture level 0 bilinear, Mesh::covered_at, the truth's rule) and
 //     keeps the nearer surviving hit; the sample records whether it found one (its coverage).
@@ -42,6 +47,13 @@ namespace standin::displaced_mesh {
 
 namespace {
 
+// The surface a sample's ray met first, where outermost_visible moved the sample out from it.
+struct HiddenHit {
+    bool moved = false;
+    float elevation = 0.0f;
+    SurfacePoint hit;
+};
+
 struct Sample {
     float elevation = 0.0f;
     glm::vec3 normal{0.0f, 0.0f, 1.0f};
@@ -49,6 +61,8 @@ struct Sample {
     PbrSample pbr;
     bool missed = false;
     bool covered = true; // the point survives its material's alpha test (issue #14)
+    HiddenHit hidden;    // (intersection sampling without cut-outs)
+    bool kept_first = false; // undo_covered_moves put it back on its first hit
 };
 
 // Cut-out surfaces a ray walks through before it gives up on a direction: leaf cards stacked
@@ -93,7 +107,7 @@ SurfacePoint nearer_of(const SurfacePoint& forward, const SurfacePoint& backward
 // The nearer of the hits along +direction and -direction within `range`, as a signed distance;
 // the closest point's offset along `direction` when both miss.
 SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
-                           float& elevation, bool& missed);
+                           float& elevation, bool& missed, HiddenHit* hidden = nullptr);
 
 // The same for a model with alpha-masked materials (issue #14): the nearer hit that survives the
 // alpha test, `covered`; where neither direction meets one, the nearest hit of any kind (the
@@ -219,14 +233,22 @@ SurfacePoint outermost_visible(const RayScene& scene, const Mesh& original, glm:
 }
 
 SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
-                           float& elevation, bool& missed)
+                           float& elevation, bool& missed, HiddenHit* hidden)
 {
-    SurfacePoint forward = scene.intersect(origin, direction, range);
-    SurfacePoint backward = scene.intersect(origin, -direction, range);
     missed = false;
-    if (forward.found || backward.found) {
-        SurfacePoint hit = nearer_of(forward, backward, elevation);
-        return outermost_visible(scene, original, origin, direction, range, hit, elevation);
+    // a sample on the surface itself (every control vertex is an input vertex) is that point: a ray
+    // starting on a face may not report it at t = 0 and meet another part further on (a small
+    // ball's vertex inside a large ball took the large ball's surface, 0.2 away)
+    SurfacePoint on = scene.closest(origin, k_on_surface * range);
+    SurfacePoint forward = on.found ? SurfacePoint{} : scene.intersect(origin, direction, range);
+    SurfacePoint backward = on.found ? SurfacePoint{} : scene.intersect(origin, -direction, range);
+    if (on.found || forward.found || backward.found) {
+        SurfacePoint hit = on.found ? on : nearer_of(forward, backward, elevation);
+        if (on.found) elevation = glm::dot(on.position - origin, direction);
+        const float first_elevation = elevation;
+        SurfacePoint visible = outermost_visible(scene, original, origin, direction, range, hit, elevation);
+        if (hidden && visible.triangle != hit.triangle) *hidden = {true, first_elevation, hit};
+        return visible;
     }
     // a ray starting on the surface (a control vertex is an input vertex) may report no hit at
     // t = 0 either way: the closest point says so, and is not a miss
@@ -236,14 +258,9 @@ SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec
     return closest;
 }
 
-// `cutouts`: the original has alpha-masked materials, and rays see through their cut-outs.
-Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts)
+// The original's shading where `hit` lies: its normal, albedo and PBR inputs.
+void shade_sample(const Mesh& original, const SurfacePoint& hit, Sample& s)
 {
-    Sample s;
-    glm::vec3 direction = unit_direction(point.normal);
-    SurfacePoint hit = cutouts ? nearest_covered_along(scene, original, point.position, direction, range, s.elevation, s.missed, s.covered)
-                               : nearest_along(scene, original, point.position, direction, range, s.elevation, s.missed);
-    if (!hit.found) return s;
     const std::uint32_t* t = &original.indices[3 * std::size_t(hit.triangle)];
     float b0 = 1.0f - hit.b1 - hit.b2;
     glm::vec3 n = b0 * original.normals[t[0]] + hit.b1 * original.normals[t[1]] + hit.b2 * original.normals[t[2]];
@@ -255,7 +272,27 @@ Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& p
         s.pbr = original.pbr_at(hit.triangle, hit.b1, hit.b2);
         if (material.normal_texture >= 0) s.normal = unit_direction(original.shading_normal_at(hit.triangle, hit.b1, hit.b2));
     }
+}
+
+// `cutouts`: the original has alpha-masked materials, and rays see through their cut-outs.
+Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts)
+{
+    Sample s;
+    glm::vec3 direction = unit_direction(point.normal);
+    SurfacePoint hit = cutouts ? nearest_covered_along(scene, original, point.position, direction, range, s.elevation, s.missed, s.covered)
+                               : nearest_along(scene, original, point.position, direction, range, s.elevation, s.missed, &s.hidden);
+    if (hit.found) shade_sample(original, hit, s);
     return s;
+}
+
+// The sample back on the surface its ray met first (undo_covered_moves).
+void take_hidden(const Mesh& original, Sample& s)
+{
+    s.elevation = s.hidden.elevation;
+    s.pbr = PbrSample{};
+    shade_sample(original, s.hidden.hit, s);
+    s.hidden.moved = false;
+    s.kept_first = true;
 }
 
 // Pattern vertex (i, j) of a face as fixed-point barycentric weights of corners 1 and 2.
@@ -462,6 +499,7 @@ void take_own_shading(const Mesh& original, const RayScene& scene, const Control
     };
     FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
     Sample own = sample_at(original, scene, inside, range, cutouts);
+    if (shared.kept_first && own.hidden.moved) take_hidden(original, own); // a crease's sample stayed on its part
     if (own.missed || (cutouts && !own.covered)) return; // a cut-out's colour is no shading
     const bool creased = glm::dot(glm::normalize(own.normal), glm::normalize(shared.normal)) < std::cos(glm::radians(10.0f));
     const glm::vec4 colour_step = glm::abs(own.albedo - shared.albedo);
@@ -470,6 +508,131 @@ void take_own_shading(const Mesh& original, const RayScene& scene, const Control
     shared.normal = own.normal;
     shared.albedo = glm::vec4(glm::vec3(own.albedo), shared.albedo.w); // the alpha is the shared coverage's
     shared.pbr = own.pbr;
+}
+
+// Departure (session 27) from outermost_visible's moves: a part sunk into another (a small sphere
+// half inside a larger one, a bolt through a fin) has its hidden samples moved onto the other
+// part's surface, while its neighbours stay on the part where it shows, and the displaced triangle
+// between them bridges the concave crease (a fillet). There the other part's own control faces
+// already draw the surface the sample moved to, and the depth test cuts the two parts where they
+// cross, so the sample goes back to its first hit. A move stays where nothing else draws that
+// surface (nested shells, a core inside a casing, an outer face that met an inner part first).
+// "Drawn": the sampled surface of the samples that did not move, on control faces that share no
+// vertex with the sample's own, passes within half a pattern step of the moved sample's point.
+// Decided once over the first pass's samples, so the result is independent of order and threads.
+void undo_covered_moves(const Mesh& original, const ControlGeometry& control, int n, std::size_t per_face,
+                        std::vector<Sample>& corners, std::vector<Sample>& edge_samples,
+                        std::vector<std::vector<std::pair<std::uint32_t, Sample>>>& moved_inside, SampledSurface& out)
+{
+    const std::size_t faces = control.face_count();
+    bool any = std::any_of(corners.begin(), corners.end(), [](const Sample& s) { return s.hidden.moved; }) ||
+               std::any_of(edge_samples.begin(), edge_samples.end(), [](const Sample& s) { return s.hidden.moved; }) ||
+               std::any_of(moved_inside.begin(), moved_inside.end(), [](const auto& m) { return !m.empty(); });
+    if (!any) return;
+    const ControlTopology& topology = control.topology;
+    // every sample's point and whether it moved, face-major as `out`
+    std::vector<glm::vec3> points(faces * per_face);
+    std::vector<float> elevations(faces * per_face);
+    std::vector<std::uint8_t> moved(faces * per_face, 0);
+    double edge_length = 0.0;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const std::uint32_t* corner = &control.indices[3 * f];
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n - i; ++j) {
+                    int which = 0, along = 0;
+                    const std::size_t at = f * per_face + triangle_index(n, i, j);
+                    VertexKind kind = classify(n, i, j, which, along);
+                    float elevation = out.elevation[at];
+                    if (kind == VertexKind::corner) {
+                        const Sample& s = corners[corner[which]];
+                        elevation = s.elevation, moved[at] = s.hidden.moved;
+                    } else if (kind == VertexKind::edge) {
+                        int step = topology.reversed(std::uint32_t(f), which) ? n - along : along;
+                        const Sample& s = edge_samples[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(step - 1)];
+                        elevation = s.elevation, moved[at] = s.hidden.moved;
+                    }
+                    FacePoint p = face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n));
+                    points[at] = p.position + elevation * unit_direction(p.normal);
+                    elevations[at] = elevation;
+                }
+        }
+    });
+    for (std::size_t f = 0; f < faces; ++f) {
+        for (const auto& [k, s] : moved_inside[f]) moved[f * per_face + k] = 1;
+        const std::uint32_t* c = &control.indices[3 * f];
+        edge_length += glm::length(control.positions[c[1]] - control.positions[c[0]]) +
+                       glm::length(control.positions[c[2]] - control.positions[c[1]]) +
+                       glm::length(control.positions[c[0]] - control.positions[c[2]]);
+    }
+    const float radius = float(0.5 * edge_length / double(3 * faces) / double(n));
+    // a sample that moved less than that onto the surface its face lies on (a face of the part
+    // that encloses the sunk one, whose ray met the sunk part first) draws that surface too
+    std::vector<std::uint8_t> drawer(faces * per_face);
+    for (std::size_t at = 0; at < drawer.size(); ++at) drawer[at] = !moved[at] || std::abs(elevations[at]) < radius;
+    // the sampled surface of samples that stayed where their rays met the original first
+    std::vector<std::uint32_t> indices, face_of;
+    for (std::size_t f = 0; f < faces; ++f) {
+        auto v = [&](int i, int j) { return std::uint32_t(f * per_face + triangle_index(n, i, j)); };
+        auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            if (!drawer[a] || !drawer[b] || !drawer[c]) return;
+            indices.insert(indices.end(), {a, b, c});
+            face_of.push_back(std::uint32_t(f));
+        };
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n - i; ++j) {
+                add(v(i, j), v(i, j + 1), v(i + 1, j));
+                if (j < n - i - 1) add(v(i, j + 1), v(i + 1, j + 1), v(i + 1, j));
+            }
+    }
+    if (indices.empty()) return;
+    Result<std::unique_ptr<RayScene>> stayed = RayScene::create(points, indices);
+    if (!stayed) return; // embree failed: keep every move
+    auto drawn_elsewhere = [&](glm::vec3 point, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        // not by its own faces or their neighbours
+        const std::function<bool(std::uint32_t)> elsewhere = [&](std::uint32_t triangle) {
+            const std::uint32_t* other = &control.indices[3 * std::size_t(face_of[triangle])];
+            for (int k = 0; k < 3; ++k)
+                if (other[k] == a || other[k] == b || other[k] == c) return false;
+            return true;
+        };
+        return (*stayed)->closest(point, radius, elsewhere).found;
+    };
+    auto moved_point = [&](const std::uint32_t ends[3], std::uint32_t q1, std::uint32_t q2, float elevation) {
+        FacePoint p = face_point(control.positions.data(), control.normals.data(), ends, q1, q2);
+        return p.position + elevation * unit_direction(p.normal);
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corners.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t v = r.begin(); v != r.end(); ++v) {
+            Sample& s = corners[v];
+            const std::uint32_t vertex = std::uint32_t(v);
+            if (s.hidden.moved && drawn_elsewhere(control.positions[v] + s.elevation * unit_direction(control.normals[v]), vertex, vertex, vertex))
+                take_hidden(original, s);
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, topology.edges.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t e = r.begin(); e != r.end(); ++e) {
+            const ControlEdge& edge = topology.edges[e];
+            const std::uint32_t ends[3] = {edge.lo, edge.hi, edge.hi};
+            for (int step = 1; step < n; ++step) {
+                Sample& s = edge_samples[e * std::size_t(n - 1) + std::size_t(step - 1)];
+                if (s.hidden.moved && drawn_elsewhere(moved_point(ends, bary(step, n), 0, s.elevation), edge.lo, edge.hi, edge.hi))
+                    take_hidden(original, s);
+            }
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const std::uint32_t* corner = &control.indices[3 * f];
+            for (auto& [k, s] : moved_inside[f]) {
+                if (!drawn_elsewhere(points[f * per_face + k], corner[0], corner[1], corner[2])) continue;
+                take_hidden(original, s);
+                const std::size_t at = f * per_face + k;
+                out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
+                if (!out.pbr.empty()) out.pbr[at] = s.pbr;
+            }
+        }
+    });
 }
 
 } // namespace
@@ -514,25 +677,42 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
         int s = topology.reversed(f, which) ? n - along : along;
         return edge_samples[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(s - 1)];
     };
+    auto store = [&](std::size_t at, const Sample& s) {
+        out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
+        if (!out.pbr.empty()) out.pbr[at] = s.pbr;
+        if (cutouts) out.coverage[at] = s.covered ? 1 : 0;
+    };
+    // interior samples first, the moved ones' first hits kept aside; then the moves that made a
+    // fillet are undone (undo_covered_moves); then the shared samples are copied in
+    std::vector<std::vector<std::pair<std::uint32_t, Sample>>> moved_inside(faces);
     for_each_chunked(faces, progress, "sampling faces", [&](std::size_t face) {
-        std::uint32_t f = std::uint32_t(face);
         const std::uint32_t* corner = &control.indices[3 * face];
-        for (int i = 0; i <= n; ++i)
-            for (int j = 0; j <= n - i; ++j) {
-                int which = 0, along = 0;
-                VertexKind kind = classify(n, i, j, which, along);
-                Sample s = kind == VertexKind::interior
-                               ? sample_at(original, scene,
-                                           face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
-                                           range, cutouts)
-                               : shared_sample(f, kind, which, along);
-                if (kind != VertexKind::interior) take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, s);
+        for (int i = 1; i < n; ++i)
+            for (int j = 1; j < n - i; ++j) {
+                Sample s = sample_at(original, scene,
+                                     face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
+                                     range, cutouts);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
-                out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
-                if (!out.pbr.empty()) out.pbr[at] = s.pbr;
-                if (cutouts) out.coverage[at] = s.covered ? 1 : 0;
-                missed[at] = kind == VertexKind::interior && s.missed;
+                store(at, s);
+                missed[at] = s.missed;
+                if (s.hidden.moved) moved_inside[face].emplace_back(std::uint32_t(triangle_index(n, i, j)), s);
             }
+    });
+    undo_covered_moves(original, control, n, per_face, corners, edge_samples, moved_inside, out);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t face = r.begin(); face != r.end(); ++face) {
+            std::uint32_t f = std::uint32_t(face);
+            const std::uint32_t* corner = &control.indices[3 * face];
+            for (int i = 0; i <= n; ++i)
+                for (int j = 0; j <= n - i; ++j) {
+                    int which = 0, along = 0;
+                    VertexKind kind = classify(n, i, j, which, along);
+                    if (kind == VertexKind::interior) continue;
+                    Sample s = shared_sample(f, kind, which, along);
+                    take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, s);
+                    store(face * per_face + triangle_index(n, i, j), s);
+                }
+        }
     });
     if (cutouts) {
         std::vector<std::uint8_t> has_colour = prefilter_surface_colour(original, scene, control, n, per_face, range, out);
