@@ -250,11 +250,10 @@ SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec
         if (hidden && visible.triangle != hit.triangle) *hidden = {true, first_elevation, hit};
         return visible;
     }
-    // a ray starting on the surface (a control vertex is an input vertex) may report no hit at
-    // t = 0 either way: the closest point says so, and is not a miss
+    // nothing within range either way, and not on the surface (above): the closest point's offset
     SurfacePoint closest = scene.closest(origin, std::numeric_limits<float>::infinity());
     elevation = glm::dot(closest.position - origin, direction);
-    missed = closest.distance > 1e-5f * range;
+    missed = true;
     return closest;
 }
 
@@ -297,6 +296,29 @@ void take_hidden(const Mesh& original, Sample& s)
 
 // Pattern vertex (i, j) of a face as fixed-point barycentric weights of corners 1 and 2.
 inline std::uint32_t bary(int index, int n) { return std::uint32_t(index) * (k_bary_one / std::uint32_t(n)); }
+
+// Where the displaced surface puts the point of control corners `corner` at weights (q1, q2).
+glm::vec3 displaced_point(const ControlGeometry& control, const std::uint32_t corner[3], std::uint32_t q1, std::uint32_t q2, float elevation)
+{
+    const FacePoint p = face_point(control.positions.data(), control.normals.data(), corner, q1, q2);
+    return p.position + elevation * unit_direction(p.normal);
+}
+
+// The index among the edge samples (edge-major, n - 1 per edge, in the edge's canonical direction)
+// of face f's pattern vertex on its edge `which`, `along` steps from the face's corner `which`.
+std::size_t edge_sample_index(const ControlTopology& topology, std::uint32_t f, int which, int along, int n)
+{
+    const int s = topology.reversed(f, which) ? n - along : along;
+    return std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(s - 1);
+}
+
+// A sample's values into the finest arrays at `at`.
+void store_sample(SampledSurface& out, std::size_t at, const Sample& s, bool cutouts)
+{
+    out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
+    if (!out.pbr.empty()) out.pbr[at] = s.pbr;
+    if (cutouts) out.coverage[at] = s.covered ? 1 : 0;
+}
 
 enum class VertexKind { corner, edge, interior };
 
@@ -548,12 +570,10 @@ void undo_covered_moves(const Mesh& original, const ControlGeometry& control, in
                         const Sample& s = corners[corner[which]];
                         elevation = s.elevation, moved[at] = s.hidden.moved;
                     } else if (kind == VertexKind::edge) {
-                        int step = topology.reversed(std::uint32_t(f), which) ? n - along : along;
-                        const Sample& s = edge_samples[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(step - 1)];
+                        const Sample& s = edge_samples[edge_sample_index(topology, std::uint32_t(f), which, along, n)];
                         elevation = s.elevation, moved[at] = s.hidden.moved;
                     }
-                    FacePoint p = face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n));
-                    points[at] = p.position + elevation * unit_direction(p.normal);
+                    points[at] = displaced_point(control, corner, bary(j, n), bary(i, n), elevation);
                     elevations[at] = elevation;
                 }
         }
@@ -598,10 +618,6 @@ void undo_covered_moves(const Mesh& original, const ControlGeometry& control, in
         };
         return (*stayed)->closest(point, radius, elsewhere).found;
     };
-    auto moved_point = [&](const std::uint32_t ends[3], std::uint32_t q1, std::uint32_t q2, float elevation) {
-        FacePoint p = face_point(control.positions.data(), control.normals.data(), ends, q1, q2);
-        return p.position + elevation * unit_direction(p.normal);
-    };
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corners.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t v = r.begin(); v != r.end(); ++v) {
             Sample& s = corners[v];
@@ -616,7 +632,7 @@ void undo_covered_moves(const Mesh& original, const ControlGeometry& control, in
             const std::uint32_t ends[3] = {edge.lo, edge.hi, edge.hi};
             for (int step = 1; step < n; ++step) {
                 Sample& s = edge_samples[e * std::size_t(n - 1) + std::size_t(step - 1)];
-                if (s.hidden.moved && drawn_elsewhere(moved_point(ends, bary(step, n), 0, s.elevation), edge.lo, edge.hi, edge.hi))
+                if (s.hidden.moved && drawn_elsewhere(displaced_point(control, ends, bary(step, n), 0, s.elevation), edge.lo, edge.hi, edge.hi))
                     take_hidden(original, s);
             }
         }
@@ -627,9 +643,7 @@ void undo_covered_moves(const Mesh& original, const ControlGeometry& control, in
             for (auto& [k, s] : moved_inside[f]) {
                 if (!drawn_elsewhere(points[f * per_face + k], corner[0], corner[1], corner[2])) continue;
                 take_hidden(original, s);
-                const std::size_t at = f * per_face + k;
-                out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
-                if (!out.pbr.empty()) out.pbr[at] = s.pbr;
+                store_sample(out, f * per_face + k, s, false); // (no moves on cut-out models: coverage stays)
             }
         }
     });
@@ -674,13 +688,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     std::vector<std::uint8_t> missed(faces * per_face, 0);
     auto shared_sample = [&](std::uint32_t f, VertexKind kind, int which, int along) -> const Sample& {
         if (kind == VertexKind::corner) return corners[control.indices[3 * std::size_t(f) + std::size_t(which)]];
-        int s = topology.reversed(f, which) ? n - along : along;
-        return edge_samples[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) + std::size_t(s - 1)];
-    };
-    auto store = [&](std::size_t at, const Sample& s) {
-        out.elevation[at] = s.elevation, out.normal[at] = s.normal, out.albedo[at] = s.albedo;
-        if (!out.pbr.empty()) out.pbr[at] = s.pbr;
-        if (cutouts) out.coverage[at] = s.covered ? 1 : 0;
+        return edge_samples[edge_sample_index(topology, f, which, along, n)];
     };
     // interior samples first, the moved ones' first hits kept aside; then the moves that made a
     // fillet are undone (undo_covered_moves); then the shared samples are copied in
@@ -693,7 +701,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                                      face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
                                      range, cutouts);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
-                store(at, s);
+                store_sample(out, at, s, cutouts);
                 missed[at] = s.missed;
                 if (s.hidden.moved) moved_inside[face].emplace_back(std::uint32_t(triangle_index(n, i, j)), s);
             }
@@ -710,7 +718,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                     if (kind == VertexKind::interior) continue;
                     Sample s = shared_sample(f, kind, which, along);
                     take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, s);
-                    store(face * per_face + triangle_index(n, i, j), s);
+                    store_sample(out, face * per_face + triangle_index(n, i, j), s, cutouts);
                 }
         }
     });
@@ -779,9 +787,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                         } else if (kind == VertexKind::corner) {
                             out.elevation[at] = corner_h[control.indices[3 * f + std::size_t(which)]];
                         } else {
-                            int s = topology.reversed(std::uint32_t(f), which) ? n - along : along;
-                            out.elevation[at] = edge_h[std::size_t(topology.face_edges[f][std::size_t(which)]) * std::size_t(n - 1) +
-                                                       std::size_t(s - 1)];
+                            out.elevation[at] = edge_h[edge_sample_index(topology, std::uint32_t(f), which, along, n)];
                         }
                     }
         });
@@ -822,9 +828,7 @@ Mesh reconstruct(const ControlGeometry& control, const PatternLayout& layout, co
             for (int i = 0; i <= n; ++i)
                 for (int j = 0; j <= n - i; ++j) {
                     std::size_t at = f * per_face + triangle_index(n, i, j);
-                    FacePoint point = face_point(control.positions.data(), control.normals.data(), &control.indices[3 * f],
-                                                 bary(j, n), bary(i, n));
-                    ms.positions[at] = point.position + finest_elevation[at] * unit_direction(point.normal);
+                    ms.positions[at] = displaced_point(control, &control.indices[3 * f], bary(j, n), bary(i, n), finest_elevation[at]);
                 }
     });
     for (std::size_t f = 0; f < faces; ++f) {

@@ -804,8 +804,6 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     // alpha-tested: a leaf card's outline is not its leaf's (measured: the generated tree's IoU
     // fell from 0.954 to 0.896, the coarse cards drawn whole)
     package->coarse_rims = two_sided && !alpha_tested;
-    // (a cut-out shows a closed surface's inside)
-    package->one_closed_surface = !alpha_tested && one_closed_surface(mesh);
     // alpha-tested models: the coarse mesh of the opaque faces only (see opaque_faces)
     const Mesh opaque = alpha_tested ? opaque_faces(mesh) : Mesh{};
     // and no further from the surface than a texel (k_coarse_error_texels, issue #17), so that it
@@ -854,6 +852,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
         package = bake_pass(context, parameters, alpha_tested);
         if (!package) return package.status();
     }
+    // once, whichever pass was kept (a cut-out shows a closed surface's inside)
+    (*package)->one_closed_surface = !alpha_tested && one_closed_surface(mesh);
     return std::unique_ptr<Package>(std::move(*package));
 }
 
