@@ -1,6 +1,7 @@
 // The CPU reference of the refinement: no T-junction on a closed model at several tolerances (the
 // displaced vertices of both sides of every edge are bit-identical), the paper's literal rule
-// leaves some, rendered triangles fall as tau grows, culling keeps what the camera sees.
+// leaves some, rendered triangles fall as tau grows, culling keeps what the camera sees and culls
+// back faces only of closed parts wound outward.
 #include "reps/displaced_mesh/displaced_mesh.h"
 #include "reps/displaced_mesh/refine.h"
 
@@ -8,6 +9,7 @@
 
 #include <cstring>
 #include <map>
+#include <numbers>
 #include <memory>
 #include <tuple>
 
@@ -143,6 +145,46 @@ TEST(DisplacedMeshRefine, CullingDropsFacesBehindTheModel)
     EXPECT_LT(culled.faces_visible, baked.package->face_count() * 3 / 4);
     EXPECT_GT(culled.faces_visible, baked.package->face_count() / 4);
     EXPECT_LT(culled.rendered, all.rendered);
+}
+
+// A closed part wound inside out (winding and normals inward, as some exporters write a capsule)
+// shows the faces its winding calls backs: they must not be culled; its outward twin's may be.
+TEST(DisplacedMeshRefine, OnlyClosedPartsWoundOutwardCullTheirBackFaces)
+{
+    Baked baked = bake_noisy_sphere(9, 20000);
+    ASSERT_TRUE(baked.package);
+    const DisplacedMeshPackage& p = *baked.package;
+    // part 1: the package's control mesh; part 2: a copy moved aside, every face and normal turned
+    std::vector<glm::vec3> positions = p.positions, normals = p.normals;
+    std::vector<std::uint32_t> indices = p.indices;
+    const std::uint32_t offset = std::uint32_t(positions.size());
+    for (std::size_t v = 0; v < p.positions.size(); ++v) {
+        positions.push_back(p.positions[v] + glm::vec3(4.0f, 0.0f, 0.0f));
+        normals.push_back(-p.normals[v]);
+    }
+    for (std::size_t f = 0; f < p.face_count(); ++f) {
+        const std::uint32_t* c = &p.indices[3 * f];
+        for (std::uint32_t corner : {c[0], c[2], c[1]}) indices.push_back(corner + offset);
+    }
+    std::vector<float> elevations = p.elevations, face_error = p.face_error;
+    elevations.insert(elevations.end(), p.elevations.begin(), p.elevations.end());
+    face_error.insert(face_error.end(), p.face_error.begin(), p.face_error.end());
+    Result<ControlTopology> topology = build_topology(positions.size(), indices);
+    ASSERT_TRUE(topology.is_ok());
+    std::vector<FaceRefineData> faces = prepare_faces(positions, normals, indices, *topology, p.layout(), elevations, face_error);
+    const float all_around = std::numbers::pi_v<float>;
+    std::size_t outward_cullable = 0, inward_cullable = 0;
+    for (std::size_t f = 0; f < faces.size(); ++f) (f < p.face_count() ? outward_cullable : inward_cullable) += faces[f].cone_half_angle < all_around;
+    EXPECT_GT(outward_cullable, p.face_count() / 2);
+    EXPECT_EQ(inward_cullable, 0u);
+    // an open part (the outward copy less one face) culls nothing either
+    std::vector<std::uint32_t> open(p.indices.begin() + 3, p.indices.end());
+    Result<ControlTopology> open_topology = build_topology(p.positions.size(), open);
+    ASSERT_TRUE(open_topology.is_ok());
+    std::vector<float> open_elevations(p.elevations.begin() + std::ptrdiff_t(p.layout().samples_per_face), p.elevations.end());
+    std::vector<float> open_error(p.face_error.begin() + 1, p.face_error.end());
+    std::vector<FaceRefineData> open_faces = prepare_faces(p.positions, p.normals, open, *open_topology, p.layout(), open_elevations, open_error);
+    for (const FaceRefineData& d : open_faces) EXPECT_EQ(d.cone_half_angle, all_around);
 }
 
 } // namespace
