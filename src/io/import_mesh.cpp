@@ -629,6 +629,20 @@ static bool is_authored(const aiMaterial& material)
     return !name.empty() && name != AI_DEFAULT_MATERIAL_NAME;
 }
 
+// Whether the mesh's first vertex colour set paints it. A set with no positive component anywhere
+// does not: nothing authored paints a model black and transparent, and assimp's Blender loader
+// gives BlenderDefault_250.blend, Blender's grey default cube, a set of (-1, -1, -1, -1) that,
+// multiplied in, drew the truth black where all three stand-ins drew it grey.
+static bool paints_vertex_colors(const aiMesh& source)
+{
+    if (!source.HasVertexColors(0)) return false;
+    for (unsigned v = 0; v < source.mNumVertices; ++v) {
+        const aiColor4D& c = source.mColors[0][v];
+        if (c.r > 0.0f || c.g > 0.0f || c.b > 0.0f || c.a > 0.0f) return true;
+    }
+    return false;
+}
+
 static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colors)
 {
     if (!is_authored(material)) return has_vertex_colors ? glm::vec4(1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
@@ -740,7 +754,7 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
     unsigned uv_channel = 0;
     int texture = use_texture(material, &uv_channel);
     bool textured = texture >= 0 && source.HasTextureCoords(uv_channel);
-    bool colored = source.HasVertexColors(0);
+    bool colored = paints_vertex_colors(source);
     // (and whether its PBR maps have UVs to read)
     bool mapped = source.HasTextureCoords(uv_channel) && has_pbr_map(material);
     unsigned variant = (textured ? 1u : 0u) | (colored ? 2u : 0u) | (mapped ? 4u : 0u);
@@ -898,6 +912,7 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         return error(StatusCode::bad_data, path_ + ": mesh '" + source.mName.C_Str() + "' has no valid material");
     ++report_.meshes_in_scene;
     MaterialUse material = use_material(source);
+    const bool colored = paints_vertex_colors(source);
     glm::mat3 normal_from_object = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
     bool mirrored = glm::determinant(glm::mat3(world_from_object)) < 0.0f;
     bool keep_normals = has_usable_normals(source);
@@ -922,9 +937,9 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         }
         mesh_.normals.push_back(normal);
         glm::vec4 color = material.factor;
-        if (source.HasVertexColors(0)) {
+        if (colored) {
             const aiColor4D& c = source.mColors[0][v];
-            color *= glm::vec4(c.r, c.g, c.b, c.a);
+            color *= glm::max(glm::vec4(c.r, c.g, c.b, c.a), glm::vec4(0.0f)); // negative: no light reflected
         }
         mesh_.colors.push_back(color);
         glm::vec2 uv(0.0f);

@@ -143,6 +143,22 @@ TEST(ImportMesh, AsciiPlyWithPolygonsColoursAndCrlf)
     EXPECT_NE(report.warnings[0].find("fewer than 3"), std::string::npos) << report.warnings[0];
 }
 
+// A vertex colour set with no positive component paints nothing (assimp's Blender loader gives
+// Blender's grey default cube one of (-1, -1, -1, -1)): the material's colour stays, not black.
+// A negative channel among painted ones reflects no light rather than less than none.
+TEST(ImportMesh, VertexColoursWithNothingPositiveAreNotPaint)
+{
+    const std::string header =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float red\nproperty float green\nproperty float blue\nproperty float alpha\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string dir = import_test_dir("ply_unset_colours");
+    Mesh unset = import_ok(write_text(dir, "unset.ply", header + "0 0 0 -1 -1 -1 -1\n1 0 0 -1 -1 -1 -1\n0 1 0 0 0 0 0\n3 0 1 2\n"));
+    for (const glm::vec4& c : unset.colors) expect_near(c, glm::vec4(0.8f, 0.8f, 0.8f, 1.0f), 1e-6f); // the default material's
+    Mesh painted = import_ok(write_text(dir, "painted.ply", header + "0 0 0 0.5 -1 0.25 1\n1 0 0 0.5 -1 0.25 1\n0 1 0 0.5 -1 0.25 1\n3 0 1 2\n"));
+    for (const glm::vec4& c : painted.colors) expect_near(c, glm::vec4(0.5f, 0.0f, 0.25f, 1.0f), 1e-6f);
+}
+
 TEST(ImportMesh, BigEndianPly)
 {
     std::string bytes =
