@@ -232,6 +232,35 @@ SurfacePoint outermost_visible(const RayScene& scene, const Mesh& original, glm:
     return hit;
 }
 
+// How far above a surface another one, facing the same way, hides it as a layer over it: a decal,
+// a painted patch, continents modelled over an ocean sphere (assimp's Q3D/earth.q3o, 0.4% of its
+// radius above), as a fraction of the ray range (itself 5% of the diagonal by default).
+constexpr float k_layer_gap = 0.05f;
+// How far the layer's facing may turn from the surface's under it.
+constexpr float k_layer_turn_degrees = 30.0f;
+
+// Departure from step 1's nearer hit: where another surface lies a hair above the hit along the
+// sample's normal and faces the same way, that one is what an eye on the normal's side sees; the
+// nearer hit took the surface under it wherever the control mesh ran on or under the lower one
+// (the earth's control vertices are its sphere's, and the continents over it went missing, Luv
+// 20.9). Only for surfaces within k_layer_gap x range and k_layer_turn_degrees: a thin wall's other
+// side faces the other way, and what lies further out is for the nearer-hit rule to weigh.
+SurfacePoint over_layers(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
+                         SurfacePoint hit, float& elevation)
+{
+    static const float min_cosine = std::cos(glm::radians(k_layer_turn_degrees));
+    for (int layer = 0; layer < k_max_cutouts; ++layer) {
+        const glm::vec3 facing = unit_direction(winding_normal(original, hit));
+        if (glm::dot(facing, direction) <= 0.0f) return hit; // seen from the normal's side, a back
+        const glm::vec3 above = hit.position + k_on_surface * range * direction;
+        SurfacePoint over = scene.intersect(above, direction, k_layer_gap * range);
+        if (!over.found || glm::dot(unit_direction(winding_normal(original, over)), facing) < min_cosine) return hit;
+        hit = over;
+        elevation = glm::dot(over.position - origin, direction);
+    }
+    return hit;
+}
+
 SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
                            float& elevation, bool& missed, HiddenHit* hidden)
 {
@@ -245,6 +274,7 @@ SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec
     if (on.found || forward.found || backward.found) {
         SurfacePoint hit = on.found ? on : nearer_of(forward, backward, elevation);
         if (on.found) elevation = glm::dot(on.position - origin, direction);
+        hit = over_layers(scene, original, origin, direction, range, hit, elevation);
         const float first_elevation = elevation;
         SurfacePoint visible = outermost_visible(scene, original, origin, direction, range, hit, elevation);
         if (hidden && visible.triangle != hit.triangle) *hidden = {true, first_elevation, hit};

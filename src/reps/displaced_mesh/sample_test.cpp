@@ -1,5 +1,6 @@
 // Sampling: an icosphere control mesh inside a sphere gets the radius difference as elevation;
-// surfaces hidden inside closed parts give way to the one enclosing them, other parts do not;
+// surfaces hidden inside closed parts give way to the one enclosing them, other parts do not; a
+// layer a hair over a surface, facing its way, is taken over the surface under it;
 // shared edges and corners hold bit-identical values on every face and every level, for both
 // samplers; levels on an edge depend on the edge alone; quantisation round-trips within a step.
 #include "reps/displaced_mesh/control_mesh.h"
@@ -226,6 +227,62 @@ TEST(DisplacedMeshSample, SurfacesInsideClosedPartsGiveWayToTheOneEnclosingThem)
     for (std::size_t i = 0; i < apart.points.size(); ++i) {
         ASSERT_NEAR(glm::length(apart.points[i]), 0.9f, 0.01f) << i;
         ASSERT_LT(apart.surface.albedo[i].x, 0.01f) << i;
+    }
+}
+
+// The part of an icosphere of `radius` above height y_min x radius: an open patch of one colour,
+// wound outward, or inward where `inward`; turned about y, so that no ray along the control
+// icosphere's vertex and edge directions runs through its vertices and edges.
+void add_cap(Mesh& mesh, float radius, float y_min, glm::vec4 colour, bool inward)
+{
+    std::vector<glm::vec3> positions, normals;
+    std::vector<std::uint32_t> indices;
+    icosphere(4, radius, positions, normals, indices);
+    const float c = std::cos(0.29f), s = std::sin(0.29f);
+    auto turn = [&](glm::vec3 v) { return glm::vec3(c * v.x + s * v.z, v.y, -s * v.x + c * v.z); };
+    const auto base = std::uint32_t(mesh.positions.size());
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        mesh.positions.push_back(turn(positions[v]));
+        mesh.normals.push_back(turn(inward ? -normals[v] : normals[v]));
+        mesh.colors.push_back(colour);
+    }
+    for (std::size_t i = 0; i < indices.size(); i += 3) {
+        const glm::vec3 centroid = (positions[indices[i]] + positions[indices[i + 1]] + positions[indices[i + 2]]) / 3.0f;
+        if (centroid.y < y_min * radius) continue;
+        const std::uint32_t b = inward ? indices[i + 2] : indices[i + 1], c = inward ? indices[i + 1] : indices[i + 2];
+        mesh.indices.insert(mesh.indices.end(), {base + indices[i], base + b, base + c});
+        mesh.face_materials.push_back(0);
+    }
+}
+
+// A layer a hair over a surface and facing the same way (a decal, continents modelled over an
+// ocean sphere: assimp's Q3D/earth.q3o) is what an eye sees there: samples whose nearest hit is
+// the surface under it take the layer. A layer facing the other way is a thin wall's far side and
+// does not pull samples onto it.
+TEST(DisplacedMeshSample, ALayerAHairOverTheSurfaceIsWhatSamplesTake)
+{
+    const glm::vec4 white(1.0f), black(0.0f, 0.0f, 0.0f, 1.0f);
+    for (bool inward : {false, true}) {
+        Mesh mesh = balls({{{0, 0, 0}, 0.9f, black}});
+        add_cap(mesh, 0.905f, 0.3f, white, inward);
+        SampledOver over = sample_over(mesh, 0.85f, 0.5f); // the layer 1% of the ray range above
+        std::size_t on_layer = 0, off_layer = 0;
+        for (std::size_t i = 0; i < over.points.size(); ++i) {
+            const float y = over.directions[i].y;
+            if (y > 0.45f && !inward) {
+                ASSERT_NEAR(glm::length(over.points[i]), 0.905f, 0.002f) << i;
+                ASSERT_GT(over.surface.albedo[i].x, 0.99f) << i;
+                ++on_layer;
+            } else if (y < 0.15f || inward) {
+                ASSERT_NEAR(glm::length(over.points[i]), 0.9f, 0.002f) << i << (inward ? " inward" : "");
+                ASSERT_LT(over.surface.albedo[i].x, 0.01f) << i << (inward ? " inward" : "");
+                ++off_layer;
+            }
+        }
+        EXPECT_GT(off_layer, 100u);
+        if (!inward) {
+            EXPECT_GT(on_layer, 100u);
+        }
     }
 }
 
