@@ -16,7 +16,9 @@
 //     interpenetrating parts); while it is, the sample moves out along the normal to the surface
 //     enclosing it (outermost_visible), so the stand-in shows what the model shows; a move onto a
 //     surface that the samples of other control faces already draw is undone once all samples
-//     are known (undo_covered_moves: a part sunk into another keeps its crease).
+//     are known (undo_covered_moves: a part sunk into another keeps its crease). Departure: a
+//     layer a hair over the hit, facing its way (a decal, continents over an ocean), is what an
+//     eye on the normal's side sees, and the sample takes it (over_layers).
 //     Departure (issue #14): on a model with alpha-masked materials a ray walks on through hits
 //     the alpha test cuts out (texture level 0 bilinear, Mesh::covered_at, the truth's rule) and
 //     keeps the nearer surviving hit; the sample records whether it found one (its coverage).
@@ -249,12 +251,14 @@ SurfacePoint over_layers(const RayScene& scene, const Mesh& original, glm::vec3 
                          SurfacePoint hit, float& elevation)
 {
     static const float min_cosine = std::cos(glm::radians(k_layer_turn_degrees));
+    float left = k_layer_gap * range; // the layers together lie within the gap of the first hit
     for (int layer = 0; layer < k_max_cutouts; ++layer) {
         const glm::vec3 facing = unit_direction(winding_normal(original, hit));
         if (glm::dot(facing, direction) <= 0.0f) return hit; // seen from the normal's side, a back
         const glm::vec3 above = hit.position + k_on_surface * range * direction;
-        SurfacePoint over = scene.intersect(above, direction, k_layer_gap * range);
+        SurfacePoint over = scene.intersect(above, direction, left);
         if (!over.found || glm::dot(unit_direction(winding_normal(original, over)), facing) < min_cosine) return hit;
+        left -= over.t;
         hit = over;
         elevation = glm::dot(over.position - origin, direction);
     }
