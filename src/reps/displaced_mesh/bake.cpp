@@ -13,7 +13,10 @@
 //     here on, so what is measured is what is drawn;
 //  5. rebuild Ms and measure ∆_f and d against the original;
 //  6. encode shading normals (octahedral) and albedo (RGBA8); for models with alpha-masked
-//     materials, the samples' coverage (issue #14: sample.cpp sees through cut-outs).
+//     materials, the samples' coverage (issue #14: sample.cpp sees through cut-outs). Departure:
+//     a textured model's shading is sampled 2 or 4 times finer than the pattern where its texels
+//     are finer than the pattern step and it shows (finest_useful_detail, albedo_residual;
+//     sample.cpp sample_fine_shading).
 // Boundary loops keep k_min_loop_vertices in the control mesh (control_mesh.cpp), so a model of
 // many open parts may stop above the target face count.
 // Deterministic for any thread count: the decimator is sequential; everything else writes fixed
@@ -40,6 +43,93 @@ std::size_t target_faces(std::size_t input_faces, const BakeSettings& s)
     std::size_t per_face = std::size_t(s.degree - 1) * std::size_t(s.degree - 1);
     std::size_t target = (input_faces + per_face / 2) / per_face;
     return std::max(target, std::min(k_min_control_faces, input_faces));
+}
+
+// The world length of one texel of the model's base-colour and normal textures, area-weighted
+// over the faces that read one: sqrt(world area / texel area). 0 for models without them.
+double texel_length(const Mesh& mesh)
+{
+    if (!mesh.has_texture_coordinates()) return 0.0;
+    double world = 0.0, texels = 0.0;
+    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+        const Material& material = mesh.materials[mesh.face_materials[f]];
+        const int texture = material.base_color_texture >= 0 ? material.base_color_texture : material.normal_texture;
+        if (texture < 0) continue;
+        const Texture& t = mesh.textures[std::size_t(texture)];
+        const std::uint32_t* v = &mesh.indices[3 * f];
+        const glm::dvec2 a(mesh.uvs[v[0]]), b(mesh.uvs[v[1]]), c(mesh.uvs[v[2]]);
+        const glm::dvec2 e1 = b - a, e2 = c - a;
+        world += mesh.triangle_area(f);
+        texels += 0.5 * std::abs(e1.x * e2.y - e1.y * e2.x) * double(t.width) * double(t.height);
+    }
+    return texels > 0.0 && world > 0.0 ? std::sqrt(world / texels) : 0.0;
+}
+
+// The finest shading detail (1, 2 or 4) auto may choose: finer while the shading step is over
+// k_blurred_pixels reference pixels (the thesis protocol's at 800 x 600, where the model's
+// bounding sphere fills the view: a pixel is about diagonal / 564) and over two of the model's
+// texels; within k_max_shading_samples. 1 for untextured models and alpha-masked ones.
+int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                         int degree)
+{
+    const double texel = texel_length(mesh);
+    if (!(texel > 0.0) || reps::has_cutouts(mesh) || indices.empty()) return 1;
+    const std::size_t faces = indices.size() / 3;
+    double edges = 0.0;
+    for (std::size_t k = 0; k < indices.size(); ++k)
+        edges += glm::length(glm::dvec3(positions[indices[k]]) - glm::dvec3(positions[indices[k - k % 3 + (k + 1) % 3]]));
+    const double step = edges / double(indices.size()) / double(degree - 1); // the mean pattern step
+    const double pixel = mesh.bounds().diagonal() / k_reference_pixels;
+    int detail = 1;
+    while (detail < 4 && step / detail > k_blurred_pixels * pixel && step / detail > 2.0 * texel) detail *= 2;
+    while (detail > 1 && faces * triangle_samples((degree - 1) * detail) > k_max_shading_samples) detail /= 2;
+    return detail;
+}
+
+// How far the albedo of `fine` (shading samples `fine_detail` times finer than the pattern's n
+// segments) lies from what `detail` draws there: the mean over the fine samples of the largest
+// channel difference to the barycentric blend of the three `detail` samples around them (the
+// renderer's interpolation), in [0, 1].
+double albedo_residual(const std::vector<glm::vec4>& albedo, std::size_t faces, int n, int fine_detail, int detail)
+{
+    const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
+    const std::size_t per_fine = triangle_samples(fine_n);
+    double sum = 0.0;
+    for (std::size_t f = 0; f < faces; ++f) {
+        const std::size_t base = f * per_fine;
+        // the coarse pattern's values, from the fine pattern that holds its vertices
+        std::vector<glm::vec4> coarse(triangle_samples(coarse_n));
+        for (int i = 0; i <= coarse_n; ++i)
+            for (int j = 0; j <= coarse_n - i; ++j) coarse[triangle_index(coarse_n, i, j)] = albedo[base + triangle_index(fine_n, i * ratio, j * ratio)];
+        for (int a = 0; a <= fine_n; ++a)
+            for (int b = 0; b <= fine_n - a; ++b) {
+                const PatternTriangle cell = pattern_triangle(coarse_n, double(b) / ratio, double(a) / ratio);
+                glm::vec4 blend(0.0f);
+                for (int k = 0; k < 3; ++k) blend += float(cell.weight[k]) * coarse[cell.index[k]];
+                const glm::vec4 d = glm::abs(blend - albedo[base + triangle_index(fine_n, a, b)]);
+                sum += std::max({d.x, d.y, d.z});
+            }
+    }
+    return sum / double(faces * per_fine);
+}
+
+// The shading arrays of `fine` (`fine_detail` times finer than n segments) at `detail`: the fine
+// pattern holds the coarser one's vertices.
+void keep_coarser_shading(SampledSurface& fine, std::size_t faces, int n, int fine_detail, int detail)
+{
+    const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
+    const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
+    SampledSurface out;
+    out.normal.resize(faces * per_coarse), out.albedo.resize(faces * per_coarse);
+    if (!fine.pbr.empty()) out.pbr.resize(faces * per_coarse);
+    for (std::size_t f = 0; f < faces; ++f)
+        for (int i = 0; i <= coarse_n; ++i)
+            for (int j = 0; j <= coarse_n - i; ++j) {
+                const std::size_t to = f * per_coarse + triangle_index(coarse_n, i, j), from = f * per_fine + triangle_index(fine_n, i * ratio, j * ratio);
+                out.normal[to] = fine.normal[from], out.albedo[to] = fine.albedo[from];
+                if (!fine.pbr.empty()) out.pbr[to] = fine.pbr[from];
+            }
+    fine.normal = std::move(out.normal), fine.albedo = std::move(out.albedo), fine.pbr = std::move(out.pbr);
 }
 
 } // namespace
@@ -124,6 +214,15 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     if (!topology) return topology.status();
     package->topology = std::move(*topology);
     progress.report("control mesh", 1.0);
+    // the shading detail: given, or for auto the finest that shows (finest_useful_detail), then the
+    // coarsest whose colours stay within k_shading_residual of it (after sampling, below)
+    const bool auto_detail = effective.choice("shading-detail") == "auto";
+    if (!auto_detail && settings.shading_detail > 1 && reps::has_cutouts(mesh))
+        return error(StatusCode::invalid_argument,
+                     "--shading-detail: above 1 needs a model without alpha-masked materials (their coverage is "
+                     "sampled at the pattern's vertices); use 1 or auto");
+    const int sampled_detail =
+        auto_detail ? finest_useful_detail(mesh, package->positions, package->indices, settings.degree) : settings.shading_detail;
 
     // sample the original, then the levels
     Result<std::unique_ptr<RayScene>> scene = RayScene::create(mesh.positions, mesh.indices);
@@ -157,7 +256,29 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     package->sampling = {sampled->rays, sampled->misses, measured->original_to_sampled_mean, measured->original_to_sampled_max,
                          measured->sampled_to_original_mean, measured->sampled_to_original_max};
 
-    // shading attributes
+    // shading attributes, finer than the pattern where the texture's detail asks for it
+    int shading_detail = sampled_detail;
+    if (sampled_detail > 1) {
+        SampledSurface fine = sample_fine_shading(mesh, **scene, geometry, *sampled, settings.degree, sampled_detail,
+                                                  sample_options.ray_range, progress);
+        if (auto_detail) {
+            shading_detail = 1;
+            while (shading_detail < sampled_detail &&
+                   albedo_residual(fine.albedo, package->face_count(), layout.segments, sampled_detail, shading_detail) > k_shading_residual)
+                shading_detail *= 2;
+            if (shading_detail < sampled_detail) keep_coarser_shading(fine, package->face_count(), layout.segments, sampled_detail, shading_detail);
+        }
+        if (shading_detail > 1) {
+            sampled->normal = std::move(fine.normal);
+            sampled->albedo = std::move(fine.albedo);
+            sampled->pbr = std::move(fine.pbr);
+        }
+    }
+    if (auto_detail) {
+        effective.set_choice("shading-detail", std::to_string(shading_detail));
+        package->parameters = effective;
+        package->settings = settings_from(effective);
+    }
     package->shading_normals.resize(sampled->normal.size());
     package->albedo.resize(sampled->albedo.size());
     for (std::size_t i = 0; i < sampled->normal.size(); ++i) {

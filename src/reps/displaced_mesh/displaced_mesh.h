@@ -33,6 +33,9 @@ struct BakeSettings {
     // single-sided materials (the bake's auto resolves to cull where such backs can be seen from
     // outside: reps::visible_single_sided_backs)
     std::string back_faces = "show";
+    // shading samples per pattern step along an edge: 1, 2 or 4 (the bake's auto resolves it from
+    // the model's texel size; the package records which)
+    int shading_detail = 1;
 };
 
 // Control faces wanted at least (all the input's when it has fewer): small models would otherwise
@@ -43,6 +46,18 @@ constexpr std::size_t k_min_control_faces = 256;
 // 2 or more pixels per sample on the generated tree's cards at distance 1 (foliage Luv 3.40 there,
 // 2.74 at 33; docs/RESULTS.md "Displaced mesh on foliage: colour"), at 3.6x the package bytes.
 constexpr int k_alpha_degree = 33;
+// The auto shading detail (BakeSettings::shading_detail, bake.cpp): finer than 1 only for
+// textured models without alpha-masked materials whose mean pattern step is over
+// k_blurred_pixels reference pixels (a pixel of an 800 x 600 view the model's bounding sphere
+// fills: diagonal / k_reference_pixels) and over two of their texels; there the shading is sampled
+// at the finest such detail (up to 4, within k_max_shading_samples) and the coarsest detail whose
+// albedo, interpolated, stays within k_shading_residual of it (the mean of the largest channel
+// difference) is kept. Measured on textured models in docs/RESULTS.md "Shading finer than the
+// pattern".
+constexpr double k_reference_pixels = 564.0;
+constexpr double k_blurred_pixels = 4.0;
+constexpr double k_shading_residual = 0.01;
+constexpr std::size_t k_max_shading_samples = 4'000'000;
 // Vertices a boundary loop of the control mesh keeps (ControlMeshOptions::min_loop_vertices): a
 // round rim or hole as a 12-gon is within 3.5% of its radius, where a triangle (what the quadrics
 // alone reach on a model of many small open parts) is 50% off.
@@ -69,6 +84,9 @@ public:
 
     std::size_t face_count() const { return indices.size() / 3; }
     PatternLayout layout() const { return PatternLayout(settings.degree); }
+    // the shading arrays' pattern: (k - 1) x shading_detail segments per edge
+    int shading_segments() const { return layout().segments * settings.shading_detail; }
+    std::size_t shading_samples_per_face() const { return triangle_samples(shading_segments()); }
 
     Options parameters;    // as baked
     BakeSettings settings; // settings_from(parameters)
@@ -84,13 +102,14 @@ public:
     std::vector<float> elevations;
     std::vector<std::uint16_t> elevation_codes;
     float elevation_minimum = 0.0f, elevation_step = 0.0f;
-    // finest level only, face-major: octahedral unit normal (two snorm16) and RGBA8 albedo (sRGB)
+    // the shading pattern (shading_samples_per_face per face, face-major; the finest elevation
+    // pattern where shading_detail is 1): octahedral unit normal (two snorm16) and RGBA8 albedo (sRGB)
     std::vector<std::uint32_t> shading_normals;
     std::vector<std::uint32_t> albedo;
     // PBR packages only (issue #14), else empty: RGBA8 occlusion, roughness, metallic (linear), 255;
     // RGBA8 emission (sRGB, clamped to 1), 255
     std::vector<std::uint32_t> orm, emission;
-    // Packages of models with alpha-masked materials only (issue #14), else empty: per finest
+    // Packages of models with alpha-masked materials only (issue #14), else empty: per shading
     // sample, 255 where its ray met a point that survives the alpha test, 0 where it saw only
     // cut-outs or nothing. The renderer interpolates it like the albedo and discards below 1/2.
     std::vector<std::uint8_t> coverage;

@@ -91,7 +91,8 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 int j = int(std::lround(double(t.q[k][0]) * n / double(k_bary_one)));
                 i = std::clamp(i, 0, n);
                 j = std::clamp(j, 0, n - i);
-                std::size_t sample = std::size_t(t.face) * layout.finest_samples + triangle_index(n, i, j);
+                const int detail = p.settings.shading_detail;
+                std::size_t sample = std::size_t(t.face) * p.shading_samples_per_face() + triangle_index(n * detail, i * detail, j * detail);
                 std::uint32_t albedo = p.albedo[sample];
                 mesh.positions.push_back(position);
                 mesh.normals.push_back(decode_normal(p.shading_normals[sample]));

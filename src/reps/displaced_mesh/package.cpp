@@ -1,7 +1,7 @@
 // Displaced-mesh packages on disk (docs/FORMAT.md, "Displaced control mesh"): manifest.json, the
 // control mesh as PLY, and little-endian arrays: elevations of every level (uint16 codes over the
-// package's range, or float32), ∆_f per face (float32), and at the finest level octahedral shading
-// normals and RGBA8 albedo (and coverage, uint8, for models with alpha-masked materials). Writing is deterministic; reading checks every field, size and hash and
+// package's range, or float32), ∆_f per face (float32), and on the shading pattern (the finest
+// level, or 2 or 4 times finer: bake.shading_detail) octahedral shading normals and RGBA8 albedo (and coverage, uint8, for models with alpha-masked materials). Writing is deterministic; reading checks every field, size and hash and
 // that the control mesh is the one the manifest describes, and refuses with a status naming file
 // and field.
 #include "reps/displaced_mesh/displaced_mesh.h"
@@ -164,11 +164,14 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         auto p = std::make_unique<DisplacedMeshPackage>();
         p->source = manifest_io::read_source(in, manifest);
         // packages from before --back-faces drew both sides
-        nlohmann::json patched;
-        const nlohmann::json& settings = manifest_io::with_setting_default(manifest, "back_faces", "show", patched);
+        nlohmann::json patched, patched_again;
+        const nlohmann::json& settings = manifest_io::with_setting_default(
+            manifest_io::with_setting_default(manifest, "back_faces", "show", patched), "shading_detail", "1", patched_again);
         p->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         p->settings = settings_from(p->parameters);
         if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
+        // a package records the detail its bake resolved
+        if (p->settings.shading_detail == 0) in.fail("bake.shading_detail", "is auto; a package holds 1, 2 or 4");
         const nlohmann::json& files = in.member(manifest, "files", "");
         if (!files.is_object()) in.fail("files", "is not an object");
         read_control(in, directory, files, in.member(manifest, "control", ""), *p);
@@ -186,7 +189,7 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         std::string elevation_file = in.string(elevation, "file", "elevation.");
         if (in.integer(elevation, "bits", "elevation.", 16, 32) != p->settings.elevation_bits)
             in.fail("elevation.bits", "differs from bake.elevation_bits");
-        std::size_t samples = faces * layout.samples_per_face, finest = faces * layout.finest_samples;
+        std::size_t samples = faces * layout.samples_per_face, shading = faces * p->shading_samples_per_face();
         if (p->settings.elevation_bits == 16) {
             p->elevation_minimum = float(in.number(elevation, "minimum", "elevation.", -1e30, 1e30));
             p->elevation_step = float(in.number(elevation, "step", "elevation.", 0.0, 1e30));
@@ -203,16 +206,16 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         for (float e : p->face_error)
             if (!(e >= 0.0f && std::isfinite(e))) in.fail("face_error.file", "holds a value that is negative or not finite");
         p->shading_normals = read_array<std::uint32_t>(in, directory, files,
-                                                       in.string(in.member(manifest, "shading_normal", ""), "file", "shading_normal."), finest);
-        p->albedo = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "albedo", ""), "file", "albedo."), finest);
+                                                       in.string(in.member(manifest, "shading_normal", ""), "file", "shading_normal."), shading);
+        p->albedo = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "albedo", ""), "file", "albedo."), shading);
         if (manifest.contains("orm") || manifest.contains("emission")) {
-            p->orm = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "orm", ""), "file", "orm."), finest);
+            p->orm = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "orm", ""), "file", "orm."), shading);
             p->emission = read_array<std::uint32_t>(in, directory, files,
-                                                    in.string(in.member(manifest, "emission", ""), "file", "emission."), finest);
+                                                    in.string(in.member(manifest, "emission", ""), "file", "emission."), shading);
         }
         if (manifest.contains("coverage"))
             p->coverage = read_array<std::uint8_t>(in, directory, files,
-                                                   in.string(in.member(manifest, "coverage", ""), "file", "coverage."), finest);
+                                                   in.string(in.member(manifest, "coverage", ""), "file", "coverage."), shading);
         const nlohmann::json& sampling = in.member(manifest, "sampling", "");
         SamplingStats& s = p->sampling;
         s.rays = std::size_t(in.integer(sampling, "rays", "sampling.", 0, INT64_MAX));

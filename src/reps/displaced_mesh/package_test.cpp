@@ -71,6 +71,43 @@ TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
               dynamic_cast<const DisplacedMeshPackage&>(**floats).elevations);
 }
 
+// Shading finer than the pattern (a textured low-poly model, auto resolves to 4): the arrays hold
+// (k - 1) x 4 segments per face, the manifest records the detail, the bytes are the same at 1 and 2
+// threads, and the package reads back; an alpha-masked model refuses a detail above 1.
+TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
+{
+    Result<Mesh> box = import_mesh(test::source_dir() + "/data/box_textured.glb");
+    ASSERT_TRUE(box.is_ok());
+    SourceInfo source;
+    source.bounds = box->bounds();
+    const Representation& r = *find_representation("displaced-mesh");
+    Result<std::unique_ptr<Package>> one = bake_package(r, *box, source, {}, {}, 1);
+    Result<std::unique_ptr<Package>> two = bake_package(r, *box, source, {}, {}, 2);
+    ASSERT_TRUE(one.is_ok() && two.is_ok()) << one.status().message();
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**one);
+    EXPECT_EQ(p.settings.shading_detail, 4);
+    EXPECT_EQ(p.shading_segments(), 64);
+    EXPECT_EQ(p.shading_normals.size(), p.face_count() * triangle_samples(64));
+    std::string dir = test::fresh_directory("displaced_fine_shading");
+    ASSERT_TRUE(write_package(**one, dir + "/a.standin").is_ok());
+    ASSERT_TRUE(write_package(**two, dir + "/b.standin").is_ok());
+    for (const char* name : {"manifest.json", "normal.bin", "albedo.bin"})
+        EXPECT_EQ(file_text(dir + "/a.standin/" + name), file_text(dir + "/b.standin/" + name)) << name;
+    EXPECT_NE(file_text(dir + "/a.standin/manifest.json").find("\"shading_detail\": \"4\""), std::string::npos);
+    Result<std::unique_ptr<Package>> back = read_package(dir + "/a.standin");
+    ASSERT_TRUE(back.is_ok()) << back.status().message();
+    const auto& q = dynamic_cast<const DisplacedMeshPackage&>(**back);
+    EXPECT_EQ(q.settings.shading_detail, 4);
+    EXPECT_EQ(q.shading_normals, p.shading_normals);
+    EXPECT_EQ(q.albedo, p.albedo);
+
+    OptionValues finer;
+    finer.set("shading-detail", "2");
+    Result<std::unique_ptr<Package>> refused = bake_package(r, test::alpha_quad(AlphaMode::mask, 0.5f, true), source, finer, {}, 1);
+    ASSERT_FALSE(refused.is_ok());
+    EXPECT_NE(refused.status().message().find("--shading-detail"), std::string::npos) << refused.status().message();
+}
+
 // Issue #14: a model with alpha-masked materials gets coverage (the disc the alpha test keeps of
 // the quad, and nothing of its cut-out corners), written as coverage.bin and read back; a model
 // without gets neither the array nor the file, so its package is what it was before.

@@ -78,4 +78,23 @@ inline void edge_vertex(int n, int edge, int s, int& i, int& j)
     }
 }
 
+// The triangle of an n-segment pattern holding the point at pattern coordinates (x, y) (x along j,
+// y along i, each 0..n): its vertices' array indices and barycentric weights, split as the
+// renderer's draw.frag splits a pattern cell.
+struct PatternTriangle {
+    std::size_t index[3];
+    double weight[3];
+};
+inline PatternTriangle pattern_triangle(int n, double x, double y)
+{
+    int i0 = y < 0.0 ? 0 : int(y), j0 = x < 0.0 ? 0 : int(x);
+    i0 = i0 > n - 1 ? n - 1 : i0;
+    j0 = j0 > n - 1 - i0 ? n - 1 - i0 : j0;
+    const double fx = x - j0, fy = y - i0;
+    if (fx + fy <= 1.0)
+        return {{triangle_index(n, i0, j0), triangle_index(n, i0, j0 + 1), triangle_index(n, i0 + 1, j0)}, {1.0 - fx - fy, fx, fy}};
+    return {{triangle_index(n, i0, j0 + 1), triangle_index(n, i0 + 1, j0 + 1), triangle_index(n, i0 + 1, j0)},
+            {1.0 - fy, fx + fy - 1.0, 1.0 - fx}};
+}
+
 } // namespace standin::displaced_mesh

@@ -128,6 +128,8 @@ private:
     // depth after the fragment stage (the faded programs), or the holes would still write depth
     bool cutouts_ = false;
     bool cull_back_faces_ = false; // the package's back_faces is cull
+    int shading_segments_ = 0;           // the shading pattern's segments per edge
+    std::uint32_t shading_per_face_ = 0; // and its samples per face
     gpu::Query primitives_query_;
     gpu::Buffer pbr_; // PBR packages only (issue #14)
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
@@ -208,6 +210,8 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     // gives colour and coverage, interpolated alike
     cutouts_ = !package.coverage.empty();
     cull_back_faces_ = package.settings.back_faces == "cull";
+    shading_segments_ = package.shading_segments();
+    shading_per_face_ = std::uint32_t(package.shading_samples_per_face());
     for (std::size_t i = 0; i < shading.size(); ++i) {
         std::uint32_t albedo = package.albedo[i];
         if (cutouts_) albedo = (albedo & 0x00ffffffu) | (std::uint32_t(package.coverage[i]) << 24);
@@ -384,6 +388,8 @@ DrawStats Impl::draw(const DrawParams& params)
     glProgramUniform1i(draw_program.id(), draw_program.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
+    glProgramUniform1i(draw_program.id(), draw_program.uniform("shading_segments"), shading_segments_);
+    glProgramUniform1ui(draw_program.id(), draw_program.uniform("shading_per_face"), shading_per_face_);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
@@ -416,6 +422,8 @@ DrawStats Impl::draw_patches(std::uint32_t instances)
     glProgramUniform1i(patches.id(), patches.uniform("counting"), counters_->counting() ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_coverage"), cutouts_ ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
+    glProgramUniform1i(patches.id(), patches.uniform("shading_segments"), shading_segments_);
+    glProgramUniform1ui(patches.id(), patches.uniform("shading_per_face"), shading_per_face_);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     set_face_culling();

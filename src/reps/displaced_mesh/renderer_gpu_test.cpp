@@ -1,7 +1,8 @@
 // The displaced-mesh renderer on the GPU: no crack inside the silhouette of a closed model at
 // several tolerances, renders byte-identical across renderers and runs, the GPU refinement matches
 // the CPU reference's counts, rendered triangles fall as tau grows, culling and the debug views,
-// moving the control mesh moves the picture, and shadows are cast.
+// moving the control mesh moves the picture, shadows are cast, and a textured low-poly model is
+// shaded finer than its pattern.
 #include "test_support.h"
 
 #include "reps/displaced_mesh/displaced_mesh.h"
@@ -283,6 +284,36 @@ TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
 // A sphere over a single-sided plane (assimp's COLLADA.dae: text over a plane): the truth culls the
 // plane's back, so from below it shows the sphere alone. --back-faces auto sees the plane's back
 // from outside and culls back faces; drawn both sides (show), the plane's underside spills.
+// A textured low-poly model (the bundled 12-face box, a 211-pixel texture): its texture's detail
+// lives in the shading samples, which auto takes 4 times finer than the pattern there (thesis
+// protocol: Luv 5.27 at 1, 1.08 at 4, docs/RESULTS.md "Shading finer than the pattern").
+TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
+{
+    test::gpu_context();
+    Result<Mesh> box = import_mesh(test::source_dir() + "/data/box_textured.glb");
+    ASSERT_TRUE(box.is_ok()) << box.status().message();
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*box);
+    ASSERT_TRUE(truth.is_ok());
+    double luv[2] = {0.0, 0.0};
+    for (int k = 0; k < 2; ++k) {
+        Result<Options> parameters = bake_parameters({{"shading-detail", k == 0 ? "1" : "auto"}});
+        ASSERT_TRUE(parameters.is_ok());
+        Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(*box, SourceInfo{}, *parameters, Progress());
+        ASSERT_TRUE(package.is_ok()) << package.status().message();
+        EXPECT_EQ((*package)->settings.shading_detail, k == 0 ? 1 : 4);
+        EXPECT_EQ((*package)->albedo.size(), (*package)->face_count() * (*package)->shading_samples_per_face());
+        std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
+        ASSERT_TRUE(renderer);
+        for (float azimuth : {30.0f, 200.0f}) {
+            Camera camera = camera_for(*box, azimuth, 1.0f, 400, 300);
+            luv[k] += 0.5 * compare_images(render(**truth, camera, 400, 300).color, render(*renderer, camera, 400, 300).color).luv_mean;
+        }
+    }
+    std::printf("[displaced textured box] Luv: shading detail 1 %.3f, auto (4) %.3f\n", luv[0], luv[1]);
+    EXPECT_LT(luv[1], 2.0);
+    EXPECT_LT(luv[1], luv[0] - 2.0);
+}
+
 TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
 {
     test::gpu_context();

@@ -38,6 +38,11 @@ std::vector<OptionSpec> bake_options()
                       "are), cull (as the truth culls single-sided materials: for sheets and ground planes seen "
                       "from behind) or auto (cull where over 0.1% of the model's area is single-sided faces "
                       "whose backs can be seen from outside, else show; the package records which)"),
+        choice_option("shading-detail", "auto", {"auto", "1", "2", "4"},
+                      "Shading (normal, colour, PBR) samples per pattern step along an edge: 1 (one per "
+                      "pattern vertex, the paper's), 2 or 4 (a textured model's colour detail, 4x or 16x the "
+                      "shading bytes), or auto (the fewest that reach 2 texels of the model's textures per "
+                      "shading step, within 4M shading samples; 1 without textures or with alpha-masked materials)"),
     };
 }
 
@@ -96,6 +101,8 @@ BakeSettings settings_from(const Options& parameters)
     s.ray_range = parameters.number("ray-range");
     s.elevation_bits = parameters.integer("elevation-bits");
     s.back_faces = parameters.choice("back-faces");
+    const std::string detail = parameters.choice("shading-detail");
+    s.shading_detail = detail == "auto" ? 0 : std::stoi(detail); // 0: not resolved yet (the bake resolves it)
     return s;
 }
 

@@ -61,6 +61,19 @@ struct SampledSurface {
 Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& original_scene, const ControlGeometry& control,
                                       const SampleOptions& options, const Progress& progress);
 
+// Departure: shading finer than the elevations. A textured model keeps its colour detail in the
+// shading samples, and at one per pattern vertex a low-poly textured model's texture was read 17
+// times along a control face (the bundled 12-face box: thesis Luv 7.1). `detail` (2 or 4) times
+// finer, per face (PatternLayout::finest_samples of (k - 1) x detail segments each, face-major):
+// the pattern's own vertices keep `coarse`'s shading; every other one takes the original's
+// shading at the point closest to the displaced surface there (the finest elevations interpolated
+// as the renderer draws them), so shading follows the geometry drawn, hidden surfaces included.
+// Points on a face's edges are taken a hair inside it, so each face shades a crease with its own
+// side (as take_own_shading does). Elevations are left empty; coverage is not sampled (models
+// with alpha-masked materials keep detail 1). Deterministic for any thread count.
+SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
+                                   const SampledSurface& coarse, int degree, int detail, float range, const Progress& progress);
+
 // Every level of every face from the finest (levels.cpp): level l + 1 keeps the even vertices of
 // level l, filtered: corners copied, vertices on the face's edges by 1/4, 1/2, 1/4 along the edge
 // (a symmetric formula, so both faces of an edge compute the same bits), inside by 1/2 of the

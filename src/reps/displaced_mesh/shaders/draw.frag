@@ -1,7 +1,8 @@
 #version 450 core
 // Shading of the displaced surface: the normal and albedo sampled with the displacement (the paper
 // never says where its shading normals came from), read at the fragment's place in its control
-// face from the finest pattern (three samples, barycentric), lit by the shared lighting.glsl with
+// face from the shading pattern (the finest, or 2 or 4 times finer for textures; three samples,
+// barycentric), lit by the shared lighting.glsl with
 // the frame's shadows. True depth: the triangles are real geometry. Debug views: control faces,
 // bisection depth, and the distance to the finest surface in pixels (the paper's Fig. 11c).
 #include "gpu/shaders/common/frame.glsl"
@@ -60,15 +61,20 @@ vec3 decode_normal(uint bits)
     return normalize(n);
 }
 
-// The finest pattern triangle holding the fragment: its three samples and weights.
+// The shading pattern: the finest elevation pattern's segments times the package's shading detail
+// (1, 2 or 4), and its samples per face.
+uniform int shading_segments;
+uniform uint shading_per_face;
+
+// The shading pattern's triangle holding the fragment: its three samples and weights.
 void finest_triangle(out uint index[3], out float weight[3])
 {
-    int n = int(refine.counts.z);
+    int n = shading_segments;
     float x = clamp(v_face_bary.x, 0.0, 1.0) * float(n), y = clamp(v_face_bary.y, 0.0, 1.0) * float(n);
     int i0 = clamp(int(floor(y)), 0, n - 1);
     int j0 = clamp(int(floor(x)), 0, n - 1 - i0);
     float fx = x - float(j0), fy = y - float(i0);
-    uint face_base = v_face * refine.capacities.w;
+    uint face_base = v_face * shading_per_face;
     if (fx + fy <= 1.0) {
         index = uint[3](face_base + triangle_index(n, i0, j0), face_base + triangle_index(n, i0, j0 + 1),
                         face_base + triangle_index(n, i0 + 1, j0));
