@@ -142,13 +142,15 @@ Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& fi
     b.captured_area = in.number(entry, "captured_area", where, 0.0, 1e300);
     if (entry.contains("normal")) {
         read_compressed(in, files, entry, where, depth_bits, b);
-        return b;
+    } else {
+        std::string color = in.string(in.member(entry, "color", where), "file", where + "color.");
+        std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
+        b.color = manifest_io::read_image8(in, files, color, b.width, b.height);
+        b.normal_depth = manifest_io::read_image16(in, files, normal_depth, b.width, b.height, depth_bits);
     }
-    std::string color = in.string(in.member(entry, "color", where), "file", where + "color.");
-    std::string normal_depth = in.string(in.member(entry, "normal_depth", where), "file", where + "normal_depth.");
-    b.color = manifest_io::read_image8(in, files, color, b.width, b.height);
-    b.normal_depth = manifest_io::read_image16(in, files, normal_depth, b.width, b.height, depth_bits);
-    // PBR maps (issue #14): both or neither; absent in packages of models without PBR materials
+    // PBR maps (issue #14), in either layout: both or neither; absent in packages of models without
+    // PBR materials (the compressed layout's reader returned before them until session 28, so every
+    // PBR package baked with the default --compression bc drew its default material)
     if (entry.contains("orm") || entry.contains("emission")) {
         std::string orm = in.string(in.member(entry, "orm", where), "file", where + "orm.");
         std::string emission = in.string(in.member(entry, "emission", where), "file", where + "emission.");
