@@ -80,13 +80,19 @@ struct PbrSample {
 };
 
 // The alpha below which a point of `material` is cut out: 0 (nothing cut) for opaque, the cutoff
-// for mask, 0.5 for blend (drawn as mask). Every consumer (truth renderer, bakers) uses this one rule.
+// for mask, 0.5 for blend (drawn as mask), each less k_alpha_cutoff_tolerance. Every consumer
+// (truth renderer, bakers) uses this one rule. The tolerance keeps an alpha equal to the cutoff
+// drawn, as glTF says ("greater than or equal"), whatever the interpolation rounds it to: assimp's
+// LWO2/transparency.lwo is a sphere of uniform alpha 0.5, blended, which the truth and every
+// stand-in speckled with holes where the interpolated 0.5 came out a hair below.
+constexpr float k_alpha_cutoff_tolerance = 1e-4f;
 inline float alpha_test_cutoff(const Material& material)
 {
     switch (material.alpha_mode) {
     case AlphaMode::opaque: return 0.0f;
-    case AlphaMode::mask: return material.alpha_cutoff;
-    case AlphaMode::blend: return 0.5f;
+    case AlphaMode::mask:
+        return material.alpha_cutoff > k_alpha_cutoff_tolerance ? material.alpha_cutoff - k_alpha_cutoff_tolerance : material.alpha_cutoff;
+    case AlphaMode::blend: return 0.5f - k_alpha_cutoff_tolerance;
     }
     return 0.0f;
 }
