@@ -581,6 +581,7 @@ struct MaterialUse {
     int texture = -1;         // Mesh::textures index, -1 for none
     unsigned uv_channel = 0;
     bool pbr_maps = false;    // a PBR map (metallic-roughness, occlusion, emissive, normal) reads the UVs
+    bool vertex_colors = false; // the mesh's first colour set paints it (paints_vertex_colors)
 };
 
 class SceneConverter {
@@ -763,6 +764,7 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
 
     MaterialUse& use = it->second;
     use.factor = material_color(material, colored);
+    use.vertex_colors = colored;
     use.texture = textured ? texture : -1;
     use.uv_channel = uv_channel;
     use.index = std::uint32_t(mesh_.materials.size());
@@ -912,7 +914,6 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         return error(StatusCode::bad_data, path_ + ": mesh '" + source.mName.C_Str() + "' has no valid material");
     ++report_.meshes_in_scene;
     MaterialUse material = use_material(source);
-    const bool colored = paints_vertex_colors(source);
     glm::mat3 normal_from_object = glm::transpose(glm::inverse(glm::mat3(world_from_object)));
     bool mirrored = glm::determinant(glm::mat3(world_from_object)) < 0.0f;
     bool keep_normals = has_usable_normals(source);
@@ -937,7 +938,7 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         }
         mesh_.normals.push_back(normal);
         glm::vec4 color = material.factor;
-        if (colored) {
+        if (material.vertex_colors) {
             const aiColor4D& c = source.mColors[0][v];
             color *= glm::max(glm::vec4(c.r, c.g, c.b, c.a), glm::vec4(0.0f)); // negative: no light reflected
         }

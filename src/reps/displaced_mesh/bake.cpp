@@ -86,6 +86,21 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
     return detail;
 }
 
+// The values of a shading pattern `fine_detail` times finer than n segments at the vertices of the
+// one `detail` times finer, which the finer pattern holds: face-major, per face triangle_samples.
+template <typename T>
+std::vector<T> coarser(const std::vector<T>& fine, std::size_t faces, int n, int fine_detail, int detail)
+{
+    const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
+    const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
+    std::vector<T> out(faces * per_coarse);
+    for (std::size_t f = 0; f < faces; ++f)
+        for (int i = 0; i <= coarse_n; ++i)
+            for (int j = 0; j <= coarse_n - i; ++j)
+                out[f * per_coarse + triangle_index(coarse_n, i, j)] = fine[f * per_fine + triangle_index(fine_n, i * ratio, j * ratio)];
+    return out;
+}
+
 // How far the albedo of `fine` (shading samples `fine_detail` times finer than the pattern's n
 // segments) lies from what `detail` draws there: the mean over the fine samples of the largest
 // channel difference to the barycentric blend of the three `detail` samples around them (the
@@ -93,43 +108,19 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
 double albedo_residual(const std::vector<glm::vec4>& albedo, std::size_t faces, int n, int fine_detail, int detail)
 {
     const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
-    const std::size_t per_fine = triangle_samples(fine_n);
+    const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
+    const std::vector<glm::vec4> coarse = coarser(albedo, faces, n, fine_detail, detail);
     double sum = 0.0;
-    for (std::size_t f = 0; f < faces; ++f) {
-        const std::size_t base = f * per_fine;
-        // the coarse pattern's values, from the fine pattern that holds its vertices
-        std::vector<glm::vec4> coarse(triangle_samples(coarse_n));
-        for (int i = 0; i <= coarse_n; ++i)
-            for (int j = 0; j <= coarse_n - i; ++j) coarse[triangle_index(coarse_n, i, j)] = albedo[base + triangle_index(fine_n, i * ratio, j * ratio)];
+    for (std::size_t f = 0; f < faces; ++f)
         for (int a = 0; a <= fine_n; ++a)
             for (int b = 0; b <= fine_n - a; ++b) {
                 const PatternTriangle cell = pattern_triangle(coarse_n, double(b) / ratio, double(a) / ratio);
                 glm::vec4 blend(0.0f);
-                for (int k = 0; k < 3; ++k) blend += float(cell.weight[k]) * coarse[cell.index[k]];
-                const glm::vec4 d = glm::abs(blend - albedo[base + triangle_index(fine_n, a, b)]);
+                for (int k = 0; k < 3; ++k) blend += float(cell.weight[k]) * coarse[f * per_coarse + cell.index[k]];
+                const glm::vec4 d = glm::abs(blend - albedo[f * per_fine + triangle_index(fine_n, a, b)]);
                 sum += std::max({d.x, d.y, d.z});
             }
-    }
     return sum / double(faces * per_fine);
-}
-
-// The shading arrays of `fine` (`fine_detail` times finer than n segments) at `detail`: the fine
-// pattern holds the coarser one's vertices.
-void keep_coarser_shading(SampledSurface& fine, std::size_t faces, int n, int fine_detail, int detail)
-{
-    const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
-    const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
-    SampledSurface out;
-    out.normal.resize(faces * per_coarse), out.albedo.resize(faces * per_coarse);
-    if (!fine.pbr.empty()) out.pbr.resize(faces * per_coarse);
-    for (std::size_t f = 0; f < faces; ++f)
-        for (int i = 0; i <= coarse_n; ++i)
-            for (int j = 0; j <= coarse_n - i; ++j) {
-                const std::size_t to = f * per_coarse + triangle_index(coarse_n, i, j), from = f * per_fine + triangle_index(fine_n, i * ratio, j * ratio);
-                out.normal[to] = fine.normal[from], out.albedo[to] = fine.albedo[from];
-                if (!fine.pbr.empty()) out.pbr[to] = fine.pbr[from];
-            }
-    fine.normal = std::move(out.normal), fine.albedo = std::move(out.albedo), fine.pbr = std::move(out.pbr);
 }
 
 } // namespace
@@ -266,7 +257,12 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
             while (shading_detail < sampled_detail &&
                    albedo_residual(fine.albedo, package->face_count(), layout.segments, sampled_detail, shading_detail) > k_shading_residual)
                 shading_detail *= 2;
-            if (shading_detail < sampled_detail) keep_coarser_shading(fine, package->face_count(), layout.segments, sampled_detail, shading_detail);
+            if (shading_detail < sampled_detail) {
+                const std::size_t faces = package->face_count();
+                fine.normal = coarser(fine.normal, faces, layout.segments, sampled_detail, shading_detail);
+                fine.albedo = coarser(fine.albedo, faces, layout.segments, sampled_detail, shading_detail);
+                if (!fine.pbr.empty()) fine.pbr = coarser(fine.pbr, faces, layout.segments, sampled_detail, shading_detail);
+            }
         }
         if (shading_detail > 1) {
             sampled->normal = std::move(fine.normal);

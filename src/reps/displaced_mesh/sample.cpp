@@ -341,6 +341,15 @@ glm::vec3 displaced_point(const ControlGeometry& control, const std::uint32_t co
     return p.position + elevation * unit_direction(p.normal);
 }
 
+// A weight of pattern vertex `index` of an n-segment pattern, moved 3/(32 n) of the way towards the
+// face's centroid: a point on a face's edge taken a hair inside the face, so that the face shades a
+// crease with its own side (take_own_shading, sample_fine_shading).
+double toward_centroid(int index, int n)
+{
+    const double weight = double(index) / double(n), nudge = 3.0 / (32.0 * double(n));
+    return weight + (1.0 / 3.0 - weight) * nudge;
+}
+
 // The index among the edge samples (edge-major, n - 1 per edge, in the edge's canonical direction)
 // of face f's pattern vertex on its edge `which`, `along` steps from the face's corner `which`.
 std::size_t edge_sample_index(const ControlTopology& topology, std::uint32_t f, int which, int along, int n)
@@ -551,11 +560,7 @@ void take_own_shading(const Mesh& original, const RayScene& scene, const Control
                       int n, int i, int j, float range, bool cutouts, Sample& shared)
 {
     if (shared.missed) return;
-    const double nudge = 3.0 / (32.0 * double(n)); // of the way to the centroid
-    auto toward_centre = [&](int index) {
-        const double b = double(index) / double(n);
-        return std::uint32_t(std::lround((b + (1.0 / 3.0 - b) * nudge) * double(k_bary_one)));
-    };
+    auto toward_centre = [&](int index) { return std::uint32_t(std::lround(toward_centroid(index, n) * double(k_bary_one))); };
     FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
     Sample own = sample_at(original, scene, inside, range, cutouts);
     if (shared.kept_first && own.hidden.moved) take_hidden(original, own); // a crease's sample stayed on its part
@@ -843,7 +848,6 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
     out.albedo.assign(faces * per_fine, glm::vec4(0.0f));
     const bool pbr = !coarse.pbr.empty();
     if (pbr) out.pbr.assign(faces * per_fine, PbrSample{});
-    const double nudge = 3.0 / (32.0 * double(fine_n)); // of the way to the centroid, for points on an edge
     for_each_chunked(faces, progress, "sampling shading", [&](std::size_t face) {
         const std::uint32_t* corner = &control.indices[3 * face];
         const std::size_t coarse_base = face * per_coarse, fine_base = face * per_fine;
@@ -857,18 +861,17 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
                     continue;
                 }
                 // the fine point's weights on corners 1 and 2, a hair inside the face on its edges
-                double w1 = double(b) / double(fine_n), w2 = double(a) / double(fine_n);
-                if (a == 0 || b == 0 || a + b == fine_n) w1 += (1.0 / 3.0 - w1) * nudge, w2 += (1.0 / 3.0 - w2) * nudge;
+                const bool on_edge = a == 0 || b == 0 || a + b == fine_n;
+                const double w1 = on_edge ? toward_centroid(b, fine_n) : double(b) / double(fine_n);
+                const double w2 = on_edge ? toward_centroid(a, fine_n) : double(a) / double(fine_n);
                 // the finest pattern triangle holding it (the renderer's split), and its weights
                 const PatternTriangle cell = pattern_triangle(n, w1 * n, w2 * n);
                 const std::size_t* index = cell.index;
                 const double* weight = cell.weight;
                 double elevation = 0.0;
                 for (int k = 0; k < 3; ++k) elevation += weight[k] * coarse.elevation[coarse_base + index[k]];
-                const FacePoint point = face_point(control.positions.data(), control.normals.data(), corner,
-                                                   std::uint32_t(std::lround(w1 * double(k_bary_one))),
-                                                   std::uint32_t(std::lround(w2 * double(k_bary_one))));
-                const glm::vec3 drawn = point.position + float(elevation) * unit_direction(point.normal);
+                const glm::vec3 drawn = displaced_point(control, corner, std::uint32_t(std::lround(w1 * double(k_bary_one))),
+                                                        std::uint32_t(std::lround(w2 * double(k_bary_one))), float(elevation));
                 const SurfacePoint on = scene.closest(drawn, range);
                 if (on.found) {
                     Sample s;
