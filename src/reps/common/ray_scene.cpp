@@ -157,6 +157,13 @@ SurfacePoint RayScene::closest(glm::vec3 point, float radius, const std::functio
     return q.best;
 }
 
+SurfacePoint RayScene::closest_anywhere(glm::vec3 point, float first_radius) const
+{
+    for (float radius = first_radius; radius > 0.0f && radius < std::numeric_limits<float>::max() / 16.0f; radius *= 16.0f)
+        if (SurfacePoint found = closest(point, radius); found.found) return found;
+    return closest(point, std::numeric_limits<float>::infinity());
+}
+
 // The share of the model's area on single-sided faces whose back can be seen from outside: a ray
 // from the back of the face (its winding's, which the truth culls by), along the back's normal,
 // leaves the model without meeting a face. A closed part's backs face its own inside, whose other

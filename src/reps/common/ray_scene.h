@@ -43,6 +43,11 @@ public:
     // The closest point of the mesh to `point` within `radius` (infinite: anywhere), among the
     // triangles `accept` takes (all where it is empty).
     SurfacePoint closest(glm::vec3 point, float radius, const std::function<bool(std::uint32_t triangle)>& accept = {}) const;
+    // The closest point anywhere, searched within `first_radius` and then 16 times wider until one
+    // is found: the same answer as an infinite radius, for a fraction of the visits where the answer
+    // is usually near (embree's point query does not visit nodes nearest first, so an unbounded
+    // query in dense foliage tests many triangles before its radius shrinks).
+    SurfacePoint closest_anywhere(glm::vec3 point, float first_radius) const;
 
     struct State; // embree's device and scene (ray_scene.cpp)
 

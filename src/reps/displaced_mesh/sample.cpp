@@ -951,13 +951,14 @@ Result<SamplingError> measure_sampling_error(const Mesh& original, const RayScen
     Result<std::unique_ptr<RayScene>> sampled_scene = RayScene::create(sampled.positions, sampled.indices);
     if (!sampled_scene) return sampled_scene.status();
     const std::size_t triangles_per_face = std::size_t(degree - 1) * std::size_t(degree - 1);
-    const float infinite = std::numeric_limits<float>::infinity();
+    // both meshes lie within a sampling error of each other: searched that near first
+    const float near = 1e-3f * original.bounds().diagonal();
 
     // original -> Ms: the paper's d, and ∆_f by the face holding each vertex's closest point
     std::vector<float> distance(original.vertex_count());
     std::vector<std::uint32_t> face_of(original.vertex_count());
     for_each_chunked(original.vertex_count(), progress, "measuring the sampled mesh", [&](std::size_t v) {
-        SurfacePoint c = (*sampled_scene)->closest(original.positions[v], infinite);
+        SurfacePoint c = (*sampled_scene)->closest_anywhere(original.positions[v], near);
         distance[v] = c.distance;
         face_of[v] = std::uint32_t(c.triangle / triangles_per_face);
     });
@@ -974,7 +975,7 @@ Result<SamplingError> measure_sampling_error(const Mesh& original, const RayScen
     // Ms -> original, over Ms's vertices
     std::vector<float> back(sampled.vertex_count());
     for_each_chunked(sampled.vertex_count(), progress, "measuring the original", [&](std::size_t v) {
-        back[v] = original_scene.closest(sampled.positions[v], infinite).distance;
+        back[v] = original_scene.closest_anywhere(sampled.positions[v], near).distance;
     });
     sum = 0.0;
     for (float d : back) {
