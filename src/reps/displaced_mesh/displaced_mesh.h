@@ -45,7 +45,15 @@ constexpr std::size_t k_min_control_faces = 256;
 // whole in the control mesh and its texture's detail lives in the samples' colours: degree 17 left
 // 2 or more pixels per sample on the generated tree's cards at distance 1 (foliage Luv 3.40 there,
 // 2.74 at 33; docs/RESULTS.md "Displaced mesh on foliage: colour"), at 3.6x the package bytes.
+// So the default is the coarsest of 9, 17 and k_alpha_degree whose pattern step on the cut-out
+// faces is within k_alpha_step_pixels reference pixels (a pixel of an 800 x 600 view the model's
+// bounding sphere fills), then coarser while the cut-out faces would hold over k_max_cutout_samples
+// finest samples: a 100,000-card tree at 33 would hold 55 million (some 700 MB), cards a few pixels
+// wide whose detail no view shows (bake.cpp cutout_degree).
 constexpr int k_alpha_degree = 33;
+constexpr double k_alpha_step_pixels = 1.0;
+constexpr std::size_t k_max_cutout_samples = 8'000'000;
+int cutout_degree(const Mesh& mesh);
 // The auto shading detail (BakeSettings::shading_detail, bake.cpp): finer than 1 only for
 // textured models without alpha-masked materials whose mean pattern step is over
 // k_blurred_pixels reference pixels (a pixel of an 800 x 600 view the model's bounding sphere

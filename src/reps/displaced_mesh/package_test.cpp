@@ -144,7 +144,8 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
 // Issue #14: the cut-out texels of most leaf textures are black. Samples on the cut-out take their
 // covered neighbours' colour, and covered samples average only covered texels of their cell, so the
 // interpolated colour never darkens towards the cut-out: every sample of the disc quad keeps the
-// disc's green. Alpha-masked models default to degree 33 (k_alpha_degree); others keep 17.
+// disc's green. An alpha-masked card filling the view defaults to degree 33 (k_alpha_degree); opaque
+// models keep 17.
 TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampleFiner)
 {
     Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
@@ -172,6 +173,39 @@ TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampl
     std::unique_ptr<Package> opaque_default = test::bake(test::alpha_quad(AlphaMode::opaque, 0.5f, true), "displaced-mesh", {});
     ASSERT_TRUE(opaque_default);
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 17);
+}
+
+// Issue #14: a leaf card keeps its vertices in the control mesh, so the default degree follows the
+// cards' size: a sample about every reference pixel (a 564th of the bounding box's diagonal) across
+// them, then coarser past k_max_cutout_samples. n x n disc cards tiling a unit square: edges of
+// 1.14 / n on average against a pixel of 0.0025.
+TEST(DisplacedMeshPackage, TheDefaultDegreeOfCardsFollowsTheirSizeOnScreen)
+{
+    const auto tiled_cards = [](int n) {
+        const Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+        Mesh mesh = card;
+        mesh.positions.clear(), mesh.normals.clear(), mesh.colors.clear(), mesh.uvs.clear(), mesh.indices.clear(), mesh.face_materials.clear();
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                const auto base = std::uint32_t(mesh.positions.size());
+                for (std::size_t v = 0; v < card.positions.size(); ++v) {
+                    mesh.positions.push_back((card.positions[v] + glm::vec3(0.5f + float(x), 0.5f + float(y), 0.0f)) / float(n));
+                    mesh.normals.push_back(card.normals[v]);
+                    mesh.colors.push_back(card.colors[v]);
+                    mesh.uvs.push_back(card.uvs[v]);
+                }
+                for (std::uint32_t i : card.indices) mesh.indices.push_back(base + i);
+                mesh.face_materials.insert(mesh.face_materials.end(), card.face_materials.begin(), card.face_materials.end());
+            }
+        return mesh;
+    };
+    EXPECT_EQ(cutout_degree(tiled_cards(1)), 33);   // 0.14 per segment at 9: finest
+    EXPECT_EQ(cutout_degree(tiled_cards(40)), 17);  // 0.0036 at 9, 0.0018 at 17
+    EXPECT_EQ(cutout_degree(tiled_cards(100)), 9);  // 0.0014 at 9
+    EXPECT_EQ(cutout_degree(tiled_cards(300)), 5);  // 180,000 cut-out faces x 45 samples at 9 is over 8 million
+    Mesh opaque = tiled_cards(100);
+    opaque.materials[0].alpha_mode = AlphaMode::opaque;
+    EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (bake keeps 17 for them)
 }
 
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
