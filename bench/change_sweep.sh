@@ -15,13 +15,10 @@ rep=$3
 out=$4
 models=${5:-/usr/share/assimp/models}
 mkdir -p "$out"
-skip='\.(png|jpg|jpeg|bmp|tga|dds|txt|mtl|bin|pcx|gif|tif|md|xml|skin|shader|material|ktx|webp)$'
-summary() { # Luv mean and IoU from eval's report
-  sed -n 's/^ *Luv (eq. 2.2) *mean \([0-9.]*\).*/\1/p; s/^ *coverage .*IoU \([0-9.]*\).*/\1/p' "$1" | tr '\n' ' '
-}
+source "$(dirname "$0")/sweep_lib.sh"
 better=0 worse=0 moved=0
 while IFS= read -r model; do
-  name=$(echo "${model#"$models"/}" | tr '/ ()' '____')
+  name=$(sweep_name "$model" "$models")
   for side in before after; do
     binary=$before
     [ $side = after ] && binary=$after
@@ -39,8 +36,8 @@ while IFS= read -r model; do
       [ $side = after ] && binary=$after
       timeout 300 "$binary" eval "$model" "$out/$name.$side.standin" --protocol quick --frames 0 >"$out/$name.$side.eval" 2>&1
     done
-    read -r luv_before iou_before <<<"$(summary "$out/$name.before.eval")"
-    read -r luv_after iou_after <<<"$(summary "$out/$name.after.eval")"
+    read -r luv_before iou_before <<<"$(eval_summary "$out/$name.before.eval")"
+    read -r luv_after iou_after <<<"$(eval_summary "$out/$name.after.eval")"
     echo "$name Luv $luv_before -> $luv_after IoU $iou_before -> $iou_after"
     moved=$((moved + 1))
     if [ -n "$luv_before" ] && [ -n "$luv_after" ]; then
@@ -49,6 +46,5 @@ while IFS= read -r model; do
     fi
   fi
   rm -rf "$out/$name".*.standin
-done < <(find "$models" -type f -size -3M | grep -Eiv "$skip" |
-  grep -vE '/(ReferenceImages|SourceFiles|invalid|ParsingFiles)/' | sort)
+done < <(sweep_models "$models" 3)
 echo "changed $moved: Luv lower on $better, higher on $worse (by more than 0.05)"
