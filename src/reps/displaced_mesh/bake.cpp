@@ -74,7 +74,7 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
                          int degree)
 {
     const double texel = texel_length(mesh);
-    if (!(texel > 0.0) || reps::has_cutouts(mesh) || indices.empty()) return 1;
+    if (!(texel > 0.0) || indices.empty()) return 1;
     const std::size_t faces = indices.size() / 3;
     double edges = 0.0;
     for (std::size_t k = 0; k < indices.size(); ++k)
@@ -105,21 +105,30 @@ std::vector<T> coarser(const std::vector<T>& fine, std::size_t faces, int n, int
 // How far the albedo of `fine` (shading samples `fine_detail` times finer than the pattern's n
 // segments) lies from what `detail` draws there: the mean over the fine samples of the largest
 // channel difference to the barycentric blend of the three `detail` samples around them (the
-// renderer's interpolation), in [0, 1].
-double albedo_residual(const std::vector<glm::vec4>& albedo, std::size_t faces, int n, int fine_detail, int detail)
+// renderer's interpolation), in [0, 1]. With `coverage` (alpha-masked models), a fine sample whose
+// coverage the blend, cut at 1/2, gets wrong counts 1: a cut-out's outline is what detail draws there.
+double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<std::uint8_t>& coverage, std::size_t faces, int n,
+                       int fine_detail, int detail)
 {
     const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
     const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
     const std::vector<glm::vec4> coarse = coarser(albedo, faces, n, fine_detail, detail);
+    const std::vector<std::uint8_t> coarse_coverage = coverage.empty() ? coverage : coarser(coverage, faces, n, fine_detail, detail);
     double sum = 0.0;
     for (std::size_t f = 0; f < faces; ++f)
         for (int a = 0; a <= fine_n; ++a)
             for (int b = 0; b <= fine_n - a; ++b) {
                 const PatternTriangle cell = pattern_triangle(coarse_n, double(b) / ratio, double(a) / ratio);
                 glm::vec4 blend(0.0f);
-                for (int k = 0; k < 3; ++k) blend += float(cell.weight[k]) * coarse[f * per_coarse + cell.index[k]];
-                const glm::vec4 d = glm::abs(blend - albedo[f * per_fine + triangle_index(fine_n, a, b)]);
-                sum += std::max({d.x, d.y, d.z});
+                double blend_coverage = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    blend += float(cell.weight[k]) * coarse[f * per_coarse + cell.index[k]];
+                    if (!coverage.empty()) blend_coverage += cell.weight[k] * double(coarse_coverage[f * per_coarse + cell.index[k]]);
+                }
+                const std::size_t at = f * per_fine + triangle_index(fine_n, a, b);
+                const glm::vec4 d = glm::abs(blend - albedo[at]);
+                const bool outline_moved = !coverage.empty() && (blend_coverage >= 0.5) != (coverage[at] != 0);
+                sum += outline_moved ? 1.0 : double(std::max({d.x, d.y, d.z}));
             }
     return sum / double(faces * per_fine);
 }
@@ -232,10 +241,6 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the shading detail: given, or for auto the finest that shows (finest_useful_detail), then the
     // coarsest whose colours stay within k_shading_residual of it (after sampling, below)
     const bool auto_detail = effective.choice("shading-detail") == "auto";
-    if (!auto_detail && settings.shading_detail > 1 && reps::has_cutouts(mesh))
-        return error(StatusCode::invalid_argument,
-                     "--shading-detail: above 1 needs a model without alpha-masked materials (their coverage is "
-                     "sampled at the pattern's vertices); use 1 or auto");
     const int sampled_detail =
         auto_detail ? finest_useful_detail(mesh, package->positions, package->indices, settings.degree) : settings.shading_detail;
 
@@ -279,19 +284,22 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
         if (auto_detail) {
             shading_detail = 1;
             while (shading_detail < sampled_detail &&
-                   albedo_residual(fine.albedo, package->face_count(), layout.segments, sampled_detail, shading_detail) > k_shading_residual)
+                   albedo_residual(fine.albedo, fine.coverage, package->face_count(), layout.segments, sampled_detail, shading_detail) >
+                       k_shading_residual)
                 shading_detail *= 2;
             if (shading_detail < sampled_detail) {
                 const std::size_t faces = package->face_count();
                 fine.normal = coarser(fine.normal, faces, layout.segments, sampled_detail, shading_detail);
                 fine.albedo = coarser(fine.albedo, faces, layout.segments, sampled_detail, shading_detail);
                 if (!fine.pbr.empty()) fine.pbr = coarser(fine.pbr, faces, layout.segments, sampled_detail, shading_detail);
+                if (!fine.coverage.empty()) fine.coverage = coarser(fine.coverage, faces, layout.segments, sampled_detail, shading_detail);
             }
         }
         if (shading_detail > 1) {
             sampled->normal = std::move(fine.normal);
             sampled->albedo = std::move(fine.albedo);
             sampled->pbr = std::move(fine.pbr);
+            sampled->coverage = std::move(fine.coverage);
         }
     }
     if (auto_detail) {

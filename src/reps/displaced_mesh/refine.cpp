@@ -52,9 +52,11 @@ constexpr float k_silhouette_cos = float(DM_SILHOUETTE_COS);
 // open part shows its back faces through its holes, and a closed part wound inside out (assimp's
 // FBX/animation_with_skeleton.fbx: a capsule whose winding and normals both point inward) shows
 // only faces its winding calls backs: culling them left the far wall's inside, its shading
-// mirrored (thesis Luv 9.97 against 0.07 unculled). Parts are the faces joined across edges.
+// mirrored (thesis Luv 9.97 against 0.07 unculled). Parts are the faces joined across edges. A
+// part holding a face with cut-outs (`see_through`, per face; may be empty) is seen into through
+// them: assimp's FBX box with a cut-out paper texture showed holes where the far wall's inside was culled.
 std::vector<std::uint8_t> faces_with_hidden_backs(const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
-                                                  const ControlTopology& topology)
+                                                  const ControlTopology& topology, const std::vector<std::uint8_t>& see_through)
 {
     const std::size_t faces = indices.size() / 3;
     std::vector<std::uint32_t> parent(faces);
@@ -82,6 +84,8 @@ std::vector<std::uint8_t> faces_with_hidden_backs(const std::vector<glm::vec3>& 
             }
             if (!paired) closed[root(std::uint32_t(f))] = 0;
         }
+    for (std::size_t f = 0; f < see_through.size() && f < faces; ++f)
+        if (see_through[f]) closed[root(std::uint32_t(f))] = 0;
     std::vector<double> volume(faces, 0.0);
     for (std::size_t f = 0; f < faces; ++f) {
         const glm::dvec3 p0(positions[indices[3 * f]]), p1(positions[indices[3 * f + 1]]), p2(positions[indices[3 * f + 2]]);
@@ -301,12 +305,12 @@ RefineView make_refine_view(const Camera& camera, int viewport_height, const glm
 std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
                                           const std::vector<std::uint32_t>& indices, const ControlTopology& topology,
                                           const PatternLayout& layout, const std::vector<float>& elevations,
-                                          const std::vector<float>& face_error)
+                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through)
 {
     const std::size_t faces = indices.size() / 3;
     const int n = layout.segments;
     std::vector<FaceRefineData> out(faces);
-    const std::vector<std::uint8_t> backs_hidden = faces_with_hidden_backs(positions, indices, topology);
+    const std::vector<std::uint8_t> backs_hidden = faces_with_hidden_backs(positions, indices, topology, see_through);
     std::vector<float> magnitude(faces); // h_f + ∆_f: the largest |elevation| plus the sampling error (the paper's ∆e terms)
     std::vector<float> curvatures(faces); // of the displaced surface (the error criterion)
     for (std::size_t f = 0; f < faces; ++f) {

@@ -57,11 +57,12 @@ struct RefineSurface {
 // The per-face data: weights (∆e = max(h_a, h_b) + max(∆_a, ∆_b) on each control edge, h + ∆ inside
 // a face, normalised by their length-weighted mean over the edges and clamped to [1/4, 4], so tau
 // keeps its meaning in pixels on average), elevation ranges, normal cones and grid spacing.
-// `face_error` is ∆_f per face.
+// `face_error` is ∆_f per face; `see_through` (per face, or empty) marks faces with cut-outs, whose
+// parts keep their back faces (an eye sees into them).
 std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
                                           const std::vector<std::uint32_t>& indices, const ControlTopology& topology,
                                           const PatternLayout& layout, const std::vector<float>& elevations,
-                                          const std::vector<float>& face_error);
+                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through = {});
 
 struct RefineOptions {
     float tau = 1.0f;            // screen-space tolerance, pixels

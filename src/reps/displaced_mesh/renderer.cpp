@@ -191,8 +191,15 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
                     glm::uvec4(neighbour, 0u, 0u, 0u)};
     }
     vertices_ = gpu::make_buffer(rest_, GL_DYNAMIC_STORAGE_BIT);
+    // faces with a cut-out sample: their parts are seen into, so they keep their back faces
+    std::vector<std::uint8_t> see_through(face_count_, 0);
+    if (!package.coverage.empty() && face_count_ > 0) {
+        const std::size_t per_face = package.coverage.size() / face_count_;
+        for (std::size_t i = 0; i < package.coverage.size(); ++i)
+            if (package.coverage[i] == 0) see_through[i / per_face] = 1;
+    }
     std::vector<FaceRefineData> prepared = prepare_faces(package.positions, package.normals, package.indices, package.topology,
-                                                         layout_, package.elevations, package.face_error);
+                                                         layout_, package.elevations, package.face_error, see_through);
     std::vector<FaceData> faces(face_count_);
     for (std::size_t f = 0; f < faces.size(); ++f) {
         const FaceRefineData& d = prepared[f];

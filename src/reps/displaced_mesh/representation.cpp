@@ -40,10 +40,12 @@ std::vector<OptionSpec> bake_options()
                       "from behind) or auto (cull where over 0.1% of the model's area is single-sided faces "
                       "whose backs can be seen from outside, else show; the package records which)"),
         choice_option("shading-detail", "auto", {"auto", "1", "2", "4"},
-                      "Shading (normal, colour, PBR) samples per pattern step along an edge: 1 (one per "
-                      "pattern vertex, the paper's), 2 or 4 (a textured model's colour detail, 4x or 16x the "
-                      "shading bytes), or auto (the fewest that reach 2 texels of the model's textures per "
-                      "shading step, within 4M shading samples; 1 without textures or with alpha-masked materials)"),
+                      "Shading (normal, colour, PBR, and the coverage of alpha-masked materials) samples per "
+                      "pattern step along an edge: 1 (one per pattern vertex, the paper's), 2 or 4 (a textured "
+                      "model's colour detail and cut-out outlines, 4x or 16x the shading bytes), or auto (finer "
+                      "only where a pattern step spans over 4 pixels of an 800x600 view and 2 texels, within 4M "
+                      "shading samples, and the coarsest whose colours and outlines stay within 1% of the finest; "
+                      "1 without textures)"),
     };
 }
 

@@ -846,8 +846,9 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
     SampledSurface out;
     out.normal.assign(faces * per_fine, glm::vec3(0.0f));
     out.albedo.assign(faces * per_fine, glm::vec4(0.0f));
-    const bool pbr = !coarse.pbr.empty();
+    const bool pbr = !coarse.pbr.empty(), cutouts = !coarse.coverage.empty();
     if (pbr) out.pbr.assign(faces * per_fine, PbrSample{});
+    if (cutouts) out.coverage.assign(faces * per_fine, 0);
     for_each_chunked(faces, progress, "sampling shading", [&](std::size_t face) {
         const std::uint32_t* corner = &control.indices[3 * face];
         const std::size_t coarse_base = face * per_coarse, fine_base = face * per_fine;
@@ -858,6 +859,7 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
                     const std::size_t from = coarse_base + triangle_index(n, a / detail, b / detail);
                     out.normal[at] = coarse.normal[from], out.albedo[at] = coarse.albedo[from];
                     if (pbr) out.pbr[at] = coarse.pbr[from];
+                    if (cutouts) out.coverage[at] = coarse.coverage[from];
                     continue;
                 }
                 // the fine point's weights on corners 1 and 2, a hair inside the face on its edges
@@ -872,14 +874,24 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
                 for (int k = 0; k < 3; ++k) elevation += weight[k] * coarse.elevation[coarse_base + index[k]];
                 const glm::vec3 drawn = displaced_point(control, corner, std::uint32_t(std::lround(w1 * double(k_bary_one))),
                                                         std::uint32_t(std::lround(w2 * double(k_bary_one))), float(elevation));
+                // coverage: where the drawn point lies on the original (a leaf card kept whole),
+                // the alpha test there; elsewhere (surfaces the rays reached through cut-outs) the
+                // pattern's coverage as the renderer interpolates it
+                double blended_coverage = 0.0;
+                if (cutouts)
+                    for (int k = 0; k < 3; ++k) blended_coverage += weight[k] * double(coarse.coverage[coarse_base + index[k]]);
                 const SurfacePoint on = scene.closest(drawn, range);
                 if (on.found) {
                     Sample s;
                     shade_sample(original, on, s);
                     out.normal[at] = s.normal, out.albedo[at] = s.albedo;
                     if (pbr) out.pbr[at] = s.pbr;
+                    if (cutouts)
+                        out.coverage[at] = on.distance <= k_on_surface * range ? std::uint8_t(original.covered_at(on.triangle, on.b1, on.b2))
+                                                                               : std::uint8_t(blended_coverage >= 0.5);
                     continue;
                 }
+                if (cutouts) out.coverage[at] = std::uint8_t(blended_coverage >= 0.5);
                 // nothing within the ray range (the coarse samples missed too): theirs, blended
                 glm::vec3 normal(0.0f);
                 glm::vec4 albedo(0.0f);
@@ -890,6 +902,9 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
                 out.normal[at] = unit_direction(normal), out.albedo[at] = albedo;
                 if (pbr) out.pbr[at] = coarse.pbr[coarse_base + index[0]];
             }
+        // cut-out points read the texture's cut-out colour (black in most files): the covered
+        // colours around them are bled in, as on the pattern (bleed_into_cutouts)
+        if (cutouts) bleed_into_cutouts(fine_n, per_fine, face, out.coverage, out.albedo);
     });
     return out;
 }
