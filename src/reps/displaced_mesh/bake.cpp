@@ -5,8 +5,8 @@
 // Steps:
 //  1. the settings (declared in representation.cpp); the target control-face count is the
 //     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
-//     paper's 0.4% and 0.1%); alpha-masked models default to a degree whose step on their cards is about
-//     a reference pixel, 33 at most (cutout_degree, issue #14);
+//     paper's 0.4% and 0.1%); alpha-masked models default to degree 33, coarser where their cards would
+//     hold over 8 million samples (cutout_degree, issue #14);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
 //     alpha-masked materials keeps its leaf cards whole in it (issue #14);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
@@ -136,24 +136,14 @@ double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<s
 } // namespace
 
 // The default degree of a model with alpha-masked materials (displaced_mesh.h k_alpha_degree): its
-// cut-out faces stay whole in the control mesh, so their pattern step is their mean edge over the
-// degree's segments; the coarsest degree whose step is within k_alpha_step_pixels reference
-// pixels, then coarser while the cut-out faces' finest samples exceed k_max_cutout_samples.
+// cut-out faces stay whole in the control mesh, so each holds a whole pattern; k_alpha_degree,
+// coarser (17, 9, 5) while those faces would hold over k_max_cutout_samples finest samples.
 int cutout_degree(const Mesh& mesh)
 {
-    double edges = 0.0;
     std::size_t faces = 0;
-    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
-        if (!(alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f)) continue;
-        const std::uint32_t* v = &mesh.indices[3 * f];
-        for (int k = 0; k < 3; ++k) edges += glm::length(glm::dvec3(mesh.positions[v[k]]) - glm::dvec3(mesh.positions[v[(k + 1) % 3]]));
-        ++faces;
-    }
-    if (faces == 0) return k_alpha_degree;
-    const double edge = edges / double(3 * faces);
-    const double pixel = mesh.bounds().diagonal() / k_reference_pixels;
-    int degree = 9;
-    while (degree < k_alpha_degree && edge / double(degree - 1) > k_alpha_step_pixels * pixel) degree = 2 * degree - 1;
+    for (std::size_t f = 0; f < mesh.triangle_count(); ++f)
+        faces += alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
+    int degree = k_alpha_degree;
     while (degree > 5 && faces * triangle_samples(degree - 1) > k_max_cutout_samples) degree = (degree + 1) / 2;
     return degree;
 }

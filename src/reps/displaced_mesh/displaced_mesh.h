@@ -45,17 +45,16 @@ constexpr std::size_t k_min_control_faces = 256;
 // whole in the control mesh and its texture's detail lives in the samples' colours: degree 17 left
 // 2 or more pixels per sample on the generated tree's cards at distance 1 (foliage Luv 3.40 there,
 // 2.74 at 33; docs/RESULTS.md "Displaced mesh on foliage: colour"), at 3.6x the package bytes.
-// So the default is the coarsest of 9, 17 and k_alpha_degree whose pattern step on the cut-out
-// faces is within k_alpha_step_pixels reference pixels (a pixel of an 800 x 600 view the model's
-// bounding sphere fills), then coarser while the cut-out faces would hold over k_max_cutout_samples
-// finest samples: a 100,000-card tree at 33 would hold 55 million (some 700 MB), cards a few pixels
-// wide whose detail no view shows (bake.cpp cutout_degree).
+// Coarser (17, 9, 5) only where the cut-out faces would hold over k_max_cutout_samples finest
+// samples: a 100,000-card tree at 33 would hold 55 million (some 700 MB; the bake ran past 20
+// minutes), cards a few pixels wide whose detail no view shows (bake.cpp cutout_degree). A rule by
+// the cards' size on screen (17 where its step is under a reference pixel) was tried and cost
+// assimp's human.zae 0.2 Luv (docs/RESULTS.md "The four stand-ins on ... a 100,000-card tree").
 constexpr int k_alpha_degree = 33;
-constexpr double k_alpha_step_pixels = 1.0;
 constexpr std::size_t k_max_cutout_samples = 8'000'000;
 int cutout_degree(const Mesh& mesh);
 // The auto shading detail (BakeSettings::shading_detail, bake.cpp): finer than 1 only for
-// textured models without alpha-masked materials whose mean pattern step is over
+// textured models (alpha-masked ones too: coverage is sampled with the shading) whose mean pattern step is over
 // k_blurred_pixels reference pixels (a pixel of an 800 x 600 view the model's bounding sphere
 // fills: diagonal / k_reference_pixels) and over two of their texels; there the shading is sampled
 // at the finest such detail (up to 4, within k_max_shading_samples) and the coarsest detail whose

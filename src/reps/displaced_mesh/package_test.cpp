@@ -182,11 +182,10 @@ TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampl
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 17);
 }
 
-// Issue #14: a leaf card keeps its vertices in the control mesh, so the default degree follows the
-// cards' size: a sample about every reference pixel (a 564th of the bounding box's diagonal) across
-// them, then coarser past k_max_cutout_samples. n x n disc cards tiling a unit square: edges of
-// 1.14 / n on average against a pixel of 0.0025.
-TEST(DisplacedMeshPackage, TheDefaultDegreeOfCardsFollowsTheirSizeOnScreen)
+// Issue #14: a leaf card keeps its vertices in the control mesh, so each card holds a whole pattern:
+// the default degree (33) goes coarser only where the cut-out faces would hold over
+// k_max_cutout_samples finest samples. n x n disc cards (2 faces each) tiling a unit square.
+TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
 {
     const auto tiled_cards = [](int n) {
         const Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
@@ -206,10 +205,11 @@ TEST(DisplacedMeshPackage, TheDefaultDegreeOfCardsFollowsTheirSizeOnScreen)
             }
         return mesh;
     };
-    EXPECT_EQ(cutout_degree(tiled_cards(1)), 33);   // 0.14 per segment at 9: finest
-    EXPECT_EQ(cutout_degree(tiled_cards(40)), 17);  // 0.0036 at 9, 0.0018 at 17
-    EXPECT_EQ(cutout_degree(tiled_cards(100)), 9);  // 0.0014 at 9
-    EXPECT_EQ(cutout_degree(tiled_cards(300)), 5);  // 180,000 cut-out faces x 45 samples at 9 is over 8 million
+    EXPECT_EQ(cutout_degree(tiled_cards(1)), 33);
+    EXPECT_EQ(cutout_degree(tiled_cards(80)), 33);  // 12,800 cut-out faces x 561 samples: 7.2 million
+    EXPECT_EQ(cutout_degree(tiled_cards(100)), 17); // 20,000 x 561 is over 8 million, x 153 not
+    EXPECT_EQ(cutout_degree(tiled_cards(250)), 9);  // 125,000 x 153 is over, x 45 not
+    EXPECT_EQ(cutout_degree(tiled_cards(300)), 5);  // 180,000 x 45 is over too
     Mesh opaque = tiled_cards(100);
     opaque.materials[0].alpha_mode = AlphaMode::opaque;
     EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (bake keeps 17 for them)

@@ -20,9 +20,9 @@ std::vector<OptionSpec> bake_options()
     return {
         integer_option("degree", 17, 5, 33,
                        "Sampling-pattern degree k: 5, 9, 17 or 33 vertices per edge, (k-1)^2 triangles per control "
-                       "face (Bauman et al.: 17 and 33; 17 measured better; models with alpha-masked materials default to 9, 17 "
-                       "or 33, whichever puts a sample about every pixel of an 800x600 view across their cards, coarser "
-                       "past 8 million samples on them: their colours then hold the leaf texture's detail)"),
+                       "face (Bauman et al.: 17 and 33; 17 measured better; models with alpha-masked materials default to 33, "
+                       "whose colours then hold the leaf texture's detail, coarser where their cut-out faces would hold over "
+                       "8 million samples)"),
         integer_option("control-faces", 0, 0, 50'000'000,
                        "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them)"),
         number_option("cone-angle", "90", 0.0, 180.0,
