@@ -140,20 +140,32 @@ std::string base64(const std::string& bytes)
     return out;
 }
 
+Texture painted_texture(const std::string& name, int size, const std::function<void(int x, int y, std::uint8_t* rgba)>& paint)
+{
+    Texture texture;
+    texture.name = name;
+    texture.width = texture.height = size;
+    texture.rgba.resize(std::size_t(size) * std::size_t(size) * 4);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) paint(x, y, &texture.rgba[(std::size_t(y) * std::size_t(size) + std::size_t(x)) * 4]);
+    return texture;
+}
+
+Material alpha_textured_material(const std::string& name, AlphaMode mode, float cutoff, bool double_sided)
+{
+    Material material;
+    material.name = name;
+    material.base_color = glm::vec4(1.0f);
+    material.base_color_texture = 0;
+    material.alpha_mode = mode;
+    material.alpha_cutoff = cutoff;
+    material.double_sided = double_sided;
+    return material;
+}
+
 Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
 {
     const int size = 256;
-    Texture texture;
-    texture.name = "disc";
-    texture.width = texture.height = size;
-    texture.rgba.resize(std::size_t(size) * size * 4);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
-            double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
-            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + x) * 4];
-            t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
-        }
     Mesh mesh;
     mesh.positions = {{-0.5f, -0.5f, 0.0f}, {0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 0.0f}, {-0.5f, 0.5f, 0.0f}};
     mesh.normals.assign(4, glm::vec3(0.0f, 0.0f, 1.0f));
@@ -161,15 +173,12 @@ Mesh alpha_quad(AlphaMode mode, float cutoff, bool double_sided)
     mesh.uvs = {{0.0f, 0.0f}, {1.0f, 0.0f}, {1.0f, 1.0f}, {0.0f, 1.0f}};
     mesh.indices = {0, 1, 2, 0, 2, 3};
     mesh.face_materials = {0, 0};
-    mesh.textures.push_back(std::move(texture));
-    Material material;
-    material.name = "leaf";
-    material.base_color = glm::vec4(1.0f);
-    material.base_color_texture = 0;
-    material.alpha_mode = mode;
-    material.alpha_cutoff = cutoff;
-    material.double_sided = double_sided;
-    mesh.materials.push_back(material);
+    mesh.textures.push_back(painted_texture("disc", size, [&](int x, int y, std::uint8_t* t) {
+        double dx = (x + 0.5) / size - 0.5, dy = (y + 0.5) / size - 0.5;
+        double alpha = std::clamp(1.0 - std::sqrt(dx * dx + dy * dy) / 0.5, 0.0, 1.0);
+        t[0] = 40, t[1] = 200, t[2] = 60, t[3] = std::uint8_t(std::lround(alpha * 255.0));
+    }));
+    mesh.materials.push_back(alpha_textured_material("leaf", mode, cutoff, double_sided));
     return mesh;
 }
 

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <optional>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +56,11 @@ const Mesh& bunny();
 
 // Standard base64 (RFC 4648, padded): the data URIs of glTF fixtures tests write.
 std::string base64(const std::string& bytes);
+
+// A size x size RGBA8 texture named `name`, each texel's four bytes written by paint(x, y, rgba).
+Texture painted_texture(const std::string& name, int size, const std::function<void(int x, int y, std::uint8_t* rgba)>& paint);
+// A material reading texture 0 over a white base colour, with `mode`, `cutoff` and sides.
+Material alpha_textured_material(const std::string& name, AlphaMode mode, float cutoff, bool double_sided);
 
 // A unit quad in the z = 0 plane facing +z (counter-clockwise seen from +z), UVs over [0, 1]^2, one
 // material "leaf" of `mode`, `cutoff` and sides, textured with a green square whose alpha falls

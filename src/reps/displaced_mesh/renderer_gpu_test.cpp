@@ -318,18 +318,11 @@ TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
 // and a 4 x 4 grid of round holes (assimp's FBX box with a cut-out paper texture, in miniature).
 Mesh perforated_cube()
 {
-    const int size = 128;
-    Texture texture;
-    texture.name = "perforated";
-    texture.width = texture.height = size;
-    texture.rgba.resize(std::size_t(size) * size * 4);
-    for (int y = 0; y < size; ++y)
-        for (int x = 0; x < size; ++x) {
-            const double cx = std::fmod(x + 0.5, 32.0) - 16.0, cy = std::fmod(y + 0.5, 32.0) - 16.0;
-            std::uint8_t* t = &texture.rgba[(std::size_t(y) * size + std::size_t(x)) * 4];
-            t[0] = (x / 8) % 2 ? 220 : 60, t[1] = (y / 8) % 2 ? 200 : 80, t[2] = 90;
-            t[3] = cx * cx + cy * cy < 10.0 * 10.0 ? 0 : 255;
-        }
+    Texture texture = test::painted_texture("perforated", 128, [](int x, int y, std::uint8_t* t) {
+        const double cx = std::fmod(x + 0.5, 32.0) - 16.0, cy = std::fmod(y + 0.5, 32.0) - 16.0;
+        t[0] = (x / 8) % 2 ? 220 : 60, t[1] = (y / 8) % 2 ? 200 : 80, t[2] = 90;
+        t[3] = cx * cx + cy * cy < 10.0 * 10.0 ? 0 : 255;
+    });
     Mesh mesh;
     const glm::vec3 normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (const glm::vec3& n : normals) {
@@ -348,14 +341,7 @@ Mesh perforated_cube()
         mesh.face_materials.insert(mesh.face_materials.end(), {0u, 0u});
     }
     mesh.textures.push_back(std::move(texture));
-    Material material;
-    material.name = "perforated";
-    material.base_color = glm::vec4(1.0f);
-    material.base_color_texture = 0;
-    material.alpha_mode = AlphaMode::mask;
-    material.alpha_cutoff = 0.5f;
-    material.double_sided = true;
-    mesh.materials.push_back(material);
+    mesh.materials.push_back(test::alpha_textured_material("perforated", AlphaMode::mask, 0.5f, true));
     return mesh;
 }
 
