@@ -59,6 +59,11 @@
 //   rays from other directions hit where the truth shows another card.
 //   Their coarse mesh is made of the opaque faces only (trunk, branches): it cannot cut out a
 //   leaf card, and whole cards filled the near-miss ring around every leaf (see opaque_faces).
+//   And a leaf that others hide at some of its texels is captured where it is in front when at
+//   least k_alpha_partly_hidden of its texels are (--partly-hidden; capture.cpp): in a dense crown
+//   every card is partly hidden from every direction, and the seed's test stopped the greedy with
+//   most of the crown left (a 30,000-card tree: 41% of its area after 42 billboards; docs/RESULTS.md
+//   "Partly hidden leaves").
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/capture.h"
@@ -208,7 +213,8 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
     std::size_t best = picked[0];
     double best_area = -1.0;
     for (std::size_t d : picked) {
-        double area = capture_direction(mesh, faces, remaining, directions[d], coarse).area;
+        const Capture capture = capture_direction(mesh, faces, remaining, directions[d], coarse);
+        const double area = capture.area - capture.hidden_area; // what it shows: partly hidden faces' hidden texels not
         if (area > best_area) best = d, best_area = area;
     }
     return directions[best];
@@ -735,11 +741,13 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     capture_settings.depth_limit = settings.depth_limit * diagonal;
     capture_settings.min_facing = std::sin(glm::radians(settings.grazing_angle));
     capture_settings.edge_lines = sheet_edges == "clip";
+    capture_settings.partly_visible = settings.partly_hidden;
     std::vector<std::uint32_t> remaining(work.triangle_count());
     for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
 
     bool hit_limit = false;
     std::vector<std::uint32_t> too_small;
+    std::vector<std::uint8_t> partly_hidden_source; // per source face: captured with a part hidden
     // a capture with its maps becomes a billboard (or, cut out entirely by alpha, nothing)
     auto keep = [&](Capture& capture) {
         if (capture.billboard.width == 0) {
@@ -751,7 +759,17 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
         }
         if (settings.depth_bits == 8) quantise_to_8_bits(capture.billboard);
         capture.billboard.captured_faces = count_source_faces(capture.faces, source_face);
-        package->area_captured += capture.area;
+        package->area_captured += capture.area - capture.hidden_area;
+        if (capture.hidden_area > 0.0) {
+            LeftOver& hidden = package->left["hidden_parts"];
+            hidden.area += capture.hidden_area;
+            partly_hidden_source.resize(mesh.triangle_count(), 0);
+            for (std::uint32_t piece : capture.partly_hidden) {
+                std::uint8_t& flag = partly_hidden_source[source_face.empty() ? piece : source_face[piece]];
+                hidden.faces += flag == 0; // source faces, once however many pieces and billboards
+                flag = 1;
+            }
+        }
         package->billboards.push_back(std::move(capture.billboard));
         remaining = without(remaining, capture.faces);
     };
@@ -831,6 +849,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     if (alpha_tested && default_resolution) parameters.set_integer("resolution", cutout_resolution(mesh));
     // and faces more squarely facing their billboard (k_alpha_grazing_angle)
     if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
+    // and captured where they are in front when partly hidden (k_alpha_partly_hidden)
+    if (alpha_tested && !parameters.given("partly-hidden")) parameters.set_number("partly-hidden", k_alpha_partly_hidden);
     Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);
     if (!package) return package.status();
     // alpha-tested models above k_alpha_resolution: again, coarser, where the maps exceed the budget

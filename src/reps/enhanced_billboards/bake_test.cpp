@@ -152,6 +152,92 @@ TEST(BakeBillboards, OccludedSurfaceGoesToASecondBillboard)
     expect_accounted(p);
 }
 
+TEST(BakeBillboards, PartlyHiddenFacesAreCapturedWhereTheyAreInFront)
+{
+    // a square with a smaller one in front of its middle, seen from +z: each of the back square's
+    // two triangles has a quarter of its area behind the front square
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    add_square(mesh, 0.5f, 0.25f, 0.75f);
+    one_sided(mesh);
+    const FaceData faces = compute_face_data(mesh);
+    const std::vector<std::uint32_t> all = {0, 1, 2, 3};
+    CaptureSettings settings;
+    settings.texel_size = 1.0f / 64.0f;
+    settings.depth_limit = 10.0f;
+    settings.write_maps = true;
+    const glm::vec3 w(0, 0, -1);
+
+    // the seed's test: the back square waits for the front one to be taken
+    Capture strict = capture_direction(mesh, faces, all, w, settings);
+    EXPECT_EQ(strict.faces, (std::vector<std::uint32_t>{2, 3}));
+    EXPECT_EQ(strict.hidden_area, 0.0);
+
+    // three quarters of each back triangle in front: captured at half, with the hidden quarter left
+    settings.partly_visible = 0.5f;
+    Capture partly = capture_direction(mesh, faces, all, w, settings);
+    EXPECT_EQ(partly.faces, all);
+    EXPECT_EQ(partly.partly_hidden, (std::vector<std::uint32_t>{0, 1}));
+    EXPECT_NEAR(partly.area, 1.25, 1e-6);
+    EXPECT_NEAR(partly.hidden_area, 0.25, 0.02); // texel centres: within a texel row of the edges
+    EXPECT_NEAR(partly.billboard.captured_area, partly.area - partly.hidden_area, 1e-9);
+    // one height field of the front square over the back one: every texel of the back square's
+    // outline is covered, the middle at the front square's depth
+    const Billboard& b = partly.billboard;
+    std::size_t front = 0, back = 0;
+    for (int y = 0; y < b.height; ++y)
+        for (int x = 0; x < b.width; ++x) {
+            const glm::vec3 centre = b.origin + (x + 0.5f) * b.texel_size * b.axis_u + (y + 0.5f) * b.texel_size * b.axis_v;
+            if (!(centre.x > 0.01f && centre.x < 0.99f && centre.y > 0.01f && centre.y < 0.99f)) continue;
+            ASSERT_NE(b.color.at(x, y)[3], 0) << x << "," << y;
+            const bool middle = centre.x > 0.26f && centre.x < 0.74f && centre.y > 0.26f && centre.y < 0.74f;
+            const bool ring = centre.x < 0.24f || centre.x > 0.76f || centre.y < 0.24f || centre.y > 0.76f;
+            const float depth = float(b.normal_depth.at(x, y)[3]) / 65535.0f * b.depth_range;
+            if (middle) {
+                ++front;
+                EXPECT_NEAR(depth, 0.0f, 1e-3f) << x << "," << y;
+            }
+            if (ring) {
+                ++back;
+                EXPECT_NEAR(depth, 0.5f, 1e-3f) << x << "," << y;
+            }
+        }
+    EXPECT_GT(front, 500u);
+    EXPECT_GT(back, 1500u);
+
+    // a quarter hidden is too much at 0.8
+    settings.partly_visible = 0.8f;
+    EXPECT_EQ(capture_direction(mesh, faces, all, w, settings).faces, (std::vector<std::uint32_t>{2, 3}));
+}
+
+TEST(BakeBillboards, PartlyHiddenSurfaceIsAccountedAsLeft)
+{
+    // the squares baked, the front one off the grid the back one is split on (pieces of at most
+    // 8 texels: eighths): with --partly-hidden the hidden parts of what was captured are recorded
+    // as left ("hidden_parts"), and captured plus left is still the whole surface
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    add_square(mesh, 0.5f, 0.3f, 0.7f);
+    one_sided(mesh);
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"},
+                                   {"partly-hidden", "0.5"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const EnhancedBillboardsPackage& p = *baked.package;
+    ASSERT_TRUE(p.left.count("hidden_parts"));
+    EXPECT_GT(p.left.at("hidden_parts").area, 0.0);
+    EXPECT_LT(p.left.at("hidden_parts").area, 0.05 * p.area_total); // pieces of at most 8 texels on the front's edge
+    // counted as the model's faces (the back square's two), not as pieces or billboards
+    EXPECT_GE(p.left.at("hidden_parts").faces, 1u);
+    EXPECT_LE(p.left.at("hidden_parts").faces, 2u);
+    EXPECT_EQ(p.parameters.number("partly-hidden"), 0.5f);
+    expect_accounted(p);
+    // without it nothing is hidden: the pieces behind the front square go to a second billboard
+    Baked strict = bake_mesh(mesh, {{"directions", "axis"}, {"resolution", "64"}, {"coarse-ratio", "0"}, {"min-coverage", "0"}});
+    ASSERT_TRUE(strict.status) << strict.status.message();
+    EXPECT_FALSE(strict.package->left.count("hidden_parts"));
+    EXPECT_EQ(strict.package->parameters.number("partly-hidden"), 0.0f);
+}
+
 TEST(BakeBillboards, OpenSheetIsBakedFromBothSides)
 {
     // issue #17: the truth shows both sides of a double-sided sheet; each side gets its billboard,
@@ -684,6 +770,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     EXPECT_EQ(masked.package->settings.resolution, k_alpha_resolution);
     EXPECT_NEAR(masked.package->settings.texel_size, diagonal / float(k_alpha_resolution), 1e-6f * diagonal);
     EXPECT_FLOAT_EQ(masked.package->settings.grazing_angle, k_alpha_grazing_angle);
+    EXPECT_FLOAT_EQ(masked.package->settings.partly_hidden, k_alpha_partly_hidden);
     EXPECT_TRUE(masked.package->parameters.requested().empty()); // defaults, not something asked for
     EXPECT_EQ(masked.package->settings.sheet_edges, "clip");      // alpha contour lines
     // the coarse mesh: the sphere's triangles (small models keep all), none of the card's
@@ -697,6 +784,9 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     Baked grazing = bake_mesh(mesh, {{"grazing-angle", "10"}});
     ASSERT_TRUE(grazing.status) << grazing.status.message();
     EXPECT_FLOAT_EQ(grazing.package->settings.grazing_angle, 10.0f);
+    Baked whole_faces = bake_mesh(mesh, {{"partly-hidden", "0"}});
+    ASSERT_TRUE(whole_faces.status) << whole_faces.status.message();
+    EXPECT_FLOAT_EQ(whole_faces.package->settings.partly_hidden, 0.0f);
     Baked texel = bake_mesh(mesh, {{"texel-size", "0.01"}});
     ASSERT_TRUE(texel.status) << texel.status.message();
     EXPECT_FLOAT_EQ(texel.package->settings.texel_size, 0.01f);
@@ -728,6 +818,7 @@ TEST(BakeBillboards, AlphaTestedModelsGetFinerTexelsSquarerFacesAndAnOpaqueCoars
     ASSERT_TRUE(solid.status) << solid.status.message();
     EXPECT_EQ(solid.package->settings.resolution, 512);
     EXPECT_FLOAT_EQ(solid.package->settings.grazing_angle, 20.0f);
+    EXPECT_FLOAT_EQ(solid.package->settings.partly_hidden, 0.0f);
     EXPECT_EQ(solid.package->coarse_mesh.triangle_count(), mesh.triangle_count());
 }
 

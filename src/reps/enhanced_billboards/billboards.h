@@ -78,6 +78,10 @@ constexpr double k_detail_edge_fraction = 0.21;
 // 4.41 at 30, 4.39 at 40; holes 1.00% -> 0.50% at 30 (the faces left at the 64-billboard limit lie
 // inside the crown: 128 billboards gave 4.37).
 constexpr float k_alpha_grazing_angle = 30.0f;
+// --partly-hidden for models with alpha-tested materials when it is not given: a dense crown hides
+// part of every leaf card from every direction, and the seed's test (a face is captured only where
+// no texel of it is hidden) left them all (docs/RESULTS.md "Partly hidden leaves").
+constexpr float k_alpha_partly_hidden = 0.5f;
 // --face-assignment squarer: a face the first billboard able to hold it would see at more than this
 // many degrees from its normal waits for a later billboard of the same bake that sees it more
 // squarely (bake.cpp, assign_squarer). 45 adds at most 3 billboards on 14 models (0, every face on
@@ -108,6 +112,9 @@ struct BakeSettings {
     std::string score = "area";  // "area" (captured projected area) or "faces" (seed: facing faces)
     float depth_limit = 0.0f;    // fraction of the diagonal
     float grazing_angle = 0.0f;  // degrees from the plane below which faces are not projected
+    // a partly hidden face is captured where it is in front when at least this fraction of its
+    // texels are (capture.h, CaptureSettings::partly_visible); 0: the seed's all-or-nothing test
+    float partly_hidden = 0.0f;
     int max_billboards = 0;
     float min_coverage = 0.0f;   // billboards capturing less than this fraction of area are dropped
     int depth_bits = 16;

@@ -52,6 +52,10 @@
 //   surface's outline crosses (a silhouette, the end of a part over what lies behind it) stores the
 //   line that best splits its 8 x 8 points, and an empty texel beyond that a covered neighbour's
 //   surface reaches into is grown with it and clipped (outline_surface_points).
+// - partly hidden faces (--partly-hidden, by default for alpha-tested models): a hidden face at least
+//   that fraction of whose texels are in front is captured all the same, at the texels it wins in
+//   the item buffer (the only ones written); its hidden texels are lost to later billboards, and
+//   counted as left ("hidden_parts", by the fraction of its texels hidden).
 // - colour: a textured face's texel averages the texture over the texel (texel_albedo), covered
 //   points only, where the seed read one point: the truth's mips filter, a point sample aliases.
 #include "reps/enhanced_billboards/capture.h"
@@ -360,6 +364,7 @@ struct Visibility {
     int occluder_count = 0; // -1: more than k_max_occluders
     std::uint32_t occluders[k_max_occluders]{};
     std::uint32_t centroid_winner = k_none;
+    int texels = 0, hidden_texels = 0; // texel centres tested, and those a nearer face wins
 
     void add_occluder(std::uint32_t g)
     {
@@ -386,8 +391,12 @@ std::vector<Visibility> test_visibility(const Mesh& mesh, const Sets& sets, cons
         auto test = [&](int i, int j, float depth) {
             std::uint64_t key = grid.items[std::size_t(j) * grid.width + i];
             std::uint32_t winner = std::uint32_t(key & 0xffffffffu);
+            ++vis.texels;
             if (winner == f || key == k_empty) return winner;
-            if (grid.depth_of_key(key) < depth - tolerance) vis.add_occluder(winner);
+            if (grid.depth_of_key(key) < depth - tolerance) {
+                vis.add_occluder(winner);
+                ++vis.hidden_texels;
+            }
             return winner;
         };
         const bool alpha_tested = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
@@ -461,7 +470,7 @@ std::vector<std::uint32_t> hiding_components(const Sets& sets, const std::vector
 // through; sub-texel faces only where the texel standing for them is captured. Returns a flag per
 // candidate.
 std::vector<std::uint8_t> decide_captured(const Sets& sets, const std::vector<Visibility>& vis,
-                                          const std::vector<std::uint32_t>& slot)
+                                          const std::vector<std::uint32_t>& slot, float partly_visible)
 {
     std::size_t n = sets.candidates.size();
     std::vector<std::uint32_t> component = hiding_components(sets, vis, slot);
@@ -469,6 +478,13 @@ std::vector<std::uint8_t> decide_captured(const Sets& sets, const std::vector<Vi
     parallel_over(n, [&](std::size_t r) {
         const Visibility& v = vis[r];
         if (!v.hidden) {
+            visible[r] = 1;
+            return;
+        }
+        // partly hidden, and enough of it in front: captured where it is (write_maps writes only
+        // the texels a captured face wins)
+        if (partly_visible > 0.0f && !v.sub_texel && v.texels > 0 &&
+            float(v.texels - v.hidden_texels) >= partly_visible * float(v.texels)) {
             visible[r] = 1;
             return;
         }
@@ -1151,7 +1167,7 @@ Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::ve
     std::vector<std::uint32_t> slot(mesh.triangle_count(), k_none);
     for (std::size_t r = 0; r < sets.candidates.size(); ++r) slot[sets.candidates[r]] = std::uint32_t(r);
     std::vector<Visibility> visibility = test_visibility(mesh, sets, grid);
-    std::vector<std::uint8_t> captured = decide_captured(sets, visibility, slot);
+    std::vector<std::uint8_t> captured = decide_captured(sets, visibility, slot, settings.partly_visible);
     // faces left for another billboard decide visibility like the rest (they hide, they stand for a
     // sub-texel face's texel, they intersect), but are not captured here
     if (settings.allowed)
@@ -1165,13 +1181,18 @@ Capture capture_direction(const Mesh& mesh, const FaceData& faces, const std::ve
 
     for (std::size_t r = 0; r < sets.candidates.size(); ++r)
         if (captured[r]) {
+            const Visibility& v = visibility[r];
             capture.faces.push_back(sets.candidates[r]);
             capture.area += faces.area[sets.candidates[r]];
+            if (settings.partly_visible > 0.0f && v.hidden_texels > 0 && v.texels > 0) {
+                capture.hidden_area += faces.area[sets.candidates[r]] * double(v.hidden_texels) / double(v.texels);
+                capture.partly_hidden.push_back(sets.candidates[r]);
+            }
         }
     if (settings.write_maps && !capture.faces.empty()) {
         capture.billboard = write_maps(mesh, faces, grid, slot, captured, capture.faces, sets.occluders, settings.edge_lines);
         capture.billboard.captured_faces = capture.faces.size();
-        capture.billboard.captured_area = capture.area;
+        capture.billboard.captured_area = capture.area - capture.hidden_area;
     }
     return capture;
 }

@@ -43,11 +43,19 @@ struct CaptureSettings {
     // Per face id, whether this billboard may capture it (null: every face); a face it may not
     // capture still hides what lies behind it
     const std::vector<std::uint8_t>* allowed = nullptr;
+    // Partly hidden faces (above 0): a face hidden at some of its texels is captured, at the texels
+    // where it is in front, when at least this fraction of its texels are; its hidden texels are
+    // left to what hides them (capture.cpp, decide_captured)
+    float partly_visible = 0.0f;
 };
 
 struct Capture {
     std::vector<std::uint32_t> faces; // captured face ids (S''), ascending
     double area = 0.0;                // their total area
+    // of it, the part of partly hidden faces (CaptureSettings::partly_visible) at texels that others
+    // hide, by the fraction of their texels hidden
+    double hidden_area = 0.0;
+    std::vector<std::uint32_t> partly_hidden; // those faces, ascending
     // with CaptureSettings::allowed: (allowed face not captured because hidden, a face hiding it)
     std::vector<std::pair<std::uint32_t, std::uint32_t>> hidden_by;
     Billboard billboard;              // with write_maps and a non-empty capture

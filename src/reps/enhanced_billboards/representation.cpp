@@ -37,6 +37,12 @@ std::vector<OptionSpec> bake_options()
                       "Faces within this angle (degrees) of the projection direction are left for another billboard; "
                       "unset: 20, or 30 for models with alpha-tested materials (the seed: 10; chosen by measurement: "
                       "squarer captures, fewer fetches, ~15% more texels)"),
+        number_option("partly-hidden", "", 0.0, 1.0,
+                      "A face that others hide at some of its texels is captured at the texels where it is in front "
+                      "when at least this fraction of them are (0: never, the seed's test, the face waits for a "
+                      "direction that sees all of it); unset: 0.5 for models with alpha-tested materials (a dense "
+                      "crown hides part of every leaf from every direction), else 0 (solid models lost more by the "
+                      "hidden parts than fewer billboards gave them: docs/RESULTS.md \"Partly hidden leaves\")"),
         integer_option("max-billboards", 64, 1, 4096, "Stop after this many billboards"),
         number_option("min-coverage", "0.001", 0.0, 1.0,
                       "Stop when the next billboard would capture less than this fraction of the surface"),
@@ -161,6 +167,7 @@ BakeSettings settings_from(const Options& parameters)
     s.score = parameters.choice("score");
     s.depth_limit = parameters.number("depth-limit");
     s.grazing_angle = parameters.number("grazing-angle");
+    s.partly_hidden = parameters.number("partly-hidden");
     s.max_billboards = parameters.integer("max-billboards");
     s.min_coverage = parameters.number("min-coverage");
     s.depth_bits = parameters.integer("depth-bits");
