@@ -551,7 +551,8 @@ void quantise_to_8_bits(Billboard& board)
 // Sorts what was left into reasons: degenerate; grazing in every candidate direction; captured by
 // a billboard too small to keep ("small_billboards", seed §4.3); "max_billboards" when the limit
 // stopped the loop; else "occluded" (hidden by other faces in every direction tried). Faces are
-// counted as source faces (a split face counts once per reason its pieces were left for).
+// counted as source faces: a face counts once per reason any of its pieces, or of its reversed
+// copy's (add_back_sides), was left for.
 void record_left(const FaceData& faces, const std::vector<std::uint32_t>& remaining, const std::vector<std::uint32_t>& too_small,
                  const std::vector<glm::vec3>& directions, float min_facing, bool hit_limit,
                  const std::vector<std::uint32_t>& source_face, std::map<std::string, LeftOver>& left)
@@ -568,13 +569,17 @@ void record_left(const FaceData& faces, const std::vector<std::uint32_t>& remain
         else if (std::binary_search(too_small.begin(), too_small.end(), f)) reason[r] = small;
         else reason[r] = hit_limit ? limit : occluded;
     });
-    std::uint32_t last_source[count];
-    std::fill(std::begin(last_source), std::end(last_source), 0xffffffffu);
+    // a face's pieces need not be consecutive among the remaining faces: its reversed copies come
+    // after every front face, and its pieces may alternate between reasons
+    std::size_t sources = source_face.empty() ? faces.area.size() : 0;
+    for (std::uint32_t source : source_face) sources = std::max(sources, std::size_t(source) + 1);
+    std::vector<std::uint8_t> counted(sources, 0); // per source face, a bit per reason
     for (std::size_t r = 0; r < remaining.size(); ++r) {
         LeftOver& entry = left[names[reason[r]]];
         std::uint32_t source = source_face.empty() ? remaining[r] : source_face[remaining[r]];
-        if (last_source[reason[r]] != source) entry.faces += 1; // pieces of one face are consecutive
-        last_source[reason[r]] = source;
+        const std::uint8_t bit = std::uint8_t(1u << reason[r]);
+        if (!(counted[source] & bit)) entry.faces += 1;
+        counted[source] |= bit;
         entry.area += faces.area[remaining[r]];
     }
 }

@@ -82,6 +82,7 @@ void expect_accounted(const EnhancedBillboardsPackage& p)
     double left = 0.0;
     for (const auto& [reason, what] : p.left) left += what.area;
     EXPECT_NEAR((p.area_captured + left) / p.area_total, 1.0, 1e-9);
+    for (const auto& [reason, what] : p.left) EXPECT_LE(what.faces, p.faces_total) << reason; // source faces
     double per_board = 0.0;
     for (const Billboard& b : p.billboards) per_board += b.captured_area;
     EXPECT_NEAR(per_board, p.area_captured, 1e-9 * p.area_total);
@@ -576,6 +577,32 @@ TEST(BakeBillboards, MaxBillboardsStopsAndRecordsWhatWasLeft)
     ASSERT_EQ(baked.package->left.count("max_billboards"), 1u);
     EXPECT_GT(baked.package->left.at("max_billboards").area, 0.3 * baked.package->area_total);
     expect_accounted(*baked.package);
+}
+
+TEST(BakeBillboards, LeftFacesAreCountedOnceWhateverTheirPiecesAndSides)
+{
+    // two double-sided open squares, one facing +z and one +x, and a single billboard: of the four
+    // sides three are left, and both sides of the second square; each of the model's faces counts
+    // once (their reversed copies come after every front face, so pieces of one face are not
+    // consecutive among what is left)
+    Mesh mesh;
+    add_square(mesh, 0.0f);
+    const std::uint32_t base = std::uint32_t(mesh.positions.size());
+    for (glm::vec3 p : {glm::vec3(3, 0, 0), glm::vec3(3, 0, -1), glm::vec3(3, 1, -1), glm::vec3(3, 1, 0)}) {
+        mesh.positions.push_back(p);
+        mesh.normals.push_back({1, 0, 0});
+        mesh.colors.push_back({1, 0, 0, 1});
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(base + i);
+    mesh.face_materials.insert(mesh.face_materials.end(), 2, 0);
+    ASSERT_TRUE(mesh.materials[0].double_sided);
+    Baked baked = bake_mesh(mesh, {{"directions", "axis"}, {"max-billboards", "1"}, {"coarse-ratio", "0"}});
+    ASSERT_TRUE(baked.status) << baked.status.message();
+    const EnhancedBillboardsPackage& p = *baked.package;
+    ASSERT_EQ(p.billboards.size(), 1u);
+    ASSERT_TRUE(p.left.count("max_billboards"));
+    EXPECT_EQ(p.left.at("max_billboards").faces, 4u); // the first square's back, the second's both sides
+    expect_accounted(p);
 }
 
 TEST(BakeBillboards, ResultDoesNotDependOnThreads)
