@@ -553,9 +553,16 @@ void quantise_to_8_bits(Billboard& board)
 // stopped the loop; else "occluded" (hidden by other faces in every direction tried). Faces are
 // counted as source faces: a face counts once per reason any of its pieces, or of its reversed
 // copy's (add_back_sides), was left for.
+// The model's face a baked face (a piece of a split face, or a reversed copy) comes from;
+// `source_face` is empty when the baked faces are the model's.
+std::uint32_t source_of(const std::vector<std::uint32_t>& source_face, std::uint32_t face)
+{
+    return source_face.empty() ? face : source_face[face];
+}
+
 void record_left(const FaceData& faces, const std::vector<std::uint32_t>& remaining, const std::vector<std::uint32_t>& too_small,
                  const std::vector<glm::vec3>& directions, float min_facing, bool hit_limit,
-                 const std::vector<std::uint32_t>& source_face, std::map<std::string, LeftOver>& left)
+                 const std::vector<std::uint32_t>& source_face, std::size_t source_faces, std::map<std::string, LeftOver>& left)
 {
     enum Reason : std::uint8_t { degenerate, grazing, small, limit, occluded, count };
     const char* names[count] = {"degenerate", "grazing", "small_billboards", "max_billboards", "occluded"};
@@ -571,12 +578,10 @@ void record_left(const FaceData& faces, const std::vector<std::uint32_t>& remain
     });
     // a face's pieces need not be consecutive among the remaining faces: its reversed copies come
     // after every front face, and its pieces may alternate between reasons
-    std::size_t sources = source_face.empty() ? faces.area.size() : 0;
-    for (std::uint32_t source : source_face) sources = std::max(sources, std::size_t(source) + 1);
-    std::vector<std::uint8_t> counted(sources, 0); // per source face, a bit per reason
+    std::vector<std::uint8_t> counted(source_faces, 0); // per source face, a bit per reason
     for (std::size_t r = 0; r < remaining.size(); ++r) {
         LeftOver& entry = left[names[reason[r]]];
-        std::uint32_t source = source_face.empty() ? remaining[r] : source_face[remaining[r]];
+        const std::uint32_t source = source_of(source_face, remaining[r]);
         const std::uint8_t bit = std::uint8_t(1u << reason[r]);
         if (!(counted[source] & bit)) entry.faces += 1;
         counted[source] |= bit;
@@ -735,7 +740,7 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
             faces.open_edges = std::move(open_edges);
             faces.part = std::move(part_of);
         }
-        for (std::uint32_t& piece : piece_of) piece = source_face.empty() ? piece : source_face[piece];
+        for (std::uint32_t& piece : piece_of) piece = source_of(source_face, piece);
         source_face = std::move(piece_of);
     }
     const Mesh& work = two_sided ? sided : split_or_source;
@@ -770,7 +775,7 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
             hidden.area += capture.hidden_area;
             partly_hidden_source.resize(mesh.triangle_count(), 0);
             for (std::uint32_t piece : capture.partly_hidden) {
-                std::uint8_t& flag = partly_hidden_source[source_face.empty() ? piece : source_face[piece]];
+                std::uint8_t& flag = partly_hidden_source[source_of(source_face, piece)];
                 hidden.faces += flag == 0; // source faces, once however many pieces and billboards
                 flag = 1;
             }
@@ -820,7 +825,8 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     context.progress.report("enhanced billboards: capturing", 1.0);
 
     // what was left and why; the coarse mesh covers it
-    record_left(faces, remaining, too_small, directions, capture_settings.min_facing, hit_limit, source_face, package->left);
+    record_left(faces, remaining, too_small, directions, capture_settings.min_facing, hit_limit, source_face,
+                mesh.triangle_count(), package->left);
     context.progress.report("enhanced billboards: coarse mesh", 0.0);
     // sheet rims (issue #17): the coarse mesh keeps open boundaries, and the renderer fills the rim
     // staircase with the triangles along them (renderer.cpp, rims_first); not where a material is
