@@ -588,7 +588,8 @@ bool is_alpha_tested(const Mesh& mesh, std::uint32_t f)
 // Which contour points of texel (i, j) face f covers (alpha test passed). With `extend`, points
 // just outside the face count on the face's plane (its texture coordinates extended), unless they
 // lie beyond an open edge: a card is split into triangles (and long edges into pieces), and the
-// leaf's contour runs across them. `colour`, when given, receives the mean albedo of the covered points.
+// leaf's contour runs across them. `colour`, when given, receives the mean albedo of the covered points;
+// without it only the alpha is read (Mesh::covered_at decides as albedo_at's alpha does).
 std::uint64_t face_coverage(const Mesh& mesh, const FaceData& faces, const Grid& grid, std::uint32_t f, int i, int j,
                             bool extend, glm::vec3* colour = nullptr)
 {
@@ -615,6 +616,10 @@ std::uint64_t face_coverage(const Mesh& mesh, const FaceData& faces, const Grid&
                     beyond_open = beyond_open || (open & (1 << k));
                 }
             if (!inside && (!extend || beyond_open)) continue;
+            if (!colour) {
+                if (mesh.covered_at(f, w[1], w[2])) mask |= block << (b * step * k_contour_subsamples + a * step);
+                continue;
+            }
             glm::vec4 albedo = mesh.albedo_at(f, w[1], w[2]);
             if (cutoff > 0.0f && albedo.w < cutoff) continue;
             mask |= block << (b * step * k_contour_subsamples + a * step);
@@ -918,7 +923,12 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
                 }
             } else {
                 // the alpha-tested face of a covered 3 x 3 neighbour that covers most of the texel
-                // (ties: the first, rows then columns)
+                // (ties: the first, rows then columns). Each distinct face is tested once and by its
+                // alpha only; the winner's colour is read after (the same points: the same mean).
+                // In a dense crown most texels are gaps between leaves, each with several leaf
+                // neighbours: this search was the bake's largest part (a 30,000-card tree).
+                std::uint32_t tested[9];
+                int tested_count = 0;
                 for (int dj = -1; dj <= 1; ++dj)
                     for (int di = -1; di <= 1; ++di) {
                         int ni = i + di, nj = j + dj;
@@ -926,11 +936,13 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
                         std::size_t n = std::size_t(nj) * width + ni;
                         std::uint32_t f = winner_at(n);
                         if ((!covered[n] && !rim[n]) || f == front || !is_alpha_tested(mesh, f)) continue;
-                        glm::vec3 mean(0.0f);
-                        std::uint64_t mask = face_coverage(mesh, faces, grid, f, i, j, true, &mean);
-                        if (std::popcount(mask) > std::popcount(front_mask)) front = f, front_mask = mask, colour = mean;
+                        if (std::find(tested, tested + tested_count, f) != tested + tested_count) continue;
+                        tested[tested_count++] = f;
+                        std::uint64_t mask = face_coverage(mesh, faces, grid, f, i, j, true);
+                        if (std::popcount(mask) > std::popcount(front_mask)) front = f, front_mask = mask;
                     }
                 if (front == k_none) return;
+                if (front_mask) face_coverage(mesh, faces, grid, front, i, j, true, &colour);
             }
             // the texel shows the front leaf only: where it is cut out the ray goes on (a leaf behind
             // it in this texel is lost either way; counting it as the front leaf's, measured, kept
