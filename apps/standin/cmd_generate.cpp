@@ -1,5 +1,5 @@
 // standin generate: procedural test meshes (sphere, torus, noisy sphere, shrub, fur ball, tree,
-// assembly) up to millions of faces; PLY, or glTF (what the tree's textured, alpha-masked leaves need).
+// bush, assembly) up to millions of faces; PLY, or glTF (what the tree's textured, alpha-masked leaves need).
 #include "commands.h"
 #include "common.h"
 
@@ -27,7 +27,7 @@ static int run_generate(const GenerateArgs& args)
     static const std::map<std::string, GeneratedShape> shapes = {
         {"sphere", GeneratedShape::sphere}, {"torus", GeneratedShape::torus}, {"noisy-sphere", GeneratedShape::noisy_sphere},
         {"shrub", GeneratedShape::shrub}, {"fur-ball", GeneratedShape::fur_ball},
-        {"tree", GeneratedShape::tree}};
+        {"tree", GeneratedShape::tree}, {"bush", GeneratedShape::bush}};
     Result<Mesh> mesh = Mesh{};
     if (args.sheets && args.shape != "assembly") return fail("--sheets: applies to the assembly only");
     if (args.shape == "assembly") {
@@ -61,17 +61,17 @@ CommandRun add_generate_command(CLI::App& root)
     auto args = std::make_shared<GenerateArgs>();
     CLI::App* command = root.add_subcommand(
         "generate", "Write a procedural test mesh as PLY or glTF: a sphere, a torus, a sphere with a noisy radius, a shrub "
-                    "(branches and leaf cards), a fur ball (hair ribbons), a tree (alpha-masked leaf cards; write .gltf) or a mechanical assembly (59 nested parts) of a chosen triangle count (for tests and scale "
+                    "(branches and leaf cards), a fur ball (hair ribbons), a tree (alpha-masked leaf cards; write .gltf), a bush (crossed cards each carrying a cluster of alpha-masked leaves, as game foliage is made; .gltf) or a mechanical assembly (59 nested parts) of a chosen triangle count (for tests and scale "
                     "benchmarks up to millions of faces)");
-    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | tree | assembly")
-        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "tree", "assembly"}))
+    command->add_option("shape", args->shape, "sphere | torus | noisy-sphere | shrub | fur-ball | tree | bush | assembly")
+        ->check(CLI::IsMember({"sphere", "torus", "noisy-sphere", "shrub", "fur-ball", "tree", "bush", "assembly"}))
         ->required();
     command->add_option("-o,--output", args->output, "Output file (.ply, or .gltf: the textures embedded)")->required();
     command->add_option("-t,--triangles", args->triangles, "Approximate triangle count")->capture_default_str();
     command->add_option("--radius", args->radius, "Radius")->capture_default_str();
     command->add_option("--noise", args->noise, "noisy-sphere: displacement amplitude relative to the radius")
         ->capture_default_str();
-    command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball, tree: random seed")->capture_default_str();
+    command->add_option("--seed", args->seed, "noisy-sphere, shrub, fur-ball, tree, bush: random seed")->capture_default_str();
     command->add_flag("--sheets", args->sheets,
                       "assembly: casing, liners and flanges as zero-thickness sheets, some parts inside out (CAD "
                       "sheet-metal exports)");

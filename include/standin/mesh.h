@@ -220,7 +220,9 @@ Status write_ply(const Mesh& mesh, const std::string& path);
 // UVs) of one alpha-masked, double-sided material whose texture is made procedurally (an RGBA
 // leaf shape: alpha 0 outside it, veins in the colour); a glTF-shaped model for the alpha tests
 // and the demo, written by `standin generate tree -o tree.gltf`.
-enum class GeneratedShape { sphere, torus, noisy_sphere, shrub, fur_ball, tree };
+// bush: branches carrying sprigs of two crossed, intersecting cards, each a texture of many leaves
+// (game foliage's leaf-cluster cards), materials as the tree's.
+enum class GeneratedShape { sphere, torus, noisy_sphere, shrub, fur_ball, tree, bush };
 struct GenerateOptions {
     GeneratedShape shape = GeneratedShape::sphere;
     std::size_t target_triangles = 20000; // the result has about this many

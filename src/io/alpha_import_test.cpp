@@ -210,5 +210,57 @@ TEST(Alpha, GeneratedTreeIsDeterministicWithAMaskedDoubleSidedLeafMaterial)
     EXPECT_EQ(write_gltf(shrub, path + "2.gltf").code(), StatusCode::invalid_argument);
 }
 
+TEST(Alpha, GeneratedBushHasCrossedCardsOfManyLeaves)
+{
+    GenerateOptions options;
+    options.shape = GeneratedShape::bush;
+    options.target_triangles = 2000;
+    options.seed = 3;
+    Result<Mesh> a = generate_mesh(options);
+    Result<Mesh> b = generate_mesh(options);
+    ASSERT_TRUE(a.is_ok() && b.is_ok());
+    EXPECT_TRUE(validate_mesh(*a, "bush").is_ok());
+    EXPECT_EQ(a->positions, b->positions);
+    EXPECT_NEAR(double(a->triangle_count()), 2000.0, 200.0);
+    ASSERT_EQ(a->materials.size(), 2u);
+    EXPECT_EQ(a->materials[1].alpha_mode, AlphaMode::mask);
+    EXPECT_TRUE(a->materials[1].double_sided);
+    EXPECT_NEAR(a->bounding_sphere().radius, 1.0f, 1e-4f);
+    // the cards come in crossed pairs: the second card's quad turned a right angle about the
+    // shared stem (its first vertex's edge), so the two planes cut each other along it
+    std::size_t first_leaf = 0;
+    while (a->face_materials[first_leaf] != 1u) ++first_leaf;
+    const std::size_t leaf_faces = a->triangle_count() - first_leaf;
+    ASSERT_EQ(leaf_faces % 4, 0u);
+    for (std::size_t f = first_leaf; f < a->triangle_count(); f += 4) {
+        glm::vec3 n0 = a->normals[a->indices[f * 3]], n1 = a->normals[a->indices[(f + 2) * 3]];
+        EXPECT_NEAR(glm::dot(n0, n1), 0.0f, 1e-4f);
+        // both quads' stems (u = 0.5) run through the same points
+        glm::vec3 foot0 = 0.5f * (a->positions[a->indices[f * 3]] + a->positions[a->indices[f * 3 + 1]]);
+        glm::vec3 foot1 = 0.5f * (a->positions[a->indices[(f + 2) * 3]] + a->positions[a->indices[(f + 2) * 3 + 1]]);
+        EXPECT_LT(glm::length(foot0 - foot1), 1e-4f);
+    }
+    // the texture is a sprig of many separate leaves: opaque texels a minority, in many runs along
+    // a row across the middle (leaf, gap, leaf, ...)
+    const Texture& sprig = a->textures.at(0);
+    std::size_t opaque = 0;
+    for (std::size_t i = 3; i < sprig.rgba.size(); i += 4) opaque += sprig.rgba[i] >= 128;
+    double fraction = double(opaque) / double(sprig.width * sprig.height);
+    EXPECT_GT(fraction, 0.1);
+    EXPECT_LT(fraction, 0.5);
+    int runs = 0;
+    for (int row = sprig.height / 4; row < 3 * sprig.height / 4; row += sprig.height / 16) {
+        bool previous = false;
+        for (int x = 0; x < sprig.width; ++x) {
+            bool on = sprig.rgba[(std::size_t(row) * sprig.width + std::size_t(x)) * 4 + 3] >= 128;
+            runs += on && !previous;
+            previous = on;
+        }
+    }
+    EXPECT_GE(runs, 16); // 8 rows, at least two leaves' or a leaf's and the stem's runs each
+    options.seed = 4;
+    EXPECT_NE(generate_mesh(options)->positions, a->positions);
+}
+
 } // namespace
 } // namespace standin

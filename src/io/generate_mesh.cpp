@@ -460,6 +460,129 @@ static void make_tree(Mesh& mesh, const GenerateOptions& options)
     std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
 }
 
+// A leaf-cluster texture as game foliage uses it: a sprig of many small leaves on one card (a stem
+// up the middle, leaves in alternate pairs along it and a few at its tip, tilted outwards, each
+// its own green), alpha 255 on leaf and stem, 0 elsewhere. Row 0 at v = 0, the stem's foot there.
+static Texture make_leaf_cluster_texture()
+{
+    constexpr int k_size = 512;
+    Texture texture;
+    texture.name = "leaf_cluster";
+    texture.width = texture.height = k_size;
+    texture.rgba.assign(std::size_t(k_size) * k_size * 4, 0);
+    struct Leaf {
+        glm::vec2 base, along;
+        float length, width;
+        glm::vec3 green;
+    };
+    std::vector<Leaf> leaves;
+    RandomStream random{0x1eafu}; // the texture is the same for every seed, as a model's would be
+    const int pairs = 9;
+    for (int k = 0; k < pairs; ++k) {
+        float t = 0.1f + 0.78f * float(k) / float(pairs - 1);
+        for (int side = -1; side <= 1; side += 2) {
+            float angle = float(side) * random.range(0.55f, 1.05f) * (1.0f - 0.35f * t);
+            float length = random.range(0.16f, 0.24f) * (1.0f - 0.3f * t);
+            glm::vec3 green(random.range(0.14f, 0.30f), random.range(0.38f, 0.60f), random.range(0.07f, 0.18f));
+            leaves.push_back({{0.5f, t}, {std::sin(angle), std::cos(angle)}, length, length * random.range(0.3f, 0.42f), green});
+        }
+    }
+    leaves.push_back({{0.5f, 0.9f}, {0.0f, 1.0f}, 0.1f, 0.04f, {0.25f, 0.55f, 0.14f}});
+    const glm::vec3 stem(0.30f, 0.24f, 0.12f);
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            glm::vec2 p((float(x) + 0.5f) / k_size, (float(y) + 0.5f) / k_size);
+            std::uint8_t* texel = &texture.rgba[(std::size_t(y) * k_size + std::size_t(x)) * 4];
+            glm::vec3 c;
+            bool inside = false;
+            for (const Leaf& leaf : leaves) {
+                glm::vec2 d = p - leaf.base, across(leaf.along.y, -leaf.along.x);
+                float t = glm::dot(d, leaf.along) / leaf.length, s = glm::dot(d, across) / leaf.length;
+                if (t <= 0.0f || t >= 1.0f) continue;
+                float half_width = 0.5f * leaf.width / leaf.length * std::pow(std::sin(std::numbers::pi_v<float> * std::pow(t, 0.7f)), 0.8f);
+                if (std::abs(s) >= half_width) continue;
+                c = leaf.green * (std::abs(s) < 0.02f ? 0.72f : 0.88f + 0.25f * std::abs(s) / half_width);
+                inside = true;
+                break;
+            }
+            if (!inside && std::abs(p.x - 0.5f) < 0.006f && p.y > 0.0f && p.y < 0.95f) c = stem, inside = true;
+            if (!inside) continue;
+            for (int k = 0; k < 3; ++k) texel[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+            texel[3] = 255;
+        }
+    // the colour bleeds one texel outwards (make_leaf_texture)
+    std::vector<std::uint8_t> grown = texture.rgba;
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            std::uint8_t* texel = &grown[(std::size_t(y) * k_size + std::size_t(x)) * 4];
+            if (texel[3] != 0) continue;
+            for (int d = 0; d < 4; ++d) {
+                int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
+                if (nx < 0 || ny < 0 || nx >= k_size || ny >= k_size) continue;
+                const std::uint8_t* n = &texture.rgba[(std::size_t(ny) * k_size + std::size_t(nx)) * 4];
+                if (n[3] == 0) continue;
+                std::copy(n, n + 3, texel);
+                break;
+            }
+        }
+    texture.rgba = std::move(grown);
+    return texture;
+}
+
+// A bush of leaf-cluster cards, the way game foliage is modelled (unlike the tree's one leaf per
+// card): branches (grow_branch, bark), and at their twigs sprigs of two cards crossed at right
+// angles through their stem (the cards intersect), each carrying make_leaf_cluster_texture. The
+// cards are large against the bush, and a texel of the model spans many leaves' edges. Materials as
+// the tree's: 0 bark (opaque), 1 leaves (mask at 0.5, double-sided, white).
+static void make_bush(Mesh& mesh, const GenerateOptions& options)
+{
+    RandomStream random{options.seed};
+    const std::size_t target = options.target_triangles;
+    const int max_depth = target >= 3000 ? 3 : (target >= 400 ? 2 : 1);
+    std::vector<Twig> twigs;
+    grow_branch(mesh, random, twigs, glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f), 0.8f, 0.06f, 0, max_depth);
+    const std::size_t bark_vertices = mesh.positions.size(), bark_triangles = mesh.indices.size() / 3;
+    std::size_t sprigs = std::max<std::size_t>(1, (target > bark_triangles ? target - bark_triangles : 4) / 4);
+    const float card_size = 0.55f * std::pow(0.75f, float(max_depth - 1)) * std::max(0.5f, std::sqrt(120.0f / float(sprigs)));
+    const glm::vec4 white(1.0f);
+    for (std::size_t k = 0; k < sprigs; ++k) {
+        const Twig& twig = twigs[k % twigs.size()];
+        glm::vec3 base = glm::mix(twig.base, twig.tip, random.range(0.2f, 1.0f)) + random.direction() * random.range(0.0f, 0.04f);
+        glm::vec3 along = glm::normalize(twig.tip - twig.base);
+        glm::vec3 up = glm::normalize(along + 0.6f * random.direction() + glm::vec3(0.0f, 0.2f, 0.0f));
+        glm::vec3 across = perpendicular_to(up);
+        float roll = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
+        across = std::cos(roll) * across + std::sin(roll) * glm::cross(up, across);
+        float size = card_size * random.range(0.8f, 1.2f);
+        for (int card = 0; card < 2; ++card) {
+            glm::vec3 side = card == 0 ? across : glm::cross(up, across);
+            glm::vec3 normal = glm::cross(side, up);
+            auto first = std::uint32_t(mesh.positions.size());
+            const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (const glm::vec2& c : corners) {
+                add_vertex(mesh, base + size * ((c.x - 0.5f) * side + c.y * up), normal, white);
+                mesh.uvs.push_back(c);
+            }
+            mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+        }
+    }
+    mesh.uvs.insert(mesh.uvs.begin(), bark_vertices, glm::vec2(0.0f));
+    fit_into_sphere(mesh, options.radius);
+    mesh.textures.push_back(make_leaf_cluster_texture());
+    Material bark, leaves;
+    bark.name = "bark";
+    bark.base_color = glm::vec4(0.36f, 0.25f, 0.15f, 1.0f);
+    leaves.name = "leaves";
+    leaves.base_color = white;
+    leaves.base_color_texture = 0;
+    leaves.alpha_mode = AlphaMode::mask;
+    leaves.alpha_cutoff = 0.5f;
+    leaves.double_sided = true;
+    mesh.materials = {bark, leaves};
+    mesh.face_materials.assign(mesh.triangle_count(), 1u);
+    std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
+}
+
 static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
 {
     RandomStream random{options.seed};
@@ -746,6 +869,7 @@ Result<Mesh> generate_mesh(const GenerateOptions& options)
     case GeneratedShape::shrub: make_shrub(mesh, options); break;
     case GeneratedShape::fur_ball: make_fur_ball(mesh, options); break;
     case GeneratedShape::tree: make_tree(mesh, options); return mesh; // its own materials
+    case GeneratedShape::bush: make_bush(mesh, options); return mesh; // its own materials
     }
     // one material whose colour is folded into every vertex colour (see Material in mesh.h)
     Material material;

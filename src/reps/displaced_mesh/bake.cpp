@@ -66,10 +66,13 @@ double texel_length(const Mesh& mesh)
     return texels > 0.0 && world > 0.0 ? std::sqrt(world / texels) : 0.0;
 }
 
+} // namespace
+
 // The finest shading detail (1, 2 or 4) auto may choose: finer while the shading step is over
 // k_blurred_pixels reference pixels (the thesis protocol's at 800 x 600, where the model's
-// bounding sphere fills the view: a pixel is about diagonal / 564) and over two of the model's
-// texels; within k_max_shading_samples. 1 for untextured models and alpha-masked ones.
+// bounding sphere fills the view: a pixel is about diagonal / 564), or the cut-out faces' step
+// over k_outline_pixels, and over two of the model's texels; within k_max_shading_samples. 1 for
+// untextured models.
 int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
                          int degree)
 {
@@ -80,12 +83,29 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
     for (std::size_t k = 0; k < indices.size(); ++k)
         edges += glm::length(glm::dvec3(positions[indices[k]]) - glm::dvec3(positions[indices[k - k % 3 + (k + 1) % 3]]));
     const double step = edges / double(indices.size()) / double(degree - 1); // the mean pattern step
+    // the cut-out faces' own (kept whole in the control mesh, cutout_degree): the mean step over them
+    double cutout_edges = 0.0;
+    std::size_t cutout_faces = 0;
+    for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+        if (!(alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f)) continue;
+        const std::uint32_t* v = &mesh.indices[3 * f];
+        for (int k = 0; k < 3; ++k)
+            cutout_edges += glm::length(glm::dvec3(mesh.positions[v[k]]) - glm::dvec3(mesh.positions[v[(k + 1) % 3]]));
+        ++cutout_faces;
+    }
+    const double cutout_step = cutout_faces > 0 ? cutout_edges / double(3 * cutout_faces) / double(degree - 1) : 0.0;
     const double pixel = mesh.bounds().diagonal() / k_reference_pixels;
+    auto shows = [&](int d) {
+        return (step / d > k_blurred_pixels * pixel && step / d > 2.0 * texel) ||
+               (cutout_step / d > k_outline_pixels * pixel && cutout_step / d > 2.0 * texel);
+    };
     int detail = 1;
-    while (detail < 4 && step / detail > k_blurred_pixels * pixel && step / detail > 2.0 * texel) detail *= 2;
+    while (detail < 4 && shows(detail)) detail *= 2;
     while (detail > 1 && faces * triangle_samples((degree - 1) * detail) > k_max_shading_samples) detail /= 2;
     return detail;
 }
+
+namespace {
 
 // The values of a shading pattern `fine_detail` times finer than n segments at the vertices of the
 // one `detail` times finer, which the finer pattern holds: face-major, per face triangle_samples.

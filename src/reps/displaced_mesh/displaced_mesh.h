@@ -60,11 +60,17 @@ int cutout_degree(const Mesh& mesh);
 // at the finest such detail (up to 4, within k_max_shading_samples) and the coarsest detail whose
 // albedo, interpolated, stays within k_shading_residual of it (the mean of the largest channel
 // difference) is kept. Measured on textured models in docs/RESULTS.md "Shading finer than the
-// pattern".
+// pattern". The cut-out faces of alpha-masked models ask for it from k_outline_pixels on: there the
+// coverage outlines leaves, and a leaf's edge a pixel off shows where a blur of 4 does not (game
+// foliage's cards of many small leaves; docs/RESULTS.md "Cards of many leaves").
 constexpr double k_reference_pixels = 564.0;
 constexpr double k_blurred_pixels = 4.0;
+constexpr double k_outline_pixels = 1.0;
 constexpr double k_shading_residual = 0.01;
-constexpr std::size_t k_max_shading_samples = 4'000'000;
+constexpr std::size_t k_max_shading_samples = 8'000'000;
+// The finest shading detail auto samples for `mesh` over a control mesh (positions, indices).
+int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
+                         int degree);
 // Vertices a boundary loop of the control mesh keeps (ControlMeshOptions::min_loop_vertices): a
 // round rim or hole as a 12-gon is within 3.5% of its radius, where a triangle (what the quadrics
 // alone reach on a model of many small open parts) is 50% off.

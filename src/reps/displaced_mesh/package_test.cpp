@@ -185,26 +185,29 @@ TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampl
 // Issue #14: a leaf card keeps its vertices in the control mesh, so each card holds a whole pattern:
 // the default degree (33) goes coarser only where the cut-out faces would hold over
 // k_max_cutout_samples finest samples. n x n disc cards (2 faces each) tiling a unit square.
+// n x n disc cards (test::alpha_quad, a 256-texel texture) tiling the unit square
+Mesh tiled_cards(int n)
+{
+    const Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+    Mesh mesh = card;
+    mesh.positions.clear(), mesh.normals.clear(), mesh.colors.clear(), mesh.uvs.clear(), mesh.indices.clear(), mesh.face_materials.clear();
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const auto base = std::uint32_t(mesh.positions.size());
+            for (std::size_t v = 0; v < card.positions.size(); ++v) {
+                mesh.positions.push_back((card.positions[v] + glm::vec3(0.5f + float(x), 0.5f + float(y), 0.0f)) / float(n));
+                mesh.normals.push_back(card.normals[v]);
+                mesh.colors.push_back(card.colors[v]);
+                mesh.uvs.push_back(card.uvs[v]);
+            }
+            for (std::uint32_t i : card.indices) mesh.indices.push_back(base + i);
+            mesh.face_materials.insert(mesh.face_materials.end(), card.face_materials.begin(), card.face_materials.end());
+        }
+    return mesh;
+}
+
 TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
 {
-    const auto tiled_cards = [](int n) {
-        const Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
-        Mesh mesh = card;
-        mesh.positions.clear(), mesh.normals.clear(), mesh.colors.clear(), mesh.uvs.clear(), mesh.indices.clear(), mesh.face_materials.clear();
-        for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x) {
-                const auto base = std::uint32_t(mesh.positions.size());
-                for (std::size_t v = 0; v < card.positions.size(); ++v) {
-                    mesh.positions.push_back((card.positions[v] + glm::vec3(0.5f + float(x), 0.5f + float(y), 0.0f)) / float(n));
-                    mesh.normals.push_back(card.normals[v]);
-                    mesh.colors.push_back(card.colors[v]);
-                    mesh.uvs.push_back(card.uvs[v]);
-                }
-                for (std::uint32_t i : card.indices) mesh.indices.push_back(base + i);
-                mesh.face_materials.insert(mesh.face_materials.end(), card.face_materials.begin(), card.face_materials.end());
-            }
-        return mesh;
-    };
     EXPECT_EQ(cutout_degree(tiled_cards(1)), 33);
     EXPECT_EQ(cutout_degree(tiled_cards(80)), 33);  // 12,800 cut-out faces x 561 samples: 7.2 million
     EXPECT_EQ(cutout_degree(tiled_cards(100)), 17); // 20,000 x 561 is over 8 million, x 153 not
@@ -213,6 +216,29 @@ TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
     Mesh opaque = tiled_cards(100);
     opaque.materials[0].alpha_mode = AlphaMode::opaque;
     EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (bake keeps 17 for them)
+}
+
+// Cut-out cards ask for finer coverage than colour does: a leaf's outline a pixel off shows where a
+// colour blur of 4 pixels does not. The tiled cards' pattern step at degree 33 (cards kept whole) is
+// 1.138 / 32 / n of the unit square, a reference pixel sqrt(2) / 564.
+TEST(DisplacedMeshPackage, CutOutCardsAreShadedFinerWhileTheirStepIsOverAPixel)
+{
+    const auto detail = [](const Mesh& mesh) { return finest_useful_detail(mesh, mesh.positions, mesh.indices, 33); };
+    EXPECT_EQ(detail(tiled_cards(20)), 1); // 0.71 px
+    EXPECT_EQ(detail(tiled_cards(10)), 2); // 1.42 px: 0.71 at 2 (colour alone: 1, under 4 px)
+    EXPECT_EQ(detail(tiled_cards(3)), 4);  // 4.7 px: colour alone 2, outlines 4
+    Mesh opaque = tiled_cards(10);
+    opaque.materials[0].alpha_mode = AlphaMode::opaque;
+    EXPECT_EQ(detail(opaque), 1);
+    opaque = tiled_cards(3);
+    opaque.materials[0].alpha_mode = AlphaMode::opaque;
+    EXPECT_EQ(detail(opaque), 2);
+    // not finer than two of the texture's texels: at 64 a card (n = 3), a step at 4 would be 1.1
+    Mesh coarse_texture = tiled_cards(3);
+    Texture& t = coarse_texture.textures[0];
+    t.width = t.height = 64;
+    t.rgba.assign(64 * 64 * 4, 255);
+    EXPECT_EQ(detail(coarse_texture), 2);
 }
 
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
