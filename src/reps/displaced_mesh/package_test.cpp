@@ -182,10 +182,7 @@ TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampl
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 17);
 }
 
-// Issue #14: a leaf card keeps its vertices in the control mesh, so each card holds a whole pattern:
-// the default degree (33) goes coarser only where the cut-out faces would hold over
-// k_max_cutout_samples finest samples. n x n disc cards (2 faces each) tiling a unit square.
-// n x n disc cards (test::alpha_quad, a 256-texel texture) tiling the unit square
+// n x n disc cards (test::alpha_quad: 2 faces, a 256-texel texture) tiling the unit square
 Mesh tiled_cards(int n)
 {
     const Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
@@ -206,6 +203,9 @@ Mesh tiled_cards(int n)
     return mesh;
 }
 
+// Issue #14: a leaf card keeps its vertices in the control mesh, so each card holds a whole pattern:
+// the default degree (33) goes coarser only where the cut-out faces would hold over
+// k_max_cutout_samples finest samples.
 TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
 {
     EXPECT_EQ(cutout_degree(tiled_cards(1)), 33);

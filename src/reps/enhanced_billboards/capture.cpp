@@ -925,8 +925,8 @@ Billboard write_maps(const Mesh& mesh, const FaceData& faces, const Grid& grid, 
                 // the alpha-tested face of a covered 3 x 3 neighbour that covers most of the texel
                 // (ties: the first, rows then columns). Each distinct face is tested once and by its
                 // alpha only; the winner's colour is read after (the same points: the same mean).
-                // In a dense crown most texels are gaps between leaves, each with several leaf
-                // neighbours: this search was the bake's largest part (a 30,000-card tree).
+                // In a dense crown many texels are gaps between leaves with several leaf neighbours
+                // (a 30,000-card tree's bake: 230 -> 210 s, the same bytes).
                 std::uint32_t tested[9];
                 int tested_count = 0;
                 for (int dj = -1; dj <= 1; ++dj)
