@@ -18,6 +18,15 @@
 
 namespace standin::test {
 
+// Whether this build is instrumented with AddressSanitizer (scripts/test's second lane, build-asan/):
+// a test may leave to the Release lane what only repeats there the work its own first part already
+// put under the sanitizers.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool k_sanitized_build = true;
+#else
+constexpr bool k_sanitized_build = false;
+#endif
+
 std::string source_dir();  // repository root
 std::string cli_path();    // the built `standin` executable
 // A new empty directory under the system temp dir, unique to this test process and name.
