@@ -335,7 +335,10 @@ void place_grid(const Mesh& mesh, const Sets& sets, Grid& grid)
 }
 
 // Item buffer: the front-most occluder per texel centre; faces covering no centre are splatted at
-// their centroid.
+// their centroid. A slot keeps the least (depth, face) key whatever order the faces come in, so a
+// fragment that already loses to its slot skips its alpha test, a texture read: in a crown of cards
+// many deep most do (a 2,000-face bush's bake: 44 of 77 million). Sorting the faces front to back
+// skips more but scatters the slots each thread writes: tried, not measurably faster.
 void fill_items(const Mesh& mesh, const Sets& sets, Grid& grid)
 {
     parallel_over(sets.occluders.size(), [&](std::size_t r) {
@@ -346,8 +349,14 @@ void fill_items(const Mesh& mesh, const Sets& sets, Grid& grid)
         };
         const bool alpha_tested = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
         int covered = rasterize(c, [&](int i, int j, const float* wt) {
-            if (alpha_tested && !mesh.covered_at(f, wt[1], wt[2])) return;
-            put(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]);
+            const float depth = wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2];
+            if (alpha_tested) {
+                std::uint64_t& slot = grid.items[std::size_t(j) * grid.width + i];
+                const std::uint64_t key = (std::uint64_t(grid.key_depth(depth)) << 32) | f;
+                if (std::atomic_ref<std::uint64_t>(slot).load(std::memory_order_relaxed) < key) return;
+                if (!mesh.covered_at(f, wt[1], wt[2])) return;
+            }
+            put(i, j, depth);
         });
         if (covered == 0) {
             int i, j;
@@ -401,7 +410,10 @@ std::vector<Visibility> test_visibility(const Mesh& mesh, const Sets& sets, cons
         };
         const bool alpha_tested = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
         int covered = rasterize(c, [&](int i, int j, const float* wt) {
-            if (alpha_tested && !mesh.covered_at(f, wt[1], wt[2])) return;
+            // a texel this face won passed its alpha test in fill_items (a face covering a texel
+            // centre is never splatted): only the others read the texture again
+            const bool won = std::uint32_t(grid.items[std::size_t(j) * grid.width + i] & 0xffffffffu) == f;
+            if (alpha_tested && !won && !mesh.covered_at(f, wt[1], wt[2])) return;
             test(i, j, wt[0] * c.z[0] + wt[1] * c.z[1] + wt[2] * c.z[2]);
         });
         if (covered == 0) {
