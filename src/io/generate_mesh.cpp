@@ -361,6 +361,65 @@ static void make_shrub(Mesh& mesh, const GenerateOptions& options)
     fit_into_sphere(mesh, options.radius);
 }
 
+// A cut-out's colour bleeds one texel outwards, so bilinear lookups at its edge do not darken
+// towards the (black) outside.
+static void bleed_cut_out_colour(Texture& texture)
+{
+    const int w = texture.width, h = texture.height;
+    std::vector<std::uint8_t> grown = texture.rgba;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::uint8_t* texel = &grown[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * 4];
+            if (texel[3] != 0) continue;
+            for (int d = 0; d < 4; ++d) {
+                int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const std::uint8_t* n = &texture.rgba[(std::size_t(ny) * std::size_t(w) + std::size_t(nx)) * 4];
+                if (n[3] == 0) continue;
+                std::copy(n, n + 3, texel);
+                break;
+            }
+        }
+    texture.rgba = std::move(grown);
+}
+
+// A square leaf card of side `size`, its bottom edge's middle at `base`, spanning `across` and `up`
+// (unit, perpendicular), UVs 0..1 with v = 0 at the bottom, white (the texture gives the colour).
+static void add_leaf_card(Mesh& mesh, glm::vec3 base, glm::vec3 across, glm::vec3 up, float size)
+{
+    const glm::vec3 normal = glm::cross(across, up);
+    auto first = std::uint32_t(mesh.positions.size());
+    const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (const glm::vec2& c : corners) {
+        add_vertex(mesh, base + size * ((c.x - 0.5f) * across + c.y * up), normal, glm::vec4(1.0f));
+        mesh.uvs.push_back(c);
+    }
+    mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+}
+
+// The end of a leaf-card model: the bark's vertices (the first `bark_vertices`) get UVs, the model is
+// fitted into the sphere, and it gets its two materials: 0 the bark (opaque), 1 the leaves (mask at
+// 0.5, double-sided, white, `leaf_texture`) for every face after the first `bark_triangles`.
+static void finish_leaf_model(Mesh& mesh, const GenerateOptions& options, Texture leaf_texture, std::size_t bark_vertices,
+                              std::size_t bark_triangles)
+{
+    mesh.uvs.insert(mesh.uvs.begin(), bark_vertices, glm::vec2(0.0f));
+    fit_into_sphere(mesh, options.radius);
+    mesh.textures.push_back(std::move(leaf_texture));
+    Material bark, leaves;
+    bark.name = "bark";
+    bark.base_color = glm::vec4(0.36f, 0.25f, 0.15f, 1.0f);
+    leaves.name = "leaves";
+    leaves.base_color = glm::vec4(1.0f);
+    leaves.base_color_texture = 0;
+    leaves.alpha_mode = AlphaMode::mask;
+    leaves.alpha_cutoff = 0.5f;
+    leaves.double_sided = true;
+    mesh.materials = {bark, leaves};
+    mesh.face_materials.assign(mesh.triangle_count(), 1u);
+    std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
+}
+
 // The tree's leaf texture: a spray of three pointed leaves fanning out from the bottom centre of a
 // square, with darker mid-ribs; alpha 255 inside a leaf, 0 outside (binary, so the cut-out does not
 // depend on the cutoff between 0 and 1). Row 0 at v = 0 (Texture), the spray's stem at v = 0.
@@ -391,23 +450,7 @@ static Texture make_leaf_texture()
                 break;
             }
         }
-    // the cut-out's colour bleeds one texel outwards, so bilinear lookups at the cut-out's edge do
-    // not darken towards the (black) outside
-    std::vector<std::uint8_t> grown = texture.rgba;
-    for (int y = 0; y < k_size; ++y)
-        for (int x = 0; x < k_size; ++x) {
-            std::uint8_t* texel = &grown[(std::size_t(y) * k_size + std::size_t(x)) * 4];
-            if (texel[3] != 0) continue;
-            for (int d = 0; d < 4; ++d) {
-                int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
-                if (nx < 0 || ny < 0 || nx >= k_size || ny >= k_size) continue;
-                const std::uint8_t* n = &texture.rgba[(std::size_t(ny) * k_size + std::size_t(nx)) * 4];
-                if (n[3] == 0) continue;
-                std::copy(n, n + 3, texel);
-                break;
-            }
-        }
-    texture.rgba = std::move(grown);
+    bleed_cut_out_colour(texture);
     return texture;
 }
 
@@ -424,7 +467,6 @@ static void make_tree(Mesh& mesh, const GenerateOptions& options)
     const std::size_t bark_vertices = mesh.positions.size(), bark_triangles = mesh.indices.size() / 3;
     std::size_t cards = std::max<std::size_t>(1, (target > bark_triangles ? target - bark_triangles : 2) / 2);
     const float card_size = 0.36f * std::pow(0.72f, float(max_depth - 2)) * std::max(0.6f, std::sqrt(600.0f / float(cards)));
-    const glm::vec4 white(1.0f);
     for (std::size_t k = 0; k < cards; ++k) {
         const Twig& twig = twigs[k % twigs.size()];
         glm::vec3 base = glm::mix(twig.base, twig.tip, random.range(0.3f, 1.0f)) + random.direction() * random.range(0.0f, 0.05f);
@@ -433,31 +475,9 @@ static void make_tree(Mesh& mesh, const GenerateOptions& options)
         glm::vec3 across = perpendicular_to(up);
         float roll = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
         across = std::cos(roll) * across + std::sin(roll) * glm::cross(up, across);
-        glm::vec3 normal = glm::cross(across, up);
-        float size = card_size * random.range(0.8f, 1.2f);
-        auto first = std::uint32_t(mesh.positions.size());
-        const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-        for (const glm::vec2& c : corners) {
-            add_vertex(mesh, base + size * ((c.x - 0.5f) * across + c.y * up), normal, white);
-            mesh.uvs.push_back(c);
-        }
-        mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
+        add_leaf_card(mesh, base, across, up, card_size * random.range(0.8f, 1.2f));
     }
-    mesh.uvs.insert(mesh.uvs.begin(), bark_vertices, glm::vec2(0.0f));
-    fit_into_sphere(mesh, options.radius);
-    mesh.textures.push_back(make_leaf_texture());
-    Material bark, leaves;
-    bark.name = "bark";
-    bark.base_color = glm::vec4(0.36f, 0.25f, 0.15f, 1.0f);
-    leaves.name = "leaves";
-    leaves.base_color = white;
-    leaves.base_color_texture = 0;
-    leaves.alpha_mode = AlphaMode::mask;
-    leaves.alpha_cutoff = 0.5f;
-    leaves.double_sided = true;
-    mesh.materials = {bark, leaves};
-    mesh.face_materials.assign(mesh.triangle_count(), 1u);
-    std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
+    finish_leaf_model(mesh, options, make_leaf_texture(), bark_vertices, bark_triangles);
 }
 
 // A leaf-cluster texture as game foliage uses it: a sprig of many small leaves on one card (a stem
@@ -510,22 +530,7 @@ static Texture make_leaf_cluster_texture()
             for (int k = 0; k < 3; ++k) texel[k] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
             texel[3] = 255;
         }
-    // the colour bleeds one texel outwards (make_leaf_texture)
-    std::vector<std::uint8_t> grown = texture.rgba;
-    for (int y = 0; y < k_size; ++y)
-        for (int x = 0; x < k_size; ++x) {
-            std::uint8_t* texel = &grown[(std::size_t(y) * k_size + std::size_t(x)) * 4];
-            if (texel[3] != 0) continue;
-            for (int d = 0; d < 4; ++d) {
-                int nx = x + (d == 0) - (d == 1), ny = y + (d == 2) - (d == 3);
-                if (nx < 0 || ny < 0 || nx >= k_size || ny >= k_size) continue;
-                const std::uint8_t* n = &texture.rgba[(std::size_t(ny) * k_size + std::size_t(nx)) * 4];
-                if (n[3] == 0) continue;
-                std::copy(n, n + 3, texel);
-                break;
-            }
-        }
-    texture.rgba = std::move(grown);
+    bleed_cut_out_colour(texture);
     return texture;
 }
 
@@ -544,7 +549,6 @@ static void make_bush(Mesh& mesh, const GenerateOptions& options)
     const std::size_t bark_vertices = mesh.positions.size(), bark_triangles = mesh.indices.size() / 3;
     std::size_t sprigs = std::max<std::size_t>(1, (target > bark_triangles ? target - bark_triangles : 4) / 4);
     const float card_size = 0.55f * std::pow(0.75f, float(max_depth - 1)) * std::max(0.5f, std::sqrt(120.0f / float(sprigs)));
-    const glm::vec4 white(1.0f);
     for (std::size_t k = 0; k < sprigs; ++k) {
         const Twig& twig = twigs[k % twigs.size()];
         glm::vec3 base = glm::mix(twig.base, twig.tip, random.range(0.2f, 1.0f)) + random.direction() * random.range(0.0f, 0.04f);
@@ -554,33 +558,10 @@ static void make_bush(Mesh& mesh, const GenerateOptions& options)
         float roll = random.range(0.0f, 2.0f * std::numbers::pi_v<float>);
         across = std::cos(roll) * across + std::sin(roll) * glm::cross(up, across);
         float size = card_size * random.range(0.8f, 1.2f);
-        for (int card = 0; card < 2; ++card) {
-            glm::vec3 side = card == 0 ? across : glm::cross(up, across);
-            glm::vec3 normal = glm::cross(side, up);
-            auto first = std::uint32_t(mesh.positions.size());
-            const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-            for (const glm::vec2& c : corners) {
-                add_vertex(mesh, base + size * ((c.x - 0.5f) * side + c.y * up), normal, white);
-                mesh.uvs.push_back(c);
-            }
-            mesh.indices.insert(mesh.indices.end(), {first, first + 1, first + 2, first, first + 2, first + 3});
-        }
+        add_leaf_card(mesh, base, across, up, size);
+        add_leaf_card(mesh, base, glm::cross(up, across), up, size);
     }
-    mesh.uvs.insert(mesh.uvs.begin(), bark_vertices, glm::vec2(0.0f));
-    fit_into_sphere(mesh, options.radius);
-    mesh.textures.push_back(make_leaf_cluster_texture());
-    Material bark, leaves;
-    bark.name = "bark";
-    bark.base_color = glm::vec4(0.36f, 0.25f, 0.15f, 1.0f);
-    leaves.name = "leaves";
-    leaves.base_color = white;
-    leaves.base_color_texture = 0;
-    leaves.alpha_mode = AlphaMode::mask;
-    leaves.alpha_cutoff = 0.5f;
-    leaves.double_sided = true;
-    mesh.materials = {bark, leaves};
-    mesh.face_materials.assign(mesh.triangle_count(), 1u);
-    std::fill(mesh.face_materials.begin(), mesh.face_materials.begin() + std::ptrdiff_t(bark_triangles), 0u);
+    finish_leaf_model(mesh, options, make_leaf_cluster_texture(), bark_vertices, bark_triangles);
 }
 
 static void make_fur_ball(Mesh& mesh, const GenerateOptions& options)
