@@ -4,6 +4,7 @@
 
 #include <standin/files.h>
 
+#include <tbb/parallel_for.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -283,6 +284,19 @@ void check_file(const Reader& in, const std::string& directory, const nlohmann::
         throw BadField{quoted(path) + ": has " + std::to_string(bytes->size()) + " bytes, the manifest says " + std::to_string(size)};
     if (in.string(entry, "fnv1a64", "files." + name + ".") != hex64(hash_bytes(*bytes)))
         throw BadField{quoted(path) + ": content does not match the manifest's hash (damaged file)"};
+}
+
+Status write_each(std::size_t count, const std::function<Status(std::size_t k, nlohmann::json& files)>& write,
+                  nlohmann::json& files)
+{
+    std::vector<nlohmann::json> listed(count, nlohmann::json::object());
+    std::vector<Status> written(count);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) { written[k] = write(k, listed[k]); });
+    for (std::size_t k = 0; k < count; ++k) {
+        STANDIN_RETURN_IF_ERROR(written[k]);
+        files.update(listed[k]);
+    }
+    return Status::ok();
 }
 
 Status write_image(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files)

@@ -40,6 +40,13 @@ Status record_file(const std::string& directory, const std::string& name, nlohma
 Status write_image(const ImageRGBA8& image, const std::string& directory, const std::string& name, nlohmann::json& files);
 Status write_image(const ImageRGBA16& image, const std::string& directory, const std::string& name, nlohmann::json& files);
 
+// Runs write(k, files_k) for k < count side by side, each recording the files it writes in a list
+// of its own, then merges the lists into `files` in order and returns the first failure in order.
+// A package's maps are independent files whose encoding (zlib under PNG, block compression) is
+// most of its writing time; the manifest's keys are sorted, so its bytes are a serial write's.
+Status write_each(std::size_t count, const std::function<Status(std::size_t k, nlohmann::json& files)>& write,
+                  nlohmann::json& files);
+
 // What every manifest starts with: "format", "version", "representation", "source" and the "bake"
 // block of the parameters the package was baked with (settings_json). The codec adds its own keys
 // and "files", then calls write_manifest.

@@ -160,50 +160,62 @@ Billboard read_billboard(const manifest_io::Reader& in, const nlohmann::json& fi
     return b;
 }
 
+// One billboard's maps written, its manifest entry made and its files listed.
+Status write_billboard(const EnhancedBillboardsPackage& package, std::size_t k, const std::string& directory,
+                       nlohmann::json& entry, nlohmann::json& files)
+{
+    const bool compressed = package.settings.compression == "bc";
+    const Billboard& b = package.billboards[k];
+    entry = {{"origin", manifest_io::vec3_json(b.origin)},
+             {"axis_u", manifest_io::vec3_json(b.axis_u)},
+             {"axis_v", manifest_io::vec3_json(b.axis_v)},
+             {"direction", manifest_io::vec3_json(b.direction)},
+             {"extent", {b.width * b.texel_size, b.height * b.texel_size, b.depth_range}},
+             {"texel_size", b.texel_size},
+             {"depth_range", b.depth_range},
+             {"width", b.width},
+             {"height", b.height},
+             {"captured_faces", b.captured_faces},
+             {"captured_area", b.captured_area}};
+    if (compressed) {
+        STANDIN_RETURN_IF_ERROR(write_compressed(b, k, package.settings.depth_bits, directory, files, entry));
+    } else {
+        std::string color = billboard_file(k, "color"), normal_depth = billboard_file(k, "normal_depth");
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, color, files));
+        if (package.settings.depth_bits == 8)
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(to_8_bits(b.normal_depth), directory, normal_depth, files));
+        else
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.normal_depth, directory, normal_depth, files));
+        entry["color"] = {{"file", color}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}};
+        entry["normal_depth"] = {{"file", normal_depth},
+                                 {"bits", package.settings.depth_bits},
+                                 {"channels", "normal.xyz * 0.5 + 0.5 (world), depth"}};
+    }
+    if (!b.orm.empty()) {
+        std::string orm = billboard_file(k, "orm"), emission = billboard_file(k, "emission");
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.orm, directory, orm, files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.emission, directory, emission, files));
+        entry["orm"] = {{"file", orm}, {"bits", 8}, {"channels", "occlusion, roughness, metallic (linear), coverage"}};
+        entry["emission"] = {{"file", emission}, {"bits", 8}, {"channels", "emission.rgb (sRGB), coverage"}};
+    }
+    return Status::ok();
+}
+
 } // namespace
 
 Status write(const Package& base, const std::string& directory)
 {
     const auto& package = reps::package_cast<EnhancedBillboardsPackage>(base);
     nlohmann::json files = nlohmann::json::object();
-    nlohmann::json boards = nlohmann::json::array();
     const bool compressed = package.settings.compression == "bc";
-    for (std::size_t k = 0; k < package.billboards.size(); ++k) {
-        const Billboard& b = package.billboards[k];
-        nlohmann::json entry = {{"origin", manifest_io::vec3_json(b.origin)},
-                          {"axis_u", manifest_io::vec3_json(b.axis_u)},
-                          {"axis_v", manifest_io::vec3_json(b.axis_v)},
-                          {"direction", manifest_io::vec3_json(b.direction)},
-                          {"extent", {b.width * b.texel_size, b.height * b.texel_size, b.depth_range}},
-                          {"texel_size", b.texel_size},
-                          {"depth_range", b.depth_range},
-                          {"width", b.width},
-                          {"height", b.height},
-                          {"captured_faces", b.captured_faces},
-                          {"captured_area", b.captured_area}};
-        if (compressed) {
-            STANDIN_RETURN_IF_ERROR(write_compressed(b, k, package.settings.depth_bits, directory, files, entry));
-        } else {
-            std::string color = billboard_file(k, "color"), normal_depth = billboard_file(k, "normal_depth");
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.color, directory, color, files));
-            if (package.settings.depth_bits == 8)
-                STANDIN_RETURN_IF_ERROR(manifest_io::write_image(to_8_bits(b.normal_depth), directory, normal_depth, files));
-            else
-                STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.normal_depth, directory, normal_depth, files));
-            entry["color"] = {{"file", color}, {"bits", 8}, {"channels", "albedo.rgb (sRGB), coverage"}};
-            entry["normal_depth"] = {{"file", normal_depth},
-                                     {"bits", package.settings.depth_bits},
-                                     {"channels", "normal.xyz * 0.5 + 0.5 (world), depth"}};
-        }
-        if (!b.orm.empty()) {
-            std::string orm = billboard_file(k, "orm"), emission = billboard_file(k, "emission");
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.orm, directory, orm, files));
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(b.emission, directory, emission, files));
-            entry["orm"] = {{"file", orm}, {"bits", 8}, {"channels", "occlusion, roughness, metallic (linear), coverage"}};
-            entry["emission"] = {{"file", emission}, {"bits", 8}, {"channels", "emission.rgb (sRGB), coverage"}};
-        }
-        boards.push_back(std::move(entry));
-    }
+    // the billboards side by side (a 46-billboard foliage bake wrote its maps in 5 of its 31 s one
+    // at a time)
+    std::vector<nlohmann::json> entries(package.billboards.size());
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_each(
+        entries.size(), [&](std::size_t k, nlohmann::json& listed) { return write_billboard(package, k, directory, entries[k], listed); },
+        files));
+    nlohmann::json boards = nlohmann::json::array();
+    for (nlohmann::json& entry : entries) boards.push_back(std::move(entry));
     nlohmann::json coarse = nullptr;
     if (package.coarse_mesh.triangle_count() > 0) {
         // compressed packages: the compact coarse mesh (reps/common/coarse_mesh.h); PNG packages

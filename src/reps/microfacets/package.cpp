@@ -97,24 +97,28 @@ Status write(const Package& base, const std::string& directory)
     STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / k_voxels_file).string(), voxels));
     STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, k_voxels_file, files));
 
-    nlohmann::json pages = nlohmann::json::array();
-    for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
+    // the pages side by side (manifest_io::write_each)
+    std::vector<nlohmann::json> page_entries(package.color_pages.size());
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_each(page_entries.size(), [&](std::size_t k, nlohmann::json& listed) -> Status {
         std::string color = page_file(k, "color"), normal_depth = page_file(k, "normal_depth");
-        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, color, files));
+        STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, color, listed));
         if (s.depth_bits == 16)
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.normal_depth_pages[k], directory, normal_depth, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.normal_depth_pages[k], directory, normal_depth, listed));
         else
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(narrowed(package.normal_depth_pages[k]), directory, normal_depth, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(narrowed(package.normal_depth_pages[k]), directory, normal_depth, listed));
         nlohmann::json page = {{"color", color}, {"normal_depth", normal_depth}};
         if (package.has_pbr()) { // only then, so that packages of other models stay as they were
             std::string orm = page_file(k, "orm"), emission = page_file(k, "emission");
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, orm, files));
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.emission_pages[k], directory, emission, files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, orm, listed));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.emission_pages[k], directory, emission, listed));
             page["orm"] = orm;
             page["emission"] = emission;
         }
-        pages.push_back(page);
-    }
+        page_entries[k] = std::move(page);
+        return Status::ok();
+    }, files));
+    nlohmann::json pages = nlohmann::json::array();
+    for (nlohmann::json& page : page_entries) pages.push_back(std::move(page));
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views) views.push_back(manifest_io::view_json(v));
     nlohmann::json manifest = manifest_io::manifest_header(package, package.parameters);

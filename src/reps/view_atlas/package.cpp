@@ -185,36 +185,40 @@ Status write(const Package& base, const std::string& directory)
                         : compressed && package.has_surface() ? k_package_format_version_exact_depth
                         : compression == "bc-color"           ? k_package_format_version_block_pages
                                                               : 1;
-    for (std::size_t k = 0; k < package.color_pages.size(); ++k) {
+    // the pages side by side (manifest_io::write_each)
+    std::vector<nlohmann::json> page_entries(package.color_pages.size());
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_each(page_entries.size(), [&](std::size_t k, nlohmann::json& listed) -> Status {
         nlohmann::json page = {{"color", page_file(k, "color")}};
         if (compression == "bc-color") {
             BlockImage color{BlockFormat::bc3_srgb, package.settings.page_size, package.settings.page_size, {}};
             color.levels = k < package.color_bc3.size() && !package.color_bc3[k].empty() ? package.color_bc3[k]
                                                                                         : color_page_blocks(package.color_pages[k]);
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(color, directory, page_blocks_file(k, "color"), files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_blocks(color, directory, page_blocks_file(k, "color"), listed));
             page["color"] = page_blocks_file(k, "color");
         } else {
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, page_file(k, "color"), files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.color_pages[k], directory, page_file(k, "color"), listed));
         }
         if (compressed) {
-            if (package.has_surface()) STANDIN_RETURN_IF_ERROR(write_surface_blocks(package, k, directory, files, page));
+            if (package.has_surface()) STANDIN_RETURN_IF_ERROR(write_surface_blocks(package, k, directory, listed, page));
         } else if (!package.has_surface()) {
             page["normal_depth"] = nullptr;
         } else {
             STANDIN_RETURN_IF_ERROR(
-                manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), files));
+                manifest_io::write_image(package.normal_depth_pages[k], directory, page_file(k, "normal_depth"), listed));
             page["normal_depth"] = page_file(k, "normal_depth");
-            if (package.has_fine_depth()) STANDIN_RETURN_IF_ERROR(write_fine_depth(package, k, directory, files, page));
+            if (package.has_fine_depth()) STANDIN_RETURN_IF_ERROR(write_fine_depth(package, k, directory, listed, page));
         }
         if (package.has_pbr()) { // only then, so that packages of other models stay as they were
-            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, page_file(k, "orm"), files));
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(package.orm_pages[k], directory, page_file(k, "orm"), listed));
             STANDIN_RETURN_IF_ERROR(
-                manifest_io::write_image(package.emission_pages[k], directory, page_file(k, "emission"), files));
+                manifest_io::write_image(package.emission_pages[k], directory, page_file(k, "emission"), listed));
             page["orm"] = page_file(k, "orm");
             page["emission"] = page_file(k, "emission");
         }
-        pages.push_back(page);
-    }
+        page_entries[k] = std::move(page);
+        return Status::ok();
+    }, files));
+    for (nlohmann::json& page : page_entries) pages.push_back(std::move(page));
     nlohmann::json views = nlohmann::json::array();
     for (const View& v : package.views)
         views.push_back(manifest_io::view_json(v));
