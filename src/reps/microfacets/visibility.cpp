@@ -27,6 +27,8 @@ constexpr float k_max_wall_texels = 13.0f;
 // Entries of the per-view cache of marked voxels (a power of two: indexed by a morton code's low
 // bits, which neighbouring voxels differ in).
 constexpr std::size_t k_mark_cache = 4096;
+// The finest level up to which a view keeps a bit per grid cell it has visited (512^3: 16 MiB).
+constexpr int k_max_visited_level = 9;
 static_assert(3 * k_max_grid_level < 32, "the cache's empty slot is a code no voxel has");
 
 // index of `code` in the sorted `codes`, or -1
@@ -73,6 +75,11 @@ SeenViews seen_views(const MicrofacetsPackage& package)
             std::uint32_t code = ~0u; // no morton code of k_max_grid_level (3 bits a level) is all ones
         };
         std::vector<Marked> marked(k_mark_cache);
+        // Up to k_max_visited_level, a bit per cell of the grid instead: a texel's box of 8-27
+        // voxels is mostly its neighbours' again, and the cache left each repeat its morton code and
+        // most their search (the bunny's package: 29 million boxes, 780 million voxel visits; the
+        // renderer took 4-6 s to start)
+        std::vector<std::uint64_t> visited(s.level <= k_max_visited_level ? (std::size_t(1) << (3 * s.level)) / 64 + 1 : 0, 0);
         for (int y = 0; y < view.height; ++y)
             for (int x = 0; x < view.width; ++x) {
                 if (!covered(x, y)) continue;
@@ -91,6 +98,13 @@ SeenViews seen_views(const MicrofacetsPackage& package)
                 for (int cz = a.z; cz <= b.z; ++cz)
                     for (int cy = a.y; cy <= b.y; ++cy)
                         for (int cx = a.x; cx <= b.x; ++cx) {
+                            if (!visited.empty()) {
+                                const std::size_t cell = (std::size_t(cz) * std::size_t(cells) + std::size_t(cy)) * std::size_t(cells) + std::size_t(cx);
+                                std::uint64_t& bits = visited[cell / 64];
+                                const std::uint64_t mask = std::uint64_t(1) << (cell % 64);
+                                if (bits & mask) continue;
+                                bits |= mask;
+                            }
                             const std::uint32_t code = morton_encode(glm::uvec3(cx, cy, cz));
                             Marked& slot = marked[code & (k_mark_cache - 1)];
                             if (slot.code == code) continue;
