@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <new>
+#include <optional>
 #include <utility>
 #include <filesystem>
 
@@ -64,6 +65,20 @@ Result<std::unique_ptr<Package>> read_fields(const std::function<std::unique_ptr
     } catch (const BadField& bad) {
         return error(StatusCode::bad_data, bad.message);
     }
+}
+
+void read_each(std::size_t count, const std::function<void(std::size_t k)>& read)
+{
+    std::vector<std::optional<BadField>> refused(count);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t k) {
+        try {
+            read(k);
+        } catch (const BadField& bad) {
+            refused[k] = bad;
+        }
+    });
+    for (const std::optional<BadField>& bad : refused)
+        if (bad) throw *bad;
 }
 
 double Reader::number(const nlohmann::json& object, const std::string& key, const std::string& where, double lo, double hi) const

@@ -87,6 +87,11 @@ private:
 // Runs a codec's reader body, turning the first refused field (BadField) into a bad_data status.
 Result<std::unique_ptr<Package>> read_fields(const std::function<std::unique_ptr<Package>()>& body);
 
+// Runs read(k) for k < count side by side (a package's pages or billboards: PNG decoding is most of
+// reading one) and rethrows the refusal (BadField) of the lowest k, so that a damaged package is
+// refused with the same line however the threads ran.
+void read_each(std::size_t count, const std::function<void(std::size_t k)>& read);
+
 SourceInfo read_source(const Reader& in, const nlohmann::json& manifest);
 
 // The "bake" block: every declared bake parameter as used (names with '_' for '-': "texel_size"),

@@ -155,21 +155,26 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         package->max_view_angle = glm::radians(float(in.number(manifest, "max_view_angle_degrees", "", 0.0, 180.0)));
         const nlohmann::json& pages = in.member(manifest, "pages", "");
         if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
-        for (std::size_t k = 0; k < pages.size(); ++k) {
+        auto has_pbr = [&](std::size_t k) { return pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission")); };
+        const bool pbr = !pages.empty() && has_pbr(0);
+        for (std::size_t k = 1; k < pages.size(); ++k)
+            if (has_pbr(k) != pbr) in.fail("pages[" + std::to_string(k) + "].orm", "is on some pages only: every page or none");
+        package->color_pages.resize(pages.size());
+        package->normal_depth_pages.resize(pages.size());
+        package->orm_pages.resize(pbr ? pages.size() : 0);
+        package->emission_pages.resize(pbr ? pages.size() : 0);
+        // the pages side by side (manifest_io::read_each)
+        manifest_io::read_each(pages.size(), [&](std::size_t k) {
             std::string where = "pages[" + std::to_string(k) + "].";
-            package->color_pages.push_back(
-                manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
-            package->normal_depth_pages.push_back(manifest_io::read_image16(
-                in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size, s.depth_bits));
-            const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));
-            if (k > 0 && pbr != package->has_pbr()) in.fail(where + "orm", "is on some pages only: every page or none");
+            package->color_pages[k] = manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size);
+            package->normal_depth_pages[k] = manifest_io::read_image16(in, files, in.string(pages[k], "normal_depth", where),
+                                                                       s.page_size, s.page_size, s.depth_bits);
             if (pbr) {
-                package->orm_pages.push_back(
-                    manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size));
-                package->emission_pages.push_back(
-                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size));
+                package->orm_pages[k] = manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size);
+                package->emission_pages[k] =
+                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size);
             }
-        }
+        });
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty() || views.size() > 65535) in.fail("views", "is not an array of 1..65535 views");
         for (std::size_t k = 0; k < views.size(); ++k)
