@@ -72,14 +72,14 @@ Status write_fine_depth(const ViewAtlasPackage& package, std::size_t k, const st
 // and puts them, rounded to 8 bits (depth8), into the A of its normal-depth page, already read. A
 // code off the depth_bits grid (low bits set) is refused: the file is not what the manifest says.
 void read_fine_depth(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& name, int size,
-                     ViewAtlasPackage& package)
+                     ViewAtlasPackage& package, std::size_t k)
 {
     BlockImage depth = manifest_io::read_exact_channel(in, files, name, BlockFormat::r16, size, size);
     std::vector<std::uint16_t> samples(std::size_t(size) * std::size_t(size));
     const int bits = package.settings.depth_bits;
     const unsigned low_bits = (1u << (16 - bits)) - 1u;
-    const ImageRGBA8& color = package.color_pages.back();
-    ImageRGBA8& nd = package.normal_depth_pages.back();
+    const ImageRGBA8& color = package.color_pages[k];
+    ImageRGBA8& nd = package.normal_depth_pages[k];
     for (std::size_t t = 0; t < samples.size(); ++t) {
         if (color.pixels[t * 4 + 3] < min_surface_alpha(package)) continue;
         samples[t] = std::uint16_t(depth.levels[0][2 * t] | (depth.levels[0][2 * t + 1] << 8));
@@ -88,7 +88,7 @@ void read_fine_depth(const manifest_io::Reader& in, const nlohmann::json& files,
                               " as " + std::to_string(bits) + "-bit depth (bake.depth_bits) is");
         nd.pixels[t * 4 + 3] = depth8(samples[t], bits);
     }
-    package.depth_pages.push_back(std::move(samples));
+    package.depth_pages[k] = std::move(samples);
 }
 
 // A surface page's normals (BC5, octahedral) and depth (8 bits, or more: write_fine_depth; exact,
@@ -119,29 +119,29 @@ Status write_surface_blocks(const ViewAtlasPackage& package, std::size_t k, cons
     return Status::ok();
 }
 
-// Decodes a page's compressed colour (bc-color) into `color`, zero where not covered.
+// Decodes page k's compressed colour (bc-color) into its colour page, zero where not covered.
 void read_color_blocks(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& name, int size,
-                       ViewAtlasPackage& package)
+                       ViewAtlasPackage& package, std::size_t k)
 {
     BlockImage blocks = manifest_io::read_blocks(in, files, name, BlockFormat::bc3_srgb, size, size, k_mip_levels);
     ImageRGBA8 color(size, size);
     color.pixels = reps::decompress_blocks(blocks.levels[0].data(), size, size, squish::kDxt5);
     for (std::size_t t = 0; t < color.pixels.size(); t += 4)
         if (color.pixels[t + 3] < 128) std::fill_n(&color.pixels[t], 4, std::uint8_t(0));
-    package.color_pages.push_back(std::move(color));
-    package.color_bc3.push_back(std::move(blocks.levels));
+    package.color_pages[k] = std::move(color);
+    package.color_bc3[k] = std::move(blocks.levels);
 }
 
-// Decodes a page's normals and depth into the normal-depth page PNG packages hold.
+// Decodes page k's normals and depth into the normal-depth page PNG packages hold.
 void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& files, const std::string& normal_name,
-                         const std::string& depth_name, int size, ViewAtlasPackage& package)
+                         const std::string& depth_name, int size, ViewAtlasPackage& package, std::size_t k)
 {
     BlockImage normal = manifest_io::read_blocks(in, files, normal_name, BlockFormat::bc5, size, size, 1);
     const bool depth16 = package.settings.depth_bits > 8;
     BlockImage depth = depth16 ? BlockImage{} // read_fine_depth, below
                                : manifest_io::read_exact_channel(in, files, depth_name, BlockFormat::r8, size, size); // .ktx2 before version 5
     const std::vector<std::uint8_t> octahedral = reps::decompress_blocks(normal.levels[0].data(), size, size, squish::kBc5);
-    const ImageRGBA8& color = package.color_pages.back();
+    const ImageRGBA8& color = package.color_pages[k];
     ImageRGBA8 nd(size, size);
     for (std::size_t t = 0; t < std::size_t(size) * std::size_t(size); ++t) {
         if (color.pixels[t * 4 + 3] < 128) continue;
@@ -150,9 +150,9 @@ void read_surface_blocks(const manifest_io::Reader& in, const nlohmann::json& fi
             nd.pixels[t * 4 + std::size_t(c)] = std::uint8_t(std::lround(std::clamp(n[c] * 0.5f + 0.5f, 0.0f, 1.0f) * 255.0f));
         if (!depth16) nd.pixels[t * 4 + 3] = depth.levels[0][t];
     }
-    package.normal_depth_pages.push_back(std::move(nd));
-    package.normal_bc5.push_back(std::move(normal.levels[0]));
-    if (depth16) read_fine_depth(in, files, depth_name, size, package);
+    package.normal_depth_pages[k] = std::move(nd);
+    package.normal_bc5[k] = std::move(normal.levels[0]);
+    if (depth16) read_fine_depth(in, files, depth_name, size, package, k);
 }
 
 } // namespace
@@ -280,31 +280,41 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         const nlohmann::json& pages = in.member(manifest, "pages", "");
         if (!pages.is_array() || pages.size() > 4096) in.fail("pages", "is not an array of at most 4096 pages");
         if (pages.empty()) in.fail("pages", "is empty: the package draws nothing");
-        for (std::size_t k = 0; k < pages.size(); ++k) {
+        auto has_pbr = [&](std::size_t k) { return pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission")); };
+        const bool pbr = has_pbr(0);
+        for (std::size_t k = 1; k < pages.size(); ++k)
+            if (has_pbr(k) != pbr) in.fail("pages[" + std::to_string(k) + "].orm", "is on some pages only: every page or none");
+        if (pbr && !package->has_surface()) in.fail("pages[0].orm", "needs surface maps (bake.maps \"surface\")");
+        const std::size_t count = pages.size();
+        const bool surface_blocks = package->has_surface() && s.compression != "none";
+        package->color_pages.resize(count);
+        package->color_bc3.resize(s.compression == "bc-color" ? count : 0);
+        package->normal_depth_pages.resize(package->has_surface() ? count : 0);
+        package->normal_bc5.resize(surface_blocks ? count : 0);
+        package->depth_pages.resize(package->has_fine_depth() ? count : 0);
+        package->orm_pages.resize(pbr ? count : 0);
+        package->emission_pages.resize(pbr ? count : 0);
+        // the pages side by side (manifest_io::read_each)
+        manifest_io::read_each(count, [&](std::size_t k) {
             std::string where = "pages[" + std::to_string(k) + "].";
             if (s.compression == "bc-color")
-                read_color_blocks(in, files, in.string(pages[k], "color", where), s.page_size, *package);
+                read_color_blocks(in, files, in.string(pages[k], "color", where), s.page_size, *package, k);
             else
-                package->color_pages.push_back(
-                    manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size));
-            if (package->has_surface() && s.compression != "none")
+                package->color_pages[k] = manifest_io::read_image8(in, files, in.string(pages[k], "color", where), s.page_size, s.page_size);
+            if (surface_blocks)
                 read_surface_blocks(in, files, in.string(pages[k], "normal", where), in.string(pages[k], "depth", where),
-                                    s.page_size, *package);
+                                    s.page_size, *package, k);
             else if (package->has_surface()) {
-                package->normal_depth_pages.push_back(manifest_io::read_image8(
-                    in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size));
-                if (s.depth_bits > 8) read_fine_depth(in, files, in.string(pages[k], "depth", where), s.page_size, *package);
+                package->normal_depth_pages[k] =
+                    manifest_io::read_image8(in, files, in.string(pages[k], "normal_depth", where), s.page_size, s.page_size);
+                if (s.depth_bits > 8) read_fine_depth(in, files, in.string(pages[k], "depth", where), s.page_size, *package, k);
             }
-            const bool pbr = pages[k].is_object() && (pages[k].contains("orm") || pages[k].contains("emission"));
-            if (k > 0 && pbr != package->has_pbr()) in.fail(where + "orm", "is on some pages only: every page or none");
-            if (pbr && !package->has_surface()) in.fail(where + "orm", "needs surface maps (bake.maps \"surface\")");
             if (pbr) {
-                package->orm_pages.push_back(
-                    manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size));
-                package->emission_pages.push_back(
-                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size));
+                package->orm_pages[k] = manifest_io::read_image8(in, files, in.string(pages[k], "orm", where), s.page_size, s.page_size);
+                package->emission_pages[k] =
+                    manifest_io::read_image8(in, files, in.string(pages[k], "emission", where), s.page_size, s.page_size);
             }
-        }
+        });
         const nlohmann::json& views = in.member(manifest, "views", "");
         if (!views.is_array() || views.empty()) in.fail("views", "is not a non-empty array");
         for (std::size_t k = 0; k < views.size(); ++k)
