@@ -74,12 +74,13 @@ SeenViews seen_views(const MicrofacetsPackage& package)
         struct Marked {
             std::uint32_t code = ~0u; // no morton code of k_max_grid_level (3 bits a level) is all ones
         };
-        std::vector<Marked> marked(k_mark_cache);
-        // Up to k_max_visited_level, a bit per cell of the grid instead: a texel's box of 8-27
-        // voxels is mostly its neighbours' again, and the cache left each repeat its morton code and
-        // most their search (the bunny's package: 29 million boxes, 780 million voxel visits; the
-        // renderer took 4-6 s to start)
-        std::vector<std::uint64_t> visited(s.level <= k_max_visited_level ? (std::size_t(1) << (3 * s.level)) / 64 + 1 : 0, 0);
+        // Up to k_max_visited_level, a bit per cell of the grid instead of the cache: a texel's box
+        // of 8-27 voxels is mostly its neighbours' again, and the cache left each repeat its morton
+        // code and most their search (the bunny's package: 29 million boxes, 780 million voxel
+        // visits; the renderer took 4-6 s to start)
+        const bool bitmap = s.level <= k_max_visited_level;
+        std::vector<std::uint64_t> visited(bitmap ? (std::size_t(1) << (3 * s.level)) / 64 + 1 : 0, 0);
+        std::vector<Marked> marked(bitmap ? 0 : k_mark_cache);
         for (int y = 0; y < view.height; ++y)
             for (int x = 0; x < view.width; ++x) {
                 if (!covered(x, y)) continue;
@@ -98,7 +99,7 @@ SeenViews seen_views(const MicrofacetsPackage& package)
                 for (int cz = a.z; cz <= b.z; ++cz)
                     for (int cy = a.y; cy <= b.y; ++cy)
                         for (int cx = a.x; cx <= b.x; ++cx) {
-                            if (!visited.empty()) {
+                            if (bitmap) {
                                 const std::size_t cell = (std::size_t(cz) * std::size_t(cells) + std::size_t(cy)) * std::size_t(cells) + std::size_t(cx);
                                 std::uint64_t& bits = visited[cell / 64];
                                 const std::uint64_t mask = std::uint64_t(1) << (cell % 64);
@@ -106,9 +107,11 @@ SeenViews seen_views(const MicrofacetsPackage& package)
                                 bits |= mask;
                             }
                             const std::uint32_t code = morton_encode(glm::uvec3(cx, cy, cz));
-                            Marked& slot = marked[code & (k_mark_cache - 1)];
-                            if (slot.code == code) continue;
-                            slot.code = code;
+                            if (!bitmap) {
+                                Marked& slot = marked[code & (k_mark_cache - 1)];
+                                if (slot.code == code) continue;
+                                slot.code = code;
+                            }
                             std::int64_t index = find(fine, code);
                             if (index < 0) continue;
                             std::atomic_ref<std::uint32_t> word(out.words[(fine_first + std::size_t(index)) * words + k / 32]);
