@@ -132,8 +132,10 @@ constexpr const char* k_package_format = "standin-package";
 // KTX2); 6: and, for the view atlas, 16-bit depth (a version-5 reader would read its grey PNGs as
 // 8-bit and refuse them by file, not by version). Packages are written with the lowest version that
 // describes them: without compressed maps 1; view atlases whose only compressed pages are colour 4;
-// compressed packages with exact depth 5.
-constexpr int k_package_format_version = 6;
+// compressed packages with exact depth 5; 7: and, for the displaced mesh, its arrays as gzip files
+// (a version-6 reader would read them as raw arrays and refuse them by size, not by version).
+constexpr int k_package_format_version = 7;
+constexpr int k_package_format_version_gzip_arrays = 7;
 constexpr int k_package_format_version_exact_depth = 5;
 constexpr int k_package_format_version_block_pages = 4;
 

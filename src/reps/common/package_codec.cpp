@@ -645,4 +645,71 @@ BlockImage read_exact_channel(const Reader& in, const nlohmann::json& files, con
     return image;
 }
 
+std::string gzip_bytes(std::string_view bytes)
+{
+    z_stream z{};
+    // windowBits 15 + 16: a gzip wrapper, whose header zlib writes with mtime 0, no name, OS unix
+    if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) throw std::bad_alloc();
+    std::string out(deflateBound(&z, uLong(bytes.size())), '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+    z.next_out = reinterpret_cast<Bytef*>(out.data());
+    std::size_t in_left = bytes.size(), out_left = out.size();
+    int result = Z_OK;
+    while (result == Z_OK) { // avail_in and avail_out are 32-bit: feed arrays over 4 GiB in chunks
+        const uInt in_chunk = uInt(std::min<std::size_t>(in_left, 1u << 30)), out_chunk = uInt(std::min<std::size_t>(out_left, 1u << 30));
+        z.avail_in = in_chunk;
+        z.avail_out = out_chunk;
+        result = deflate(&z, in_chunk == in_left ? Z_FINISH : Z_NO_FLUSH);
+        in_left -= in_chunk - z.avail_in;
+        out_left -= out_chunk - z.avail_out;
+    }
+    deflateEnd(&z);
+    if (result != Z_STREAM_END) throw std::bad_alloc(); // deflateBound's buffer always suffices
+    out.resize(out.size() - out_left);
+    return out;
+}
+
+Status write_gzip(std::string_view bytes, const std::string& directory, const std::string& name, nlohmann::json& files)
+{
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / name).string(), gzip_bytes(bytes)));
+    return record_file(directory, name, files);
+}
+
+std::string read_gzip(const Reader& in, const nlohmann::json& files, const std::string& name, std::size_t expected)
+{
+    check_file(in, in.directory(), files, name);
+    const std::string path = (fs::path(in.directory()) / name).string();
+    Result<std::string> packed = read_file(path);
+    if (!packed) throw BadField{packed.status().message()};
+    auto bad = [&](const std::string& problem) { return BadField{quoted(path) + ": " + problem}; };
+    z_stream z{};
+    if (inflateInit2(&z, 15 + 16) != Z_OK) throw std::bad_alloc(); // gzip only
+    std::string out;
+    out.reserve(std::min<std::size_t>(expected, std::size_t(64) << 20));
+    z.next_in = reinterpret_cast<Bytef*>(packed->data());
+    std::size_t in_left = packed->size();
+    char chunk[1 << 16];
+    int result = Z_OK;
+    while (result == Z_OK) {
+        const uInt in_chunk = uInt(std::min<std::size_t>(in_left, 1u << 30));
+        z.avail_in = in_chunk;
+        z.next_out = reinterpret_cast<Bytef*>(chunk);
+        z.avail_out = sizeof chunk;
+        result = inflate(&z, Z_NO_FLUSH);
+        in_left -= in_chunk - z.avail_in;
+        const std::size_t produced = sizeof chunk - z.avail_out;
+        if (out.size() + produced > expected) {
+            inflateEnd(&z);
+            throw bad("inflates to more than the " + std::to_string(expected) + " bytes the manifest implies");
+        }
+        out.append(chunk, produced); // Z_BUF_ERROR: the input ended inside the stream (output always has room)
+    }
+    inflateEnd(&z);
+    if (result != Z_STREAM_END) throw bad("is not a complete gzip stream (damaged or truncated)");
+    if (in_left != 0) throw bad("has bytes after its gzip stream");
+    if (out.size() != expected)
+        throw bad("inflates to " + std::to_string(out.size()) + " bytes, the manifest implies " + std::to_string(expected));
+    return out;
+}
+
 } // namespace standin::manifest_io

@@ -179,4 +179,14 @@ Status write_exact_channel(const BlockImage& image, const std::string& directory
 BlockImage read_exact_channel(const Reader& in, const nlohmann::json& files, const std::string& name, BlockFormat format,
                               int width, int height);
 
+// Arrays as gzip files (docs/FORMAT.md, "Compressed arrays"): one RFC 1952 member, deflate level 6,
+// no file name and mtime 0, so the bytes depend on the input alone and any gzip tool unpacks them.
+// write_gzip writes NAME (a .gz) into `directory` and records it in `files`; read_gzip reads a
+// listed one (check_file) that must inflate to exactly `expected` bytes, refusing (BadField naming
+// the file) anything else: not gzip, damaged, shorter, longer or followed by more bytes. What it
+// holds grows with what inflates, so a hostile manifest's size cannot make it allocate.
+std::string gzip_bytes(std::string_view bytes);
+Status write_gzip(std::string_view bytes, const std::string& directory, const std::string& name, nlohmann::json& files);
+std::string read_gzip(const Reader& in, const nlohmann::json& files, const std::string& name, std::size_t expected);
+
 } // namespace standin::manifest_io

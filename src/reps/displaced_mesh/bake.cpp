@@ -71,7 +71,8 @@ double texel_length(const Mesh& mesh)
 // The finest shading detail (1, 2 or 4) auto may choose: finer while the shading step is over
 // k_blurred_pixels reference pixels (the thesis protocol's at 800 x 600, where the model's
 // bounding sphere fills the view: a pixel is about diagonal / 564), or the cut-out faces' step
-// over k_outline_pixels, and over two of the model's texels; within k_max_shading_samples. 1 for
+// over k_outline_pixels, and over two of the model's texels; within k_max_shading_samples (models
+// with cut-out faces: k_max_outline_shading_samples). 1 for
 // untextured models.
 int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
                          int degree)
@@ -101,7 +102,8 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
     };
     int detail = 1;
     while (detail < 4 && shows(detail)) detail *= 2;
-    while (detail > 1 && faces * triangle_samples((degree - 1) * detail) > k_max_shading_samples) detail /= 2;
+    const std::size_t budget = cutout_faces > 0 ? k_max_outline_shading_samples : k_max_shading_samples;
+    while (detail > 1 && faces * triangle_samples((degree - 1) * detail) > budget) detail /= 2;
     return detail;
 }
 

@@ -1,5 +1,5 @@
 // Displaced-mesh packages on disk (docs/FORMAT.md, "Displaced control mesh"): manifest.json, the
-// control mesh as PLY, and little-endian arrays: elevations of every level (uint16 codes over the
+// control mesh as PLY, and little-endian arrays (as gzip members by default, "Compressed arrays"): elevations of every level (uint16 codes over the
 // package's range, or float32), ∆_f per face (float32), and on the shading pattern (the finest
 // level, or 2 or 4 times finer: bake.shading_detail) octahedral shading normals and RGBA8 albedo (and coverage, uint8, for models with alpha-masked materials). Writing is deterministic; reading checks every field, size and hash and
 // that the control mesh is the one the manifest describes, and refuses with a status naming file
@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 
 namespace standin::displaced_mesh {
 
@@ -33,27 +34,43 @@ const char* const k_orm_file = "orm.bin";           // PBR packages only
 const char* const k_emission_file = "emission.bin"; // PBR packages only
 const char* const k_coverage_file = "coverage.bin"; // alpha-masked models only (issue #14)
 
-template <typename T>
-Status write_array(const std::string& directory, const std::string& name, const std::vector<T>& values, nlohmann::json& files)
+// An array's bytes as written: NAME, or NAME.gz (package.settings.compressed).
+struct ArrayFile {
+    std::string name;
+    std::string_view bytes;
+};
+
+std::string stored_name(const DisplacedMeshPackage& p, const char* name)
 {
-    std::string_view bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-    STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / name).string(), bytes));
-    return manifest_io::record_file(directory, name, files);
+    return p.settings.compressed ? std::string(name) + ".gz" : std::string(name);
 }
 
+template <typename T>
+ArrayFile array_file(const DisplacedMeshPackage& p, const char* name, const std::vector<T>& values)
+{
+    return {stored_name(p, name), std::string_view(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T))};
+}
+
+// A listed array of `count` values, raw or (a name ending .gz) gzip-compressed.
 template <typename T>
 std::vector<T> read_array(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
                           const std::string& name, std::size_t count)
 {
-    manifest_io::check_file(in, directory, files, name);
     std::string path = (fs::path(directory) / name).string();
-    Result<std::string> bytes = read_file(path);
-    if (!bytes) throw manifest_io::BadField{bytes.status().message()};
-    if (bytes->size() != count * sizeof(T))
-        throw manifest_io::BadField{path + ": holds " + std::to_string(bytes->size()) + " bytes, the manifest implies " +
-                                    std::to_string(count * sizeof(T))};
+    std::string bytes;
+    if (name.ends_with(".gz")) {
+        bytes = manifest_io::read_gzip(in, files, name, count * sizeof(T));
+    } else {
+        manifest_io::check_file(in, directory, files, name);
+        Result<std::string> raw = read_file(path);
+        if (!raw) throw manifest_io::BadField{raw.status().message()};
+        if (raw->size() != count * sizeof(T))
+            throw manifest_io::BadField{path + ": holds " + std::to_string(raw->size()) + " bytes, the manifest implies " +
+                                        std::to_string(count * sizeof(T))};
+        bytes = std::move(*raw);
+    }
     std::vector<T> values(count);
-    std::memcpy(values.data(), bytes->data(), bytes->size());
+    std::memcpy(values.data(), bytes.data(), bytes.size());
     return values;
 }
 
@@ -115,22 +132,30 @@ Status write(const Package& base, const std::string& directory)
     nlohmann::json files = nlohmann::json::object();
     STANDIN_RETURN_IF_ERROR(write_ply(control_as_mesh(p), (fs::path(directory) / k_control_file).string()));
     STANDIN_RETURN_IF_ERROR(manifest_io::record_file(directory, k_control_file, files));
-    if (p.settings.elevation_bits == 16)
-        STANDIN_RETURN_IF_ERROR(write_array(directory, k_elevation_file, p.elevation_codes, files));
-    else
-        STANDIN_RETURN_IF_ERROR(write_array(directory, k_elevation_file, p.elevations, files));
-    STANDIN_RETURN_IF_ERROR(write_array(directory, k_face_error_file, p.face_error, files));
-    STANDIN_RETURN_IF_ERROR(write_array(directory, k_normal_file, p.shading_normals, files));
-    STANDIN_RETURN_IF_ERROR(write_array(directory, k_albedo_file, p.albedo, files));
+    std::vector<ArrayFile> arrays = {
+        p.settings.elevation_bits == 16 ? array_file(p, k_elevation_file, p.elevation_codes) : array_file(p, k_elevation_file, p.elevations),
+        array_file(p, k_face_error_file, p.face_error),
+        array_file(p, k_normal_file, p.shading_normals),
+        array_file(p, k_albedo_file, p.albedo),
+    };
     if (!p.orm.empty()) {
-        STANDIN_RETURN_IF_ERROR(write_array(directory, k_orm_file, p.orm, files));
-        STANDIN_RETURN_IF_ERROR(write_array(directory, k_emission_file, p.emission, files));
+        arrays.push_back(array_file(p, k_orm_file, p.orm));
+        arrays.push_back(array_file(p, k_emission_file, p.emission));
     }
-    if (!p.coverage.empty()) STANDIN_RETURN_IF_ERROR(write_array(directory, k_coverage_file, p.coverage, files));
+    if (!p.coverage.empty()) arrays.push_back(array_file(p, k_coverage_file, p.coverage));
+    // side by side: deflating the shading arrays (tens of MB on foliage) is most of the writing
+    STANDIN_RETURN_IF_ERROR(manifest_io::write_each(arrays.size(), [&](std::size_t k, nlohmann::json& files_k) -> Status {
+        const ArrayFile& a = arrays[k];
+        if (p.settings.compressed) return manifest_io::write_gzip(a.bytes, directory, a.name, files_k);
+        STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / a.name).string(), a.bytes));
+        return manifest_io::record_file(directory, a.name, files_k);
+    }, files));
+    auto file_of = [&](const char* name) { return stored_name(p, name); };
 
     const ControlStats& c = p.control;
     const SamplingStats& s = p.sampling;
-    nlohmann::json manifest = manifest_io::manifest_header(p, p.parameters);
+    nlohmann::json manifest =
+        manifest_io::manifest_header(p, p.parameters, p.settings.compressed ? k_package_format_version_gzip_arrays : 1);
     manifest.update({
         {"control", {{"file", k_control_file}, {"faces", p.face_count()}, {"vertices", p.positions.size()},
                      {"input_faces", c.input_faces}, {"target_faces", c.target_faces}, {"reached_target", c.reached_target},
@@ -138,22 +163,22 @@ Status write(const Package& base, const std::string& directory)
                      {"refused_flip", c.refused_flip}, {"refused_topology", c.refused_topology}}},
         {"pattern", {{"degree", layout.degree}, {"levels", layout.exponent + 1}, {"samples_per_face", layout.samples_per_face},
                      {"finest_samples", layout.finest_samples}}},
-        {"elevation", {{"file", k_elevation_file}, {"bits", p.settings.elevation_bits},
+        {"elevation", {{"file", file_of(k_elevation_file)}, {"bits", p.settings.elevation_bits},
                        {"minimum", p.elevation_minimum}, {"step", p.elevation_step}}},
-        {"face_error", {{"file", k_face_error_file}}},
-        {"shading_normal", {{"file", k_normal_file}, {"encoding", "octahedral-snorm16x2"}}},
-        {"albedo", {{"file", k_albedo_file}, {"encoding", "rgba8-srgb"}}},
+        {"face_error", {{"file", file_of(k_face_error_file)}}},
+        {"shading_normal", {{"file", file_of(k_normal_file)}, {"encoding", "octahedral-snorm16x2"}}},
+        {"albedo", {{"file", file_of(k_albedo_file)}, {"encoding", "rgba8-srgb"}}},
         {"sampling", {{"rays", s.rays}, {"misses", s.misses},
                       {"original_to_sampled_mean", s.original_to_sampled_mean}, {"original_to_sampled_max", s.original_to_sampled_max},
                       {"sampled_to_original_mean", s.sampled_to_original_mean}, {"sampled_to_original_max", s.sampled_to_original_max}}},
         {"files", files},
     });
     if (!p.orm.empty()) {
-        manifest["orm"] = {{"file", k_orm_file}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
-        manifest["emission"] = {{"file", k_emission_file}, {"encoding", "rgba8-srgb"}};
+        manifest["orm"] = {{"file", file_of(k_orm_file)}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
+        manifest["emission"] = {{"file", file_of(k_emission_file)}, {"encoding", "rgba8-srgb"}};
     }
     if (!p.coverage.empty())
-        manifest["coverage"] = {{"file", k_coverage_file}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
+        manifest["coverage"] = {{"file", file_of(k_coverage_file)}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
     return manifest_io::write_manifest(directory, manifest, 1);
 }
 
@@ -164,9 +189,11 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         auto p = std::make_unique<DisplacedMeshPackage>();
         p->source = manifest_io::read_source(in, manifest);
         // packages from before --back-faces drew both sides
-        nlohmann::json patched, patched_again;
+        nlohmann::json patched, patched_again, patched_thrice;
         const nlohmann::json& settings = manifest_io::with_setting_default(
-            manifest_io::with_setting_default(manifest, "back_faces", "show", patched), "shading_detail", "1", patched_again);
+            manifest_io::with_setting_default(
+                manifest_io::with_setting_default(manifest, "back_faces", "show", patched), "shading_detail", "1", patched_again),
+            "compression", "none", patched_thrice);
         p->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
         p->settings = settings_from(p->parameters);
         if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
@@ -193,29 +220,41 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (p->settings.elevation_bits == 16) {
             p->elevation_minimum = float(in.number(elevation, "minimum", "elevation.", -1e30, 1e30));
             p->elevation_step = float(in.number(elevation, "step", "elevation.", 0.0, 1e30));
-            p->elevation_codes = read_array<std::uint16_t>(in, directory, files, elevation_file, samples);
+        }
+        auto file_of = [&](const char* key) {
+            return in.string(in.member(manifest, key, ""), "file", std::string(key) + ".");
+        };
+        // the arrays side by side (inflating the shading arrays is most of reading a foliage package),
+        // in the manifest's order, so the first refusal is the same line on any thread count
+        std::vector<std::function<void()>> arrays;
+        if (p->settings.elevation_bits == 16)
+            arrays.push_back([&, name = elevation_file] { p->elevation_codes = read_array<std::uint16_t>(in, directory, files, name, samples); });
+        else
+            arrays.push_back([&, name = elevation_file] { p->elevations = read_array<float>(in, directory, files, name, samples); });
+        arrays.push_back([&, name = file_of("face_error")] { p->face_error = read_array<float>(in, directory, files, name, faces); });
+        arrays.push_back([&, name = file_of("shading_normal")] {
+            p->shading_normals = read_array<std::uint32_t>(in, directory, files, name, shading);
+        });
+        arrays.push_back([&, name = file_of("albedo")] { p->albedo = read_array<std::uint32_t>(in, directory, files, name, shading); });
+        if (manifest.contains("orm") || manifest.contains("emission")) {
+            arrays.push_back([&, name = file_of("orm")] { p->orm = read_array<std::uint32_t>(in, directory, files, name, shading); });
+            arrays.push_back([&, name = file_of("emission")] {
+                p->emission = read_array<std::uint32_t>(in, directory, files, name, shading);
+            });
+        }
+        if (manifest.contains("coverage"))
+            arrays.push_back([&, name = file_of("coverage")] { p->coverage = read_array<std::uint8_t>(in, directory, files, name, shading); });
+        manifest_io::read_each(arrays.size(), [&](std::size_t k) { arrays[k](); });
+        if (p->settings.elevation_bits == 16) {
             p->elevations.resize(samples);
             for (std::size_t i = 0; i < samples; ++i)
                 p->elevations[i] = p->elevation_minimum + float(p->elevation_codes[i]) * p->elevation_step;
         } else {
-            p->elevations = read_array<float>(in, directory, files, elevation_file, samples);
             for (float h : p->elevations)
                 if (!std::isfinite(h)) in.fail("elevation.file", "holds a value that is not finite");
         }
-        p->face_error = read_array<float>(in, directory, files, in.string(in.member(manifest, "face_error", ""), "file", "face_error."), faces);
         for (float e : p->face_error)
             if (!(e >= 0.0f && std::isfinite(e))) in.fail("face_error.file", "holds a value that is negative or not finite");
-        p->shading_normals = read_array<std::uint32_t>(in, directory, files,
-                                                       in.string(in.member(manifest, "shading_normal", ""), "file", "shading_normal."), shading);
-        p->albedo = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "albedo", ""), "file", "albedo."), shading);
-        if (manifest.contains("orm") || manifest.contains("emission")) {
-            p->orm = read_array<std::uint32_t>(in, directory, files, in.string(in.member(manifest, "orm", ""), "file", "orm."), shading);
-            p->emission = read_array<std::uint32_t>(in, directory, files,
-                                                    in.string(in.member(manifest, "emission", ""), "file", "emission."), shading);
-        }
-        if (manifest.contains("coverage"))
-            p->coverage = read_array<std::uint8_t>(in, directory, files,
-                                                   in.string(in.member(manifest, "coverage", ""), "file", "coverage."), shading);
         const nlohmann::json& sampling = in.member(manifest, "sampling", "");
         SamplingStats& s = p->sampling;
         s.rays = std::size_t(in.integer(sampling, "rays", "sampling.", 0, INT64_MAX));

@@ -3,12 +3,14 @@
 // field, and its declared options refuse what the baker cannot take.
 #include "test_support.h"
 
+#include "reps/common/package_codec.h"
 #include "reps/displaced_mesh/displaced_mesh.h"
 
 #include <standin/files.h>
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -26,7 +28,13 @@ Mesh small_sphere()
     return std::move(*generate_mesh(options));
 }
 
-std::string file_text(const std::string& path) { return *read_file(path); }
+// a file the test expects to exist (an empty string for a missing one would compare equal)
+std::string file_text(const std::string& path)
+{
+    Result<std::string> text = read_file(path);
+    EXPECT_TRUE(text.is_ok()) << path;
+    return text ? *text : std::string();
+}
 
 TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
 {
@@ -42,7 +50,7 @@ TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
     std::string dir = test::fresh_directory("displaced_roundtrip");
     ASSERT_TRUE(write_package(**one, dir + "/a.standin").is_ok());
     ASSERT_TRUE(write_package(**two, dir + "/b.standin").is_ok());
-    for (const char* name : {"manifest.json", "control.ply", "elevation.bin", "face_error.bin", "normal.bin", "albedo.bin"})
+    for (const char* name : {"manifest.json", "control.ply", "elevation.bin.gz", "face_error.bin.gz", "normal.bin.gz", "albedo.bin.gz"})
         EXPECT_EQ(file_text(dir + "/a.standin/" + name), file_text(dir + "/b.standin/" + name)) << name;
 
     Result<std::unique_ptr<Package>> back = read_package(dir + "/a.standin");
@@ -91,7 +99,7 @@ TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
     std::string dir = test::fresh_directory("displaced_fine_shading");
     ASSERT_TRUE(write_package(**one, dir + "/a.standin").is_ok());
     ASSERT_TRUE(write_package(**two, dir + "/b.standin").is_ok());
-    for (const char* name : {"manifest.json", "normal.bin", "albedo.bin"})
+    for (const char* name : {"manifest.json", "normal.bin.gz", "albedo.bin.gz"})
         EXPECT_EQ(file_text(dir + "/a.standin/" + name), file_text(dir + "/b.standin/" + name)) << name;
     EXPECT_NE(file_text(dir + "/a.standin/manifest.json").find("\"shading_detail\": \"4\""), std::string::npos);
     Result<std::unique_ptr<Package>> back = read_package(dir + "/a.standin");
@@ -135,7 +143,7 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
     EXPECT_GT(share, 0.10);
     EXPECT_LT(share, 0.32);
     ASSERT_TRUE(write_package(*masked, dir + "/masked.standin").is_ok());
-    EXPECT_TRUE(fs::exists(dir + "/masked.standin/coverage.bin"));
+    EXPECT_TRUE(fs::exists(dir + "/masked.standin/coverage.bin.gz"));
     Result<std::unique_ptr<Package>> back = read_package(dir + "/masked.standin");
     ASSERT_TRUE(back.is_ok()) << back.status().message();
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(**back).coverage, p.coverage);
@@ -144,7 +152,7 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
     ASSERT_TRUE(opaque);
     EXPECT_TRUE(dynamic_cast<const DisplacedMeshPackage&>(*opaque).coverage.empty());
     ASSERT_TRUE(write_package(*opaque, dir + "/opaque.standin").is_ok());
-    EXPECT_FALSE(fs::exists(dir + "/opaque.standin/coverage.bin"));
+    EXPECT_FALSE(fs::exists(dir + "/opaque.standin/coverage.bin.gz"));
     EXPECT_EQ(file_text(dir + "/opaque.standin/manifest.json").find("coverage"), std::string::npos);
 }
 
@@ -239,6 +247,20 @@ TEST(DisplacedMeshPackage, CutOutCardsAreShadedFinerWhileTheirStepIsOverAPixel)
     t.width = t.height = 64;
     t.rgba.assign(64 * 64 * 4, 255);
     EXPECT_EQ(detail(coarse_texture), 2);
+
+    // The budgets: at degree 17 the n = 3 cards' step is 9.5 px, so colour and outlines both want 4.
+    // A control mesh of 20,016 faces as large (the 18 repeated) holds 42.9 million shading samples
+    // at 4 and 11.2 million at 2 (561 a face): over the 8 million of opaque textured models (they get
+    // 1) and within the 16 million of models with cut-out faces (2).
+    Mesh cards = tiled_cards(3);
+    std::vector<std::uint32_t> control;
+    for (int copy = 0; copy < 1112; ++copy) control.insert(control.end(), cards.indices.begin(), cards.indices.end());
+    ASSERT_EQ(control.size() / 3, 20'016u);
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, cards.indices, 17), 4);
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, control, 17), 2);
+    cards.materials[0].alpha_mode = AlphaMode::opaque;
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, cards.indices, 17), 4);
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, control, 17), 1);
 }
 
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
@@ -255,7 +277,7 @@ TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
     // a flipped byte
     std::string flipped = fresh("flipped");
     {
-        std::fstream f(flipped + "/elevation.bin", std::ios::in | std::ios::out | std::ios::binary);
+        std::fstream f(flipped + "/elevation.bin.gz", std::ios::in | std::ios::out | std::ios::binary);
         f.seekp(10);
         f.put(char(0x5a));
     }
@@ -285,6 +307,73 @@ TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)
     std::string degree = fresh("degree");
     edit_manifest(degree, "\"degree\": 5", "\"degree\": 7");
     EXPECT_FALSE(read_package(degree).is_ok());
+}
+
+// Arrays are gzip members by default (format version 7) and raw with --compression none (version
+// 1, for older readers); both read back to the same package, packages from before the option read
+// as raw, and a .gz that does not inflate to exactly the manifest's size is refused naming it.
+TEST(DisplacedMeshPackage, ArraysAreGzipMembersAndRefuseAnyOtherSize)
+{
+    Mesh mesh = small_sphere();
+    std::unique_ptr<Package> gz = test::bake(mesh, "displaced-mesh", {{"degree", "5"}});
+    std::unique_ptr<Package> raw = test::bake(mesh, "displaced-mesh", {{"degree", "5"}, {"compression", "none"}});
+    ASSERT_TRUE(gz && raw);
+    std::string dir = test::fresh_directory("displaced_gzip");
+    ASSERT_TRUE(write_package(*gz, dir + "/gz.standin").is_ok());
+    ASSERT_TRUE(write_package(*raw, dir + "/raw.standin").is_ok());
+    nlohmann::json gz_manifest = nlohmann::json::parse(file_text(dir + "/gz.standin/manifest.json"));
+    EXPECT_EQ(gz_manifest["version"], k_package_format_version_gzip_arrays);
+    EXPECT_EQ(nlohmann::json::parse(file_text(dir + "/raw.standin/manifest.json"))["version"], 1);
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(*raw);
+    for (const char* name : {"elevation.bin", "face_error.bin", "normal.bin", "albedo.bin"}) {
+        EXPECT_FALSE(fs::exists(dir + "/gz.standin/" + name)) << name;
+        std::string member = file_text(dir + "/gz.standin/" + name + ".gz");
+        ASSERT_GE(member.size(), 18u) << name;
+        // RFC 1952: magic, deflate, no flags, mtime 0 (the bytes depend on the arrays alone)
+        EXPECT_EQ(member.substr(0, 8), std::string("\x1f\x8b\x08\x00\x00\x00\x00\x00", 8)) << name;
+        // ISIZE, the member's last 4 bytes: the raw array's size
+        std::uint32_t size = 0;
+        std::memcpy(&size, member.data() + member.size() - 4, 4);
+        EXPECT_EQ(size, file_text(dir + "/raw.standin/" + name).size()) << name;
+    }
+    EXPECT_LT(fs::file_size(dir + "/gz.standin/albedo.bin.gz") * 20, fs::file_size(dir + "/raw.standin/albedo.bin")); // one colour
+    for (const char* name : {"gz", "raw"}) {
+        Result<std::unique_ptr<Package>> back = read_package(dir + "/" + name + ".standin");
+        ASSERT_TRUE(back.is_ok()) << back.status().message();
+        const auto& q = dynamic_cast<const DisplacedMeshPackage&>(**back);
+        EXPECT_EQ(q.elevations, p.elevations) << name;
+        EXPECT_EQ(q.elevation_codes, p.elevation_codes) << name;
+        EXPECT_EQ(q.face_error, p.face_error) << name;
+        EXPECT_EQ(q.shading_normals, p.shading_normals) << name;
+        EXPECT_EQ(q.albedo, p.albedo) << name;
+    }
+    // a package written before the option: no "compression" in its bake block, raw arrays
+    nlohmann::json old = nlohmann::json::parse(file_text(dir + "/raw.standin/manifest.json"));
+    old["bake"].erase("compression");
+    ASSERT_TRUE(write_file_atomic(dir + "/raw.standin/manifest.json", old.dump(1)).is_ok());
+    EXPECT_TRUE(read_package(dir + "/raw.standin").is_ok());
+
+    const std::string path = dir + "/damaged.standin";
+    const std::string normals(reinterpret_cast<const char*>(p.shading_normals.data()), p.shading_normals.size() * 4);
+    auto expect_refused = [&](const std::string& bytes, const std::string& problem) {
+        fs::remove_all(path);
+        ASSERT_TRUE(write_package(*gz, path).is_ok());
+        ASSERT_TRUE(write_file_atomic(path + "/normal.bin.gz", bytes).is_ok());
+        nlohmann::json m = gz_manifest;
+        m["files"]["normal.bin.gz"] = {{"bytes", bytes.size()}, {"fnv1a64", hex64(hash_bytes(bytes))}};
+        ASSERT_TRUE(write_file_atomic(path + "/manifest.json", m.dump(1)).is_ok());
+        Result<std::unique_ptr<Package>> bad = read_package(path);
+        ASSERT_FALSE(bad.is_ok()) << problem;
+        EXPECT_EQ(bad.status().code(), StatusCode::bad_data);
+        EXPECT_NE(bad.status().message().find("normal.bin.gz"), std::string::npos) << bad.status().message();
+        EXPECT_NE(bad.status().message().find(problem), std::string::npos) << bad.status().message();
+    };
+    const std::string whole = manifest_io::gzip_bytes(normals);
+    expect_refused(manifest_io::gzip_bytes(normals.substr(4)), "inflates to " + std::to_string(normals.size() - 4));
+    expect_refused(manifest_io::gzip_bytes(normals + "more"), "more than the " + std::to_string(normals.size()));
+    expect_refused(whole.substr(0, whole.size() / 2), "not a complete gzip stream");
+    expect_refused(whole + whole, "bytes after its gzip stream");
+    expect_refused(normals, "not a complete gzip stream"); // raw bytes under a .gz name
 }
 
 TEST(DisplacedMeshPackage, OptionsTheBakerCannotTakeAreRefused)

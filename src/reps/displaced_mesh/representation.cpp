@@ -43,9 +43,13 @@ std::vector<OptionSpec> bake_options()
                       "Shading (normal, colour, PBR, and the coverage of alpha-masked materials) samples per "
                       "pattern step along an edge: 1 (one per pattern vertex, the paper's), 2 or 4 (a textured "
                       "model's colour detail and cut-out outlines, 4x or 16x the shading bytes), or auto (finer "
-                      "only where a pattern step spans over 4 pixels of an 800x600 view and 2 texels, within 4M "
-                      "shading samples, and the coarsest whose colours and outlines stay within 1% of the finest; "
+                      "only where a pattern step spans over 4 pixels of an 800x600 view and 2 texels, or a cut-out face's step "
+                      "over 1 pixel, within 8M shading samples (16M with cut-out faces), and the coarsest whose colours and outlines stay within 1% of the finest; "
                       "1 without textures)"),
+        choice_option("compression", "gzip", {"gzip", "none"},
+                      "Arrays in the package: gzip (each .bin as a .bin.gz: foliage's shading arrays shrink 20-50x, "
+                      "a scan's elevations and normals 4-10%) or none (raw little-endian arrays, read by standin before "
+                      "format version 7)"),
     };
 }
 
@@ -106,6 +110,7 @@ BakeSettings settings_from(const Options& parameters)
     s.back_faces = parameters.choice("back-faces");
     const std::string detail = parameters.choice("shading-detail");
     s.shading_detail = detail == "auto" ? 0 : std::stoi(detail); // 0: not resolved yet (the bake resolves it)
+    s.compressed = parameters.choice("compression") == "gzip";
     return s;
 }
 
