@@ -201,30 +201,60 @@ TEST(Export, DisplacedMeshRefinesWithTau)
     EXPECT_EQ(*read_file(dir + "/fine.glb"), *read_file(dir + "/again.glb"));
 }
 
-// An alpha-masked model's displaced mesh (issue #14) keeps its cut-outs in the export: a MASK
-// material whose vertex alphas are the samples' coverage, some under 1/2 (the disc's outside) and
-// some over (its inside), as the renderer discards them.
-TEST(Export, DisplacedMeshKeepsCutOutsAsAMaskMaterial)
+// An alpha-masked model's displaced mesh (issue #14) keeps its cut-outs in the export: its shading
+// samples as a texture whose alpha is their coverage, on a MASK material; the flat card stays its
+// two control triangles (no vertex per sample), and the texture read at the card's corners is cut
+// out (the disc's outside) and at its centre kept, as the renderer discards them.
+TEST(Export, DisplacedMeshKeepsCutOutsAsAMaskTexture)
 {
     Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
     auto package = bake_small(card, "displaced-mesh", {{"degree", "17"}});
     ASSERT_TRUE(package);
+    const nlohmann::json faces = summarise_package(*package).details;
     std::string dir = test::fresh_directory("export_displaced_alpha");
-    ParsedGlb glb = export_and_parse(*package, {}, dir + "/card.glb", 0.05f);
+    ExportScene scene;
+    ParsedGlb glb = export_and_parse(*package, {}, dir + "/card.glb", 0.05f, &scene);
     ASSERT_EQ(glb.json["meshes"].size(), 1u);
     const auto& primitive = glb.json["meshes"][0]["primitives"][0];
     const auto& material = glb.json["materials"][primitive["material"].get<std::size_t>()];
     EXPECT_EQ(material["alphaMode"], "MASK");
     EXPECT_EQ(material["alphaCutoff"], 0.5);
     EXPECT_EQ(material["doubleSided"], true);
-    std::vector<glm::vec4> colors = read_accessor<glm::vec4>(glb, primitive["attributes"]["COLOR_0"].get<int>());
-    std::size_t cut = 0, kept = 0;
-    for (const glm::vec4& c : colors) (c.w < 0.5f ? cut : kept) += 1;
-    EXPECT_GT(cut, colors.size() / 10) << "the corners outside the disc are cut out";
-    EXPECT_GT(kept, colors.size() / 10) << "the disc is kept";
-    // an opaque model's export stays opaque
+    ASSERT_TRUE(material["pbrMetallicRoughness"].contains("baseColorTexture"));
+    EXPECT_FALSE(primitive["attributes"].contains("COLOR_0"));
+    const int index_accessor = primitive["indices"];
+    EXPECT_EQ(glb.json["accessors"][std::size_t(index_accessor)]["count"].get<std::size_t>(), 3 * faces["control_faces"].get<std::size_t>())
+        << "a flat card is its control triangles";
+    ASSERT_EQ(scene.textures.size(), 1u);
+    ASSERT_TRUE(write_file_atomic(dir + "/atlas.png", scene.textures[0].png).is_ok());
+    Result<ImageRGBA8> atlas = read_png_rgba8(dir + "/atlas.png");
+    ASSERT_TRUE(atlas.is_ok());
+    std::vector<glm::vec3> positions = read_accessor<glm::vec3>(glb, primitive["attributes"]["POSITION"].get<int>());
+    std::vector<glm::vec2> uvs = read_accessor<glm::vec2>(glb, primitive["attributes"]["TEXCOORD_0"].get<int>());
+    ASSERT_EQ(uvs.size(), positions.size());
+    auto alpha_at = [&](glm::vec2 uv) {
+        const int x = std::clamp(int(uv.x * float(atlas->width)), 0, atlas->width - 1);
+        const int y = std::clamp(int(uv.y * float(atlas->height)), 0, atlas->height - 1);
+        return atlas->at(x, y)[3];
+    };
+    std::vector<std::uint32_t> indices = read_accessor<std::uint32_t>(glb, index_accessor);
+    int centres = 0;
+    for (std::size_t v = 0; v < positions.size(); ++v) EXPECT_EQ(alpha_at(uvs[v]), 0) << "card corner " << v;
+    for (std::size_t t = 0; t < indices.size(); t += 3) {
+        // the midpoint of the edge opposite the triangle's right-angled corner: the card's centre
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = indices[t + std::size_t(k)], b = indices[t + std::size_t((k + 1) % 3)];
+            if (glm::length(0.5f * (positions[a] + positions[b])) < 1e-4f) {
+                EXPECT_EQ(alpha_at(0.5f * (uvs[a] + uvs[b])), 255);
+                ++centres;
+            }
+        }
+    }
+    EXPECT_EQ(centres, 2) << "each triangle's diagonal passes through the card's centre";
+    // an opaque model's export keeps its vertex colours and stays opaque
     ParsedGlb torus = export_and_parse(*bake_small(export_torus(), "displaced-mesh", {{"degree", "5"}}), {}, dir + "/torus.glb", 0.05f);
     EXPECT_EQ(torus.json["materials"][0]["alphaMode"], "OPAQUE");
+    EXPECT_TRUE(torus.json["meshes"][0]["primitives"][0]["attributes"].contains("COLOR_0"));
 }
 
 TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)

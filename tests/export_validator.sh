@@ -62,6 +62,10 @@ bake bunny_displaced bunny.ply -r displaced-mesh --degree 5
 export_glb bunny_displaced --tau 2
 bake box_displaced box_textured.glb -r displaced-mesh --degree 5
 export_glb box_displaced
+# an alpha-masked model's displaced mesh: its shading samples as a MASK texture atlas
+"$standin" -q generate tree -t 400 --seed 1 -o "$out/small_tree.gltf"
+"$standin" -q bake "$out/small_tree.gltf" -o "$out/tree_displaced.standin" -r displaced-mesh --degree 5
+export_glb tree_displaced
 bake bunny_billboards bunny.ply -r enhanced-billboards --resolution 128
 export_glb bunny_billboards
 bake box_billboards box_textured.glb -r enhanced-billboards --resolution 64

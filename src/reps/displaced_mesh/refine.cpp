@@ -305,7 +305,8 @@ RefineView make_refine_view(const Camera& camera, int viewport_height, const glm
 std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
                                           const std::vector<std::uint32_t>& indices, const ControlTopology& topology,
                                           const PatternLayout& layout, const std::vector<float>& elevations,
-                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through)
+                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through,
+                                          const std::vector<std::uint8_t>& kept_whole)
 {
     const std::size_t faces = indices.size() / 3;
     const int n = layout.segments;
@@ -377,15 +378,20 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
 
     // ∆e per control edge, its length-weighted mean, then the normalised weights
     std::vector<float> edge_value(topology.edges.size());
+    std::vector<std::uint8_t> edge_whole(topology.edges.size(), 0);
     double sum = 0.0, total_length = 0.0;
     for (std::size_t e = 0; e < topology.edges.size(); ++e) {
         const ControlEdge& edge = topology.edges[e];
         float h = 0.0f, delta = 0.0f;
+        bool whole = !kept_whole.empty();
         for (std::uint32_t f : edge.faces) {
             h = std::max(h, magnitude[f] - face_error[f]);
             delta = std::max(delta, face_error[f]);
+            whole = whole && kept_whole[f];
         }
         edge_value[e] = h + delta;
+        edge_whole[e] = whole;
+        if (whole) continue;
         double length = glm::length(positions[edge.hi] - positions[edge.lo]);
         sum += edge_value[e] * length;
         total_length += length;
@@ -401,8 +407,11 @@ std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& position
         for (std::uint32_t f : topology.edges[e].faces) edge_curvature[e] = std::max(edge_curvature[e], curvatures[f]);
     for (std::size_t f = 0; f < faces; ++f) {
         for (int k = 0; k < 3; ++k) out[f].edge_curvature[k] = edge_curvature[topology.face_edges[f][std::size_t(k)]];
-        for (int k = 0; k < 3; ++k) out[f].edge_weight[k] = normalise(edge_value[topology.face_edges[f][std::size_t(k)]]);
-        out[f].interior_weight = normalise(magnitude[f]);
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t e = topology.face_edges[f][std::size_t(k)];
+            out[f].edge_weight[k] = edge_whole[e] ? 0.0f : normalise(edge_value[e]);
+        }
+        out[f].interior_weight = !kept_whole.empty() && kept_whole[f] ? 0.0f : normalise(magnitude[f]);
     }
     return out;
 }

@@ -58,11 +58,16 @@ struct RefineSurface {
 // a face, normalised by their length-weighted mean over the edges and clamped to [1/4, 4], so tau
 // keeps its meaning in pixels on average), elevation ranges, normal cones and grid spacing.
 // `face_error` is ∆_f per face; `see_through` (per face, or empty) marks faces with cut-outs, whose
-// parts keep their back faces (an eye sees into them).
+// parts keep their back faces (an eye sees into them). `kept_whole` (per face, or empty) marks faces
+// the weighted criteria never split (the export's flat leaf cards): zero weight inside them and on
+// edges all of whose faces are marked (an edge touching another face keeps its weight, so the
+// segment test stays a function of the segment: crack-free), and left out of the mean, which
+// thousands of flat cards would pull towards 0 and so push every other edge to the weight cap.
 std::vector<FaceRefineData> prepare_faces(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
                                           const std::vector<std::uint32_t>& indices, const ControlTopology& topology,
                                           const PatternLayout& layout, const std::vector<float>& elevations,
-                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through = {});
+                                          const std::vector<float>& face_error, const std::vector<std::uint8_t>& see_through = {},
+                                          const std::vector<std::uint8_t>& kept_whole = {});
 
 struct RefineOptions {
     float tau = 1.0f;            // screen-space tolerance, pixels

@@ -98,6 +98,46 @@ TEST(DisplacedMeshRefine, NoTJunctionsOnAClosedModelAtSeveralTolerances)
         }
 }
 
+// Faces kept whole (the textured export's flat cards) on a closed surface: every other face of
+// the sphere is marked, so the weighted rule leaves marked faces whose edges touch only marked
+// faces as one triangle, splits the rest, and the mesh stays crack-free (an edge touching an
+// unmarked face keeps its weight: the segment test is still a function of the segment).
+TEST(DisplacedMeshRefine, FacesKeptWholeStayOneTriangleWithoutCracks)
+{
+    Baked baked = bake_noisy_sphere(9, 20000);
+    ASSERT_TRUE(baked.package);
+    const DisplacedMeshPackage& p = *baked.package;
+    std::vector<std::uint8_t> kept(p.face_count(), 0);
+    for (std::size_t f = 0; f < kept.size(); f += 2) kept[f] = 1;
+    for (std::size_t f = 0; f < 40 && f < kept.size(); ++f) kept[f] = 1; // a patch of marked faces too
+    baked.faces = prepare_faces(p.positions, p.normals, p.indices, p.topology, p.layout(), p.elevations, p.face_error, {}, kept);
+    RefineView view = view_at(1.5f);
+    RefineOptions options;
+    options.tau = 1.0f;
+    options.criterion = Criterion::weighted;
+    options.cull = false;
+    RefineStats stats;
+    std::vector<RefinedTriangle> triangles = refine(baked.surface, view, options, stats);
+    EXPECT_EQ(unmatched_edges(baked, triangles, view, options), 0u);
+    std::vector<int> per_face(p.face_count(), 0);
+    for (const RefinedTriangle& t : triangles) ++per_face[t.face];
+    std::size_t enclosed = 0, others_split = 0, others = 0;
+    for (std::size_t f = 0; f < kept.size(); ++f) {
+        bool all_marked = kept[f] != 0;
+        for (std::uint32_t e : p.topology.face_edges[f])
+            for (std::uint32_t g : p.topology.edges[e].faces) all_marked = all_marked && kept[g];
+        if (all_marked) {
+            ++enclosed;
+            EXPECT_EQ(per_face[f], 1) << "face " << f;
+        } else if (!kept[f]) {
+            ++others;
+            others_split += per_face[f] > 1;
+        }
+    }
+    EXPECT_GT(enclosed, 0u);
+    EXPECT_GT(others_split, others / 2) << "unmarked faces refine as before";
+}
+
 TEST(DisplacedMeshRefine, ThePapersLiteralRuleLeavesTJunctions)
 {
     Baked baked = bake_noisy_sphere(9, 20000);
