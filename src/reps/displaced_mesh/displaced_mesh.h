@@ -70,10 +70,11 @@ constexpr double k_outline_pixels = 1.0;
 constexpr double k_shading_residual = 0.01;
 constexpr std::size_t k_max_shading_samples = 8'000'000;
 // Models with cut-out faces: there the samples' coverage is the leaves' outline, and a denser crown
-// of cards than 8 million samples hold at detail 2 lost leaves (the 20,000-face bush: 10.7 million
+// of cards than 8 million samples hold at detail 2 lost leaves (the 20,000-face bush: 11.2 million
 // at degree 17, IoU 0.946 at detail 1, 0.969 at 2; docs/RESULTS.md "Displaced mesh: arrays
 // compressed, finer outlines on dense foliage"). The renderer's buffers take 8 bytes a shading
-// sample (that bush: 86 MB, 45 at detail 1); the package's gzip arrays a fraction (3.2 MB).
+// sample (that bush's buffers: 107 MiB in all, 45 at detail 1; a shading buffer of 16 million
+// samples: 122 MiB, under the 128 MiB that llvmpipe allows a storage buffer); the package's gzip arrays a fraction (3.2 MB).
 constexpr std::size_t k_max_outline_shading_samples = 16'000'000;
 // The finest shading detail auto samples for `mesh` over a control mesh (positions, indices).
 int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,

@@ -107,6 +107,12 @@ TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
     const auto& q = dynamic_cast<const DisplacedMeshPackage&>(**back);
     EXPECT_EQ(q.settings.shading_detail, 4);
     EXPECT_EQ(q.shading_normals, p.shading_normals);
+    // `standin info` reports the detail, the samples and what they take on the GPU (8 bytes each
+    // and the elevations at 4 bytes, at least)
+    const nlohmann::json details = summarise_package(q).details;
+    EXPECT_EQ(details["shading_detail"], 4);
+    EXPECT_EQ(details["shading_samples"], q.shading_normals.size());
+    EXPECT_GE(details["gpu_buffer_bytes"].get<std::uint64_t>(), 8 * q.shading_normals.size() + 4 * q.elevations.size());
     EXPECT_EQ(q.albedo, p.albedo);
 
     // an alpha-masked model's coverage is sampled with its shading, and round-trips with it

@@ -67,6 +67,17 @@ struct ControlVertex {
     glm::uvec4 reference;
 };
 
+} // namespace
+
+std::uint64_t package_buffer_bytes(const DisplacedMeshPackage& package)
+{
+    const std::uint64_t shading = package.shading_normals.size();
+    return std::uint64_t(package.positions.size()) * sizeof(ControlVertex) + std::uint64_t(package.face_count()) * sizeof(FaceData) +
+           std::uint64_t(package.elevations.size()) * sizeof(float) + shading * sizeof(glm::uvec2) * (package.orm.empty() ? 1 : 2);
+}
+
+namespace {
+
 Result<int> debug_view_code(DebugView view)
 {
     switch (view) {

@@ -56,4 +56,9 @@ public:
 // The declared run-time options (representation.cpp) typed.
 RendererSettings renderer_settings(const RenderSettings& settings);
 
+// What a renderer of `package` holds in GPU buffers whatever it draws: control vertices, per-face
+// data, every level's elevations (float) and the shading samples (normal + albedo, 8 bytes; PBR 8
+// more); the refinement's lists, which grow with the view, are not counted.
+std::uint64_t package_buffer_bytes(const DisplacedMeshPackage& package);
+
 } // namespace standin::displaced_mesh

@@ -2,6 +2,7 @@
 // (declared once: the command line, --help, the viewer, the manifest's "bake" block and its
 // validation all come from these tables), debug views, and the summary `standin info` prints.
 #include "reps/displaced_mesh/displaced_mesh.h"
+#include "reps/displaced_mesh/renderer.h"
 
 #include "reps/common/package_cast.h"
 
@@ -75,6 +76,7 @@ PackageSummary summarise(const Package& base)
     const PatternLayout l = p.layout();
     std::uint64_t refined = std::uint64_t(p.face_count()) * std::uint64_t(l.segments) * std::uint64_t(l.segments);
     PackageSummary summary;
+    const std::uint64_t gpu_bytes = package_buffer_bytes(p);
     summary.details = {{"source", p.source.file_name},
                        {"control_faces", p.face_count()},
                        {"control_vertices", p.positions.size()},
@@ -86,10 +88,17 @@ PackageSummary summarise(const Package& base)
                        {"elevation_bits", p.settings.elevation_bits},
                        {"misses", p.sampling.misses},
                        {"d_mean", p.sampling.original_to_sampled_mean},
-                       {"d_max", p.sampling.original_to_sampled_max}};
-    char line[200];
-    std::snprintf(line, sizeof line, "%zu control faces x %d^2 pattern (%llu triangles at full detail), %d-bit elevations%s",
-                  p.face_count(), l.segments, (unsigned long long)refined, p.settings.elevation_bits,
+                       {"d_max", p.sampling.original_to_sampled_max},
+                       {"shading_detail", p.settings.shading_detail},
+                       {"shading_samples", p.shading_normals.size()},
+                       {"compression", p.settings.compressed ? "gzip" : "none"},
+                       {"gpu_buffer_bytes", gpu_bytes}};
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "%zu control faces x %d^2 pattern (%llu triangles at full detail), %d-bit elevations, shading detail %d "
+                  "(%llu samples), %.1f MiB of GPU buffers%s",
+                  p.face_count(), l.segments, (unsigned long long)refined, p.settings.elevation_bits, p.settings.shading_detail,
+                  (unsigned long long)p.shading_normals.size(), double(gpu_bytes) / double(1 << 20),
                   p.control.reached_target ? "" : "; the cones or boundary loops stopped simplification early");
     summary.headline = line;
     return summary;
