@@ -67,6 +67,35 @@ struct ControlVertex {
     glm::uvec4 reference;
 };
 
+// Each of the package's buffers must fit one storage block, or the shaders would read past what the
+// GL binds (foliage of over a million cards kept whole as control faces; docs/failure_cases.md).
+Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t limit)
+{
+    if (limit == 0) {
+        GLint64 gl_limit = 0;
+        glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &gl_limit);
+        limit = gl_limit > 0 ? std::uint64_t(gl_limit) : std::uint64_t(128) << 20;
+    }
+    const struct {
+        const char* what;
+        std::uint64_t bytes;
+    } buffers[] = {
+        {"control vertices", std::uint64_t(package.positions.size()) * sizeof(ControlVertex)},
+        {"per-face data", std::uint64_t(package.face_count()) * sizeof(FaceData)},
+        {"elevations", std::uint64_t(package.elevations.size()) * sizeof(float)},
+        {"shading samples", std::uint64_t(package.shading_normals.size()) * sizeof(glm::uvec2)},
+    };
+    auto mib = [](std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); };
+    for (const auto& b : buffers)
+        if (b.bytes > limit)
+            return error(StatusCode::unsupported,
+                         "displaced mesh: its " + std::string(b.what) + " (" + std::to_string(package.face_count()) +
+                             " control faces) take " + mib(b.bytes) + " MiB, over the " + mib(limit) +
+                             " MiB this OpenGL lets a shader read from one buffer; bake it again with --degree 5 "
+                             "--shading-detail 1, or as another representation");
+    return Status::ok();
+}
+
 } // namespace
 
 std::uint64_t package_buffer_bytes(const DisplacedMeshPackage& package)
@@ -161,6 +190,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     if (!debug) return debug.status();
     debug_code_ = *debug;
     if (!(settings.tau > 0.0f)) return error(StatusCode::invalid_argument, "--tau: must be greater than 0");
+    STANDIN_RETURN_IF_ERROR(check_buffer_sizes(package, settings.max_storage_block_bytes));
     layout_ = package.layout();
     face_count_ = std::uint32_t(package.face_count());
     vertex_count_ = std::uint32_t(package.positions.size());

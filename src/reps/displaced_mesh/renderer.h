@@ -24,6 +24,9 @@ struct RendererSettings {
     int max_depth = 0;                // bisection passes; 0: refinement_passes()
     DebugView debug_view = DebugView::none; // none, parts, level, error, depth, normal
     float error_scale = 0.0f;         // full scale of the "error" view, pixels; 0: tau
+    // the largest storage buffer a shader may read, bytes; 0: the GL's (GL_MAX_SHADER_STORAGE_BLOCK_SIZE,
+    // 128 MiB on llvmpipe). A package whose buffers would exceed it is refused with what to bake instead.
+    std::uint64_t max_storage_block_bytes = 0;
 };
 
 // What the last draw did, read back from the GPU (one small read per draw).

@@ -154,6 +154,30 @@ TEST(DisplacedMeshRenderer, ByteIdenticalAndMatchesTheCpuReference)
     EXPECT_NEAR(double(gpu.processed), double(stats.processed), 0.002 * double(stats.processed));
 }
 
+// A package whose buffers would not fit one storage block is refused in one line that names the
+// buffer and what to bake instead (foliage of over a million cards on llvmpipe's 128 MiB); at the
+// GL's own limit the same package draws.
+TEST(DisplacedMeshRenderer, BuffersOverTheStorageBlockLimitAreRefused)
+{
+    const Subject& s = noisy_sphere();
+    ASSERT_TRUE(s.package);
+    test::gpu_context();
+    const std::uint64_t shading = s.package->shading_normals.size() * 8;
+    RendererSettings settings;
+    settings.max_storage_block_bytes = shading - 1; // every other buffer of this package is smaller
+    Result<std::unique_ptr<DisplacedRenderer>> refused = DisplacedRenderer::create(*s.package, settings);
+    ASSERT_FALSE(refused.is_ok());
+    EXPECT_EQ(refused.status().code(), StatusCode::unsupported);
+    const std::string message = refused.status().message();
+    EXPECT_NE(message.find("shading samples"), std::string::npos) << message;
+    EXPECT_NE(message.find("--degree 5"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    settings.max_storage_block_bytes = shading;
+    EXPECT_TRUE(DisplacedRenderer::create(*s.package, settings).is_ok());
+    settings.max_storage_block_bytes = 0;
+    EXPECT_TRUE(DisplacedRenderer::create(*s.package, settings).is_ok());
+}
+
 TEST(DisplacedMeshRenderer, FewerTrianglesAsTauGrowsAndCullingHelps)
 {
     const Subject& s = noisy_sphere();
