@@ -150,7 +150,6 @@ Status write(const Package& base, const std::string& directory)
         STANDIN_RETURN_IF_ERROR(write_file_atomic((fs::path(directory) / a.name).string(), a.bytes));
         return manifest_io::record_file(directory, a.name, files_k);
     }, files));
-    auto file_of = [&](const char* name) { return stored_name(p, name); };
 
     const ControlStats& c = p.control;
     const SamplingStats& s = p.sampling;
@@ -163,22 +162,22 @@ Status write(const Package& base, const std::string& directory)
                      {"refused_flip", c.refused_flip}, {"refused_topology", c.refused_topology}}},
         {"pattern", {{"degree", layout.degree}, {"levels", layout.exponent + 1}, {"samples_per_face", layout.samples_per_face},
                      {"finest_samples", layout.finest_samples}}},
-        {"elevation", {{"file", file_of(k_elevation_file)}, {"bits", p.settings.elevation_bits},
+        {"elevation", {{"file", stored_name(p, k_elevation_file)}, {"bits", p.settings.elevation_bits},
                        {"minimum", p.elevation_minimum}, {"step", p.elevation_step}}},
-        {"face_error", {{"file", file_of(k_face_error_file)}}},
-        {"shading_normal", {{"file", file_of(k_normal_file)}, {"encoding", "octahedral-snorm16x2"}}},
-        {"albedo", {{"file", file_of(k_albedo_file)}, {"encoding", "rgba8-srgb"}}},
+        {"face_error", {{"file", stored_name(p, k_face_error_file)}}},
+        {"shading_normal", {{"file", stored_name(p, k_normal_file)}, {"encoding", "octahedral-snorm16x2"}}},
+        {"albedo", {{"file", stored_name(p, k_albedo_file)}, {"encoding", "rgba8-srgb"}}},
         {"sampling", {{"rays", s.rays}, {"misses", s.misses},
                       {"original_to_sampled_mean", s.original_to_sampled_mean}, {"original_to_sampled_max", s.original_to_sampled_max},
                       {"sampled_to_original_mean", s.sampled_to_original_mean}, {"sampled_to_original_max", s.sampled_to_original_max}}},
         {"files", files},
     });
     if (!p.orm.empty()) {
-        manifest["orm"] = {{"file", file_of(k_orm_file)}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
-        manifest["emission"] = {{"file", file_of(k_emission_file)}, {"encoding", "rgba8-srgb"}};
+        manifest["orm"] = {{"file", stored_name(p, k_orm_file)}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
+        manifest["emission"] = {{"file", stored_name(p, k_emission_file)}, {"encoding", "rgba8-srgb"}};
     }
     if (!p.coverage.empty())
-        manifest["coverage"] = {{"file", file_of(k_coverage_file)}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
+        manifest["coverage"] = {{"file", stored_name(p, k_coverage_file)}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
     return manifest_io::write_manifest(directory, manifest, 1);
 }
 

@@ -67,6 +67,23 @@ struct ControlVertex {
     glm::uvec4 reference;
 };
 
+// The package's storage buffers (init uploads them; the refinement's lists are apart).
+struct PackageBuffer {
+    const char* what;
+    std::uint64_t bytes;
+};
+std::vector<PackageBuffer> package_buffers(const DisplacedMeshPackage& package)
+{
+    std::vector<PackageBuffer> buffers = {
+        {"control vertices", std::uint64_t(package.positions.size()) * sizeof(ControlVertex)},
+        {"per-face data", std::uint64_t(package.face_count()) * sizeof(FaceData)},
+        {"elevations", std::uint64_t(package.elevations.size()) * sizeof(float)},
+        {"shading samples", std::uint64_t(package.shading_normals.size()) * sizeof(glm::uvec2)},
+    };
+    if (!package.orm.empty()) buffers.push_back({"PBR samples", std::uint64_t(package.orm.size()) * sizeof(glm::uvec2)});
+    return buffers;
+}
+
 // Each of the package's buffers must fit one storage block, or the shaders would read past what the
 // GL binds (foliage of over a million cards kept whole as control faces; docs/failure_cases.md).
 Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t limit)
@@ -76,17 +93,8 @@ Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t lim
         glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &gl_limit);
         limit = gl_limit > 0 ? std::uint64_t(gl_limit) : std::uint64_t(128) << 20;
     }
-    const struct {
-        const char* what;
-        std::uint64_t bytes;
-    } buffers[] = {
-        {"control vertices", std::uint64_t(package.positions.size()) * sizeof(ControlVertex)},
-        {"per-face data", std::uint64_t(package.face_count()) * sizeof(FaceData)},
-        {"elevations", std::uint64_t(package.elevations.size()) * sizeof(float)},
-        {"shading samples", std::uint64_t(package.shading_normals.size()) * sizeof(glm::uvec2)},
-    };
     auto mib = [](std::uint64_t bytes) { return std::to_string((bytes + (1u << 20) - 1) >> 20); };
-    for (const auto& b : buffers)
+    for (const PackageBuffer& b : package_buffers(package))
         if (b.bytes > limit)
             return error(StatusCode::unsupported,
                          "displaced mesh: its " + std::string(b.what) + " (" + std::to_string(package.face_count()) +
@@ -100,9 +108,9 @@ Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t lim
 
 std::uint64_t package_buffer_bytes(const DisplacedMeshPackage& package)
 {
-    const std::uint64_t shading = package.shading_normals.size();
-    return std::uint64_t(package.positions.size()) * sizeof(ControlVertex) + std::uint64_t(package.face_count()) * sizeof(FaceData) +
-           std::uint64_t(package.elevations.size()) * sizeof(float) + shading * sizeof(glm::uvec2) * (package.orm.empty() ? 1 : 2);
+    std::uint64_t bytes = 0;
+    for (const PackageBuffer& b : package_buffers(package)) bytes += b.bytes;
+    return bytes;
 }
 
 namespace {
