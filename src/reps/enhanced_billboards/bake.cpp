@@ -11,8 +11,8 @@
 //   seed's ±X/±Y/±Z comparison (Fig. 4-4, 4-5).
 // - depth limit: none within the model by default (1 diagonal): 0.5 and 0.25 gave more billboards
 //   and left more surface occluded on models with nested parts.
-// - faces longer than k_split_texels texels are split before baking, since the occlusion test is
-//   all or nothing per face (see split_long_edges).
+// - faces longer than k_split_texels texels (k_alpha_split_texels for alpha-tested models) are split
+//   before baking, since the occlusion test is all or nothing per face (see split_long_edges).
 // - score: the seed counts facing faces (--score faces). The default (--score area) ranks the
 //   candidates by the projected area of the remaining non-grazing faces facing them (a histogram of
 //   normals makes this cheap for every candidate), then captures the best k_exact_candidates,
@@ -91,7 +91,8 @@ constexpr float k_candidate_separation_degrees = 15.0f;
 constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the resolution,
 constexpr float k_scoring_resolution = 512.0f;    // or 512 texels along the diagonal where finer (2048: foliage)
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
-constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels
+constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels,
+constexpr float k_alpha_split_texels = 16.0f;    // alpha-tested models' to this many (see split_long_edges)
 constexpr std::uint32_t k_no_vertex = 0xffffffffu;
 
 // The checks between parameters that their declarations cannot express; resolves the direction
@@ -224,12 +225,22 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
     return directions[best];
 }
 
+} // namespace
+
 // Faces are split so that no edge is longer than `max_edge` (longest-edge bisection, midpoints
 // computed the same way from both sides of an edge, so no T-junctions): the occlusion test is all
 // or nothing per face, and a long CAD sliver partly covered by a bolt from every side would
 // otherwise never be captured. Attributes are interpolated linearly, so albedo (vertex colours,
 // textures through UVs) and normals are those of the source. Returns false when nothing needed
 // splitting.
+// Alpha-tested models are split to k_alpha_split_texels instead: their partly hidden faces are
+// captured at the texels they win (--partly-hidden), so a card need not wait for a direction that sees
+// all of it, and at 8 texels their foliage-resolution bakes (1024-2048 texels along the diagonal) cut
+// each card into hundreds of pieces whose per-face passes were most of the bake (a 20,000-card bush:
+// 17.9 million faces with the back sides, 8-10 minutes, 3.4 GB). At 16 texels the four foliage
+// models measured bake 1.3-4x faster in 44-62% of the memory, and their foliage-protocol Luv and
+// IoU are better on all four (more of a card stays on one billboard); 32 was faster still but worse
+// on a 30,000-card tree (docs/RESULTS.md "Billboards of foliage: leaf cards split less").
 bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face)
 {
     float limit2 = max_edge * max_edge;
@@ -280,8 +291,6 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
     }
     return true;
 }
-
-} // namespace
 
 // Each vertex's representative among the vertices at exactly its position (the lowest index), so
 // that parts split at creases and part boundaries (CAD exports) are joined again. Also the
@@ -706,7 +715,8 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     // split faces longer than a few texels, so that partial occlusion costs only a piece
     Mesh split;
     std::vector<std::uint32_t> source_face; // piece -> source face; empty when nothing was split
-    const Mesh& split_or_source = split_long_edges(mesh, k_split_texels * texel, split, source_face) ? split : mesh;
+    const float split_texels = alpha_tested ? k_alpha_split_texels : k_split_texels;
+    const Mesh& split_or_source = split_long_edges(mesh, split_texels * texel, split, source_face) ? split : mesh;
     FaceData faces = compute_face_data(split_or_source);
     // both sides of open surfaces (sheets), the outside of inverted closed parts
     Mesh sided;

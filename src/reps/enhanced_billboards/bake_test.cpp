@@ -96,6 +96,54 @@ std::size_t covered_texels(const Billboard& b)
     return n;
 }
 
+// Splitting before the bake (bake.cpp split_long_edges): every edge within the limit, every
+// source face's area kept by its pieces, attributes linear over the face, and a closed surface
+// still closed (each edge of the pieces shared by exactly two of them: no T-junctions).
+TEST(BakeBillboards, SplitFacesKeepAreaAttributesAndClosure)
+{
+    // a closed box 3 x 2 x 1, its texture coordinates the positions' x and y
+    Mesh box = make_mesh({{0, 0, 0}, {3, 0, 0}, {3, 2, 0}, {0, 2, 0}, {0, 0, 1}, {3, 0, 1}, {3, 2, 1}, {0, 2, 1}},
+                         {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7});
+    for (const glm::vec3& p : box.positions) box.uvs.push_back({p.x, p.y});
+    auto area = [](const Mesh& m, std::size_t t) {
+        const glm::vec3 &a = m.positions[m.indices[t * 3]], &b = m.positions[m.indices[t * 3 + 1]], &c = m.positions[m.indices[t * 3 + 2]];
+        return 0.5 * double(glm::length(glm::cross(b - a, c - a)));
+    };
+    Mesh unchanged;
+    std::vector<std::uint32_t> none;
+    EXPECT_FALSE(split_long_edges(box, 4.0f, unchanged, none)); // the longest edge, a face diagonal, is sqrt(13)
+    EXPECT_TRUE(none.empty());
+
+    const float limit = 0.3f;
+    Mesh split;
+    std::vector<std::uint32_t> source_face;
+    ASSERT_TRUE(split_long_edges(box, limit, split, source_face));
+    ASSERT_EQ(source_face.size(), split.triangle_count());
+    ASSERT_EQ(split.face_materials.size(), split.triangle_count());
+    EXPECT_GT(split.triangle_count(), std::size_t(12 * 64)); // a 3 x 2 face to edges of 0.3 is over 66 pieces
+    std::vector<double> source_area(box.triangle_count(), 0.0);
+    for (std::size_t t = 0; t < split.triangle_count(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+            std::uint32_t a = split.indices[t * 3 + k], b = split.indices[t * 3 + (k + 1) % 3];
+            EXPECT_LE(glm::length(split.positions[a] - split.positions[b]), limit * 1.0001f);
+        }
+        source_area[source_face[t]] += area(split, t);
+    }
+    for (std::size_t f = 0; f < box.triangle_count(); ++f) EXPECT_NEAR(source_area[f], area(box, f), 1e-5) << "face " << f;
+    for (std::size_t v = 0; v < split.vertex_count(); ++v) {
+        EXPECT_NEAR(split.uvs[v].x, split.positions[v].x, 1e-5f);
+        EXPECT_NEAR(split.uvs[v].y, split.positions[v].y, 1e-5f);
+    }
+    // closed: with vertices at one position welded, every edge is used once each way
+    const std::vector<std::uint32_t> weld = weld_by_position(split);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    for (std::size_t t = 0; t < split.triangle_count(); ++t)
+        for (int k = 0; k < 3; ++k) ++directed[{weld[split.indices[t * 3 + k]], weld[split.indices[t * 3 + (k + 1) % 3]]}];
+    int unpaired = 0;
+    for (const auto& [edge, count] : directed) unpaired += count != 1 || directed.count({edge.second, edge.first}) == 0;
+    EXPECT_EQ(unpaired, 0);
+}
+
 TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
 {
     Mesh mesh;

@@ -168,6 +168,9 @@ public:
 BakeSettings settings_from(const Options& parameters);
 // Each vertex's representative among the vertices at exactly its position (bake.cpp).
 std::vector<std::uint32_t> weld_by_position(const Mesh& mesh);
+// `mesh` with its faces bisected until no edge is longer than `max_edge` into `out`, `source_face`
+// naming each piece's face of `mesh`; false (and `out` untouched) when no edge was longer (bake.cpp).
+bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face);
 
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();
