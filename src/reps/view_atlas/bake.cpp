@@ -13,8 +13,9 @@
 //  - PBR models (issue #14, Mesh::has_pbr_materials) also get ORM and emission pages with the same
 //    layout, captured from the truth's capture modes (reps/common/material_capture.h), so the
 //    renderer relights metals, smooth and occluded surfaces and emission like the truth;
-//  - default 1280 views (k = 3) of 256² instead of 5120 of 512²: a bunny package stays well under
-//    100 MB (docs/RESULTS.md, "View atlas"); k = 4 and 512 remain options;
+//  - default 320 views (k = 2) of 256² instead of 5120 of 512²: a bunny package stays well under
+//    100 MB (docs/RESULTS.md, "View atlas" and "Defaults: views and resolution for the corrected
+//    style"); k = 4 and 512 remain options;
 //  - models with alpha-tested materials (issue #14) are captured at k_coverage_samples times the
 //    resolution per side and box-filtered down (reps/common/coverage_capture.h): a texel's
 //    alpha is the fraction of it the alpha-tested surface covers, so that the renderer can place a
