@@ -239,11 +239,11 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
 // each card into hundreds of pieces whose per-face passes were most of the bake (a 20,000-card bush:
 // 17.9 million faces with the back sides, 8-10 minutes, 3.4 GB). At 16 texels six foliage models
 // bake 1.3-6x faster in 24-62% of the memory; on the four up to 30,000 cards foliage-protocol Luv and
-// IoU are better (more of a card stays on one billboard), on crowns of 100,000 and 200,000 small
-// cards worse (Luv at distance 1 +0.6-0.7, IoU 0.994 -> 0.989 and 0.975 -> 0.965: a whole card more
-// often has under half its texels in front from every direction and is left), which 17 minutes and
-// 4.4 GB, or 10 GB, of bake at 8 texels did not seem worth; 32 was worse on the 30,000-card tree
-// too (docs/RESULTS.md "Billboards of foliage: leaf cards split less").
+// IoU are better (more of a card stays on one billboard), on crowns of 100,000 and 200,000 cards
+// worse (Luv at distance 1 +0.6-0.7, IoU 0.994 -> 0.989 and 0.975 -> 0.965: in such a crown a bigger
+// piece more often has under half its texels in front from every direction and is left), which 17
+// minutes and 4.4 GB, or 10 GB, of bake at 8 texels did not seem worth; 32 was worse on the
+// 30,000-card tree too (docs/RESULTS.md "Billboards of foliage: leaf cards split less").
 bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face)
 {
     float limit2 = max_edge * max_edge;
