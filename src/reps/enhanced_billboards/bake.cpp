@@ -12,7 +12,9 @@
 // - depth limit: none within the model by default (1 diagonal): 0.5 and 0.25 gave more billboards
 //   and left more surface occluded on models with nested parts.
 // - faces longer than k_split_texels texels (k_alpha_split_texels for alpha-tested models) are split
-//   before baking, since the occlusion test is all or nothing per face (see split_long_edges).
+//   before baking, since the occlusion test is all or nothing per face (see split_long_edges); the
+//   alpha-tested faces the greedy leaves are split again to k_split_texels and the greedy goes on
+//   (the second round, in bake_pass).
 // - score: the seed counts facing faces (--score faces). The default (--score area) ranks the
 //   candidates by the projected area of the remaining non-grazing faces facing them (a histogram of
 //   normals makes this cheap for every candidate), then captures the best k_exact_candidates,
@@ -92,7 +94,9 @@ constexpr float k_scoring_texel_scale = 2.0f;    // exact scoring at half the re
 constexpr float k_scoring_resolution = 512.0f;    // or 512 texels along the diagonal where finer (2048: foliage)
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
 constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels,
-constexpr float k_alpha_split_texels = 16.0f;    // alpha-tested models' to this many (see split_long_edges)
+constexpr float k_alpha_split_texels = 16.0f;    // alpha-tested models' to this many (see split_long_edges),
+constexpr std::size_t k_second_round_faces = 16'000'000; // and what the greedy leaves to k_split_texels within this
+constexpr float k_second_round_step = 1.41421356f;       // many faces, else to this factor times it (bake_pass)
 constexpr std::uint32_t k_no_vertex = 0xffffffffu;
 
 // The checks between parameters that their declarations cannot express; resolves the direction
@@ -227,6 +231,23 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
 
 } // namespace
 
+namespace {
+
+// Appends the midpoint of edge (a, b) to `mesh`'s vertices, its attributes interpolated; the same
+// values whichever way round the edge is given, so the faces on both sides of it place it alike.
+std::uint32_t append_midpoint(Mesh& mesh, std::uint32_t a, std::uint32_t b)
+{
+    if (a > b) std::swap(a, b);
+    mesh.positions.push_back(0.5f * (mesh.positions[a] + mesh.positions[b]));
+    glm::vec3 n = mesh.normals[a] + mesh.normals[b];
+    mesh.normals.push_back(glm::length(n) > 0.0f ? glm::normalize(n) : mesh.normals[a]);
+    mesh.colors.push_back(0.5f * (mesh.colors[a] + mesh.colors[b]));
+    if (!mesh.uvs.empty()) mesh.uvs.push_back(0.5f * (mesh.uvs[a] + mesh.uvs[b]));
+    return std::uint32_t(mesh.positions.size() - 1);
+}
+
+} // namespace
+
 // Faces are split so that no edge is longer than `max_edge` (longest-edge bisection, midpoints
 // computed the same way from both sides of an edge, so no T-junctions): the occlusion test is all
 // or nothing per face, and a long CAD sliver partly covered by a bolt from every side would
@@ -243,7 +264,8 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
 // worse (Luv at distance 1 +0.6-0.7, IoU 0.994 -> 0.989 and 0.975 -> 0.965: in such a crown a bigger
 // piece more often has under half its texels in front from every direction and is left), which 17
 // minutes and 4.4 GB, or 10 GB, of bake at 8 texels did not seem worth; 32 was worse on the
-// 30,000-card tree too (docs/RESULTS.md "Billboards of foliage: leaf cards split less").
+// 30,000-card tree too (docs/RESULTS.md "Billboards of foliage: leaf cards split less"). What the
+// greedy leaves is split again, to 8 texels, in a second round (bake_pass, split_remaining).
 bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face)
 {
     float limit2 = max_edge * max_edge;
@@ -259,16 +281,7 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
     out = mesh;
     out.indices.clear();
     out.face_materials.clear();
-    bool has_uv = mesh.has_texture_coordinates();
-    auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-        if (a > b) std::swap(a, b);
-        out.positions.push_back(0.5f * (out.positions[a] + out.positions[b]));
-        glm::vec3 n = out.normals[a] + out.normals[b];
-        out.normals.push_back(glm::length(n) > 0.0f ? glm::normalize(n) : out.normals[a]);
-        out.colors.push_back(0.5f * (out.colors[a] + out.colors[b]));
-        if (has_uv) out.uvs.push_back(0.5f * (out.uvs[a] + out.uvs[b]));
-        return std::uint32_t(out.positions.size() - 1);
-    };
+    auto midpoint = [&](std::uint32_t a, std::uint32_t b) { return append_midpoint(out, a, b); };
     auto edge2 = [&](std::uint32_t a, std::uint32_t b) {
         glm::vec3 d = out.positions[a] - out.positions[b];
         return glm::dot(d, d);
@@ -614,6 +627,107 @@ std::size_t count_source_faces(const std::vector<std::uint32_t>& pieces, const s
     return n;
 }
 
+// The pieces longest-edge bisection to edges of at most sqrt(limit2) cuts a triangle into (1 when it
+// is short enough): split_remaining's budget, counted before anything is allocated.
+std::size_t bisection_pieces(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float limit2)
+{
+    const glm::vec3 ab = a - b, bc = b - c, ca = c - a;
+    const float e[3] = {glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)};
+    const int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+    if (!(e[k] > limit2)) return 1;
+    const glm::vec3 p[3] = {a, b, c};
+    const glm::vec3 &x = p[k], &y = p[(k + 1) % 3], &z = p[(k + 2) % 3], m = 0.5f * (x + y);
+    return bisection_pieces(m, z, x, limit2) + bisection_pieces(m, y, z, limit2);
+}
+
+} // namespace
+
+std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float max_edge)
+{
+    std::size_t n = 0;
+    for (std::uint32_t f : remaining) {
+        const std::uint32_t* corner = &mesh.indices[std::size_t(f) * 3];
+        n += alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f
+                 ? bisection_pieces(mesh.positions[corner[0]], mesh.positions[corner[1]], mesh.positions[corner[2]], max_edge * max_edge)
+                 : 1;
+    }
+    return n;
+}
+
+Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_t>& source_face, std::vector<std::uint32_t>& remaining,
+                     float max_edge)
+{
+    const float limit2 = max_edge * max_edge;
+    Mesh out;
+    out.materials = mesh.materials;
+    out.textures = mesh.textures;
+    FaceData next;
+    std::vector<std::uint32_t> next_source;
+    std::vector<std::uint32_t> vertex(mesh.vertex_count(), k_no_vertex); // mesh's vertex -> out's
+    auto keep_vertex = [&](std::uint32_t v) {
+        if (vertex[v] == k_no_vertex) {
+            vertex[v] = std::uint32_t(out.positions.size());
+            out.positions.push_back(mesh.positions[v]);
+            out.normals.push_back(mesh.normals[v]);
+            out.colors.push_back(mesh.colors[v]);
+            if (!mesh.uvs.empty()) out.uvs.push_back(mesh.uvs[v]);
+        }
+        return vertex[v];
+    };
+    auto edge2 = [&](std::uint32_t a, std::uint32_t b) {
+        glm::vec3 d = out.positions[a] - out.positions[b];
+        return glm::dot(d, d);
+    };
+    struct Piece {
+        std::array<std::uint32_t, 3> corner;
+        std::uint8_t open; // bit k: edge (k, k + 1) lies on an open edge of the face
+        bool whole;        // the face itself
+    };
+    std::vector<Piece> stack;
+    for (std::uint32_t f : remaining) {
+        const bool cut_out = alpha_test_cutoff(mesh.materials[mesh.face_materials[f]]) > 0.0f;
+        stack.push_back({{keep_vertex(mesh.indices[std::size_t(f) * 3]), keep_vertex(mesh.indices[std::size_t(f) * 3 + 1]),
+                          keep_vertex(mesh.indices[std::size_t(f) * 3 + 2])},
+                         faces.open_edges.empty() ? std::uint8_t(0) : faces.open_edges[f], true});
+        while (!stack.empty()) {
+            const Piece piece = stack.back();
+            stack.pop_back();
+            const std::array<std::uint32_t, 3>& t = piece.corner;
+            float e[3] = {edge2(t[0], t[1]), edge2(t[1], t[2]), edge2(t[2], t[0])};
+            int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+            if (cut_out && e[k] > limit2 && out.positions.size() < 0xfffffff0u) {
+                // (a, b) the longest edge, c the corner opposite; edges' open bits named by them
+                const std::uint32_t a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3], m = append_midpoint(out, a, b);
+                const std::uint8_t ab = (piece.open >> k) & 1, bc = (piece.open >> ((k + 1) % 3)) & 1,
+                                   ca = (piece.open >> ((k + 2) % 3)) & 1;
+                stack.push_back({{m, c, a}, std::uint8_t((ca << 1) | (ab << 2)), false}); // (m, c) a cut, (c, a), (a, m)
+                stack.push_back({{m, b, c}, std::uint8_t(ab | (bc << 1)), false});        // (m, b), (b, c), (c, m) a cut
+                continue;
+            }
+            out.indices.insert(out.indices.end(), t.begin(), t.end());
+            out.face_materials.push_back(mesh.face_materials[f]);
+            double area = faces.area[f];
+            if (!piece.whole) {
+                const glm::dvec3 p0 = out.positions[t[0]], p1 = out.positions[t[1]], p2 = out.positions[t[2]];
+                area = 0.5 * glm::length(glm::cross(p1 - p0, p2 - p0));
+                if (!(area > 0.0) || !std::isfinite(area)) area = 0.0;
+            }
+            next.area.push_back(area);
+            next.normal.push_back(area > 0.0 ? faces.normal[f] : glm::vec3(0.0f));
+            if (!faces.open_edges.empty()) next.open_edges.push_back(piece.open);
+            if (!faces.part.empty()) next.part.push_back(faces.part[f]);
+            next_source.push_back(source_face.empty() ? f : source_face[f]);
+        }
+    }
+    faces = std::move(next);
+    source_face = std::move(next_source);
+    remaining.resize(out.triangle_count());
+    for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
+    return out;
+}
+
+namespace {
+
 // The faces of `mesh` whose material is not alpha-tested (issue #14), for the coarse mesh: it has
 // no texture to cut a leaf card's cut-outs with, so a card's coarse triangles are the whole card,
 // and the renderer fills with them the ring of near-miss pixels around every leaf. Measured on the
@@ -760,7 +874,7 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
         for (std::uint32_t& piece : piece_of) piece = source_of(source_face, piece);
         source_face = std::move(piece_of);
     }
-    const Mesh& work = two_sided ? sided : split_or_source;
+    const Mesh* work = two_sided ? &sided : &split_or_source;
     for (double a : faces.area) package->area_total += a;
     std::vector<glm::vec3> directions = make_directions(settings);
     CaptureSettings capture_settings;
@@ -769,7 +883,7 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     capture_settings.min_facing = std::sin(glm::radians(settings.grazing_angle));
     capture_settings.edge_lines = sheet_edges == "clip";
     capture_settings.partly_visible = settings.partly_hidden;
-    std::vector<std::uint32_t> remaining(work.triangle_count());
+    std::vector<std::uint32_t> remaining(work->triangle_count());
     for (std::size_t f = 0; f < remaining.size(); ++f) remaining[f] = std::uint32_t(f);
 
     bool hit_limit = false;
@@ -803,21 +917,50 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
 
     if (settings.face_assignment == "squarer") {
         context.progress.report("enhanced billboards: assigning faces", 0.0);
-        const SquarerAssignment squarer = assign_squarer(work, faces, remaining, directions, settings, capture_settings,
+        const SquarerAssignment squarer = assign_squarer(*work, faces, remaining, directions, settings, capture_settings,
                                                          package->area_total, context.progress);
         context.progress.report("enhanced billboards: assigning faces", 1.0);
-        std::vector<std::uint8_t> allowed(work.triangle_count(), 0);
+        std::vector<std::uint8_t> allowed(work->triangle_count(), 0);
         for (std::size_t i = 0; i < squarer.directions.size(); ++i) {
             context.progress.report("enhanced billboards: capturing", package->area_captured / std::max(package->area_total, 1e-300));
             squarer.allow(i, faces, remaining, allowed);
             CaptureSettings final_settings = capture_settings;
             final_settings.write_maps = true;
             final_settings.allowed = &allowed;
-            Capture capture = capture_direction(work, faces, remaining, squarer.directions[i], final_settings);
+            Capture capture = capture_direction(*work, faces, remaining, squarer.directions[i], final_settings);
             if (!capture.faces.empty()) keep(capture);
         }
         // what it left hidden everywhere goes on to the greedy below
     }
+
+    // Alpha-tested models' second round (issue #14): when the greedy stalls, the alpha-tested faces
+    // left (in a dense crown a 16-texel piece more often has under --partly-hidden of its texels in
+    // front in every direction) are split to k_split_texels and the greedy goes on with what is left,
+    // in a work mesh of its own (captured faces take no part in later captures: the first round's
+    // mesh is freed); to k_split_texels x k_second_round_step where k_split_texels would make over
+    // k_second_round_faces faces.
+    // A 100,000-card tree: Luv 7.29 -> 6.15, IoU 0.989 -> 0.995, where splitting every card to 8
+    // texels from the start gave 6.61 in 17 minutes and 4.4 GB (docs/RESULTS.md "Billboards of
+    // foliage: what is left split again").
+    Mesh second_round;
+    bool split_again = !alpha_tested;
+    auto split_left_faces = [&]() {
+        if (split_again) return false;
+        split_again = true;
+        float length = 0.0f;
+        std::size_t pieces = 0;
+        for (float texels : {k_split_texels, k_split_texels * k_second_round_step}) {
+            length = texels * texel;
+            pieces = split_remaining_faces(*work, remaining, length);
+            if (pieces <= k_second_round_faces) break;
+        }
+        if (pieces == remaining.size()) return false; // nothing to split
+        second_round = split_remaining(*work, faces, source_face, remaining, length);
+        work = &second_round;
+        sided = Mesh{};
+        split = Mesh{};
+        return true;
+    };
 
     // greedy loop over the faces not yet captured
     while (!remaining.empty()) {
@@ -827,14 +970,17 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
             break;
         }
         // choose the direction that captures the most, and capture it at full resolution
-        std::optional<glm::vec3> w = choose_direction(work, faces, remaining, directions, settings, capture_settings);
-        if (!w) break;
+        std::optional<glm::vec3> w = choose_direction(*work, faces, remaining, directions, settings, capture_settings);
+        if (!w) {
+            if (split_left_faces()) continue;
+            break;
+        }
         CaptureSettings final_settings = capture_settings;
         final_settings.write_maps = true;
-        Capture capture = capture_direction(work, faces, remaining, *w, final_settings);
-        if (capture.faces.empty()) break;
-        if (capture.area < double(settings.min_coverage) * package->area_total) {
-            too_small = std::move(capture.faces);
+        Capture capture = capture_direction(*work, faces, remaining, *w, final_settings);
+        if (capture.faces.empty() || capture.area < double(settings.min_coverage) * package->area_total) {
+            if (split_left_faces()) continue;
+            if (!capture.faces.empty()) too_small = std::move(capture.faces);
             break;
         }
         keep(capture);

@@ -144,6 +144,67 @@ TEST(BakeBillboards, SplitFacesKeepAreaAttributesAndClosure)
     EXPECT_EQ(unpaired, 0);
 }
 
+// The second round's work mesh (bake.cpp split_remaining): only the faces left, in their order;
+// the alpha-tested ones cut into pieces within the limit, each with its face's normal, part, source
+// and a share of its area; only the pieces of a face's open edges open; opaque faces and short ones
+// as they were; the pieces bake_pass counts before splitting are the pieces it makes.
+TEST(BakeBillboards, SplitRemainingKeepsOnlyWhatIsLeftWithOpenEdgesAreasAndSources)
+{
+    // a 2 x 2 leaf card of two triangles (open outline, the diagonal shared), a small leaf, a large
+    // opaque triangle, and a leaf already captured
+    Mesh mesh = make_mesh({{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {5, 0, 0}, {5.2f, 0, 0}, {5, 0.2f, 0}, {10, 0, 0}, {13, 0, 0},
+                           {10, 3, 0}, {20, 0, 0}, {23, 0, 0}, {20, 3, 0}},
+                          {0, 1, 2, 0, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
+    Material leaf{"leaf", glm::vec4(1.0f), -1};
+    leaf.alpha_mode = AlphaMode::mask;
+    mesh.materials.push_back(leaf);
+    mesh.face_materials = {1, 1, 1, 0, 1};
+    FaceData faces = compute_face_data(mesh);
+    faces.open_edges = {0b011, 0b110, 0b111, 0b111, 0b111}; // (0, 1, 2): edges 0-1, 1-2; (0, 2, 3): 2-3, 3-0
+    faces.part = {7, 7, 8, 9, 10};
+    std::vector<std::uint32_t> source_face = {4, 4, 5, 6, 3}; // as after a first split: both halves of face 4
+    std::vector<std::uint32_t> remaining = {0, 1, 2, 3};
+    const float limit = 0.3f;
+    const std::size_t counted = split_remaining_faces(mesh, remaining, limit);
+    const Mesh split = split_remaining(mesh, faces, source_face, remaining, limit);
+
+    ASSERT_EQ(split.triangle_count(), counted);
+    ASSERT_EQ(split.face_materials.size(), counted);
+    ASSERT_EQ(faces.area.size(), counted);
+    ASSERT_EQ(faces.normal.size(), counted);
+    ASSERT_EQ(faces.open_edges.size(), counted);
+    ASSERT_EQ(faces.part.size(), counted);
+    ASSERT_EQ(source_face.size(), counted);
+    ASSERT_EQ(remaining.size(), counted);
+    for (std::size_t f = 0; f < counted; ++f) EXPECT_EQ(remaining[f], f);
+    ASSERT_GT(counted, std::size_t(2 * 44 + 2)); // a 2 x 2 card to edges of 0.3 is over 44 pieces
+    for (const glm::vec3& p : split.positions) EXPECT_LT(p.x, 20.0f); // nothing of the captured leaf
+    // the card's pieces, then the small leaf and the opaque triangle as they were
+    const std::size_t card = counted - 2;
+    EXPECT_EQ(source_face[card], 5u);
+    EXPECT_EQ(source_face[card + 1], 6u);
+    EXPECT_EQ(faces.area[card + 1], 4.5);
+    EXPECT_EQ(faces.open_edges[card + 1], 0b111);
+    EXPECT_EQ(faces.part[card + 1], 9u);
+    EXPECT_EQ(split.face_materials[card + 1], 0u);
+    double card_area = 0.0;
+    for (std::size_t f = 0; f < card; ++f) {
+        EXPECT_EQ(source_face[f], 4u);
+        EXPECT_EQ(faces.part[f], 7u);
+        EXPECT_EQ(split.face_materials[f], 1u);
+        EXPECT_EQ(faces.normal[f], glm::vec3(0, 0, 1));
+        card_area += faces.area[f];
+        for (int e = 0; e < 3; ++e) {
+            const glm::vec3 a = split.positions[split.indices[f * 3 + e]], b = split.positions[split.indices[f * 3 + (e + 1) % 3]];
+            EXPECT_LE(glm::length(a - b), limit * 1.0001f);
+            // on the card's outline: both ends on one of its four sides
+            const bool outline = (a.x == 0 && b.x == 0) || (a.x == 2 && b.x == 2) || (a.y == 0 && b.y == 0) || (a.y == 2 && b.y == 2);
+            EXPECT_EQ(bool(faces.open_edges[f] & (1 << e)), outline) << "piece " << f << " edge " << e;
+        }
+    }
+    EXPECT_NEAR(card_area, 4.0, 1e-5);
+}
+
 TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
 {
     Mesh mesh;

@@ -17,6 +17,8 @@
 
 namespace standin::billboards {
 
+struct FaceData; // capture.h
+
 // A billboard is a surface image (reps/common/surface_image.h: its frame, colour + coverage and
 // normal + depth, one depth encoding) with what its capture took. Row j of the images is uploaded
 // as texture row j (t = (j + 0.5) / height).
@@ -171,6 +173,15 @@ std::vector<std::uint32_t> weld_by_position(const Mesh& mesh);
 // `mesh` with its faces bisected until no edge is longer than `max_edge` into `out`, `source_face`
 // naming each piece's face of `mesh`; false (and `out` untouched) when no edge was longer (bake.cpp).
 bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<std::uint32_t>& source_face);
+// The work mesh of the billboards' second round (bake.cpp, bake_pass): faces `remaining` of `mesh`
+// alone, in their order, the alpha-tested ones bisected as split_long_edges does to edges of at most
+// `max_edge`, each face's pieces in a row. `faces` and `source_face` become the new mesh's (each
+// piece with its face's normal, part and source; an open edge's pieces open, the cuts not),
+// `remaining` all of its faces (bake.cpp).
+Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_t>& source_face, std::vector<std::uint32_t>& remaining,
+                     float max_edge);
+// The faces split_remaining would make, counted without making them (bake.cpp).
+std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float max_edge);
 
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();
