@@ -229,10 +229,6 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
     return directions[best];
 }
 
-} // namespace
-
-namespace {
-
 // Appends the midpoint of edge (a, b) to `mesh`'s vertices, its attributes interpolated; the same
 // values whichever way round the edge is given, so the faces on both sides of it place it alike.
 std::uint32_t append_midpoint(Mesh& mesh, std::uint32_t a, std::uint32_t b)
@@ -642,6 +638,7 @@ std::size_t bisection_pieces(const glm::vec3& a, const glm::vec3& b, const glm::
 
 } // namespace
 
+// What split_remaining would make: the alpha-tested faces' pieces, the others one each.
 std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float max_edge)
 {
     std::size_t n = 0;
@@ -654,6 +651,8 @@ std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint3
     return n;
 }
 
+// The second round's work mesh (billboards.h): vertices copied as the faces left first use them,
+// midpoints appended as the bisection makes them; a face's pieces depth first, in a row.
 Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_t>& source_face, std::vector<std::uint32_t>& remaining,
                      float max_edge)
 {
