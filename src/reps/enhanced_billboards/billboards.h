@@ -118,7 +118,7 @@ struct BakeSettings {
     // texels are (capture.h, CaptureSettings::partly_visible); 0: the seed's all-or-nothing test
     float partly_hidden = 0.0f;
     int max_billboards = 0;
-    float min_coverage = 0.0f;   // billboards capturing less than this fraction of area are dropped
+    float min_coverage = 0.0f;   // billboards capturing less than this fraction of the area found so far are dropped
     int depth_bits = 16;
     float coarse_ratio = 0.1f;
     std::string compression = "bc"; // "bc": KTX2 block-compressed maps; "none": PNG (package.cpp)

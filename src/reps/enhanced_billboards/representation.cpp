@@ -45,7 +45,8 @@ std::vector<OptionSpec> bake_options()
                       "hidden parts than fewer billboards gave them: docs/RESULTS.md \"Partly hidden leaves\")"),
         integer_option("max-billboards", 64, 1, 4096, "Stop after this many billboards"),
         number_option("min-coverage", "0.001", 0.0, 1.0,
-                      "Stop when the next billboard would capture less than this fraction of the surface"),
+                      "Stop when the next billboard would capture less than this fraction of the surface found so far "
+                      "(itself included: what no direction shows, such as a dense crown's inside, does not count)"),
         integer_option("depth-bits", 16, 8, 16,
                        "Depth precision: 16, or 8 (the paper: the alpha channel of an 8-bit image)"),
         choice_option("compression", "bc", {"bc", "none"},
