@@ -97,8 +97,8 @@ constexpr float k_scoring_resolution = 512.0f;    // or 512 texels along the dia
 constexpr int k_histogram_side = 32;             // octahedral bins of face normals
 constexpr float k_split_texels = 8.0f;           // faces are split to edges of at most this many texels,
 constexpr float k_alpha_split_texels = 16.0f;    // alpha-tested models' to this many (see split_long_edges),
-constexpr std::size_t k_second_round_faces = 16'000'000; // and what the greedy leaves to k_split_texels within this
-constexpr float k_second_round_step = 1.41421356f;       // many faces, else to this factor times it (bake_pass)
+constexpr float k_split_budget = 16.0f;         // and what the greedy leaves to k_split_texels within this many
+constexpr float k_second_round_step = 1.41421356f; // million faces (--split-budget), else to this factor times it (bake_pass)
 constexpr std::uint32_t k_no_vertex = 0xffffffffu;
 
 // Whether a capture is too small to be a billboard: under --min-coverage of the surface found so far
@@ -666,6 +666,14 @@ std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint3
     return n;
 }
 
+// The second round's edge length (billboards.h): k_split_texels where that makes at most `budget`
+// faces, else k_second_round_step times it, whatever that makes.
+float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget)
+{
+    const float finest = k_split_texels * texel;
+    return split_remaining_faces(mesh, remaining, finest) <= budget ? finest : finest * k_second_round_step;
+}
+
 // The second round's work mesh (billboards.h): vertices copied as the faces left first use them,
 // midpoints appended as the bisection makes them; a face's pieces depth first, in a row.
 Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_t>& source_face, std::vector<std::uint32_t>& remaining,
@@ -951,23 +959,18 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     // front in every direction) are split to k_split_texels and the greedy goes on with what is left,
     // in a work mesh of its own (captured faces take no part in later captures: the first round's
     // mesh is freed); to k_split_texels x k_second_round_step where k_split_texels would make over
-    // k_second_round_faces faces.
+    // k_split_budget million faces (--split-budget: a machine with the memory splits denser crowns to 8).
     // A 100,000-card tree: Luv 7.29 -> 6.15, IoU 0.989 -> 0.995, where splitting every card to 8
     // texels from the start gave 6.61 in 17 minutes and 4.4 GB (docs/RESULTS.md "Billboards of
     // foliage: what is left split again").
     Mesh second_round;
-    bool split_again = !alpha_tested;
+    bool split_again = !alpha_tested || !(settings.split_budget > 0.0f);
+    const std::size_t budget = std::size_t(double(settings.split_budget) * 1e6);
     auto split_left_faces = [&]() {
         if (split_again) return false;
         split_again = true;
-        float length = 0.0f;
-        std::size_t pieces = 0;
-        for (float texels : {k_split_texels, k_split_texels * k_second_round_step}) {
-            length = texels * texel;
-            pieces = split_remaining_faces(*work, remaining, length);
-            if (pieces <= k_second_round_faces) break;
-        }
-        if (pieces == remaining.size()) return false; // nothing to split
+        const float length = second_round_edge(*work, remaining, texel, budget);
+        if (split_remaining_faces(*work, remaining, length) == remaining.size()) return false; // nothing to split
         second_round = split_remaining(*work, faces, source_face, remaining, length);
         work = &second_round;
         sided = Mesh{};
@@ -1038,6 +1041,8 @@ Result<std::unique_ptr<Package>> bake(const BakeContext& context)
     if (alpha_tested && !parameters.given("grazing-angle")) parameters.set_number("grazing-angle", k_alpha_grazing_angle);
     // and captured where they are in front when partly hidden (k_alpha_partly_hidden)
     if (alpha_tested && !parameters.given("partly-hidden")) parameters.set_number("partly-hidden", k_alpha_partly_hidden);
+    // and what the greedy leaves of their faces split again within k_split_budget million faces
+    if (alpha_tested && !parameters.given("split-budget")) parameters.set_number("split-budget", k_split_budget);
     Result<std::unique_ptr<EnhancedBillboardsPackage>> package = bake_pass(context, parameters, alpha_tested);
     if (!package) return package.status();
     // alpha-tested models above k_alpha_resolution: again, coarser, where the maps exceed the budget

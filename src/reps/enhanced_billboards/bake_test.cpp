@@ -205,6 +205,37 @@ TEST(BakeBillboards, SplitRemainingKeepsOnlyWhatIsLeftWithOpenEdgesAreasAndSourc
     EXPECT_NEAR(card_area, 4.0, 1e-5);
 }
 
+// The second round splits to 8 texels where that stays within --split-budget faces, else to 11.3
+// (k_split_texels x k_second_round_step) whatever that makes; the option sets the budget.
+TEST(BakeBillboards, SecondRoundSplitsFinerWithinItsBudget)
+{
+    Mesh mesh = test::alpha_quad(AlphaMode::mask, 0.5f, true); // a unit leaf card
+    const std::vector<std::uint32_t> remaining = {0, 1};
+    const float texel = 1.0f / 300.0f; // the card is 300 texels across (8 and 11.3 texels between bisection levels)
+    const std::size_t at_8 = split_remaining_faces(mesh, remaining, 8.0f * texel);
+    const std::size_t at_11 = split_remaining_faces(mesh, remaining, 8.0f * 1.41421356f * texel);
+    ASSERT_GT(at_8, at_11);
+    ASSERT_GT(at_11, 2u);
+    EXPECT_FLOAT_EQ(second_round_edge(mesh, remaining, texel, at_8), 8.0f * texel);
+    EXPECT_FLOAT_EQ(second_round_edge(mesh, remaining, texel, at_8 - 1), 8.0f * 1.41421356f * texel);
+    EXPECT_FLOAT_EQ(second_round_edge(mesh, remaining, texel, 1), 8.0f * 1.41421356f * texel); // over it either way
+
+    // the budget: 16 million faces for alpha-tested models, none for others, or as given
+    Baked unset = bake_mesh(mesh, {{"max-billboards", "1"}});
+    ASSERT_TRUE(unset.status) << unset.status.message();
+    EXPECT_FLOAT_EQ(unset.package->settings.split_budget, 16.0f);
+    EXPECT_FALSE(unset.package->parameters.given("split-budget")); // a default, not something asked for
+    Baked given = bake_mesh(mesh, {{"max-billboards", "1"}, {"split-budget", "40"}});
+    ASSERT_TRUE(given.status) << given.status.message();
+    EXPECT_FLOAT_EQ(given.package->settings.split_budget, 40.0f);
+    Mesh opaque = mesh;
+    opaque.materials[0].alpha_mode = AlphaMode::opaque;
+    Baked solid = bake_mesh(opaque, {{"max-billboards", "1"}});
+    ASSERT_TRUE(solid.status) << solid.status.message();
+    EXPECT_FLOAT_EQ(solid.package->settings.split_budget, 0.0f);
+    EXPECT_FALSE(bake_mesh(mesh, {{"split-budget", "-1"}}).status);
+}
+
 TEST(BakeBillboards, SquareGivesOneBillboardWithExactMaps)
 {
     Mesh mesh;

@@ -117,6 +117,9 @@ struct BakeSettings {
     // a partly hidden face is captured where it is in front when at least this fraction of its
     // texels are (capture.h, CaptureSettings::partly_visible); 0: the seed's all-or-nothing test
     float partly_hidden = 0.0f;
+    // the most faces, in millions, of the greedy's second round, which splits the alpha-tested faces
+    // it left (bake.cpp, bake_pass); 0: none (models without alpha-tested materials)
+    float split_budget = 0.0f;
     int max_billboards = 0;
     float min_coverage = 0.0f;   // billboards capturing less than this fraction of the area found so far are dropped
     int depth_bits = 16;
@@ -182,6 +185,9 @@ Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_
                      float max_edge);
 // The faces split_remaining would make, counted without making them (bake.cpp).
 std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float max_edge);
+// The edge length of the second round for capture texels of `texel`: 8 texels where that makes at
+// most `budget` faces (--split-budget), else 11.3 (bake.cpp).
+float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget);
 
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();

@@ -43,6 +43,11 @@ std::vector<OptionSpec> bake_options()
                       "direction that sees all of it); unset: 0.5 for models with alpha-tested materials (a dense "
                       "crown hides part of every leaf from every direction), else 0 (solid models lost more by the "
                       "hidden parts than fewer billboards gave them: docs/RESULTS.md \"Partly hidden leaves\")"),
+        number_option("split-budget", "", 0.0, 1000.0,
+                      "Models with alpha-tested materials: the most faces, in millions, that the cards the greedy "
+                      "leaves may be split into for its second round (8-texel edges, else 11.3; 0: no second "
+                      "round); unset: 16 for such models, 0 for others. A million faces costs about 0.2 GB of "
+                      "bake memory; a 200,000-card tree needs about 33 for 8 texels: 40 baked it in 8.6 GB (docs/RESULTS.md)"),
         integer_option("max-billboards", 64, 1, 4096, "Stop after this many billboards"),
         number_option("min-coverage", "0.001", 0.0, 1.0,
                       "Stop when the next billboard would capture less than this fraction of the surface found so far "
@@ -169,6 +174,7 @@ BakeSettings settings_from(const Options& parameters)
     s.depth_limit = parameters.number("depth-limit");
     s.grazing_angle = parameters.number("grazing-angle");
     s.partly_hidden = parameters.number("partly-hidden");
+    s.split_budget = parameters.number("split-budget");
     s.max_billboards = parameters.integer("max-billboards");
     s.min_coverage = parameters.number("min-coverage");
     s.depth_bits = parameters.integer("depth-bits");
