@@ -242,6 +242,13 @@ std::optional<glm::vec3> choose_direction(const Mesh& mesh, const FaceData& face
     return directions[best];
 }
 
+// The longest of a triangle's three edges, by their squared lengths e (edge k joins corners k and
+// k + 1); ties to the first, so that every bisection of the bake cuts a face the same way.
+int longest_edge(const float e[3])
+{
+    return e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+}
+
 // Appends the midpoint of edge (a, b) to `mesh`'s vertices, its attributes interpolated; the same
 // values whichever way round the edge is given, so the faces on both sides of it place it alike.
 std::uint32_t append_midpoint(Mesh& mesh, std::uint32_t a, std::uint32_t b)
@@ -302,7 +309,7 @@ bool split_long_edges(const Mesh& mesh, float max_edge, Mesh& out, std::vector<s
             std::array<std::uint32_t, 3> tri = stack.back();
             stack.pop_back();
             float e[3] = {edge2(tri[0], tri[1]), edge2(tri[1], tri[2]), edge2(tri[2], tri[0])};
-            int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+            int k = longest_edge(e);
             if (e[k] <= limit2 || out.positions.size() >= 0xfffffff0u) {
                 out.indices.insert(out.indices.end(), tri.begin(), tri.end());
                 out.face_materials.push_back(mesh.face_materials[t]);
@@ -644,7 +651,7 @@ std::size_t bisection_pieces(const glm::vec3& a, const glm::vec3& b, const glm::
 {
     const glm::vec3 ab = a - b, bc = b - c, ca = c - a;
     const float e[3] = {glm::dot(ab, ab), glm::dot(bc, bc), glm::dot(ca, ca)};
-    const int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+    const int k = longest_edge(e);
     if (!(e[k] > limit2)) return 1;
     const glm::vec3 p[3] = {a, b, c};
     const glm::vec3 &x = p[k], &y = p[(k + 1) % 3], &z = p[(k + 2) % 3], m = 0.5f * (x + y);
@@ -668,10 +675,14 @@ std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint3
 
 // The second round's edge length (billboards.h): k_split_texels where that makes at most `budget`
 // faces, else k_second_round_step times it, whatever that makes.
-float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget)
+float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget,
+                        std::size_t* pieces)
 {
     const float finest = k_split_texels * texel;
-    return split_remaining_faces(mesh, remaining, finest) <= budget ? finest : finest * k_second_round_step;
+    const std::size_t at_finest = split_remaining_faces(mesh, remaining, finest);
+    const float edge = at_finest <= budget ? finest : finest * k_second_round_step;
+    if (pieces) *pieces = edge == finest ? at_finest : split_remaining_faces(mesh, remaining, edge);
+    return edge;
 }
 
 // The second round's work mesh (billboards.h): vertices copied as the faces left first use them,
@@ -716,7 +727,7 @@ Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_
             stack.pop_back();
             const std::array<std::uint32_t, 3>& t = piece.corner;
             float e[3] = {edge2(t[0], t[1]), edge2(t[1], t[2]), edge2(t[2], t[0])};
-            int k = e[0] >= e[1] && e[0] >= e[2] ? 0 : (e[1] >= e[2] ? 1 : 2);
+            int k = longest_edge(e);
             if (cut_out && e[k] > limit2 && out.positions.size() < 0xfffffff0u) {
                 // (a, b) the longest edge, c the corner opposite; edges' open bits named by them
                 const std::uint32_t a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3], m = append_midpoint(out, a, b);
@@ -969,8 +980,9 @@ Result<std::unique_ptr<EnhancedBillboardsPackage>> bake_pass(const BakeContext& 
     auto split_left_faces = [&]() {
         if (split_again) return false;
         split_again = true;
-        const float length = second_round_edge(*work, remaining, texel, budget);
-        if (split_remaining_faces(*work, remaining, length) == remaining.size()) return false; // nothing to split
+        std::size_t pieces = 0;
+        const float length = second_round_edge(*work, remaining, texel, budget, &pieces);
+        if (pieces == remaining.size()) return false; // nothing to split
         second_round = split_remaining(*work, faces, source_face, remaining, length);
         work = &second_round;
         sided = Mesh{};

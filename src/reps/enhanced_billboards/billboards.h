@@ -186,8 +186,9 @@ Mesh split_remaining(const Mesh& mesh, FaceData& faces, std::vector<std::uint32_
 // The faces split_remaining would make, counted without making them (bake.cpp).
 std::size_t split_remaining_faces(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float max_edge);
 // The edge length of the second round for capture texels of `texel`: 8 texels where that makes at
-// most `budget` faces (--split-budget), else 11.3 (bake.cpp).
-float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget);
+// most `budget` faces (--split-budget), else 11.3 (bake.cpp); `pieces`, where given: the faces it makes.
+float second_round_edge(const Mesh& mesh, const std::vector<std::uint32_t>& remaining, float texel, std::size_t budget,
+                        std::size_t* pieces = nullptr);
 
 // The registry entry (representation.cpp): options, debug views and the functions below.
 Representation registration();
