@@ -38,8 +38,8 @@
 // hit can be the surface to show (an open sheet's back, a part's inside through a seam), and the
 // coarse mesh or what lies behind would show instead (docs/RESULTS.md).
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
-// (plus one for instances around the eye); textures are 2D arrays, one layer per billboard, read
-// with texelFetch (no filtering, so the empty background never bleeds into the colour).
+// (before it, one for the boxes that may cross the near plane); textures are 2D arrays, one layer
+// per billboard, read with texelFetch (no filtering, so the empty background never bleeds into the colour).
 // Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
@@ -183,6 +183,14 @@ struct BackCull {
     glm::vec3 eye_object{0.0f};
 };
 
+// An instance that may cross the near plane: which of its proxies do (build_draw_list).
+struct NearSplit {
+    glm::mat4 world_from_object{1.0f};
+    float scale = 1.0f; // the largest axis scale of world_from_object
+    glm::vec3 eye_world{0.0f}, forward_world{0.0f, 0.0f, -1.0f};
+    float near_plane = 0.0f;
+};
+
 // Whether `m` is a rotation times a uniform scale (mirrors included).
 bool similarity(const glm::mat3& m)
 {
@@ -244,7 +252,7 @@ private:
     bool marks_near_misses() const { return coarse_index_count_ > 0 && fill_near_misses_only_; }
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
     void append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object, const BackCull* cull,
-                        std::vector<DrawEntry>& out);
+                        const NearSplit* near, std::vector<DrawEntry>& front, std::vector<DrawEntry>& inside);
 
     int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
     float seed_hit_range_ = 0.01f;
@@ -272,7 +280,7 @@ private:
     float tile_world_ = 0.0f;                      // object units across a tile
     float coarse_tile_factor_ = 1.0f;              // coarse tiles' width over fine tiles'
     std::size_t draw_list_capacity_ = 0;
-    std::vector<DrawEntry> entries_, inside_entries_;
+    std::vector<DrawEntry> front_entries_, inside_entries_, draw_entries_; // the passes' proxies; both, as drawn
     std::vector<std::uint32_t> coarse_instances_; // instances that get the coarse mesh this frame
     gpu::Buffer coarse_list_;
     std::size_t coarse_list_capacity_ = 0;
@@ -720,8 +728,15 @@ void BillboardRenderer::prepare_pixel_images(glm::ivec2 viewport, bool flags)
 
 // The proxies of one instance, front to back along forward_object: tiles (proxy_level 0), coarse
 // tiles (1) or one box per billboard (2), those of billboards that see surfaces facing the eye first.
+// They go to `front`, except, for an instance that may cross the near plane (`near`), those whose
+// sphere reaches it, which go to `inside`. Per proxy, not per instance: the instance's sphere
+// holds every box's corners, over 1.05 times the model's, so the orbit cameras' near plane
+// (camera.cpp: 1.05 radii before the centre) crossed it up to distance 6 and every box went to
+// the inside pass, where a box's depth does not bound its hits (no depth_greater early depth test
+// on a GPU, no stop before the set-up in march.frag).
 void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object,
-                                       const BackCull* cull, std::vector<DrawEntry>& out)
+                                       const BackCull* cull, const NearSplit* near, std::vector<DrawEntry>& front,
+                                       std::vector<DrawEntry>& inside)
 {
     const std::size_t bounds[4] = {0, fine_count_, coarse_end_, proxies_.size()};
     std::size_t first = bounds[proxy_level], last = bounds[proxy_level + 1];
@@ -735,12 +750,22 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         sort_keys_.push_back({key, std::uint32_t(k)});
     }
     std::sort(sort_keys_.begin(), sort_keys_.end());
-    for (const auto& [key, tile] : sort_keys_) out.push_back({instance, tile});
+    for (const auto& [key, tile] : sort_keys_) {
+        bool crosses = false;
+        if (near) {
+            const ProxyInfo& p = proxies_[tile];
+            glm::vec3 centre = glm::vec3(near->world_from_object * glm::vec4(p.centre_object, 1.0f));
+            float depth = glm::dot(centre - near->eye_world, near->forward_world);
+            crosses = depth - (p.radius * near->scale * 1.001f + 1e-6f) <= near->near_plane * 1.01f;
+        }
+        (crosses ? inside : front).push_back({instance, tile});
+    }
 }
 
 // The (instance, proxy) list of this frame: instances outside the view are left out; the others,
 // nearest first, go to the front-face pass, or to the inside pass when they may cross the near
-// plane. Returns the entry counts of the two passes (front first) and uploads the list.
+// plane (append_proxies). Returns the entry counts of the two passes (inside first, as they are
+// drawn) and uploads the list.
 std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& params)
 {
     static const glm::mat4 identity(1.0f);
@@ -792,7 +817,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
     std::sort(visible.begin(), visible.end(),
               [](const Visible& a, const Visible& b) { return a.depth < b.depth || (a.depth == b.depth && a.instance < b.instance); });
 
-    entries_.clear();
+    front_entries_.clear();
     inside_entries_.clear();
     for (const Visible& v : visible) {
         const glm::mat4& m = transforms[v.instance];
@@ -812,16 +837,28 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
             cull.eye_object = camera.orthographic ? glm::transpose(glm::mat3(m)) * -camera.forward_world
                                                   : glm::vec3(glm::inverse(m) * glm::vec4(camera.eye_world, 1.0f));
         }
-        append_proxies(v.instance, v.proxy_level, forward_object, culls ? &cull : nullptr, v.inside ? inside_entries_ : entries_);
+        NearSplit near;
+        if (v.inside) {
+            near.world_from_object = m;
+            near.scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+            near.eye_world = camera.eye_world;
+            near.forward_world = camera.forward_world;
+            near.near_plane = camera.near_plane;
+        }
+        append_proxies(v.instance, v.proxy_level, forward_object, culls ? &cull : nullptr, v.inside ? &near : nullptr,
+                       front_entries_, inside_entries_);
     }
-    std::array<GLsizei, 2> counts = {GLsizei(entries_.size()), GLsizei(inside_entries_.size())};
-    entries_.insert(entries_.end(), inside_entries_.begin(), inside_entries_.end());
-    if (entries_.size() > draw_list_capacity_ || !draw_list_) {
-        draw_list_capacity_ = std::max<std::size_t>({entries_.size(), 2 * draw_list_capacity_, 64});
+    // the inside pass first: its proxies are the nearest, and front to back is what stops rays early
+    std::array<GLsizei, 2> counts = {GLsizei(inside_entries_.size()), GLsizei(front_entries_.size())};
+    draw_entries_.assign(inside_entries_.begin(), inside_entries_.end());
+    draw_entries_.insert(draw_entries_.end(), front_entries_.begin(), front_entries_.end());
+    if (draw_entries_.size() > draw_list_capacity_ || !draw_list_) {
+        draw_list_capacity_ = std::max<std::size_t>({draw_entries_.size(), 2 * draw_list_capacity_, 64});
         draw_list_ = gpu::make_buffer(nullptr, draw_list_capacity_ * sizeof(DrawEntry), GL_DYNAMIC_STORAGE_BIT);
     }
-    if (!entries_.empty())
-        glNamedBufferSubData(draw_list_.get(), 0, GLsizeiptr(entries_.size() * sizeof(DrawEntry)), entries_.data());
+    if (!draw_entries_.empty())
+        glNamedBufferSubData(draw_list_.get(), 0, GLsizeiptr(draw_entries_.size() * sizeof(DrawEntry)),
+                             draw_entries_.data());
     return counts;
 }
 
@@ -851,11 +888,11 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindVertexArray(empty_vertex_array_.get());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
-        const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&front_, &front_at_},
-                                                                                  {&inside_, &inside_at_}};
+        const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&inside_, &inside_at_},
+                                                                                  {&front_, &front_at_}};
         for (int pass = 0; pass < 2; ++pass) {
             if (counts[pass] == 0) continue;
-            glCullFace(pass == 0 ? GL_BACK : GL_FRONT);
+            glCullFace(pass == 0 ? GL_FRONT : GL_BACK);
             set_march_uniforms(*passes[pass].first, *passes[pass].second, pass == 0 ? 0 : counts[0]);
             passes[pass].first->use();
             glDrawArraysInstanced(GL_TRIANGLES, 0, 36, counts[pass]);

@@ -7,6 +7,7 @@
 
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
 
 #include <standin/camera.h>
 #include <standin/mesh.h>
@@ -294,6 +295,40 @@ TEST(BillboardRenderer, ViewFromInsideTheBoxes)
     EXPECT_GT(c.inside, 5000u);
     EXPECT_EQ(c.holes, 0u);
     EXPECT_EQ(c.spill, 0u);
+}
+
+// The orbit cameras put the near plane 1.05 radii before the model's centre (camera.cpp), inside
+// the sphere around every box ([-1, 1]^3: radius 1.73). Only the proxies whose own spheres reach
+// the near plane draw from their back faces (the inside pass, where no ray can stop before its set-up);
+// the others draw front faces, so a box behind a hit already drawn stops at once. Before,
+// every box of such an instance went to the inside pass and none stopped.
+TEST(BillboardRenderer, BoxesClearOfTheNearPlaneStopBehindDrawnHits)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    RenderOptions options;
+    options.values.set("coarse", "off");
+    options.values.set("cull-back-proxies", "off");
+    const float eye_distance = 1.0f / std::sin(glm::radians(20.0f));
+    for (float near_plane : {0.1f, eye_distance - 1.05f}) {
+        Camera camera = look_at_camera(eye_distance * direction_from_angles(30.0f, 20.0f), glm::vec3(0.0f),
+                                       glm::vec3(0, 1, 0), 40.0f, float(k_width) / float(k_height), near_plane, 20.0f);
+        auto renderer = make_package_renderer(package, options);
+        ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
+        (*renderer)->set_counting(true);
+        auto image = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
+        ASSERT_TRUE(image.is_ok()) << image.status().message();
+        Coverage c = compare_with_sphere(image->color, camera, k_margin);
+        EXPECT_EQ(c.holes, 0u) << "near plane " << near_plane;
+        EXPECT_EQ(c.spill, 0u) << "near plane " << near_plane;
+        const std::uint64_t fragments = (*renderer)->read_counter(Counter::fragments);
+        const std::uint64_t stopped = (*renderer)->read_counter(Counter(COUNTER_BEHIND_HITS));
+        std::printf("[ near ] near plane %.2f: %llu of %llu fragments stopped behind a hit\n", near_plane,
+                    (unsigned long long)stopped, (unsigned long long)fragments);
+        // six billboards, each holding the sphere's half that faces it: about half of the boxes
+        // over a pixel lie behind the first one's hit
+        EXPECT_GT(double(stopped), 0.2 * double(fragments)) << "near plane " << near_plane;
+    }
 }
 
 TEST(BillboardRenderer, GrazingViewsAlongABillboardPlane)

@@ -33,7 +33,8 @@
 // counters of this renderer, after the shared ones (debug_views.h)
 #define COUNTER_HITS (COUNTER_SHARED_COUNT + 0)        // fragments that hit
 #define COUNTER_NEAR_MISSES (COUNTER_SHARED_COUNT + 1) // fragments that came near a surface and missed
-#define COUNTER_COUNT (COUNTER_SHARED_COUNT + 2)
+#define COUNTER_BEHIND_HITS (COUNTER_SHARED_COUNT + 2) // fragments stopped before their ray: behind a hit drawn
+#define COUNTER_COUNT (COUNTER_SHARED_COUNT + 3)
 
 // march modes
 #define MARCH_EXACT 0

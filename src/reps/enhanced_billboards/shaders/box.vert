@@ -3,8 +3,8 @@
 // for instances far away) of every instance is one instance of a 36-vertex box (Vichitvejpaisal 2005 §3.3:
 // the box's faces towards the eye, at most three; back faces are culled by GL). The draw list,
 // built on the CPU each frame, names (instance, tile) per box, front to back, and is split in two:
-// boxes beyond the near plane (front faces), and boxes of instances that may cross it, drawn by
-// the INSIDE_PASS variant from their back faces, so that views from inside a box see it.
+// boxes that may cross the near plane, drawn first by the INSIDE_PASS variant from their back
+// faces, so that views from inside a box see it, and the boxes beyond it (front faces).
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/enhanced_billboards/shaders/billboard.glsl"
 
