@@ -121,6 +121,42 @@ TEST(CoarseMesh, OpenBoundariesKeepTheirOutline)
     EXPECT_NEAR(length, expected, 1e-4 * expected);
 }
 
+// The billboards' renderer culls the coarse mesh's back faces for models of one closed surface wound
+// outward (enhanced_billboards/renderer.cpp): the simplification must keep that winding and leave
+// the surface closed, or the faces that fill a hole would be the culled ones.
+TEST(CoarseMesh, ClosedSurfacesStayClosedAndWoundOutward)
+{
+    for (GeneratedShape shape : {GeneratedShape::sphere, GeneratedShape::noisy_sphere}) {
+        Mesh source = test::generated(shape, 20000);
+        Mesh coarse = make_coarse_mesh(source, 0.1f);
+        ASSERT_GT(coarse.triangle_count(), 0u);
+        auto signed_volume = [](const Mesh& m) {
+            double v = 0.0;
+            for (std::size_t t = 0; t < m.triangle_count(); ++t) {
+                glm::dvec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                           c = m.positions[m.indices[3 * t + 2]];
+                v += glm::dot(a, glm::cross(b, c)) / 6.0;
+            }
+            return v;
+        };
+        const double source_volume = signed_volume(source), coarse_volume = signed_volume(coarse);
+        EXPECT_GT(source_volume, 0.0);
+        EXPECT_NEAR(coarse_volume, source_volume, 0.05 * source_volume) << int(shape);
+        // every directed edge (between welded positions) has its opposite: closed, consistently wound
+        std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> edges;
+        auto key = [](glm::vec3 p) { return std::array<float, 3>{p.x, p.y, p.z}; };
+        for (std::size_t t = 0; t < coarse.triangle_count(); ++t)
+            for (int k = 0; k < 3; ++k)
+                ++edges[{key(coarse.positions[coarse.indices[3 * t + k]]), key(coarse.positions[coarse.indices[3 * t + (k + 1) % 3]])}];
+        std::size_t unmatched = 0;
+        for (const auto& [edge, count] : edges) {
+            auto opposite = edges.find({edge.second, edge.first});
+            if (count != 1 || opposite == edges.end() || opposite->second != 1) ++unmatched;
+        }
+        EXPECT_EQ(unmatched, 0u) << int(shape) << ": " << edges.size() << " directed edges";
+    }
+}
+
 TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
 {
     Mesh mesh = coarse_of_noisy_sphere();

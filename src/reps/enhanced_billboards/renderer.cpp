@@ -260,6 +260,7 @@ private:
     bool cull_back_proxies_ = false; // proxies that can hold only back hits are not drawn (--cull-back-proxies)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
+    bool one_closed_surface_ = false; // the package's model is one closed surface wound outward
     // the coarse mesh fills only near misses (--coarse-fill near-misses), not every empty pixel
     bool fill_near_misses_only_ = false;
     gpu::Program front_, inside_, coarse_;
@@ -369,6 +370,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->cull_back_proxies_ = cull == "on" || (cull == "auto" && package.one_closed_surface);
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
+    renderer->one_closed_surface_ = package.one_closed_surface;
     renderer->fill_near_misses_only_ = options.choice("coarse-fill") == "near-misses";
     // "proxies" is the shaded picture with the box lines drawn over it
     bool proxies = settings.debug_view == DebugView::proxies;
@@ -924,8 +926,10 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         coarse_.use();
         coarse_mesh_.bind();
         // models with open single-sided parts (back_hits "hide"): the truth culls their backs, and
-        // so does the coarse mesh (closed parts show no back face anyway)
-        if (hide_back_hits_) {
+        // so does the coarse mesh (closed parts show no back face anyway); one closed surface wound
+        // outward: its back faces lie behind its front faces, which fill every hole they could
+        // (the same picture for half the fragments: docs/RESULTS.md)
+        if (hide_back_hits_ || one_closed_surface_) {
             glEnable(GL_CULL_FACE);
             glCullFace(GL_BACK);
             glFrontFace(GL_CCW);

@@ -417,6 +417,35 @@ TEST(BillboardRenderer, CoarseMeshFillsHolesWithoutGrowingTheSilhouette)
     EXPECT_EQ(exact.spill, 0u);
 }
 
+// For a model of one closed surface wound outward the coarse mesh's back faces are culled (always
+// behind its front faces, which fill every hole they could): the same picture for half its fragments.
+TEST(BillboardRenderer, CoarseMeshOfAClosedSurfaceFillsFromItsFrontFaces)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    package.coarse_mesh = coarse_sphere(0.99f);
+    RenderOptions options;
+    options.values.set("march", "seed"); // 8 steps: holes all over (the test above)
+    options.values.set("steps", "8");
+    const Camera camera = orbit(30, 20, 4.0f, k_width, k_height);
+    auto draw = [&](bool closed, DebugView view) {
+        package.one_closed_surface = closed;
+        options.debug_view = view;
+        return render_package(package, options, camera, default_light(camera), k_width, k_height).image.color;
+    };
+    // the debug views paint the coarse mesh's pixels magenta (coarse.frag)
+    const ImageRGBA8 filled = draw(true, DebugView::parts);
+    std::size_t coarse_pixels = 0;
+    for (std::size_t p = 0; p + 3 < filled.pixels.size(); p += 4)
+        coarse_pixels += filled.pixels[p] == 255 && filled.pixels[p + 1] == 0 && filled.pixels[p + 2] == 255;
+    EXPECT_GT(coarse_pixels, 100u);
+    EXPECT_TRUE(filled.pixels == draw(false, DebugView::parts).pixels);
+    const ImageRGBA8 shaded = draw(true, DebugView::none);
+    EXPECT_TRUE(shaded.pixels == draw(false, DebugView::none).pixels);
+    Coverage c = compare_with_sphere(shaded, camera, k_margin);
+    EXPECT_LT(double(c.holes), 0.002 * double(c.inside));
+}
+
 // Tilted tops (issue #17): a sphere in coarse texels (16 across its radius), seen between its
 // billboards at a size where a texel is about 5 pixels. Flat tops stand out of the curved surface
 // by up to half a texel's rise wherever a billboard sees it obliquely, and from between them those
