@@ -185,11 +185,17 @@ struct BackCull {
 
 // An instance that may cross the near plane: which of its proxies do (build_draw_list).
 struct NearSplit {
-    glm::mat4 world_from_object{1.0f};
+    const glm::mat4* world_from_object = nullptr;
     float scale = 1.0f; // the largest axis scale of world_from_object
-    glm::vec3 eye_world{0.0f}, forward_world{0.0f, 0.0f, -1.0f};
-    float near_plane = 0.0f;
+    const Camera* camera = nullptr;
 };
+
+// Whether a world-space sphere may reach the camera's near plane (with a margin for rounding): then
+// what it holds is drawn from its back faces (the inside pass).
+bool reaches_near_plane(glm::vec3 centre_world, float radius_world, const Camera& camera)
+{
+    return glm::dot(centre_world - camera.eye_world, camera.forward_world) - radius_world <= camera.near_plane * 1.01f;
+}
 
 // Whether `m` is a rotation times a uniform scale (mirrors included).
 bool similarity(const glm::mat3& m)
@@ -756,9 +762,8 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         bool crosses = false;
         if (near) {
             const ProxyInfo& p = proxies_[tile];
-            glm::vec3 centre = glm::vec3(near->world_from_object * glm::vec4(p.centre_object, 1.0f));
-            float depth = glm::dot(centre - near->eye_world, near->forward_world);
-            crosses = depth - (p.radius * near->scale * 1.001f + 1e-6f) <= near->near_plane * 1.01f;
+            glm::vec3 centre = glm::vec3(*near->world_from_object * glm::vec4(p.centre_object, 1.0f));
+            crosses = reaches_near_plane(centre, p.radius * near->scale * 1.001f + 1e-6f, *near->camera);
         }
         (crosses ? inside : front).push_back({instance, tile});
     }
@@ -790,6 +795,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
         std::uint32_t instance;
         bool inside;
         int proxy_level; // append_proxies
+        float scale;     // the transform's largest axis scale
     };
     std::vector<Visible> visible;
     coarse_instances_.clear();
@@ -803,7 +809,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
             outside = outside || glm::dot(glm::vec3(plane), centre) + plane.w < -radius * glm::length(glm::vec3(plane));
         if (outside) continue;
         float depth = glm::dot(centre - camera.eye_world, camera.forward_world);
-        bool inside = depth - radius <= camera.near_plane * 1.01f;
+        bool inside = reaches_near_plane(centre, radius, camera);
         float tile_pixels = tile_world_ * scale * pixels_per_unit_at_1 /
                             (camera.orthographic ? 1.0f : std::max(depth - radius, camera.near_plane));
         const bool has_coarse = coarse_end_ > fine_count_;
@@ -812,7 +818,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
                                 : has_coarse && tile_pixels * coarse_tile_factor_ >=
                                                     k_min_tile_pixels ? 1
                                                                       : 2;
-        visible.push_back({depth, std::uint32_t(i), inside, proxy_level});
+        visible.push_back({depth, std::uint32_t(i), inside, proxy_level, scale});
         float radius_pixels = radius * pixels_per_unit_at_1 / (camera.orthographic ? 1.0f : std::max(depth, camera.near_plane));
         if (inside || radius_pixels >= k_min_coarse_radius_pixels) coarse_instances_.push_back(std::uint32_t(i));
     }
@@ -839,14 +845,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
             cull.eye_object = camera.orthographic ? glm::transpose(glm::mat3(m)) * -camera.forward_world
                                                   : glm::vec3(glm::inverse(m) * glm::vec4(camera.eye_world, 1.0f));
         }
-        NearSplit near;
-        if (v.inside) {
-            near.world_from_object = m;
-            near.scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
-            near.eye_world = camera.eye_world;
-            near.forward_world = camera.forward_world;
-            near.near_plane = camera.near_plane;
-        }
+        const NearSplit near{&m, v.scale, &camera};
         append_proxies(v.instance, v.proxy_level, forward_object, culls ? &cull : nullptr, v.inside ? &near : nullptr,
                        front_entries_, inside_entries_);
     }

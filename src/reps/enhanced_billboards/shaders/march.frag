@@ -372,12 +372,12 @@ vec3 footprint_color(ivec2 texel, int layer, int top_level, vec3 p_box, vec3 p_w
 // hit, where the coarse mesh may fill by the near misses these rays mark. On llvmpipe the frame does
 // not move (rasterising and starting the fragment is most of a box's cost behind the leaves:
 // docs/RESULTS.md); it counts the fragments boxes spend behind the surface (COUNTER_BEHIND_HITS).
-bool behind_drawn_hit()
+// `nearest` is the pixel's record (pixel_depth).
+bool behind_drawn_hit(uint nearest)
 {
 #ifdef INSIDE_PASS
     return false; // the boxes around the eye draw their back faces: no bound from gl_FragCoord.z
 #else
-    uint nearest = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
     return (mark_pixels == 0 || (nearest & PIXEL_DEPTH_BACK) == 0u) &&
            floatBitsToUint(gl_FragCoord.z) > (nearest | PIXEL_DEPTH_BACK);
 #endif
@@ -386,7 +386,9 @@ bool behind_drawn_hit()
 void main()
 {
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
-    if (behind_drawn_hit()) {
+    // the pixel's nearest hit so far, read once: the stop below and the ray's clip further down
+    const uint nearest_record = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
+    if (behind_drawn_hit(nearest_record)) {
         if (counting != 0) atomicAdd(counters[COUNTER_BEHIND_HITS], 1u);
         finish(false, false);
         discard;
@@ -417,7 +419,7 @@ void main()
 
     // and to the nearest hit so far: a hit beyond it would fail the depth test (GL_LESS); the
     // margin keeps rounding of the round trip through window depth on the safe side
-    float nearest = uintBitsToFloat(imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r & ~PIXEL_DEPTH_BACK);
+    float nearest = uintBitsToFloat(nearest_record & ~PIXEL_DEPTH_BACK);
     if (nearest < 1.0) {
         vec2 ndc = gl_FragCoord.xy * frame.viewport_size.zw * 2.0 - 1.0;
         vec4 p = frame.world_from_clip * vec4(ndc, nearest * 2.0 - 1.0, 1.0);
