@@ -50,6 +50,14 @@ std::string gl_error_text(GLenum error)
     return text;
 }
 
+bool software_rasteriser()
+{
+    const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (!renderer) return false;
+    const std::string_view name(renderer);
+    return name.find("llvmpipe") != std::string_view::npos || name.find("softpipe") != std::string_view::npos;
+}
+
 std::string_view find_embedded_shader(std::string_view name)
 {
     ShaderTable& table = shader_table();

@@ -97,4 +97,10 @@ void set_shader_source_directory(const std::string& src_root);
 
 bool has_current_context();
 
+// Whether the current context rasterises in software (Mesa's llvmpipe or softpipe): it runs a
+// fragment shader that writes gl_FragDepth before its depth test whatever the shader declares
+// (no early test under layout(depth_greater)), and shades a pixel's fragments one at a time in
+// the order of their primitives. reps/common/depth_batches.h relies on both.
+bool software_rasteriser();
+
 } // namespace standin::gpu

@@ -31,6 +31,7 @@
 // direction lookup cube (the nearest view of each cell's centre) and each view's
 // NEIGHBOURS nearest views, so the vertex stage finds the nearest view by a short walk.
 #include "reps/view_atlas/view_atlas.h"
+#include "reps/common/depth_batches.h"
 #include "reps/common/package_cast.h"
 #include "reps/view_atlas/hull.h"
 
@@ -389,9 +390,15 @@ private:
     // style and the level-of-detail options draw are made (id 0 for the others).
     struct PathProgram {
         gpu::Program program;
-        GLint counting_at = -1, early_reject_at = -1, hull_pass_at = -1, instance_offset_at = -1, draw_lod_at = -1;
+        GLint counting_at = -1, early_reject_at = -1, hull_pass_at = -1, instance_offset_at = -1, draw_lod_at = -1,
+              depth_batch_at = -1;
     };
     PathProgram paths_[3];
+    // --depth-batches (reps/common/depth_batches.h): the same programs compiled with DEPTH_BATCHES,
+    // for the instances after the first batch, on software rasterisers only
+    PathProgram batched_paths_[3];
+    reps::DepthBatches depth_batches_;
+    bool depth_batches_on_ = false;
     int level_of(float pixels) const;
     std::vector<gpu::Texture> color_arrays_, normal_depth_arrays_; // ArrayPlan: consecutive pages
     std::vector<gpu::Texture> orm_arrays_, emission_arrays_;       // PBR packages only
@@ -491,6 +498,10 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     auto renderer = std::make_unique<AtlasRenderer>();
     renderer->seed_below_ = style == STYLE_CORRECTED ? float(settings.options.number("seed-below")) : 0.0f;
     renderer->baseline_below_ = style == STYLE_CORRECTED ? float(settings.options.number("baseline-below")) : 0.0f;
+    // depth batches where the rasteriser tests depth after a shader that writes it (llvmpipe)
+    renderer->early_reject_ = settings.options.flag("early-reject");
+    renderer->depth_batches_on_ =
+        renderer->early_reject_ && settings.options.choice("depth-batches") == "auto" && gpu::software_rasteriser();
     // the fragment paths drawn: the style's, and the corrected style's levels that are on
     const int style_path = style == STYLE_SEED ? ATLAS_LOD_SEED : style == STYLE_BASELINE ? ATLAS_LOD_BASELINE : ATLAS_LOD_CORRECTED;
     for (int path = 0; path < 3; ++path) {
@@ -500,21 +511,28 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         // --color-level auto is level 0 for every package: nearer the truth at every distance, and its
         // change under a slow orbit, relative to the truth's, no larger than at distance 1
         // (docs/RESULTS.md "Colour from level 0 for every model")
-        Result<gpu::Program> program = gpu::Program::create(
-            {"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"},
-            {{"ATLAS_ARRAYS", std::to_string(plan->arrays)},
-             {"ATLAS_PBR", pbr ? "1" : "0"},
-             {"ATLAS_PATH", std::to_string(path)},
-             {"ATLAS_FINEST_COLOR", settings.options.choice("color-level") != "mips" ? "1" : "0"}});
-        if (!program) return program.status();
-        PathProgram& slot = renderer->paths_[path];
-        slot.program = std::move(*program);
-        slot.counting_at = slot.program.uniform("counting");
-        slot.early_reject_at = slot.program.uniform("early_reject");
-        slot.hull_pass_at = slot.program.uniform("hull_pass");
-        slot.instance_offset_at = slot.program.uniform("instance_offset");
-        slot.draw_lod_at = slot.program.uniform("draw_lod");
+        for (const bool batched : {false, true}) {
+            if (batched && (!renderer->depth_batches_on_ || path != ATLAS_LOD_CORRECTED)) continue;
+            std::vector<std::pair<std::string, std::string>> defines = {
+                {"ATLAS_ARRAYS", std::to_string(plan->arrays)},
+                {"ATLAS_PBR", pbr ? "1" : "0"},
+                {"ATLAS_PATH", std::to_string(path)},
+                {"ATLAS_FINEST_COLOR", settings.options.choice("color-level") != "mips" ? "1" : "0"}};
+            if (batched) defines.push_back({"DEPTH_BATCHES", "1"});
+            Result<gpu::Program> program =
+                gpu::Program::create({"reps/view_atlas/shaders/atlas.vert", "reps/view_atlas/shaders/atlas.frag"}, defines);
+            if (!program) return program.status();
+            PathProgram& slot = batched ? renderer->batched_paths_[path] : renderer->paths_[path];
+            slot.program = std::move(*program);
+            slot.counting_at = slot.program.uniform("counting");
+            slot.early_reject_at = slot.program.uniform("early_reject");
+            slot.hull_pass_at = slot.program.uniform("hull_pass");
+            slot.instance_offset_at = slot.program.uniform("instance_offset");
+            slot.draw_lod_at = slot.program.uniform("draw_lod");
+            slot.depth_batch_at = slot.program.uniform("depth_batch");
+        }
     }
+    if (renderer->depth_batches_on_) STANDIN_RETURN_IF_ERROR(renderer->depth_batches_.create());
 
     int size = package.settings.page_size;
     const CellDepths depths = cell_depths(package); // one pass over the pages for the walk's tables
@@ -548,7 +566,6 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
     renderer->style_ = style;
     renderer->center_ = package.center;
     renderer->radius_ = package.radius;
-    renderer->early_reject_ = settings.options.flag("early-reject");
 
     if (style == STYLE_CORRECTED) {
         const ConvexPolytope proxy = proxy_polytope(package);
@@ -571,7 +588,9 @@ Result<std::unique_ptr<Renderer>> AtlasRenderer::create(const ViewAtlasPackage& 
         }
     }
     renderer->hull_above_ = float(settings.options.number("hull-above"));
-    for (PathProgram& slot : renderer->paths_) {
+    for (PathProgram* slot_pointer : {&renderer->paths_[0], &renderer->paths_[1], &renderer->paths_[2], &renderer->batched_paths_[0],
+                                      &renderer->batched_paths_[1], &renderer->batched_paths_[2]}) {
+        PathProgram& slot = *slot_pointer;
         if (slot.program.id() == 0) continue;
         GLuint id = slot.program.id();
         glProgramUniform3fv(id, slot.program.uniform("atlas_center"), 1, &package.center.x);
@@ -748,36 +767,61 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     DrawStats stats{0, 0};
-    for (const Run& run : runs) {
-        const PathProgram& slot = paths_[run.path];
+    // instances [first, first + n) of sorted_ by the run's program (or its depth-batch variant)
+    auto draw_instances = [&](const Run& run, const PathProgram& slot, std::size_t first, std::size_t n) {
         const GLuint id = slot.program.id();
         glProgramUniform1i(id, slot.counting_at, counters_.counting() ? 1 : 0);
         glProgramUniform1i(id, slot.early_reject_at, early_reject ? 1 : 0);
         glProgramUniform1i(id, slot.hull_pass_at, run.hull ? 1 : 0);
-        glProgramUniform1i(id, slot.instance_offset_at, GLint(run.first));
+        glProgramUniform1i(id, slot.instance_offset_at, GLint(first));
         glProgramUniform1i(id, slot.draw_lod_at, run.path);
         slot.program.use();
-        const GLsizei n = GLsizei(run.count);
+        const GLsizei count = GLsizei(n);
         if (run.hull) {
             glBindVertexArray(hull_vertex_array_.get());
             glEnable(GL_CULL_FACE);
             glFrontFace(GL_CCW);
             glCullFace(GL_BACK);
-            glDrawElementsInstanced(GL_TRIANGLES, hull_index_count_, GL_UNSIGNED_INT, nullptr, n);
+            glDrawElementsInstanced(GL_TRIANGLES, hull_index_count_, GL_UNSIGNED_INT, nullptr, count);
             glDisable(GL_CULL_FACE);
             stats.primitives += std::uint64_t(n) * std::uint64_t(hull_index_count_ / 3);
         } else if (style_ != STYLE_CORRECTED) { // the styles' camera-facing quads
             glBindVertexArray(empty_vertex_array_.get());
-            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, n);
+            glDrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, count);
             stats.primitives += std::uint64_t(n) * 2u;
         } else { // the prism: a box, 36 vertices, or the seed's quad, its first 6 (shaders/atlas.vert)
             const bool quad = run.path == ATLAS_LOD_SEED;
             glBindVertexArray(empty_vertex_array_.get());
-            glDrawArraysInstanced(GL_TRIANGLES, 0, quad ? 6 : 36, n);
+            glDrawArraysInstanced(GL_TRIANGLES, 0, quad ? 6 : 36, count);
             stats.primitives += std::uint64_t(n) * (quad ? 2u : 12u);
         }
         stats.draw_calls += 1;
+    };
+    // depth batches (reps/common/depth_batches.h): each walk run's first batch drawn as it is, the
+    // later ones tested early against the batches resolved before them; they need early rejection's
+    // record. The seed's and baseline's levels keep the late test (depth_batches.h says why).
+    const bool batches = depth_batches_on_ && early_reject && depth_batches_.begin_frame();
+    for (const Run& run : runs) {
+        if (!batches || run.path != ATLAS_LOD_CORRECTED) {
+            draw_instances(run, paths_[run.path], run.first, run.count);
+            continue;
+        }
+        std::size_t begin = 0;
+        for (const std::size_t end : reps::DepthBatches::batch_ends(run.count)) {
+            if (begin == 0) {
+                draw_instances(run, paths_[run.path], run.first, end);
+            } else {
+                const PathProgram& slot = batched_paths_[run.path];
+                const std::uint32_t stamp = depth_batches_.begin_batch();
+                glProgramUniform1ui(slot.program.id(), slot.depth_batch_at, stamp);
+                draw_instances(run, slot, run.first + begin, end - begin);
+                depth_batches_.resolve(stamp);
+                stats.draw_calls += 1;
+            }
+            begin = end;
+        }
     }
+    if (batches) depth_batches_.end_frame();
     glBindVertexArray(0);
     if (counters_.counting()) glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     return stats;

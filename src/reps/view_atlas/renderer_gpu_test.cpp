@@ -9,6 +9,7 @@
 // change the picture (instances are sorted front to back).
 #include "test_support.h"
 
+#include "gpu/gl.h"
 #include "reps/view_atlas/shaders/atlas_layout.glsl"
 #include "reps/view_atlas/view_atlas.h"
 
@@ -838,6 +839,53 @@ TEST(ViewAtlasRenderer, InstanceOrderDoesNotChangeThePicture)
     ASSERT_TRUE(forward.is_ok() && backward.is_ok());
     EXPECT_GT(compare_images(forward->color, forward->color).intersection_pixels, 500u) << "nothing drawn";
     EXPECT_EQ(forward->color.pixels, backward->color.pixels);
+}
+
+// Depth batches (reps/common/depth_batches.h): a crowd drawn in batches, each after the first tested
+// early against those before it, gives the late-tested draw's picture and depth buffer byte for
+// byte, on the prism and on the proxy hull, and where the rasteriser is a software one (where
+// `auto` batches) starts fewer fragments.
+TEST(ViewAtlasRenderer, DepthBatchesKeepACrowdsPictureWithFewerFragments)
+{
+    Mesh mesh = torus();
+    std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "1"}, {"resolution", "64"}, {"page-size", "1024"}});
+    ASSERT_TRUE(package);
+    std::vector<glm::mat4> transforms; // a 7 x 7 grid receding from the camera: batches of 8, 32 and 9
+    for (int row = 0; row < 7; ++row)
+        for (int column = 0; column < 7; ++column)
+            transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(1.3f * float(column - 3), 0.0f, -1.6f * float(row))) *
+                                 glm::rotate(glm::mat4(1.0f), glm::radians(float(row * 7 + column) * 13.0f), glm::vec3(0, 1, 0)));
+    Camera camera = look_at_camera({0.0f, 1.2f, 4.0f}, {0.0f, 0.0f, -4.0f}, {0, 1, 0}, 50.0f, 160.0f / 120.0f, 0.5f, 40.0f);
+    Light light = default_light(camera);
+    for (const char* hull_above : {"1e6", "0"}) { // every instance on its prism; on the hull
+        RenderOptions options;
+        options.values.set("baseline-below", "0");
+        options.values.set("hull-above", hull_above);
+        options.values.set("depth-batches", "off");
+        Result<std::unique_ptr<Renderer>> plain = make_package_renderer(*package, options);
+        options.values.set("depth-batches", "auto");
+        Result<std::unique_ptr<Renderer>> batched = make_package_renderer(*package, options);
+        ASSERT_TRUE(plain.is_ok() && batched.is_ok());
+        std::uint64_t fragments[2] = {0, 0};
+        std::vector<RenderedImage> images;
+        for (int k = 0; k < 2; ++k) {
+            Renderer& renderer = k == 0 ? **plain : **batched;
+            renderer.set_counting(true);
+            Result<RenderedImage> image = render_offscreen(renderer, camera, light, 160, 120, transforms);
+            ASSERT_TRUE(image.is_ok());
+            fragments[k] = renderer.read_counter(Counter::fragments);
+            renderer.set_counting(false);
+            images.push_back(std::move(*image));
+        }
+        std::size_t covered = 0;
+        for (std::size_t i = 3; i < images[0].color.pixels.size(); i += 4) covered += images[0].color.pixels[i] > 0;
+        EXPECT_GT(covered, 4000u) << "hull above " << hull_above << ": the crowd is drawn";
+        EXPECT_EQ(images[0].color.pixels, images[1].color.pixels) << "hull above " << hull_above;
+        EXPECT_EQ(images[0].depth, images[1].depth) << "hull above " << hull_above;
+        if (gpu::software_rasteriser())
+            EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0]))
+                << "hull above " << hull_above << ": " << fragments[1] << " against " << fragments[0];
+    }
 }
 
 // STANDIN_ATLAS_TEXTURE_BYTES set for the lifetime of this object

@@ -22,6 +22,7 @@
 #include "reps/common/shaders/height_field.glsl"
 #include "reps/common/shaders/coverage.glsl"
 #include "reps/view_atlas/shaders/atlas.glsl"
+#include "reps/common/shaders/depth_batches.glsl"
 
 flat in ivec3 v_views;
 flat in vec3 v_weights;
@@ -116,11 +117,19 @@ bool behind_drawn(float z)
     return early_reject != 0 && floatBitsToUint(z) > imageLoad(nearest_depth, ivec2(gl_FragCoord.xy)).r;
 }
 
-// gl_FragDepth, and its record for behind_drawn.
-void write_depth(float z)
+// The fragment's colour and depth: gl_FragDepth, and its record for behind_drawn; in a depth
+// batch (reps/common/shaders/depth_batches.glsl, where renderer.cpp keeps early_reject on) the
+// record decides whether it is the nearest so far, which the batch's resolve then draws.
+void write_fragment(vec3 color, float z)
 {
+    out_color = vec4(color, 1.0);
+#ifdef DEPTH_BATCHES
+    if (floatBitsToUint(z) < imageAtomicMin(nearest_depth, ivec2(gl_FragCoord.xy), floatBitsToUint(z)))
+        depth_batch_store(color, z);
+#else
     gl_FragDepth = z;
     if (early_reject != 0) imageAtomicMin(nearest_depth, ivec2(gl_FragCoord.xy), floatBitsToUint(z));
+#endif
 }
 
 // A read of one map's texture array `array`. Views of one draw lie in different arrays, so the
@@ -639,8 +648,7 @@ void main()
             vec3 emission = pbr_sample(MAP_EMISSION, view, v_atlas_texel, lod, c.a);
             color = shade_surface(color, orm, emission, n, direction_world, fragment_world_position());
         }
-        out_color = vec4(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        write_depth(gl_FragCoord.z);
+        write_fragment(debug_color(color, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), gl_FragCoord.z);
         return;
     }
 
@@ -701,8 +709,7 @@ void main()
         vec3 orm = ATLAS_PBR != 0 ? orm_sum / color_sum.a : SHADING_DEFAULT_ORM;
         vec3 emission = emission_sum / color_sum.a;
         vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission, n, direction_world, fragment_world_position());
-        out_color = vec4(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), 1.0);
-        write_depth(gl_FragCoord.z);
+        write_fragment(debug_color(shaded, v_views.x, mat3(world_from_object) * n, gl_FragCoord.z), gl_FragCoord.z);
         return;
     }
 
@@ -814,6 +821,5 @@ void main()
     vec3 orm = ATLAS_PBR != 0 ? orm_sum / t_weight : SHADING_DEFAULT_ORM;
     vec3 shaded = lit_maps != 0 ? albedo : shade_surface(albedo, orm, emission_sum / t_weight, normal_sum.xyz, direction_world, p_world);
     float z = max(window_depth(p_world), gl_FragCoord.z);
-    write_depth(z);
-    out_color = vec4(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, z), 1.0);
+    write_fragment(debug_color(shaded, main_view, mat3(world_from_object) * normal_sum.xyz, z), z);
 }
