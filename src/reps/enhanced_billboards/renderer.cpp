@@ -44,6 +44,7 @@
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/common/block_compress.h"
+#include "reps/common/depth_batches.h"
 #include "reps/common/package_cast.h"
 #include <standin/log.h>
 
@@ -235,7 +236,7 @@ struct BoxLineVertex {
 
 struct ProgramLocations {
     GLint first_entry = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
-          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1, hide_back_hits = -1;
+          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1, hide_back_hits = -1, depth_batch = -1;
 };
 
 class BillboardRenderer final : public Renderer {
@@ -271,6 +272,14 @@ private:
     bool fill_near_misses_only_ = false;
     gpu::Program front_, inside_, coarse_;
     ProgramLocations front_at_, inside_at_;
+    // --depth-batches (reps/common/depth_batches.h): the front pass compiled with DEPTH_BATCHES, for
+    // its boxes after the first batch, on software rasterisers only
+    gpu::Program front_batched_;
+    ProgramLocations front_batched_at_;
+    reps::DepthBatches depth_batches_;
+    bool depth_batches_on_ = false;
+    std::vector<std::size_t> front_batch_ends(const DrawParams& params);
+    std::vector<glm::ivec4> batch_rects_; // front_batch_ends: each batch's instances on screen
     GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_, color_mips_;
@@ -344,10 +353,11 @@ Status check_billboard(const Billboard& b, std::size_t index)
     return Status::ok();
 }
 
-Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLocations& at)
+Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLocations& at, bool batched = false)
 {
     std::vector<std::pair<std::string, std::string>> defines = {{"MARCH_MODE", std::to_string(march_mode)}};
     if (inside) defines.push_back({"INSIDE_PASS", "1"});
+    if (batched) defines.push_back({"DEPTH_BATCHES", "1"});
     Result<gpu::Program> program = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
     if (!program) return program;
@@ -360,6 +370,7 @@ Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLoca
     at.hide_back_hits = program->uniform("hide_back_hits");
     at.counting = program->uniform("counting");
     at.mark_pixels = program->uniform("mark_pixels");
+    at.depth_batch = program->uniform("depth_batch");
     return program;
 }
 
@@ -390,6 +401,13 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     Result<gpu::Program> inside = make_march_program(true, renderer->march_mode_, renderer->inside_at_);
     if (!inside) return inside.status();
     renderer->inside_ = std::move(*inside);
+    renderer->depth_batches_on_ = options.choice("depth-batches") == "auto" && gpu::software_rasteriser();
+    if (renderer->depth_batches_on_) {
+        Result<gpu::Program> batched = make_march_program(false, renderer->march_mode_, renderer->front_batched_at_, true);
+        if (!batched) return batched.status();
+        renderer->front_batched_ = std::move(*batched);
+        STANDIN_RETURN_IF_ERROR(renderer->depth_batches_.create());
+    }
     Result<gpu::Program> coarse = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/coarse.vert", "reps/enhanced_billboards/shaders/coarse.frag"});
     if (!coarse) return coarse.status();
@@ -863,6 +881,35 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
     return counts;
 }
 
+// Depth batches of the front pass (reps/common/depth_batches.h): batches of whole instances, whose
+// boxes lie together in front_entries_ (build_draw_list), ending at DepthBatches::batch_ends of the
+// instance count; with each batch's screen rectangle (batch_rects_) for its resolve.
+std::vector<std::size_t> BillboardRenderer::front_batch_ends(const DrawParams& params)
+{
+    static const glm::mat4 identity(1.0f);
+    std::vector<std::size_t> instance_ends; // in front_entries_, where each instance's boxes end
+    for (std::size_t k = 1; k <= front_entries_.size(); ++k)
+        if (k == front_entries_.size() || front_entries_[k].instance != front_entries_[k - 1].instance) instance_ends.push_back(k);
+    std::vector<std::size_t> ends;
+    batch_rects_.clear();
+    std::size_t instance_begin = 0;
+    for (const std::size_t instance_end : reps::DepthBatches::batch_ends(instance_ends.size())) {
+        glm::ivec4 rect(0);
+        for (std::size_t i = instance_begin; i < instance_end; ++i) {
+            const std::uint32_t instance = front_entries_[instance_ends[i] - 1].instance;
+            const glm::mat4& m = params.world_from_object.empty() ? identity : params.world_from_object[instance];
+            const float scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+            rect = reps::DepthBatches::rect_union(rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport,
+                                                                                          glm::vec3(m * glm::vec4(bound_centre_, 1.0f)),
+                                                                                          bound_radius_ * scale * 1.001f + 1e-6f));
+        }
+        ends.push_back(instance_ends[instance_end - 1]);
+        batch_rects_.push_back(rect);
+        instance_begin = instance_end;
+    }
+    return ends;
+}
+
 DrawStats BillboardRenderer::draw(const DrawParams& params)
 {
     DrawStats stats;
@@ -891,15 +938,41 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glFrontFace(GL_CCW);
         const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&inside_, &inside_at_},
                                                                                   {&front_, &front_at_}};
+        // depth batches (reps/common/depth_batches.h): the front pass's first batch drawn as it is,
+        // the later ones tested early against the batches resolved before them; not where rays mark
+        // near misses behind back hits (--coarse-fill near-misses), which an early test would stop
+        const bool batches = depth_batches_on_ && !marks_near_misses() && counts[1] > 0 && depth_batches_.begin_frame();
         for (int pass = 0; pass < 2; ++pass) {
             if (counts[pass] == 0) continue;
             glCullFace(pass == 0 ? GL_FRONT : GL_BACK);
-            set_march_uniforms(*passes[pass].first, *passes[pass].second, pass == 0 ? 0 : counts[0]);
-            passes[pass].first->use();
-            glDrawArraysInstanced(GL_TRIANGLES, 0, 36, counts[pass]);
-            stats.draw_calls += 1;
+            const GLint first = pass == 0 ? 0 : counts[0];
+            std::vector<std::size_t> ends = {std::size_t(counts[pass])};
+            if (pass == 1 && batches) ends = front_batch_ends(params);
+            std::size_t begin = 0;
+            for (std::size_t batch = 0; batch < ends.size(); ++batch) {
+                const std::size_t end = ends[batch];
+                const bool early = begin > 0;
+                const gpu::Program& program = early ? front_batched_ : *passes[pass].first;
+                const ProgramLocations& at = early ? front_batched_at_ : *passes[pass].second;
+                std::uint32_t stamp = 0;
+                if (early) {
+                    stamp = depth_batches_.begin_batch();
+                    glProgramUniform1ui(program.id(), at.depth_batch, stamp);
+                }
+                set_march_uniforms(program, at, first + GLint(begin));
+                program.use();
+                glBindVertexArray(empty_vertex_array_.get());
+                glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(end - begin));
+                stats.draw_calls += 1;
+                if (early) {
+                    depth_batches_.resolve(stamp, batch_rects_[batch]);
+                    stats.draw_calls += 1;
+                }
+                begin = end;
+            }
             stats.primitives += std::uint64_t(counts[pass]) * 12;
         }
+        if (batches) depth_batches_.end_frame();
         glDisable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     }

@@ -5,6 +5,7 @@
 // "boxes" debug view's lines over the picture.
 #include "test_support.h"
 
+#include "gpu/gl.h"
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/shaders/billboard_layout.glsl"
@@ -309,6 +310,7 @@ TEST(BillboardRenderer, BoxesClearOfTheNearPlaneStopBehindDrawnHits)
     RenderOptions options;
     options.values.set("coarse", "off");
     options.values.set("cull-back-proxies", "off");
+    options.values.set("depth-batches", "off"); // which would stop those fragments before the shader
     const float eye_distance = 1.0f / std::sin(glm::radians(20.0f));
     for (float near_plane : {0.1f, eye_distance - 1.05f}) {
         Camera camera = look_at_camera(eye_distance * direction_from_angles(30.0f, 20.0f), glm::vec3(0.0f),
@@ -328,6 +330,59 @@ TEST(BillboardRenderer, BoxesClearOfTheNearPlaneStopBehindDrawnHits)
         // six billboards, each holding the sphere's half that faces it: about half of the boxes
         // over a pixel lie behind the first one's hit
         EXPECT_GT(double(stopped), 0.2 * double(fragments)) << "near plane " << near_plane;
+    }
+}
+
+// Depth batches (reps/common/depth_batches.h): the front pass's boxes drawn in batches of whole
+// instances, each after the first tested early against those before it, give the late-tested
+// draw's picture and depth buffer byte for byte, with and without the coarse mesh; where the
+// rasteriser is a software one (where `auto` batches) fewer of a crowd's fragments start, and one
+// instance is one batch.
+TEST(BillboardRenderer, DepthBatchesKeepThePictureWithFewerFragments)
+{
+    test::gpu_context();
+    EnhancedBillboardsPackage package = sphere_package();
+    package.coarse_mesh = coarse_sphere(0.97f * k_radius);
+    std::vector<glm::mat4> crowd; // a 5 x 5 grid receding from the camera, overlapping on screen
+    for (int row = 0; row < 5; ++row)
+        for (int column = 0; column < 5; ++column)
+            crowd.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(1.6f * float(column - 2), 0.0f, -1.8f * float(row))));
+    const Camera near = orbit(30.0f, 20.0f, 3.5f, k_width, k_height);
+    const Camera far = look_at_camera({0.0f, 2.0f, 6.0f}, {0.0f, 0.0f, -3.0f}, {0, 1, 0}, 50.0f,
+                                      float(k_width) / float(k_height), 0.5f, 40.0f);
+    for (const char* coarse : {"on", "off"}) {
+        for (int scene = 0; scene < 2; ++scene) {
+            const Camera& camera = scene == 0 ? near : far;
+            std::vector<glm::mat4> transforms;
+            if (scene == 1) transforms = crowd;
+            std::uint64_t fragments[2] = {0, 0};
+            std::vector<RenderedImage> images;
+            for (const char* batches : {"off", "auto"}) {
+                RenderOptions options;
+                options.values.set("coarse", coarse);
+                options.values.set("depth-batches", batches);
+                auto renderer = make_package_renderer(package, options);
+                ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
+                (*renderer)->set_counting(true);
+                auto image = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height, transforms);
+                ASSERT_TRUE(image.is_ok()) << image.status().message();
+                fragments[images.size()] = (*renderer)->read_counter(Counter::fragments);
+                images.push_back(std::move(*image));
+            }
+            const std::string where = std::string(scene == 0 ? "one instance" : "crowd") + ", coarse " + coarse;
+            std::size_t covered = 0;
+            for (std::size_t i = 3; i < images[0].color.pixels.size(); i += 4) covered += images[0].color.pixels[i] > 0;
+            EXPECT_GT(covered, 5000u) << where;
+            EXPECT_EQ(images[0].color.pixels, images[1].color.pixels) << where;
+            EXPECT_EQ(images[0].depth, images[1].depth) << where;
+            std::printf("[ batches ] %s: %llu fragments, %llu with depth batches\n", where.c_str(),
+                        (unsigned long long)fragments[0], (unsigned long long)fragments[1]);
+            if (scene == 0) { // batches are of whole instances: one instance is drawn as before
+                EXPECT_EQ(fragments[1], fragments[0]) << where;
+            } else if (gpu::software_rasteriser()) { // the rows behind the first eight stop early
+                EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0])) << where;
+            }
+        }
     }
 }
 
@@ -506,7 +561,9 @@ private:
 TEST(BillboardRenderer, InstancesDrawInFewCallsWhereTheirTransformsPutThem)
 {
     test::gpu_context();
-    auto renderer = make_package_renderer(sphere_package(64), RenderOptions{});
+    RenderOptions options;
+    options.values.set("depth-batches", "off"); // a draw and a resolve per batch of boxes
+    auto renderer = make_package_renderer(sphere_package(64), options);
     ASSERT_TRUE(renderer.is_ok());
     Camera camera = look_at_camera({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 40.0f, 2.0f, 1.0f, 20.0f);
     std::vector<glm::mat4> transforms = {glm::translate(glm::mat4(1.0f), glm::vec3(-2.5f, 0, 0)),
@@ -687,6 +744,8 @@ TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragme
     all.values.set("cull-back-proxies", "off");
     culled.values.set("coarse", "off");
     culled.values.set("cull-back-proxies", "on");
+    // fragments of back proxies behind the front's hits: depth batches would stop most of them too
+    for (RenderOptions* options : {&all, &culled}) options->values.set("depth-batches", "off");
     struct Drawn {
         RenderedImage image;
         std::uint64_t fragments = 0;
@@ -742,6 +801,7 @@ TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragme
     // auto (the default) culls for packages the bake found to be one closed surface, and only those
     RenderOptions automatic;
     automatic.values.set("coarse", "off");
+    automatic.values.set("depth-batches", "off");
     const Camera camera = orbit(20.0f, 30.0f, 2.5f, k_width, k_height);
     const std::uint64_t on = draw(culled, camera, glm::mat4(1.0f)).fragments;
     EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, draw(all, camera, glm::mat4(1.0f)).fragments);

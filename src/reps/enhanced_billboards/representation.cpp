@@ -105,6 +105,11 @@ std::vector<OptionSpec> render_options()
                       "back hits (a scan's stand-in 25-35% and its crowd about 20% less CPU on llvmpipe): auto does "
                       "for packages of one closed surface, whose picture it keeps; on also for others, where open "
                       "sheets and the seams between parts lose the backs that showed (up to +0.3 Luv, docs/RESULTS.md)"),
+        choice_option("depth-batches", "auto", {"auto", "off"},
+                      "Boxes sorted front to back are drawn in batches, each after the first with its depth test "
+                      "before the shader, against the batches drawn before it (the same picture): auto does on "
+                      "software rasterisers, which test depth after a shader that writes it (GPUs test first "
+                      "already), but not with --coarse-fill near-misses"),
         flag_option("tile-layers", true,
                     "Split a tile's proxy box into one box per depth layer where nested parts lie apart (the same "
                     "picture as one box per tile, with fewer fragments and fetches)"),

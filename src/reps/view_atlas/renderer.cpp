@@ -815,7 +815,15 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
                 const std::uint32_t stamp = depth_batches_.begin_batch();
                 glProgramUniform1ui(slot.program.id(), slot.depth_batch_at, stamp);
                 draw_instances(run, slot, run.first + begin, end - begin);
-                depth_batches_.resolve(stamp);
+                glm::ivec4 rect(0);
+                for (std::size_t k = run.first + begin; k < run.first + end; ++k) {
+                    const glm::mat4& m = sorted_[k];
+                    const float scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+                    rect = reps::DepthBatches::rect_union(
+                        rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport, glm::vec3(m * glm::vec4(center_, 1.0f)),
+                                                              radius_ * scale));
+                }
+                depth_batches_.resolve(stamp, rect);
                 stats.draw_calls += 1;
             }
             begin = end;

@@ -882,9 +882,11 @@ TEST(ViewAtlasRenderer, DepthBatchesKeepACrowdsPictureWithFewerFragments)
         EXPECT_GT(covered, 4000u) << "hull above " << hull_above << ": the crowd is drawn";
         EXPECT_EQ(images[0].color.pixels, images[1].color.pixels) << "hull above " << hull_above;
         EXPECT_EQ(images[0].depth, images[1].depth) << "hull above " << hull_above;
-        if (gpu::software_rasteriser())
-            EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0]))
-                << "hull above " << hull_above << ": " << fragments[1] << " against " << fragments[0];
+        std::printf("[ batches ] hull above %s: %llu fragments, %llu with depth batches\n", hull_above,
+                    (unsigned long long)fragments[0], (unsigned long long)fragments[1]);
+        if (gpu::software_rasteriser()) {
+            EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0])) << "hull above " << hull_above;
+        }
     }
 }
 

@@ -11,7 +11,19 @@
 layout(early_fragment_tests) in;
 layout(binding = DEPTH_BATCH_COLOR_IMAGE, rgba32f) uniform writeonly image2D depth_batch_color;
 layout(binding = DEPTH_BATCH_STAMP_IMAGE, r32ui) uniform writeonly uimage2D depth_batch_stamp;
+layout(binding = DEPTH_BATCH_NEAREST_IMAGE, r32ui) uniform coherent uimage2D depth_batch_nearest;
 uniform uint depth_batch; // this batch's stamp (DepthBatches::begin_batch)
+
+// Whether window depth `depth` is nearer than every depth a batch's fragment gave at this pixel this
+// frame (an atomic minimum of the float's bits: depths are non-negative, so the bits order as the
+// values). For renderers whose own record of the nearest depth is not exact (the enhanced
+// billboards' marks back hits in its lowest bit); the resolve's depth test decides against the
+// first batch and everything else drawn.
+bool depth_batch_nearer(float depth)
+{
+    const uint bits = floatBitsToUint(depth);
+    return bits < imageAtomicMin(depth_batch_nearest, ivec2(gl_FragCoord.xy), bits);
+}
 
 // The colour and window depth of a fragment that is the nearest at its pixel so far.
 void depth_batch_store(vec3 color, float depth)
