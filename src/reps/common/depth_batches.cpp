@@ -119,9 +119,9 @@ glm::ivec4 DepthBatches::rect_union(glm::ivec4 a, glm::ivec4 b)
 void DepthBatches::resolve(std::uint32_t stamp, glm::ivec4 rect)
 {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    if (rect.x >= rect.z || rect.y >= rect.w) return; // nothing on screen: nothing stored either
     glDepthMask(depth_mask_);
     glColorMask(color_mask_[0], color_mask_[1], color_mask_[2], color_mask_[3]);
+    if (rect.x >= rect.z || rect.y >= rect.w) return; // nothing on screen: nothing stored either
     glProgramUniform1ui(resolve_.id(), resolve_stamp_at_, stamp);
     resolve_.use();
     glBindVertexArray(empty_vertex_array_.get());

@@ -843,21 +843,30 @@ TEST(ViewAtlasRenderer, InstanceOrderDoesNotChangeThePicture)
 
 // Depth batches (reps/common/depth_batches.h): a crowd drawn in batches, each after the first tested
 // early against those before it, gives the late-tested draw's picture and depth buffer byte for
-// byte, on the prism and on the proxy hull, and where the rasteriser is a software one (where
-// `auto` batches) starts fewer fragments.
+// byte, on the prism, on the proxy hull and on both (two runs, each batched), with whole batches
+// off screen, and where the rasteriser is a software one (where `auto` batches) starts fewer
+// fragments.
 TEST(ViewAtlasRenderer, DepthBatchesKeepACrowdsPictureWithFewerFragments)
 {
     Mesh mesh = torus();
     std::unique_ptr<Package> package = bake_atlas(mesh, {{"subdivisions", "1"}, {"resolution", "64"}, {"page-size", "1024"}});
     ASSERT_TRUE(package);
-    std::vector<glm::mat4> transforms; // a 7 x 7 grid receding from the camera: batches of 8, 32 and 9
-    for (int row = 0; row < 7; ++row)
-        for (int column = 0; column < 7; ++column)
-            transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(1.3f * float(column - 3), 0.0f, -1.6f * float(row))) *
-                                 glm::rotate(glm::mat4(1.0f), glm::radians(float(row * 7 + column) * 13.0f), glm::vec3(0, 1, 0)));
+    // a 4 x 8 grid receding from the camera: the walk's batches of 8 and 24
+    std::vector<glm::mat4> transforms;
+    for (int row = 0; row < 4; ++row)
+        for (int column = 0; column < 8; ++column)
+            transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(1.3f * (float(column) - 3.5f), 0.0f, -1.6f * float(row))) *
+                                 glm::rotate(glm::mat4(1.0f), glm::radians(float(row * 8 + column) * 13.0f), glm::vec3(0, 1, 0)));
+    // 32 beyond the grid but out of view, a batch wholly off screen, whose resolve draws nothing
+    for (int k = 0; k < 32; ++k)
+        transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(k % 2 ? 25.0f : -25.0f, 0.0f, -10.0f - 0.02f * float(k))));
+    // and six far above it, under --seed-below: the seed's level, drawn after the walk's batches
+    for (int k = 0; k < 6; ++k)
+        transforms.push_back(glm::translate(glm::mat4(1.0f), glm::vec3(4.0f * (float(k) - 2.5f), 6.0f, -35.0f)));
     Camera camera = look_at_camera({0.0f, 1.2f, 4.0f}, {0.0f, 0.0f, -4.0f}, {0, 1, 0}, 50.0f, 160.0f / 120.0f, 0.5f, 40.0f);
     Light light = default_light(camera);
-    for (const char* hull_above : {"1e6", "0"}) { // every instance on its prism; on the hull
+    // every instance on its prism; on the hull; the nearest rows on the hull, the others on the prism
+    for (const char* hull_above : {"1e6", "0", "14"}) {
         RenderOptions options;
         options.values.set("baseline-below", "0");
         options.values.set("hull-above", hull_above);
@@ -880,6 +889,10 @@ TEST(ViewAtlasRenderer, DepthBatchesKeepACrowdsPictureWithFewerFragments)
         std::size_t covered = 0;
         for (std::size_t i = 3; i < images[0].color.pixels.size(); i += 4) covered += images[0].color.pixels[i] > 0;
         EXPECT_GT(covered, 4000u) << "hull above " << hull_above << ": the crowd is drawn";
+        std::size_t far_seeds = 0; // the seed level's six, in the top quarter of the picture
+        for (int y = 0; y < 30; ++y)
+            for (int x = 0; x < 160; ++x) far_seeds += images[0].color.at(x, y)[3] > 0;
+        EXPECT_GT(far_seeds, 12u) << "hull above " << hull_above << ": the far instances are drawn";
         EXPECT_EQ(images[0].color.pixels, images[1].color.pixels) << "hull above " << hull_above;
         EXPECT_EQ(images[0].depth, images[1].depth) << "hull above " << hull_above;
         std::printf("[ batches ] hull above %s: %llu fragments, %llu with depth batches\n", hull_above,
