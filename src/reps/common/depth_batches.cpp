@@ -64,6 +64,9 @@ bool DepthBatches::begin_frame()
     std::memcpy(&far_bits, &far_depth, sizeof far_bits);
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT); // the last frame's image writes, before the clear
     glClearTexImage(nearest_.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &far_bits);
+    glBindImageTexture(DEPTH_BATCH_NEAREST_IMAGE, nearest_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
+    glBindImageTexture(DEPTH_BATCH_COLOR_IMAGE, color_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    glBindImageTexture(DEPTH_BATCH_STAMP_IMAGE, stamp_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     glGetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask_);
     glGetBooleanv(GL_COLOR_WRITEMASK, color_mask_);
     return true;
@@ -81,16 +84,17 @@ std::uint32_t DepthBatches::begin_batch()
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glDepthMask(GL_FALSE);
     glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glBindImageTexture(DEPTH_BATCH_NEAREST_IMAGE, nearest_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
-    glBindImageTexture(DEPTH_BATCH_COLOR_IMAGE, color_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
-    glBindImageTexture(DEPTH_BATCH_STAMP_IMAGE, stamp_.get(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     return next_stamp_;
 }
 
-glm::ivec4 DepthBatches::sphere_rect(const Camera& camera, glm::ivec2 viewport, glm::vec3 centre, float radius)
+glm::ivec4 DepthBatches::sphere_rect(const Camera& camera, glm::ivec2 viewport, const glm::mat4& world_from_object,
+                                     glm::vec3 centre_object, float radius_object)
 {
+    const glm::mat4& m = world_from_object;
+    const float radius = radius_object *
+                         std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
     const glm::ivec4 whole(0, 0, viewport.x, viewport.y);
-    const glm::vec3 centre_view = glm::vec3(camera.view_from_world * glm::vec4(centre, 1.0f));
+    const glm::vec3 centre_view = glm::vec3(camera.view_from_world * (m * glm::vec4(centre_object, 1.0f)));
     glm::vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 offset(corner & 1 ? radius : -radius, corner & 2 ? radius : -radius, corner & 4 ? radius : -radius);

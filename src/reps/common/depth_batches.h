@@ -54,20 +54,22 @@ public:
     // 128, ... up to count. The first batch is drawn the ordinary way.
     static std::vector<std::size_t> batch_ends(std::size_t count);
     // Before a frame's batches: the images sized to the viewport (grown, never shrunk), the nearest
-    // depth cleared, the caller's depth and colour write masks saved. False (draw as usual) unless
+    // depth cleared, the images bound, the caller's depth and colour write masks saved. False (draw
+    // as usual) unless
     // the depth test is GL_LESS with depth writes into one sample per pixel, and for no viewport.
     bool begin_frame();
-    // Before a DEPTH_BATCHES draw: depth and colour writes off, the images bound. Returns the stamp
-    // to set as the program's depth_batch uniform.
+    // Before a DEPTH_BATCHES draw: depth and colour writes off. Returns the stamp to set as the
+    // program's depth_batch uniform.
     std::uint32_t begin_batch();
     // After that draw: its pixels within `rect` (pixels x0, y0, x1, y1, the last two past the end:
     // where the batch's proxies lie, sphere_rect) through the depth test, with the caller's masks.
     // Leaves the resolve program and an empty vertex array bound: the caller binds its own again.
     void resolve(std::uint32_t stamp, glm::ivec4 rect);
-    // The pixels of a viewport that a sphere (world space) may cover: the projected box around it,
-    // or the whole viewport where the box reaches behind the near plane. Empty (x0 >= x1) when off
-    // screen.
-    static glm::ivec4 sphere_rect(const Camera& camera, glm::ivec2 viewport, glm::vec3 centre, float radius);
+    // The pixels of a viewport that an instance's bounding sphere (object space, under its
+    // transform's largest axis scale) may cover: the projected box around it, or the whole viewport
+    // where the box reaches behind the near plane. Empty (x0 >= x1) when off screen.
+    static glm::ivec4 sphere_rect(const Camera& camera, glm::ivec2 viewport, const glm::mat4& world_from_object,
+                                  glm::vec3 centre_object, float radius_object);
     // The smallest rectangle holding both (either may be empty).
     static glm::ivec4 rect_union(glm::ivec4 a, glm::ivec4 b);
     // After the frame's batches: the caller's write masks, as begin_frame found them.

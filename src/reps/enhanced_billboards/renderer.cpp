@@ -898,10 +898,8 @@ std::vector<std::size_t> BillboardRenderer::front_batch_ends(const DrawParams& p
         for (std::size_t i = instance_begin; i < instance_end; ++i) {
             const std::uint32_t instance = front_entries_[instance_ends[i] - 1].instance;
             const glm::mat4& m = params.world_from_object.empty() ? identity : params.world_from_object[instance];
-            const float scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
-            rect = reps::DepthBatches::rect_union(rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport,
-                                                                                          glm::vec3(m * glm::vec4(bound_centre_, 1.0f)),
-                                                                                          bound_radius_ * scale * 1.001f + 1e-6f));
+            rect = reps::DepthBatches::rect_union(
+                rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport, m, bound_centre_, bound_radius_ * 1.001f));
         }
         ends.push_back(instance_ends[instance_end - 1]);
         batch_rects_.push_back(rect);

@@ -816,13 +816,9 @@ DrawStats AtlasRenderer::draw(const DrawParams& params)
                 glProgramUniform1ui(slot.program.id(), slot.depth_batch_at, stamp);
                 draw_instances(run, slot, run.first + begin, end - begin);
                 glm::ivec4 rect(0);
-                for (std::size_t k = run.first + begin; k < run.first + end; ++k) {
-                    const glm::mat4& m = sorted_[k];
-                    const float scale = std::max({glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])), glm::length(glm::vec3(m[2]))});
+                for (std::size_t k = run.first + begin; k < run.first + end; ++k)
                     rect = reps::DepthBatches::rect_union(
-                        rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport, glm::vec3(m * glm::vec4(center_, 1.0f)),
-                                                              radius_ * scale));
-                }
+                        rect, reps::DepthBatches::sphere_rect(params.camera, params.viewport, sorted_[k], center_, radius_));
                 depth_batches_.resolve(stamp, rect);
                 stats.draw_calls += 1;
             }
