@@ -62,6 +62,7 @@
 #include <cstdint>
 #include <cstring>
 #include <numbers>
+#include <span>
 
 namespace standin::billboards {
 
@@ -127,6 +128,11 @@ constexpr float k_min_tile_pixels = 6.0f;
 // together (1000 copies of a 235k-face model on llvmpipe: 13.3 s with it at r >= 16 px, 2.8 s
 // without; 7.0 s at r >= 32 px).
 constexpr float k_min_coarse_radius_pixels = 40.0f;
+// march.frag's level of detail ends the walk at pyramid nodes no wider than half a pixel, from 4
+// texels per pixel (pixel_level >= 1): an instance that cannot reach that anywhere on screen is
+// drawn by the program without it (MARCH_LOD 0), whose loop is shorter (the contact test's code,
+// run masked at every closer look on llvmpipe: 8% of ns235k's frame at 800x600).
+constexpr float k_lod_texels_per_pixel = 4.0f;
 
 // What the CPU needs of a proxy box to sort and choose boxes each frame.
 struct ProxyInfo {
@@ -235,8 +241,25 @@ struct BoxLineVertex {
 };
 
 struct ProgramLocations {
-    GLint first_entry = -1, seed_steps = -1, seed_hit_range = -1, debug_view = -1, counting = -1,
-          mark_pixels = -1, has_pbr_maps = -1, color_footprint = -1, hide_back_hits = -1, depth_batch = -1;
+    GLint first_entry = -1, seed_steps = -1, seed_hit_range = -1, counting = -1, depth_batch = -1;
+};
+
+// What a march program compiles in (march.frag): settings fixed for the renderer's life are
+// constants, not uniforms, since llvmpipe runs the code a uniform switches off too, masked, for
+// every fragment (measured: 5-10% of ns235k's frame at 800x600; docs/RESULTS.md).
+struct MarchProgramSettings {
+    int march_mode = MARCH_EXACT, debug_view = DEBUG_VIEW_NONE;
+    bool mark_pixels = false, has_pbr_maps = false, color_footprint = true, hide_back_hits = false;
+};
+
+// The march's passes: boxes in front of the near plane, boxes around the eye (back faces), and
+// the front boxes of depth batches after the first (reps/common/depth_batches.h).
+enum class MarchPass { front = 0, inside = 1, front_batched = 2 };
+
+struct MarchProgram {
+    gpu::Program program;
+    ProgramLocations at;
+    bool failed = false; // compiling it failed once: not tried again
 };
 
 class BillboardRenderer final : public Renderer {
@@ -252,6 +275,7 @@ private:
     void upload_coarse_mesh(const Mesh& mesh, bool rims);
     void upload_box_lines(const EnhancedBillboardsPackage& package);
     void draw_box_lines(DrawStats& stats);
+    Status create_march_programs(const Options& options); // after the uploads, which decide some of their settings
     void set_march_uniforms(const gpu::Program& program, const ProgramLocations& at, GLint first_entry) const;
     void prepare_pixel_images(glm::ivec2 viewport, bool flags);
     // whether the march marks near misses: only the coarse mesh's near-miss fill reads them (sheet
@@ -270,12 +294,15 @@ private:
     bool one_closed_surface_ = false; // the package's model is one closed surface wound outward
     // the coarse mesh fills only near misses (--coarse-fill near-misses), not every empty pixel
     bool fill_near_misses_only_ = false;
-    gpu::Program front_, inside_, coarse_;
-    ProgramLocations front_at_, inside_at_;
-    // --depth-batches (reps/common/depth_batches.h): the front pass compiled with DEPTH_BATCHES, for
-    // its boxes after the first batch, on software rasterisers only
-    gpu::Program front_batched_;
-    ProgramLocations front_batched_at_;
+    // the march's programs by pass and level of detail (MARCH_LOD): the ones without it compiled at
+    // creation, the others when an instance first needs them; front_batched only with depth batches
+    // (--depth-batches: reps/common/depth_batches.h, software rasterisers only)
+    MarchProgramSettings march_settings_;
+    std::array<std::array<MarchProgram, 2>, 3> march_programs_;
+    const MarchProgram& march_program(MarchPass pass, bool lod);
+    std::vector<std::uint8_t> lod_instances_; // build_draw_list: instances that may need the level of detail
+    bool entries_need_lod(std::span<const DrawEntry> entries) const;
+    gpu::Program coarse_;
     reps::DepthBatches depth_batches_;
     bool depth_batches_on_ = false;
     std::vector<std::size_t> front_batch_ends(const DrawParams& params);
@@ -294,6 +321,7 @@ private:
     glm::vec3 bound_centre_{0.0f};                 // object-space sphere around every box
     float bound_radius_ = 0.0f;
     float tile_world_ = 0.0f;                      // object units across a tile
+    float smallest_texel_ = 0.0f;                  // the billboards' smallest texel, object units
     float coarse_tile_factor_ = 1.0f;              // coarse tiles' width over fine tiles'
     std::size_t draw_list_capacity_ = 0;
     std::vector<DrawEntry> front_entries_, inside_entries_, draw_entries_; // the passes' proxies; both, as drawn
@@ -353,23 +381,26 @@ Status check_billboard(const Billboard& b, std::size_t index)
     return Status::ok();
 }
 
-Result<gpu::Program> make_march_program(bool inside, int march_mode, ProgramLocations& at, bool batched = false)
+Result<gpu::Program> make_march_program(const MarchProgramSettings& settings, MarchPass pass, bool lod,
+                                        ProgramLocations& at)
 {
-    std::vector<std::pair<std::string, std::string>> defines = {{"MARCH_MODE", std::to_string(march_mode)}};
-    if (inside) defines.push_back({"INSIDE_PASS", "1"});
-    if (batched) defines.push_back({"DEPTH_BATCHES", "1"});
+    std::vector<std::pair<std::string, std::string>> defines = {
+        {"MARCH_MODE", std::to_string(settings.march_mode)},
+        {"MARCH_LOD", lod ? "1" : "0"},
+        {"MARCH_DEBUG_VIEW", std::to_string(settings.debug_view)},
+        {"MARCH_MARK_PIXELS", settings.mark_pixels ? "1" : "0"},
+        {"MARCH_HAS_PBR_MAPS", settings.has_pbr_maps ? "1" : "0"},
+        {"MARCH_COLOR_FOOTPRINT", settings.color_footprint ? "1" : "0"},
+        {"MARCH_HIDE_BACK_HITS", settings.hide_back_hits ? "1" : "0"}};
+    if (pass == MarchPass::inside) defines.push_back({"INSIDE_PASS", "1"});
+    if (pass == MarchPass::front_batched) defines.push_back({"DEPTH_BATCHES", "1"});
     Result<gpu::Program> program = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/box.vert", "reps/enhanced_billboards/shaders/march.frag"}, defines);
     if (!program) return program;
     at.first_entry = program->uniform("first_entry");
     at.seed_steps = program->uniform("seed_steps");
     at.seed_hit_range = program->uniform("seed_hit_range");
-    at.debug_view = program->uniform("debug_view");
-    at.has_pbr_maps = program->uniform("has_pbr_maps");
-    at.color_footprint = program->uniform("color_footprint");
-    at.hide_back_hits = program->uniform("hide_back_hits");
     at.counting = program->uniform("counting");
-    at.mark_pixels = program->uniform("mark_pixels");
     at.depth_batch = program->uniform("depth_batch");
     return program;
 }
@@ -395,19 +426,6 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     for (std::size_t i = 0; i < package.billboards.size(); ++i)
         STANDIN_RETURN_IF_ERROR(check_billboard(package.billboards[i], i));
 
-    Result<gpu::Program> front = make_march_program(false, renderer->march_mode_, renderer->front_at_);
-    if (!front) return front.status();
-    renderer->front_ = std::move(*front);
-    Result<gpu::Program> inside = make_march_program(true, renderer->march_mode_, renderer->inside_at_);
-    if (!inside) return inside.status();
-    renderer->inside_ = std::move(*inside);
-    renderer->depth_batches_on_ = options.choice("depth-batches") == "auto" && gpu::software_rasteriser();
-    if (renderer->depth_batches_on_) {
-        Result<gpu::Program> batched = make_march_program(false, renderer->march_mode_, renderer->front_batched_at_, true);
-        if (!batched) return batched.status();
-        renderer->front_batched_ = std::move(*batched);
-        STANDIN_RETURN_IF_ERROR(renderer->depth_batches_.create());
-    }
     Result<gpu::Program> coarse = gpu::Program::create(
         {"reps/enhanced_billboards/shaders/coarse.vert", "reps/enhanced_billboards/shaders/coarse.frag"});
     if (!coarse) return coarse.status();
@@ -427,6 +445,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     STANDIN_RETURN_IF_ERROR(renderer->upload_billboards(package));
     if (options.flag("coarse") && package.coarse_mesh.triangle_count() > 0) renderer->upload_coarse_mesh(package.coarse_mesh, package.coarse_rims);
     if (renderer->box_lines_) renderer->upload_box_lines(package);
+    STANDIN_RETURN_IF_ERROR(renderer->create_march_programs(options));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "enhanced billboards: " + gpu::gl_error_text(e) + " while uploading");
@@ -560,6 +579,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         whole_proxies.push_back(whole_proxy);
         billboard_directions_.push_back(b.direction);
         tile_world_ = std::max(tile_world_, float(1 << tile_level) * b.texel_size);
+        smallest_texel_ = smallest_texel_ > 0.0f ? std::min(smallest_texel_, b.texel_size) : b.texel_size;
         if (g.box_min.x <= g.box_max.x) {
             for (int corner = 0; corner < 8; ++corner) {
                 glm::vec3 f(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
@@ -716,6 +736,52 @@ void BillboardRenderer::draw_box_lines(DrawStats& stats)
     glDepthMask(GL_TRUE);
 }
 
+Status BillboardRenderer::create_march_programs(const Options& options)
+{
+    MarchProgramSettings& settings = march_settings_;
+    settings.march_mode = march_mode_;
+    settings.debug_view = debug_view_;
+    settings.mark_pixels = marks_near_misses();
+    settings.has_pbr_maps = bool(orm_maps_);
+    settings.color_footprint = color_footprint_;
+    settings.hide_back_hits = hide_back_hits_;
+    depth_batches_on_ = options.choice("depth-batches") == "auto" && gpu::software_rasteriser();
+    for (MarchPass pass : {MarchPass::front, MarchPass::inside, MarchPass::front_batched}) {
+        if (pass == MarchPass::front_batched && !depth_batches_on_) continue;
+        MarchProgram& program = march_programs_[std::size_t(pass)][0];
+        Result<gpu::Program> compiled = make_march_program(settings, pass, false, program.at);
+        if (!compiled) return compiled.status();
+        program.program = std::move(*compiled);
+    }
+    if (depth_batches_on_) STANDIN_RETURN_IF_ERROR(depth_batches_.create());
+    return Status::ok();
+}
+
+// The program for a pass, with the level of detail or without: compiled on first use; should that
+// fail, the one without (the exact walk to level 0: the same surfaces, more fetches far away).
+const MarchProgram& BillboardRenderer::march_program(MarchPass pass, bool lod)
+{
+    MarchProgram& wanted = march_programs_[std::size_t(pass)][lod ? 1 : 0];
+    if (!lod || wanted.program.id() != 0) return wanted;
+    if (!wanted.failed) {
+        Result<gpu::Program> compiled = make_march_program(march_settings_, pass, true, wanted.at);
+        if (compiled) {
+            wanted.program = std::move(*compiled);
+            return wanted;
+        }
+        wanted.failed = true;
+        log_message(LogLevel::warning, "enhanced billboards: " + compiled.status().message() + "; drawing without the level of detail");
+    }
+    return march_programs_[std::size_t(pass)][0];
+}
+
+bool BillboardRenderer::entries_need_lod(std::span<const DrawEntry> entries) const
+{
+    for (const DrawEntry& entry : entries)
+        if (lod_instances_[entry.instance] != 0) return true;
+    return false;
+}
+
 void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const ProgramLocations& at,
                                            GLint first_entry) const
 {
@@ -723,12 +789,7 @@ void BillboardRenderer::set_march_uniforms(const gpu::Program& program, const Pr
     glProgramUniform1i(id, at.first_entry, first_entry);
     glProgramUniform1i(id, at.seed_steps, seed_steps_);
     glProgramUniform1f(id, at.seed_hit_range, seed_hit_range_);
-    glProgramUniform1i(id, at.debug_view, debug_view_);
-    glProgramUniform1i(id, at.has_pbr_maps, orm_maps_ ? 1 : 0);
-    glProgramUniform1i(id, at.color_footprint, color_footprint_ ? 1 : 0);
-    glProgramUniform1i(id, at.hide_back_hits, hide_back_hits_ ? 1 : 0);
     glProgramUniform1i(id, at.counting, counters_.counting() ? 1 : 0);
-    glProgramUniform1i(id, at.mark_pixels, marks_near_misses() ? 1 : 0);
 }
 
 // the per-pixel nearest front hit and the hit / near-miss flags the coarse mesh reads, cleared
@@ -817,6 +878,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
     };
     std::vector<Visible> visible;
     coarse_instances_.clear();
+    lod_instances_.assign(transforms.size(), 0);
     for (std::size_t i = 0; i < transforms.size(); ++i) {
         const glm::mat4& m = transforms[i];
         glm::vec3 centre = glm::vec3(m * glm::vec4(bound_centre_, 1.0f));
@@ -837,6 +899,19 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
                                                     k_min_tile_pixels ? 1
                                                                       : 2;
         visible.push_back({depth, std::uint32_t(i), inside, proxy_level, scale});
+        // the most texels a pixel can span on a billboard of this instance (march.frag's
+        // texels_per_pixel): neighbouring rays at distance t lie at most t / pixels_per_unit_at_1
+        // apart (orthographic: 1 / pixels_per_unit_at_1), t at most the sphere's far side, and a
+        // world length is at most 1 / (texel x the transform's smallest singular value) texels:
+        // that value is the axis scale for a similarity, else at least 2 |det| / |m|_F^2
+        const glm::mat3 axes(m);
+        const float smallest_scale =
+            similarity(axes) ? glm::length(axes[0])
+                             : 2.0f * std::abs(glm::determinant(axes)) /
+                                   std::max(glm::dot(axes[0], axes[0]) + glm::dot(axes[1], axes[1]) + glm::dot(axes[2], axes[2]), 1e-30f);
+        const float far_distance = camera.orthographic ? 1.0f : glm::length(centre - camera.eye_world) + radius;
+        const float texels_per_pixel = far_distance / (pixels_per_unit_at_1 * smallest_texel_ * std::max(smallest_scale, 1e-30f));
+        if (!(texels_per_pixel < k_lod_texels_per_pixel)) lod_instances_[i] = 1;
         float radius_pixels = radius * pixels_per_unit_at_1 / (camera.orthographic ? 1.0f : std::max(depth, camera.near_plane));
         if (inside || radius_pixels >= k_min_coarse_radius_pixels) coarse_instances_.push_back(std::uint32_t(i));
     }
@@ -934,8 +1009,6 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         glBindVertexArray(empty_vertex_array_.get());
         glEnable(GL_CULL_FACE);
         glFrontFace(GL_CCW);
-        const std::pair<const gpu::Program*, const ProgramLocations*> passes[2] = {{&inside_, &inside_at_},
-                                                                                  {&front_, &front_at_}};
         // depth batches (reps/common/depth_batches.h): the front pass's first batch drawn as it is,
         // the later ones tested early against the batches resolved before them; not where rays mark
         // near misses behind back hits (--coarse-fill near-misses), which an early test would stop
@@ -946,12 +1019,15 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
             const GLint first = pass == 0 ? 0 : counts[0];
             std::vector<std::size_t> ends = {std::size_t(counts[pass])};
             if (pass == 1 && batches) ends = front_batch_ends(params);
+            const std::vector<DrawEntry>& entries = pass == 0 ? inside_entries_ : front_entries_;
             std::size_t begin = 0;
             for (std::size_t batch = 0; batch < ends.size(); ++batch) {
                 const std::size_t end = ends[batch];
                 const bool early = begin > 0;
-                const gpu::Program& program = early ? front_batched_ : *passes[pass].first;
-                const ProgramLocations& at = early ? front_batched_at_ : *passes[pass].second;
+                const bool lod = entries_need_lod(std::span<const DrawEntry>(entries).subspan(begin, end - begin));
+                const MarchProgram& march = march_program(early ? MarchPass::front_batched : pass == 0 ? MarchPass::inside : MarchPass::front, lod);
+                const gpu::Program& program = march.program;
+                const ProgramLocations& at = march.at;
                 std::uint32_t stamp = 0;
                 if (early) {
                     stamp = depth_batches_.begin_batch();

@@ -42,26 +42,32 @@ layout(binding = BINDING_SURFACE_MAPS) uniform usampler2DArray surface_maps; // 
 layout(binding = BINDING_MINMAX_MAPS) uniform usampler2DArray minmax_maps;   // level k: cells of 2^(k+1)
 layout(binding = BINDING_ORM_MAPS) uniform sampler2DArray orm_maps;           // only when has_pbr_maps
 layout(binding = BINDING_EMISSION_MAPS) uniform sampler2DArray emission_maps;
-uniform int has_pbr_maps; // the package has PBR maps (issue #14); otherwise Material's defaults
 layout(binding = BINDING_COLOR_MIPS) uniform sampler2DArray color_mips; // level k - 1: cells of 2^k texels
-uniform int color_footprint; // colour filtered over the pixel's footprint (--color-filter footprint)
-uniform int hide_back_hits;  // the package's bake.back_hits is "hide" (billboards.h BakeSettings::back_hits)
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 
-// The march (--march): renderer.cpp compiles it in (MARCH_MODE), since llvmpipe runs the branch
-// not taken too, masked, for every fragment (the seed's march and the exact one it calls to mark
-// holes cost the exact march about 10% of a frame). Without the define, a uniform.
-#ifdef MARCH_MODE
-const int march_mode = MARCH_MODE;
-#else
-uniform int march_mode;
+// Settings fixed for the renderer's life are compiled in (renderer.cpp, make_march_program), not
+// uniforms: llvmpipe runs the branch not taken too, masked, for every fragment (the seed's march
+// and the exact one it calls to mark holes cost the exact march about 10% of a frame; the debug
+// views, the near-miss marks, the PBR maps' reads and the back-hit switch 5-10%).
+#ifndef MARCH_MODE // the build's shader check compiles without the renderer's defines: its defaults
+#define MARCH_MODE MARCH_EXACT
+#define MARCH_LOD 1
+#define MARCH_DEBUG_VIEW DEBUG_VIEW_NONE
+#define MARCH_MARK_PIXELS 0
+#define MARCH_HAS_PBR_MAPS 0
+#define MARCH_COLOR_FOOTPRINT 1
+#define MARCH_HIDE_BACK_HITS 0
 #endif
+const int march_mode = MARCH_MODE;           // --march
+const int debug_view = MARCH_DEBUG_VIEW;     // DEBUG_VIEW_*
+const int mark_pixels = MARCH_MARK_PIXELS;   // near misses marked for --coarse-fill near-misses
+const int has_pbr_maps = MARCH_HAS_PBR_MAPS; // the package has PBR maps (issue #14); otherwise Material's defaults
+const int color_footprint = MARCH_COLOR_FOOTPRINT; // colour filtered over the pixel's footprint (--color-filter footprint)
+const int hide_back_hits = MARCH_HIDE_BACK_HITS;   // the package's bake.back_hits is "hide" (billboards.h BakeSettings::back_hits)
 uniform int seed_steps;
 uniform float seed_hit_range;
-uniform int debug_view;
-uniform int counting;
-uniform int mark_pixels;
+uniform int counting; // switched per frame (Renderer::set_counting)
 
 layout(location = 0) out vec4 out_color;
 
@@ -156,6 +162,14 @@ vec3 safe_inverse(vec3 d)
 // The exact crossing of ray o + t d (box space) with the column sheet, for t in [t0, t1].
 // The ray starts in a texel of start_rect (xy: first texel, zw: past the last) and stops at t1, or where it
 // leaves the billboard (size); the pyramid is climbed to top_level at most.
+// Two loops: the inner one walks the nodes (a fetch, a depth-range test, the step to the next node)
+// until a node needs a closer look (a level-0 texel whose range the ray meets, or a node of the
+// pixel's level of detail); the outer one looks closer once per such node, then walks on. A
+// software rasteriser runs every branch of a loop body, masked, at every step of every fragment
+// (llvmpipe: docs/RESULTS.md "Straight-line code"), so the closer looks, most of the body's code
+// and rare against the steps, cost once per node looked at instead of once per step; GPUs run
+// the same steps in the same order.
+const int MARCH_STEPS = 512; // steps (node visits) per ray; then the coarse mesh decides
 bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec4 start_rect, int top_level,
                  int pixel_level, int start_level, out float t_hit,
                  out ivec2 hit_texel, inout bool near)
@@ -171,120 +185,157 @@ bool march_exact(vec3 o, vec3 d, float t0, float t1, int layer, ivec2 size, ivec
     vec2 p = o.xy + t * d.xy + vec2(dir) * 1e-3;
     ivec2 texel = clamp(ivec2(floor(p)), start_rect.xy, start_rect.zw - 1);
 
-    for (int iteration = 0; iteration < 512; ++iteration) {
-        ivec2 cell = texel >> level;
-        vec2 exit_bound = vec2((cell + ahead) << level);
-        vec2 t_bounds = (exit_bound - o.xy) * inv.xy;
-        int axis = t_bounds.x < t_bounds.y ? 0 : 1;
-        float t_exit = min(t_bounds[axis], t1);
-        float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
-        float z_lo = min(z_a, z_b) * k_codes, z_hi = max(z_a, z_b) * k_codes;
+    // the node of the current step, as the closer looks and the step to the next node read it
+    ivec2 cell = ivec2(0);
+    int axis = 0;
+    float t_exit = t;
+    uvec2 node_range = uvec2(0u);                  // level > 0: the node's depth range
+    uvec4 s = uvec4(0u), previous_surface = uvec4(0u); // level 0: the texel's surface, the one read before
+    ivec2 previous_texel = ivec2(-1);
+    int steps = 0;         // steps taken (MARCH_STEPS at most)
+    bool advance = false;  // the current step is done but for the move to the next node
+    for (int look = 0; look <= MARCH_STEPS; ++look) {
+        const int LOOK_NONE = 0, LOOK_CONTACT = 1, LOOK_TEXEL = 2;
+        int closer = LOOK_NONE;
+        for (;;) {
+            if (advance) {
+                // leave the node: into the neighbouring one, one level up when that is in another
+                // parent (Tevs et al.; climbing as far as the crossing allows costs more on rough
+                // surfaces, where the climb is undone at once: 17.4 against 15.8 fetches per covered pixel)
+                if (t_exit >= t1) return false;
+                ivec2 next = texel;
+                next[axis] = (cell[axis] + dir[axis]) << level;
+                if (dir[axis] < 0) next[axis] += (1 << level) - 1;
+                int other = 1 - axis;
+                float along = o[other] + t_exit * d[other];
+                int lo = cell[other] << level, hi = ((cell[other] + 1) << level) - 1;
+                next[other] = clamp(int(floor(along + float(dir[other]) * 1e-3)), lo, hi);
+                if (next[axis] < 0 || next[axis] >= size[axis]) return false;
+                ivec2 old_cell = cell, new_cell = next >> level;
+                if (level < top_level && (old_cell >> 1) != (new_cell >> 1)) ++level;
+                texel = next;
+                t = t_exit;
+                advance = false;
+                if (++steps >= MARCH_STEPS) break;
+            }
+            cell = texel >> level;
+            vec2 exit_bound = vec2((cell + ahead) << level);
+            vec2 t_bounds = (exit_bound - o.xy) * inv.xy;
+            axis = t_bounds.x < t_bounds.y ? 0 : 1;
+            t_exit = min(t_bounds[axis], t1);
+            float z_a = o.z + t * d.z, z_b = o.z + t_exit * d.z;
+            float z_lo = min(z_a, z_b) * k_codes, z_hi = max(z_a, z_b) * k_codes;
 
-        if (level > 0) {
-            ++g_fetches;
-            uvec2 range = texelFetch(minmax_maps, at_level(cell, layer, level), level - 1).rg;
-            if (float(range.x) <= z_hi + 0.5 && float(range.y) >= z_lo - 0.5) {
-                if (level <= pixel_level) {
-                    // the node is no wider than half the pixel: the ray meets it where it reaches
-                    // the node's depth range, at the texel there if that texel's range meets the
-                    // ray too (else look closer)
-                    float z_contact = (d.z >= 0.0 ? float(range.x) : float(range.y)) / k_codes;
-                    float t_contact = abs(d.z) > 1e-20 ? clamp((z_contact - o.z) / d.z, t, t_exit) : t;
-                    ivec2 first = cell << level;
-                    ivec2 contact = clamp(ivec2(floor(o.xy + t_contact * d.xy)), first, first + (1 << level) - 1);
-                    uvec4 c = fetch_surface(contact, layer);
-                    // the ray's depths over the contact texel's own column, not the node's: over a
-                    // node it can pass high above a leaf of a few texels and leave it (issue #14:
-                    // the leaves fattened, spill 3.5% at distance 8)
-                    vec2 t_a = (vec2(contact) - o.xy) * inv.xy, t_b = (vec2(contact + 1) - o.xy) * inv.xy;
-                    vec2 t_near = min(t_a, t_b), t_far = max(t_a, t_b);
-                    float t_in = max(max(t_near.x, t_near.y), t), t_out = min(min(t_far.x, t_far.y), t_exit);
-                    float zc_a = (o.z + t_in * d.z) * k_codes, zc_b = (o.z + t_out * d.z) * k_codes;
-                    // and the hit where it reaches that texel's top within the column, so that
-                    // its depth is the texel's, not the node's nearest
-                    float t_top = abs(d.z) > 1e-20 ? clamp((float(c.x) / k_codes - o.z) / d.z, t_in, t_out) : t_in;
-                    if ((c.a & TEXEL_COVERED) != 0u && t_in <= t_out && float(c.x) <= max(zc_a, zc_b) + 0.5 && float(c.x) >= min(zc_a, zc_b) - 0.5 &&
-                        on_surface(c, contact, o.xy + t_top * d.xy)) {
-                        near = true;
-                        t_hit = t_top;
-                        hit_texel = contact;
-                        return true;
+            if (level > 0) {
+                ++g_fetches;
+                node_range = texelFetch(minmax_maps, at_level(cell, layer, level), level - 1).rg;
+                if (float(node_range.x) <= z_hi + 0.5 && float(node_range.y) >= z_lo - 0.5) {
+#if MARCH_LOD
+                    if (level <= pixel_level) {
+                        closer = LOOK_CONTACT;
+                        break;
                     }
+#endif
+                    --level; // the segment may meet the surface below this node: look closer
+                    if (++steps >= MARCH_STEPS) break;
+                    continue;
                 }
-                --level; // the segment may meet the surface below this node: look closer
-                continue;
-            }
-        } else {
-            uvec4 s = fetch_surface(texel, layer);
-            ivec2 previous_texel = last_texel;
-            uvec4 previous_surface = last_surface;
-            last_texel = texel;
-            last_surface = s;
-            vec2 range = surface_range(s);
-            if ((s.a & TEXEL_COVERED) != 0u && range.x <= z_hi + 0.5 && range.y >= z_lo - 0.5) {
-                near = true;
-                // the wall to the texel the ray came from, if it continues this surface, then the top
-                vec2 entry_bound = vec2(texel + ivec2(1) - ahead);
-                vec2 t_entries = (entry_bound - o.xy) * inv.xy;
-                int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
-                float t_in = t_entries[entry_axis];
-                uint link = entry_axis == 0 ? (dir.x > 0 ? LINK_MINUS_U : LINK_PLUS_U)
-                                            : (dir.y > 0 ? LINK_MINUS_V : LINK_PLUS_V);
-                bool from_linked = t_in >= t0 && (s.a & link) != 0u;
-                ivec2 from = texel;
-                from[entry_axis] -= dir[entry_axis];
-                uvec4 from_surface = uvec4(0u);
-                if (from_linked) from_surface = from == previous_texel ? previous_surface : fetch_surface(from, layer);
-                // the tilted tops: the ray is compared with this texel's top as the ray z_origin +
-                // t z_per_t against the flat top `top`, shifted by the tilt (the view atlas's
-                // walk, atlas.frag), and with the neighbour's tilted top where it crosses the wall
-                float top = float(s.x) / k_codes;
-                vec2 tilt = surface_tilt(s), centre = vec2(texel) + 0.5;
-                float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
-                float d_from = 0.0;
-                if (from_linked) {
-                    vec2 wall_point = o.xy + t_in * d.xy;
-                    d_from = float(from_surface.x) / k_codes + dot(surface_tilt(from_surface), wall_point - vec2(from) - 0.5) -
-                             dot(tilt, wall_point - centre);
-                }
-                vec2 crossing = hf_cross_column(t_in, t, t_exit, z_origin, z_per_t, top, from_linked, d_from);
-                // a tilted top ends at the texel's range (its depth and its linked neighbours'),
-                // which every proxy box holds: an outline texel's top does not reach past its
-                // depth towards the outside, and a box's layers keep the picture (build_tiles)
-                float z_cross = (o.z + crossing.x * d.z) * k_codes;
-                if (z_cross < range.x - 0.5 || z_cross > range.y + 0.5) crossing.y = HF_MISS;
-                // a sheet's edge line ends the top, and a wall, on the texels that hold one
-                vec2 p_cross = o.xy + crossing.x * d.xy;
-                bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross)
-                        : crossing.y == HF_WALL && on_surface(s, texel, p_cross) && on_surface(from_surface, from, p_cross);
-                if (on) {
-                    t_hit = crossing.x;
-                    // on a wall, the texel whose top is nearer the crossing
-                    float z_in = z_origin + t_in * z_per_t;
-                    hit_texel = crossing.y == HF_WALL && abs(z_in - d_from) < abs(z_in - top) ? from : texel;
-                    return true;
+            } else {
+                s = fetch_surface(texel, layer);
+                previous_texel = last_texel;
+                previous_surface = last_surface;
+                last_texel = texel;
+                last_surface = s;
+                vec2 range = surface_range(s);
+                if ((s.a & TEXEL_COVERED) != 0u && range.x <= z_hi + 0.5 && range.y >= z_lo - 0.5) {
+                    closer = LOOK_TEXEL;
+                    break;
                 }
             }
+            advance = true;
         }
+        if (closer == LOOK_NONE) break; // out of steps
 
-        // leave the node: into the neighbouring one, one level up when that is in another parent
-        // (Tevs et al.; climbing as far as the crossing allows costs more on rough surfaces, where
-        // the climb is undone at once: 17.4 against 15.8 fetches per covered pixel)
-        if (t_exit >= t1) return false;
-        ivec2 next = texel;
-        next[axis] = (cell[axis] + dir[axis]) << level;
-        if (dir[axis] < 0) next[axis] += (1 << level) - 1;
-        int other = 1 - axis;
-        float along = o[other] + t_exit * d[other];
-        int lo = cell[other] << level, hi = ((cell[other] + 1) << level) - 1;
-        next[other] = clamp(int(floor(along + float(dir[other]) * 1e-3)), lo, hi);
-        if (next[axis] < 0 || next[axis] >= size[axis]) return false;
-        ivec2 old_cell = cell, new_cell = next >> level;
-        if (level < top_level && (old_cell >> 1) != (new_cell >> 1)) ++level;
-        texel = next;
-        t = t_exit;
+#if MARCH_LOD
+        if (closer == LOOK_CONTACT) {
+            // the node is no wider than half the pixel: the ray meets it where it reaches
+            // the node's depth range, at the texel there if that texel's range meets the
+            // ray too (else look closer)
+            float z_contact = (d.z >= 0.0 ? float(node_range.x) : float(node_range.y)) / k_codes;
+            float t_contact = abs(d.z) > 1e-20 ? clamp((z_contact - o.z) / d.z, t, t_exit) : t;
+            ivec2 first = cell << level;
+            ivec2 contact = clamp(ivec2(floor(o.xy + t_contact * d.xy)), first, first + (1 << level) - 1);
+            uvec4 c = fetch_surface(contact, layer);
+            // the ray's depths over the contact texel's own column, not the node's: over a
+            // node it can pass high above a leaf of a few texels and leave it (issue #14:
+            // the leaves fattened, spill 3.5% at distance 8)
+            vec2 t_a = (vec2(contact) - o.xy) * inv.xy, t_b = (vec2(contact + 1) - o.xy) * inv.xy;
+            vec2 t_near = min(t_a, t_b), t_far = max(t_a, t_b);
+            float t_in = max(max(t_near.x, t_near.y), t), t_out = min(min(t_far.x, t_far.y), t_exit);
+            float zc_a = (o.z + t_in * d.z) * k_codes, zc_b = (o.z + t_out * d.z) * k_codes;
+            // and the hit where it reaches that texel's top within the column, so that
+            // its depth is the texel's, not the node's nearest
+            float t_top = abs(d.z) > 1e-20 ? clamp((float(c.x) / k_codes - o.z) / d.z, t_in, t_out) : t_in;
+            if ((c.a & TEXEL_COVERED) != 0u && t_in <= t_out && float(c.x) <= max(zc_a, zc_b) + 0.5 && float(c.x) >= min(zc_a, zc_b) - 0.5 &&
+                on_surface(c, contact, o.xy + t_top * d.xy)) {
+                near = true;
+                t_hit = t_top;
+                hit_texel = contact;
+                return true;
+            }
+            --level; // look closer
+            if (++steps >= MARCH_STEPS) break;
+            continue;
+        }
+#endif
+        {
+            near = true;
+            vec2 range = surface_range(s);
+            // the wall to the texel the ray came from, if it continues this surface, then the top
+            vec2 entry_bound = vec2(texel + ivec2(1) - ahead);
+            vec2 t_entries = (entry_bound - o.xy) * inv.xy;
+            int entry_axis = t_entries.x > t_entries.y ? 0 : 1;
+            float t_in = t_entries[entry_axis];
+            uint link = entry_axis == 0 ? (dir.x > 0 ? LINK_MINUS_U : LINK_PLUS_U)
+                                        : (dir.y > 0 ? LINK_MINUS_V : LINK_PLUS_V);
+            bool from_linked = t_in >= t0 && (s.a & link) != 0u;
+            ivec2 from = texel;
+            from[entry_axis] -= dir[entry_axis];
+            uvec4 from_surface = uvec4(0u);
+            if (from_linked) from_surface = from == previous_texel ? previous_surface : fetch_surface(from, layer);
+            // the tilted tops: the ray is compared with this texel's top as the ray z_origin +
+            // t z_per_t against the flat top `top`, shifted by the tilt (the view atlas's
+            // walk, atlas.frag), and with the neighbour's tilted top where it crosses the wall
+            float top = float(s.x) / k_codes;
+            vec2 tilt = surface_tilt(s), centre = vec2(texel) + 0.5;
+            float z_origin = o.z - dot(tilt, o.xy - centre), z_per_t = d.z - dot(tilt, d.xy);
+            float d_from = 0.0;
+            if (from_linked) {
+                vec2 wall_point = o.xy + t_in * d.xy;
+                d_from = float(from_surface.x) / k_codes + dot(surface_tilt(from_surface), wall_point - vec2(from) - 0.5) -
+                         dot(tilt, wall_point - centre);
+            }
+            vec2 crossing = hf_cross_column(t_in, t, t_exit, z_origin, z_per_t, top, from_linked, d_from);
+            // a tilted top ends at the texel's range (its depth and its linked neighbours'),
+            // which every proxy box holds: an outline texel's top does not reach past its
+            // depth towards the outside, and a box's layers keep the picture (build_tiles)
+            float z_cross = (o.z + crossing.x * d.z) * k_codes;
+            if (z_cross < range.x - 0.5 || z_cross > range.y + 0.5) crossing.y = HF_MISS;
+            // a sheet's edge line ends the top, and a wall, on the texels that hold one
+            vec2 p_cross = o.xy + crossing.x * d.xy;
+            bool on = crossing.y == HF_TOP ? on_surface(s, texel, p_cross)
+                    : crossing.y == HF_WALL && on_surface(s, texel, p_cross) && on_surface(from_surface, from, p_cross);
+            if (on) {
+                t_hit = crossing.x;
+                // on a wall, the texel whose top is nearer the crossing
+                float z_in = z_origin + t_in * z_per_t;
+                hit_texel = crossing.y == HF_WALL && abs(z_in - d_from) < abs(z_in - top) ? from : texel;
+                return true;
+            }
+            advance = true; // and on to the next node
+        }
     }
-    near = true; // out of iterations: let the coarse mesh decide
+    near = true; // out of steps: let the coarse mesh decide
     return false;
 }
 
@@ -433,6 +484,7 @@ void main()
     vec3 o_x, d_x, o_y, d_y;
     camera_ray(gl_FragCoord.xy + vec2(1.0, 0.0), o_x, d_x);
     camera_ray(gl_FragCoord.xy + vec2(0.0, 1.0), o_y, d_y);
+#if MARCH_LOD
     float t_entry = max(t0, 0.0);
     vec3 p_entry = origin_world + t_entry * direction_world;
     float texels_x = length((mat3(v_box_from_world) * (o_x + t_entry * d_x - p_entry)).xy);
@@ -441,6 +493,9 @@ void main()
     // nodes of at most half a pixel: with whole pixels the thesis protocol's Luv rose from 0.47 to
     // 0.63 on the noisy sphere (a node's texel is not the exact hit's, and silhouettes spill)
     int pixel_level = texels_per_pixel >= 4.0 ? min(int(floor(log2(texels_per_pixel))) - 1, top_level) : 0;
+#else
+    const int pixel_level = 0; // no instance of the draw spans 4 texels a pixel (renderer.cpp, k_lod_texels_per_pixel)
+#endif
 
     bool hit = false, near = false;
     float t_hit = 0.0;
