@@ -139,7 +139,10 @@ constexpr float k_lod_texels_per_pixel = 4.0f;
 // batches of 64, 256, 1024, ... boxes against one draw): a 108k-face assembly of nested parts (1.23)
 // 373-390 -> 206-214 ms, a generated 4k-face tree (4.11) 1210 -> 790, a teapot (0.94) 262-271 ->
 // 179-208; but a scan (0.33) +5-15% and the bunny (0.24) +10-20%, whose boxes tile one surface.
-constexpr double k_box_batch_overdraw = 0.6;
+// Batches of 64, 256, 1024, ... boxes; of 64, 128, 256, ... where box_overdraw is 2 or more: the
+// held-out 2CylinderEngine (2.68, 43k boxes) 840-1070 -> 660-720 ms, the tree (4.11) 895-953 ->
+// 760-850; the assembly (1.23) 213-240 -> 225-285 and the teapot 183-209 -> 201-250 with growth 2.
+constexpr double k_box_batch_overdraw = 0.6, k_deep_box_overdraw = 2.0;
 constexpr std::size_t k_first_box_batch = 64;
 
 // What the CPU needs of a proxy box to sort and choose boxes each frame.
@@ -1002,14 +1005,16 @@ std::vector<std::size_t> BillboardRenderer::front_batch_ends(const DrawParams& p
         if (k == front_entries_.size() || front_entries_[k].instance != front_entries_[k - 1].instance) instance_ends.push_back(k);
     std::vector<std::size_t> ends;
     batch_rects_.clear();
-    if (instance_ends.size() == 1 && box_overdraw(front_entries_) >= k_box_batch_overdraw) {
+    const double overdraw = instance_ends.size() == 1 ? box_overdraw(front_entries_) : 0.0;
+    if (overdraw >= k_box_batch_overdraw) {
         // one instance whose boxes lie deep behind each other (nested parts, foliage): batches of its
         // boxes, front to back, each after the first tested early against those before it
         const glm::mat4& m = params.world_from_object.empty() ? identity : params.world_from_object[front_entries_[0].instance];
         const glm::ivec4 rect =
             reps::DepthBatches::sphere_rect(params.camera, params.viewport, m, bound_centre_, bound_radius_ * 1.001f);
+        const std::size_t growth = overdraw >= k_deep_box_overdraw ? 2 : 4;
         for (std::size_t end = std::min(front_entries_.size(), k_first_box_batch); end > 0;
-             end = std::min(front_entries_.size(), 4 * end)) {
+             end = std::min(front_entries_.size(), growth * end)) {
             ends.push_back(end);
             batch_rects_.push_back(rect);
             if (end == front_entries_.size()) break;
