@@ -382,7 +382,9 @@ TEST(BillboardRenderer, DepthBatchesKeepThePictureWithFewerFragments)
             // boxes in batches, since each of the six billboards holds the whole sphere, the half
             // facing away behind the other (box_overdraw over k_box_batch_overdraw): measured
             // 183,401 -> 107,512 fragments
-            if (gpu::software_rasteriser()) EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0])) << where;
+            if (gpu::software_rasteriser()) {
+                EXPECT_LT(double(fragments[1]), 0.8 * double(fragments[0])) << where;
+            }
         }
     }
 }
@@ -424,7 +426,9 @@ TEST(BillboardRenderer, BoxBatchesKeepANestedAssemblysPictureWithFewerFragments)
         EXPECT_GT(covered, 5000u) << "azimuth " << azimuth;
         EXPECT_EQ(images[0].color.pixels, images[1].color.pixels) << "azimuth " << azimuth;
         EXPECT_EQ(images[0].depth, images[1].depth) << "azimuth " << azimuth;
-        if (gpu::software_rasteriser()) EXPECT_LT(double(fragments[1]), 0.6 * double(fragments[0])) << "azimuth " << azimuth;
+        if (gpu::software_rasteriser()) {
+            EXPECT_LT(double(fragments[1]), 0.6 * double(fragments[0])) << "azimuth " << azimuth;
+        }
     }
 }
 
