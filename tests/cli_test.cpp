@@ -125,6 +125,57 @@ TEST(Cli, RenderWritesAPngOfTheRequestedSize)
     EXPECT_EQ(image->at(0, 0)[3], 0) << "transparent background";
 }
 
+// `eval MODEL A B`: several stand-ins compared. Here A is the model itself (a mesh stand-in: the
+// truth's own picture) and B a torus: A's figures are exact (Luv 0, IoU 1) and B's are not; the
+// sheet holds the truth and both in columns (the quick protocol's 4 views at 320x240, labelled T, 1,
+// 2), column 1 the truth's pixels outside its label; each stand-in has its own report; the single-
+// stand-in JSON format is unchanged.
+TEST(Cli, EvalComparesSeveralStandinsSideBySide)
+{
+    std::string dir = test::fresh_directory("cli_compare");
+    const std::string bunny = test::source_dir() + "/data/bunny.ply", torus = dir + "/torus.ply";
+    ASSERT_EQ(test::run_cli("generate torus -t 2000 -o " + torus).exit_code, 0);
+    test::CommandResult result = test::run_cli("eval " + bunny + " " + bunny + " " + torus + " --frames 0 --report " + dir +
+                                               "/report --json " + dir + "/comparison.json");
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_NE(result.out.find("compared 2 stand-ins"), std::string::npos) << result.out;
+    std::ifstream json_file(dir + "/comparison.json");
+    nlohmann::json comparison = nlohmann::json::parse(json_file);
+    EXPECT_EQ(comparison["format"], "standin-eval-comparison");
+    ASSERT_EQ(comparison["standins"].size(), 2u);
+    const nlohmann::json& itself = comparison["standins"][0]["eval"]["summary"];
+    const nlohmann::json& other = comparison["standins"][1]["eval"]["summary"];
+    EXPECT_EQ(itself["luv_mean"].get<double>(), 0.0);
+    EXPECT_EQ(itself["iou"].get<double>(), 1.0);
+    EXPECT_GT(other["luv_mean"].get<double>(), 1.0);
+    EXPECT_LT(other["iou"].get<double>(), 0.9);
+    EXPECT_EQ(comparison["standins"][1]["representation"], "mesh");
+    EXPECT_EQ(comparison["standins"][1]["bytes"].get<std::uint64_t>(), fs::file_size(torus));
+    for (const char* file : {"index.html", "sheet.png", "comparison.json", "01-bunny.ply/index.html",
+                             "02-torus.ply/images/003_standin.png"})
+        EXPECT_TRUE(fs::exists(dir + "/report/" + file)) << file;
+    Result<ImageRGBA8> sheet = read_png_rgba8(dir + "/report/sheet.png");
+    ASSERT_TRUE(sheet.is_ok());
+    EXPECT_EQ(sheet->width, 3 * 320 + 2 * 4);
+    EXPECT_EQ(sheet->height, 4 * 240 + 3 * 4);
+    std::size_t differ = 0, model = 0;
+    for (int y = 30; y < sheet->height; ++y)
+        for (int x = 0; x < 320; ++x) {
+            const std::uint8_t *truth = sheet->at(x, y), *same = sheet->at(x + 324, y), *torus_pixel = sheet->at(x + 648, y);
+            differ += !std::equal(truth, truth + 3, same);
+            model += !std::equal(truth, truth + 3, torus_pixel);
+        }
+    EXPECT_EQ(differ, 0u) << "the model as its own stand-in draws the truth's pixels";
+    EXPECT_GT(model, 10000u) << "the torus is not the bunny";
+    // one stand-in: the evaluation's own JSON, as before
+    test::CommandResult one = test::run_cli("eval " + bunny + " " + torus + " --frames 0 --json " + dir + "/one.json");
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    std::ifstream one_file(dir + "/one.json");
+    EXPECT_EQ(nlohmann::json::parse(one_file)["format"], "standin-eval");
+    // an output among the inputs is refused
+    EXPECT_EQ(test::run_cli("eval " + bunny + " " + bunny + " " + torus + " --frames 0 --json " + torus).exit_code, 2);
+}
+
 // `render --fade-to`: the screen-door cross-fade an engine's LOD switch shows. At amount 0 it is the
 // input's picture byte for byte; at 0.5 every pixel is the input's or the other's (never a mix),
 // about half of those that differ taken from each; a band maps --distance to the amount.

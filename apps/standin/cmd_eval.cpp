@@ -12,6 +12,7 @@
 #include <standin/package.h>
 #include <standin/render.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -21,7 +22,7 @@ namespace standin::cli {
 
 struct EvalArgs {
     std::string model;
-    std::string standin; // package directory, or a model file (a mesh stand-in)
+    std::vector<std::string> standins; // package directories, or model files (mesh stand-ins)
     std::string protocol = "quick";
     std::string json;
     std::string report;
@@ -33,11 +34,11 @@ struct EvalArgs {
 };
 
 // The stand-in to evaluate: a package, or a mesh (then also its surface).
-static Result<Drawable> load_subject(const EvalArgs& args)
+static Result<Drawable> load_subject(const EvalArgs& args, const std::string& path)
 {
     RenderOptions options;
     options.values = args.options.given();
-    Result<Drawable> subject = read_drawable(args.standin);
+    Result<Drawable> subject = read_drawable(path);
     if (!subject) return subject.status();
     std::vector<const Representation*> at_hand;
     if (subject->package) at_hand.push_back(&representation_of(*subject->package));
@@ -48,7 +49,9 @@ static Result<Drawable> load_subject(const EvalArgs& args)
 
 static std::string command_line(const EvalArgs& args)
 {
-    std::string line = "standin eval " + args.model + " " + args.standin + " --protocol " + args.protocol;
+    std::string line = "standin eval " + args.model;
+    for (const std::string& standin : args.standins) line += " " + standin;
+    line += " --protocol " + args.protocol;
     // every option that changes a figure, so the JSON says how to reproduce it
     line += args.options.command_line();
     if (args.shadows.enabled) line += " --shadows --shadow-resolution " + std::to_string(args.shadows.resolution);
@@ -77,77 +80,173 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
     std::printf("  verdict         %s\n", json["verdict"]["line"].get<std::string>().c_str());
 }
 
+// One stand-in evaluated against the truth: its figures, its report in `report_directory` when
+// given, and the sheet's pictures when `sheet` (the truth's too when `truth_pictures`).
+static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, const std::string& path, const Mesh& mesh,
+                                                Renderer& truth, const Protocol& protocol, const std::string& device,
+                                                const std::string& report_directory, bool sheet,
+                                                std::vector<ImageRGBA8>* truth_pictures)
+{
+    Result<Drawable> subject = load_subject(args, path);
+    if (!subject) return subject.status();
+    if (subject->package) {
+        Result<SourceInfo> source = describe_source(args.model, mesh);
+        if (source && !subject->package->source.content_hash.empty() &&
+            source->content_hash != subject->package->source.content_hash)
+            log_message(LogLevel::warning, path + " was baked from " + subject->package->source.file_name + ", not from " +
+                                               args.model + " (content hash differs)");
+    }
+
+    // render, compare, and write the report's images as we go
+    std::optional<ReportWriter> report;
+    if (!report_directory.empty()) {
+        Result<ReportWriter> writer = ReportWriter::begin(report_directory);
+        if (!writer) return writer.status();
+        report.emplace(std::move(*writer));
+    }
+    ComparedStandin compared;
+    ViewSink sink = [&](std::size_t i, const ViewResult& r, const RenderedImage& t, const RenderedImage& s) {
+        if (sheet && i < k_comparison_sheet_views) {
+            compared.pictures.push_back(comparison_picture(s.color));
+            if (truth_pictures) truth_pictures->push_back(comparison_picture(t.color));
+        }
+        return report ? report->add_view(i, r, t, s) : Status::ok();
+    };
+    EvalOptions options;
+    options.timed_frames = args.frames;
+    options.shadows = args.shadows.enabled;
+    options.shadow_resolution = args.shadows.resolution;
+    options.shading = args.shading == "lambert" ? ShadingModel::lambert_blinn_phong : ShadingModel::ggx;
+    Result<EvalResult> result = evaluate(truth, *subject->renderer, mesh.bounding_sphere(), protocol, options, stderr_progress(), sink);
+    if (!result) return result.status();
+    result->device = device;
+    if (subject->mesh) {
+        Result<SurfaceDistance> surface = surface_distance(*subject->mesh, mesh, args.samples);
+        if (!surface) return surface.status();
+        result->surface = *surface;
+    }
+
+    nlohmann::json identity = {{"model", args.model},
+                               {"package", path},
+                               {"representation", subject->representation()},
+                               {"shadows", args.shadows.enabled},
+                               {"shading", args.shading},
+                               {"command", command_line(args)}};
+    compared.package = path;
+    compared.representation = subject->representation();
+    compared.json = eval_to_json(*result, identity);
+    if (subject->package) {
+        if (Result<std::uint64_t> bytes = package_bytes(path)) compared.bytes = *bytes;
+    } else {
+        std::error_code ec;
+        const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+        if (!ec) compared.bytes = bytes;
+    }
+    if (report) {
+        if (Status s = report->finish(*result, compared.json); !s) return s;
+        compared.report = std::filesystem::path(report->directory()).filename().string();
+    }
+    print_summary(*result, compared.json);
+    return compared;
+}
+
+// The folder of stand-in k's own report inside a comparison: its number and its file name.
+static std::string standin_report_name(std::size_t k, const std::string& path)
+{
+    std::string name = std::filesystem::path(path).filename().string();
+    if (name.empty()) name = std::filesystem::path(path).parent_path().filename().string();
+    for (char& c : name)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_')) c = '_';
+    char number[32];
+    std::snprintf(number, sizeof number, "%02zu-", k + 1);
+    return number + name;
+}
+
 static int run_eval(EvalArgs& args)
 {
     if (Status s = check_shadow_options(args.shadows); !s) return fail(s);
     if (args.frames < 0 || args.frames > 1000) return fail("--frames: must be within 0..1000");
     if (args.samples < 1 || args.samples > k_max_surface_samples)
         return fail("--samples: must be within 1.." + std::to_string(k_max_surface_samples));
+    std::vector<std::string> inputs = {args.model};
+    inputs.insert(inputs.end(), args.standins.begin(), args.standins.end());
     for (const std::string& output : {args.json, args.report})
         if (!output.empty())
-            if (Status s = check_output_is_not_input(output, {args.model, args.standin}); !s) return fail(s);
+            if (Status s = check_output_is_not_input(output, inputs); !s) return fail(s);
     Result<Protocol> protocol = make_protocol(args.protocol);
     if (!protocol) return fail(protocol.status());
 
-    // load the truth and the stand-in
+    // load the truth
     Result<Mesh> mesh = import_mesh(args.model, nullptr, k_isolated_import);
     if (!mesh) return fail(mesh.status());
     Result<std::unique_ptr<GpuContext>> context = create_headless_context();
     if (!context) return fail(context.status());
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*mesh);
     if (!truth) return fail(truth.status());
-    Result<Drawable> subject = load_subject(args);
-    if (!subject) return fail(subject.status());
-    if (subject->package) {
-        Result<SourceInfo> source = describe_source(args.model, *mesh);
-        if (source && !subject->package->source.content_hash.empty() &&
-            source->content_hash != subject->package->source.content_hash)
-            log_message(LogLevel::warning, args.standin + " was baked from " + subject->package->source.file_name + ", not from " +
-                                       args.model + " (content hash differs)");
+    const std::string device = (*context)->device_name();
+
+    // one stand-in: its report and JSON as they always were
+    if (args.standins.size() == 1) {
+        Result<ComparedStandin> one =
+            evaluate_standin(args, args.standins.front(), *mesh, **truth, *protocol, device, args.report, false, nullptr);
+        if (!one) return fail(one.status());
+        if (!args.json.empty())
+            if (Status s = write_file_atomic(args.json, one->json.dump(2) + "\n"); !s) return fail(s);
+        if (!args.report.empty())
+            std::printf("report: %s\n", (std::filesystem::path(args.report) / "index.html").c_str());
+        return k_exit_ok;
     }
 
-    // render, compare, and write the report's images as we go
-    std::optional<ReportWriter> report;
+    // several: each evaluated in turn (its own report inside the comparison's), then the comparison
+    std::string report_final, report_temporary;
     if (!args.report.empty()) {
-        Result<ReportWriter> writer = ReportWriter::begin(args.report);
-        if (!writer) return fail(writer.status());
-        report.emplace(std::move(*writer));
+        Result<std::string> final_path = report_directory_path(args.report);
+        if (!final_path) return fail(final_path.status());
+        report_final = *final_path;
+        std::error_code ec;
+        report_temporary = temporary_path_for(report_final);
+        std::filesystem::create_directories(report_temporary, ec);
+        if (ec) return fail(report_temporary + ": cannot create directory: " + ec.message());
     }
-    ViewSink sink;
-    if (report)
-        sink = [&](std::size_t i, const ViewResult& r, const RenderedImage& t, const RenderedImage& s) {
-            return report->add_view(i, r, t, s);
-        };
-    EvalOptions options;
-    options.timed_frames = args.frames;
-    options.shadows = args.shadows.enabled;
-    options.shadow_resolution = args.shadows.resolution;
-    options.shading = args.shading == "lambert" ? ShadingModel::lambert_blinn_phong : ShadingModel::ggx;
-    Result<EvalResult> result =
-        evaluate(**truth, *subject->renderer, mesh->bounding_sphere(), *protocol, options, stderr_progress(), sink);
-    if (!result) return fail(result.status());
-    result->device = (*context)->device_name();
-    if (subject->mesh) {
-        Result<SurfaceDistance> surface = surface_distance(*subject->mesh, *mesh, args.samples);
-        if (!surface) return fail(surface.status());
-        result->surface = *surface;
+    struct RemoveUnlessCommitted {
+        std::string path;
+        ~RemoveUnlessCommitted()
+        {
+            std::error_code ec;
+            if (!path.empty()) std::filesystem::remove_all(path, ec);
+        }
+    } cleanup{report_temporary};
+    std::vector<ComparedStandin> compared;
+    std::vector<ImageRGBA8> truth_pictures;
+    for (std::size_t k = 0; k < args.standins.size(); ++k) {
+        const std::string report_directory =
+            report_temporary.empty() ? std::string()
+                                     : (std::filesystem::path(report_temporary) / standin_report_name(k, args.standins[k])).string();
+        Result<ComparedStandin> one = evaluate_standin(args, args.standins[k], *mesh, **truth, *protocol, device, report_directory,
+                                                       !report_temporary.empty(), k == 0 ? &truth_pictures : nullptr);
+        if (!one) return fail(one.status());
+        compared.push_back(std::move(*one));
     }
-
-    // outputs
-    nlohmann::json identity = {{"model", args.model},
-                               {"package", args.standin},
-                               {"representation", subject->representation()},
-                               {"shadows", args.shadows.enabled},
-                               {"shading", args.shading},
-                               {"command", command_line(args)}};
-    nlohmann::json json = eval_to_json(*result, identity);
+    const nlohmann::json comparison = comparison_to_json(args.model, args.protocol, device, command_line(args), compared);
+    std::printf("compared %zu stand-ins of %s (protocol %s; means over views):\n", compared.size(), args.model.c_str(),
+                args.protocol.c_str());
+    std::printf("  %-3s %-22s %12s %8s %8s %8s %9s %9s  %s\n", "#", "representation", "bytes", "Luv", "dE2000", "IoU",
+                "holes %", "spill %", "stand-in");
+    for (std::size_t k = 0; k < compared.size(); ++k) {
+        const nlohmann::json& s = compared[k].json["summary"];
+        std::printf("  %-3zu %-22s %12llu %8.3f %8.3f %8.4f %9.4f %9.4f  %s\n", k + 1, compared[k].representation.c_str(),
+                    static_cast<unsigned long long>(compared[k].bytes), s["luv_mean"].get<double>(),
+                    s["de2000_mean"].get<double>(), s["iou"].get<double>(), 100.0 * s["hole_fraction"].get<double>(),
+                    100.0 * s["spill_fraction"].get<double>(), compared[k].package.c_str());
+    }
     if (!args.json.empty())
-        if (Status s = write_file_atomic(args.json, json.dump(2) + "\n"); !s) return fail(s);
-    if (report) {
-        if (Status s = report->finish(*result, json); !s) return fail(s);
+        if (Status s = write_file_atomic(args.json, comparison.dump(2) + "\n"); !s) return fail(s);
+    if (!report_temporary.empty()) {
+        if (Status s = write_comparison_page(report_temporary, comparison, truth_pictures, compared); !s) return fail(s);
+        if (Status s = commit_path(report_temporary, report_final); !s) return fail(s);
+        cleanup.path.clear();
+        std::printf("report: %s\n", (std::filesystem::path(report_final) / "index.html").c_str());
     }
-    print_summary(*result, json);
-    if (report) std::printf("report: %s\n", (std::filesystem::path(report->directory()) / "index.html").c_str());
     return k_exit_ok;
 }
 
@@ -160,9 +259,10 @@ CommandRun add_eval_command(CLI::App& root)
                 "(Saraiva et al.), "
                 "CIEDE2000, holes, spill, IoU and PSNR (docs/EVAL.md)");
     command->add_option("model", args->model, "The original model file (ground truth)")->required();
-    command->add_option("package", args->standin,
+    command->add_option("packages", args->standins,
                         "A NAME.standin package directory, or another model file (a mesh stand-in: its surface "
-                        "distance to the original is measured too)")
+                        "distance to the original is measured too); several are compared side by side (a table of "
+                        "their figures and sizes, a contact sheet of the truth and each, and each one's own report)")
         ->required();
     std::string names;
     for (const std::string& p : protocol_names()) names += (names.empty() ? "" : " | ") + p;

@@ -222,6 +222,11 @@ std::vector<std::pair<std::string, std::string>> eval_tables_csv(const EvalResul
 // images/NNN_{truth,standin,diff}.png. Usage: begin() (creates a temporary directory beside
 // `directory`), add_view() from the evaluation's ViewSink, finish() (writes the rest and renames
 // the temporary directory into place, replacing an older report). io_error naming the path.
+// Where a report directory will be: `directory` without a trailing slash, refused (invalid_argument,
+// naming it) when it exists and is a file, or a non-empty folder that is not a report (no
+// index.html), or when its parent folder does not exist (check_output_path).
+Result<std::string> report_directory_path(const std::string& directory);
+
 class ReportWriter {
 public:
     static Result<ReportWriter> begin(const std::string& directory);
@@ -239,6 +244,45 @@ private:
     struct State;
     std::unique_ptr<State> state_;
 };
+
+// ---------------------------------------------------------------------------------------------
+// Several stand-ins of one model side by side (standin eval MODEL PACKAGE PACKAGE ...,
+// src/eval/report.cpp): which representation, at what cost, looks how next to the mesh.
+
+// One evaluated stand-in of a comparison.
+struct ComparedStandin {
+    std::string package;        // as given on the command line
+    std::string representation; // "mesh" for a model file
+    std::uint64_t bytes = 0;    // on disk
+    std::string report;         // its own report's directory, relative to the comparison's ("" without)
+    nlohmann::json json;        // eval_to_json's document
+    std::vector<ImageRGBA8> pictures; // comparison_picture of its first views (k_comparison_sheet_views)
+};
+
+// Views of the contact sheet (the protocol's first ones) and their width there, at most.
+constexpr std::size_t k_comparison_sheet_views = 8;
+constexpr int k_comparison_sheet_width = 320;
+
+// A rendered picture as the sheet shows it: on dark grey where it is transparent, box-filtered
+// by a whole factor to at most k_comparison_sheet_width pixels wide.
+ImageRGBA8 comparison_picture(const ImageRGBA8& picture);
+
+// The contact sheet: one row per view, the truth's picture first, then each stand-in's in order,
+// 4 white pixels apart; the first row's pictures labelled T, 1, 2, ... in their top-left corner. Pictures of one row share its height (the protocol's view size).
+ImageRGBA8 comparison_sheet(const std::vector<ImageRGBA8>& truth, const std::vector<ComparedStandin>& standins);
+
+// The comparison's --json document (docs/EVAL.md): {"format": "standin-eval-comparison", "version",
+// "model", "protocol", "device", "command", "standins": [{"package", "representation", "bytes",
+// "report", "eval": eval_to_json's document}, ...]}.
+nlohmann::json comparison_to_json(const std::string& model, const std::string& protocol, const std::string& device,
+                                  const std::string& command, const std::vector<ComparedStandin>& standins);
+
+// Writes index.html (a table of every stand-in's figures and size, linking its own report; the
+// sheet; each view's pictures side by side), sheet.png and comparison.json into `directory`, an
+// existing folder the caller commits (it holds the stand-ins' own reports). `truth`: the truth's
+// pictures of the sheet's views. io_error naming the path.
+Status write_comparison_page(const std::string& directory, const nlohmann::json& comparison,
+                             const std::vector<ImageRGBA8>& truth, const std::vector<ComparedStandin>& standins);
 
 // ---------------------------------------------------------------------------------------------
 // Benchmarks (src/eval/benchmark.cpp)

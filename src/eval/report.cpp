@@ -212,7 +212,7 @@ std::string json_text(const nlohmann::json& value)
 
 } // namespace
 
-Result<ReportWriter> ReportWriter::begin(const std::string& directory)
+Result<std::string> report_directory_path(const std::string& directory)
 {
     fs::path final_path(directory);
     if (final_path.filename().empty()) final_path = final_path.parent_path();
@@ -223,10 +223,18 @@ Result<ReportWriter> ReportWriter::begin(const std::string& directory)
         return error(StatusCode::invalid_argument,
                      final_path.string() + ": exists and is not a report (no index.html); refusing to replace it");
     STANDIN_RETURN_IF_ERROR(check_output_path(final_path.string())); // folders are never created
+    return final_path.string();
+}
+
+Result<ReportWriter> ReportWriter::begin(const std::string& directory)
+{
+    Result<std::string> final_path = report_directory_path(directory);
+    if (!final_path) return final_path.status();
+    std::error_code ec;
     ReportWriter writer;
     writer.state_ = std::make_unique<State>();
-    writer.state_->directory = final_path.string();
-    writer.state_->temporary = temporary_path_for(final_path.string());
+    writer.state_->directory = *final_path;
+    writer.state_->temporary = temporary_path_for(*final_path);
     fs::create_directories(fs::path(writer.state_->temporary) / "images", ec);
     if (ec) return error(StatusCode::io_error, writer.state_->temporary + ": cannot create directory: " + ec.message());
     return writer;
@@ -383,6 +391,199 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
     STANDIN_RETURN_IF_ERROR(commit_path(state_->temporary, state_->directory));
     state_->finished = true;
     return Status::ok();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Comparison of several stand-ins (eval.h)
+
+ImageRGBA8 comparison_picture(const ImageRGBA8& picture)
+{
+    constexpr int k_grey = 64; // a dark grey behind the transparent background (most models are lighter)
+    const int factor = std::max(1, (picture.width + k_comparison_sheet_width - 1) / k_comparison_sheet_width);
+    ImageRGBA8 out(picture.width / factor, picture.height / factor);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            int sum[3] = {0, 0, 0};
+            for (int j = 0; j < factor; ++j)
+                for (int i = 0; i < factor; ++i) {
+                    const std::uint8_t* p = picture.at(x * factor + i, y * factor + j);
+                    for (int c = 0; c < 3; ++c) sum[c] += (p[c] * p[3] + k_grey * (255 - p[3]) + 127) / 255;
+                }
+            std::uint8_t* q = out.at(x, y);
+            for (int c = 0; c < 3; ++c) q[c] = std::uint8_t((sum[c] + factor * factor / 2) / (factor * factor));
+            q[3] = 255;
+        }
+    return out;
+}
+
+namespace {
+
+// Column labels of the contact sheet: "T" (the truth) and the stand-ins' numbers, in a 3 x 5 pixel
+// font drawn 3 times larger, white on a black box in each first-row picture's top-left corner.
+void draw_label(ImageRGBA8& image, int x0, int y0, const std::string& text)
+{
+    static const char* const glyphs[] = {"111101101101111", "010110010010111", "111001111100111", "111001111001111",
+                                         "101101111001001", "111100111001111", "111100111101111", "111001001001001",
+                                         "111101111101111", "111101111001111"};
+    static const char* const truth_glyph = "111010010010010";
+    constexpr int k_scale = 3;
+    const int width = int(text.size()) * 4 * k_scale + k_scale, height = 7 * k_scale;
+    for (int y = 0; y < height && y0 + y < image.height; ++y)
+        for (int x = 0; x < width && x0 + x < image.width; ++x) {
+            std::uint8_t* p = image.at(x0 + x, y0 + y);
+            p[0] = p[1] = p[2] = 0;
+        }
+    for (std::size_t k = 0; k < text.size(); ++k) {
+        const char* glyph = text[k] == 'T' ? truth_glyph : text[k] >= '0' && text[k] <= '9' ? glyphs[text[k] - '0'] : nullptr;
+        if (!glyph) continue;
+        for (int gy = 0; gy < 5; ++gy)
+            for (int gx = 0; gx < 3; ++gx) {
+                if (glyph[gy * 3 + gx] != '1') continue;
+                for (int y = 0; y < k_scale; ++y)
+                    for (int x = 0; x < k_scale; ++x) {
+                        const int px = x0 + k_scale + int(k) * 4 * k_scale + gx * k_scale + x, py = y0 + k_scale + gy * k_scale + y;
+                        if (px < image.width && py < image.height) {
+                            std::uint8_t* p = image.at(px, py);
+                            p[0] = p[1] = p[2] = 255;
+                        }
+                    }
+            }
+    }
+}
+
+} // namespace
+
+ImageRGBA8 comparison_sheet(const std::vector<ImageRGBA8>& truth, const std::vector<ComparedStandin>& standins)
+{
+    constexpr int k_gap = 4;
+    std::vector<const std::vector<ImageRGBA8>*> columns = {&truth};
+    for (const ComparedStandin& s : standins) columns.push_back(&s.pictures);
+    std::size_t rows = 0;
+    int width = 0, height = 0;
+    for (const auto* column : columns) rows = std::max(rows, column->size());
+    std::vector<int> column_width(columns.size(), 0), row_height(rows, 0);
+    for (std::size_t c = 0; c < columns.size(); ++c)
+        for (std::size_t r = 0; r < columns[c]->size(); ++r) {
+            column_width[c] = std::max(column_width[c], (*columns[c])[r].width);
+            row_height[r] = std::max(row_height[r], (*columns[c])[r].height);
+        }
+    for (int w : column_width) width += w + k_gap;
+    for (int h : row_height) height += h + k_gap;
+    ImageRGBA8 sheet(std::max(width - k_gap, 1), std::max(height - k_gap, 1));
+    std::fill(sheet.pixels.begin(), sheet.pixels.end(), std::uint8_t(255));
+    int y0 = 0;
+    for (std::size_t r = 0; r < rows; ++r) {
+        int x0 = 0;
+        for (std::size_t c = 0; c < columns.size(); ++c) {
+            if (r < columns[c]->size()) {
+                const ImageRGBA8& picture = (*columns[c])[r];
+                for (int y = 0; y < picture.height; ++y)
+                    std::copy_n(picture.at(0, y), std::size_t(picture.width) * 4, sheet.at(x0, y0 + y));
+                if (r == 0) draw_label(sheet, x0, y0, c == 0 ? std::string("T") : std::to_string(c));
+            }
+            x0 += column_width[c] + k_gap;
+        }
+        y0 += row_height[r] + k_gap;
+    }
+    return sheet;
+}
+
+nlohmann::json comparison_to_json(const std::string& model, const std::string& protocol, const std::string& device,
+                                  const std::string& command, const std::vector<ComparedStandin>& standins)
+{
+    nlohmann::json doc = {{"format", "standin-eval-comparison"}, {"version", 1},   {"model", model},
+                          {"protocol", protocol},                {"device", device}, {"command", command}};
+    nlohmann::json list = nlohmann::json::array();
+    for (const ComparedStandin& s : standins)
+        list.push_back({{"package", s.package},
+                        {"representation", s.representation},
+                        {"bytes", s.bytes},
+                        {"report", s.report.empty() ? nlohmann::json(nullptr) : nlohmann::json(s.report)},
+                        {"eval", s.json}});
+    doc["standins"] = list;
+    return doc;
+}
+
+Status write_comparison_page(const std::string& directory, const nlohmann::json& comparison,
+                             const std::vector<ImageRGBA8>& truth, const std::vector<ComparedStandin>& standins)
+{
+    const fs::path dir(directory);
+    STANDIN_RETURN_IF_ERROR(write_file_atomic((dir / "comparison.json").string(), comparison.dump(2) + "\n"));
+    STANDIN_RETURN_IF_ERROR(write_png(comparison_sheet(truth, standins), (dir / "sheet.png").string()));
+
+    std::ostringstream html;
+    html << "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>standin eval: "
+         << standins.size() << " stand-ins of " << escape_html(json_text(comparison["model"])) << "</title>\n<style>\n"
+         << "body{font-family:sans-serif;margin:2em;max-width:1600px;color:#222}\n"
+         << "table{border-collapse:collapse;margin:0.5em 0 1.5em}\n"
+         << "th,td{border:1px solid #bbb;padding:3px 8px;text-align:right;font-size:13px}\n"
+         << "th{background:#eee}\ntd.text{text-align:left}\n.row{margin:0 0 1em}\n"
+         << ".cell{display:inline-block;margin-right:4px;vertical-align:top}\n"
+         << ".cell img{border:1px solid #999;max-width:320px;image-rendering:pixelated}\n"
+         << ".caption{font-size:12px}\n</style></head><body>\n";
+    html << "<h1>standin eval: " << standins.size() << " stand-ins of " << escape_html(json_text(comparison["model"]))
+         << "</h1>\n";
+    std::vector<std::vector<std::string>> identity_rows;
+    for (const char* key : {"model", "protocol", "device", "command"})
+        identity_rows.push_back({key, json_text(comparison[key])});
+    html << html_table({"", ""}, identity_rows);
+
+    // the figures, one row per stand-in, each linking its own report
+    std::uint64_t source_bytes = 0;
+    {
+        std::error_code ec;
+        const std::uintmax_t size = fs::file_size(json_text(comparison["model"]), ec);
+        if (!ec) source_bytes = size;
+    }
+    html << "<h2>Figures</h2>\n<p>Means over the protocol's views; each stand-in's own report holds its tables, "
+            "charts and every view with its difference image.</p>\n<table><tr><th>#</th><th>stand-in</th>"
+            "<th>representation</th><th>bytes</th>"
+         << (source_bytes > 0 ? "<th>of the source</th>" : "")
+         << "<th>Luv</th><th>CIEDE2000</th><th>IoU</th><th>holes</th><th>spill</th><th>PSNR dB</th><th>verdict</th></tr>\n";
+    for (std::size_t k = 0; k < standins.size(); ++k) {
+        const ComparedStandin& s = standins[k];
+        const nlohmann::json& summary = s.json["summary"];
+        const std::string name = escape_html(s.package);
+        html << "<tr><td>" << k + 1 << "</td><td class='text'>"
+             << (s.report.empty() ? name : "<a href='" + escape_html(s.report) + "/index.html'>" + name + "</a>")
+             << "</td><td class='text'>" << escape_html(s.representation) << "</td><td>" << s.bytes << "</td>";
+        if (source_bytes > 0) html << "<td>" << fmt("%.1f%%", 100.0 * double(s.bytes) / double(source_bytes)) << "</td>";
+        html << "<td>" << fmt("%.3f", summary["luv_mean"].get<double>()) << "</td><td>"
+             << fmt("%.3f", summary["de2000_mean"].get<double>()) << "</td><td>" << fmt("%.4f", summary["iou"].get<double>())
+             << "</td><td>" << fmt("%.3f%%", 100.0 * summary["hole_fraction"].get<double>()) << "</td><td>"
+             << fmt("%.3f%%", 100.0 * summary["spill_fraction"].get<double>()) << "</td><td>"
+             << fmt("%.2f", summary["psnr"].get<double>()) << "</td><td class='text'>"
+             << escape_html(json_text(s.json["verdict"]["line"])) << "</td></tr>\n";
+    }
+    html << "</table>\n";
+
+    // the sheet, then every view side by side (the pictures of the stand-ins' own reports)
+    html << "<h2>Side by side</h2>\n<p>Columns: the truth, then the stand-ins in the order above; rows: the protocol's first "
+         << std::min(truth.size(), k_comparison_sheet_views) << " views (<a href='sheet.png'>sheet.png</a>).</p>\n"
+         << "<img src='sheet.png' alt='truth and stand-ins side by side' style='max-width:100%'>\n";
+    const bool reports = !standins.empty() && !standins.front().report.empty();
+    if (reports) {
+        const nlohmann::json& views = standins.front().json["views"];
+        html << "<h2>Every view</h2>\n";
+        for (std::size_t i = 0; i < views.size(); ++i) {
+            const nlohmann::json& v = views[i];
+            html << "<div class='row'><div class='caption'>#" << i << " az " << fmt("%g", v["azimuth"].get<double>())
+                 << " el " << fmt("%g", v["elevation"].get<double>()) << " d " << fmt("%g", v["distance"].get<double>())
+                 << " " << v["width"].get<int>() << "x" << v["height"].get<int>() << "</div>";
+            html << "<div class='cell'><img loading='lazy' src='" << escape_html(standins.front().report) << "/"
+                 << view_stem(i) << "_truth.png' alt='truth'><div class='caption'>truth</div></div>";
+            for (std::size_t k = 0; k < standins.size(); ++k) {
+                const nlohmann::json& views_k = standins[k].json["views"];
+                const double luv = i < views_k.size() ? views_k[i]["luv_mean"].get<double>() : 0.0;
+                html << "<div class='cell'><img loading='lazy' src='" << escape_html(standins[k].report) << "/"
+                     << view_stem(i) << "_standin.png' alt='" << k + 1 << "'><div class='caption'>" << k + 1 << " "
+                     << escape_html(standins[k].representation) << " &middot; Luv " << fmt("%.2f", luv) << "</div></div>";
+            }
+            html << "</div>\n";
+        }
+    }
+    html << "</body></html>\n";
+    return write_file_atomic((dir / "index.html").string(), html.str());
 }
 
 } // namespace standin
