@@ -174,6 +174,22 @@ TEST(Cli, EvalComparesSeveralStandinsSideBySide)
     EXPECT_EQ(nlohmann::json::parse(one_file)["format"], "standin-eval");
     // an output among the inputs is refused
     EXPECT_EQ(test::run_cli("eval " + bunny + " " + bunny + " " + torus + " --frames 0 --json " + torus).exit_code, 2);
+    // a render option goes to the packages that declare it: refused where none does, else taken
+    const std::string package = dir + "/bunny.standin";
+    ASSERT_EQ(test::run_cli("bake " + bunny + " -o " + package + " -q --resolution 64").exit_code, 0);
+    test::CommandResult none_declares = test::run_cli("eval " + bunny + " " + bunny + " " + torus + " --frames 0 --march seed");
+    EXPECT_EQ(none_declares.exit_code, 2);
+    EXPECT_EQ(line_count(none_declares.err), 1u) << none_declares.err;
+    test::CommandResult seed = test::run_cli("eval " + bunny + " " + package + " " + torus + " --frames 0 --march seed --json " +
+                                             dir + "/seed.json");
+    ASSERT_EQ(seed.exit_code, 0) << seed.err;
+    test::CommandResult exact = test::run_cli("eval " + bunny + " " + package + " " + torus + " --frames 0 --json " + dir + "/exact.json");
+    ASSERT_EQ(exact.exit_code, 0) << exact.err;
+    std::ifstream seed_file(dir + "/seed.json"), exact_file(dir + "/exact.json");
+    const nlohmann::json seed_json = nlohmann::json::parse(seed_file), exact_json = nlohmann::json::parse(exact_file);
+    EXPECT_NE(seed_json["standins"][0]["eval"]["summary"]["luv_mean"], exact_json["standins"][0]["eval"]["summary"]["luv_mean"])
+        << "the package drew with the seed's march";
+    EXPECT_EQ(seed_json["standins"][1]["eval"]["summary"]["luv_mean"], exact_json["standins"][1]["eval"]["summary"]["luv_mean"]);
 }
 
 // `render --fade-to`: the screen-door cross-fade an engine's LOD switch shows. At amount 0 it is the

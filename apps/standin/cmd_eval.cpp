@@ -33,18 +33,22 @@ struct EvalArgs {
     std::string shading = "ggx";
 };
 
-// The stand-in to evaluate: a package, or a mesh (then also its surface).
-static Result<Drawable> load_subject(const EvalArgs& args, const std::string& path)
+// The stand-ins to evaluate: packages, or meshes (then also their surfaces), read before any is
+// drawn so that the render options are checked against them all: each option must apply to one of
+// them, and each package takes those its representation declares (as standin bench does).
+static Result<std::vector<Drawable>> load_subjects(const EvalArgs& args, RenderOptions& options)
 {
-    RenderOptions options;
     options.values = args.options.given();
-    Result<Drawable> subject = read_drawable(path);
-    if (!subject) return subject.status();
+    std::vector<Drawable> subjects;
     std::vector<const Representation*> at_hand;
-    if (subject->package) at_hand.push_back(&representation_of(*subject->package));
+    for (const std::string& path : args.standins) {
+        Result<Drawable> subject = read_drawable(path);
+        if (!subject) return subject.status();
+        if (subject->package) at_hand.push_back(&representation_of(*subject->package));
+        subjects.push_back(std::move(*subject));
+    }
     STANDIN_RETURN_IF_ERROR(check_render_options_apply(options, at_hand));
-    STANDIN_RETURN_IF_ERROR(make_drawable_renderer(*subject, options));
-    return subject;
+    return subjects;
 }
 
 static std::string command_line(const EvalArgs& args)
@@ -82,13 +86,16 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
 
 // One stand-in evaluated against the truth: its figures, its report in `report_directory` when
 // given, and the sheet's pictures when `sheet` (the truth's too when `truth_pictures`).
-static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, const std::string& path, const Mesh& mesh,
-                                                Renderer& truth, const Protocol& protocol, const std::string& device,
-                                                const std::string& report_directory, bool sheet,
+static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& drawable, const RenderOptions& render_options,
+                                                const Mesh& mesh, Renderer& truth, const Protocol& protocol,
+                                                const std::string& device, const std::string& report_directory, bool sheet,
                                                 std::vector<ImageRGBA8>* truth_pictures)
 {
-    Result<Drawable> subject = load_subject(args, path);
-    if (!subject) return subject.status();
+    const std::string& path = drawable.path;
+    Drawable* subject = &drawable;
+    RenderOptions own_options = render_options;
+    if (subject->package) own_options.values = render_options.values.only(representation_of(*subject->package).render_options);
+    if (Status made = make_drawable_renderer(*subject, own_options); !made) return made;
     if (subject->package) {
         Result<SourceInfo> source = describe_source(args.model, mesh);
         if (source && !subject->package->source.content_hash.empty() &&
@@ -147,6 +154,7 @@ static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, const std:
         compared.report = std::filesystem::path(report->directory()).filename().string();
     }
     print_summary(*result, compared.json);
+    subject->renderer.reset(); // the next stand-in's maps take its place on the GPU
     return compared;
 }
 
@@ -184,11 +192,14 @@ static int run_eval(EvalArgs& args)
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*mesh);
     if (!truth) return fail(truth.status());
     const std::string device = (*context)->device_name();
+    RenderOptions render_options;
+    Result<std::vector<Drawable>> subjects = load_subjects(args, render_options);
+    if (!subjects) return fail(subjects.status());
 
     // one stand-in: its report and JSON as they always were
     if (args.standins.size() == 1) {
-        Result<ComparedStandin> one =
-            evaluate_standin(args, args.standins.front(), *mesh, **truth, *protocol, device, args.report, false, nullptr);
+        Result<ComparedStandin> one = evaluate_standin(args, subjects->front(), render_options, *mesh, **truth, *protocol,
+                                                       device, args.report, false, nullptr);
         if (!one) return fail(one.status());
         if (!args.json.empty())
             if (Status s = write_file_atomic(args.json, one->json.dump(2) + "\n"); !s) return fail(s);
@@ -222,8 +233,9 @@ static int run_eval(EvalArgs& args)
         const std::string report_directory =
             report_temporary.empty() ? std::string()
                                      : (std::filesystem::path(report_temporary) / standin_report_name(k, args.standins[k])).string();
-        Result<ComparedStandin> one = evaluate_standin(args, args.standins[k], *mesh, **truth, *protocol, device, report_directory,
-                                                       !report_temporary.empty(), k == 0 ? &truth_pictures : nullptr);
+        Result<ComparedStandin> one = evaluate_standin(args, (*subjects)[k], render_options, *mesh, **truth, *protocol, device,
+                                                       report_directory, !report_temporary.empty(),
+                                                       k == 0 ? &truth_pictures : nullptr);
         if (!one) return fail(one.status());
         compared.push_back(std::move(*one));
     }
