@@ -86,21 +86,20 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
 
 // One stand-in evaluated against the truth: its figures, its report in `report_directory` when
 // given, and the sheet's pictures when `sheet` (the truth's too when `truth_pictures`).
-static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& drawable, const RenderOptions& render_options,
+static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& subject, const RenderOptions& render_options,
                                                 const Mesh& mesh, Renderer& truth, const Protocol& protocol,
                                                 const std::string& device, const std::string& report_directory, bool sheet,
                                                 std::vector<ImageRGBA8>* truth_pictures)
 {
-    const std::string& path = drawable.path;
-    Drawable* subject = &drawable;
+    const std::string& path = subject.path;
     RenderOptions own_options = render_options;
-    if (subject->package) own_options.values = render_options.values.only(representation_of(*subject->package).render_options);
-    if (Status made = make_drawable_renderer(*subject, own_options); !made) return made;
-    if (subject->package) {
+    if (subject.package) own_options.values = render_options.values.only(representation_of(*subject.package).render_options);
+    if (Status made = make_drawable_renderer(subject, own_options); !made) return made;
+    if (subject.package) {
         Result<SourceInfo> source = describe_source(args.model, mesh);
-        if (source && !subject->package->source.content_hash.empty() &&
-            source->content_hash != subject->package->source.content_hash)
-            log_message(LogLevel::warning, path + " was baked from " + subject->package->source.file_name + ", not from " +
+        if (source && !subject.package->source.content_hash.empty() &&
+            source->content_hash != subject.package->source.content_hash)
+            log_message(LogLevel::warning, path + " was baked from " + subject.package->source.file_name + ", not from " +
                                                args.model + " (content hash differs)");
     }
 
@@ -124,25 +123,25 @@ static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& 
     options.shadows = args.shadows.enabled;
     options.shadow_resolution = args.shadows.resolution;
     options.shading = args.shading == "lambert" ? ShadingModel::lambert_blinn_phong : ShadingModel::ggx;
-    Result<EvalResult> result = evaluate(truth, *subject->renderer, mesh.bounding_sphere(), protocol, options, stderr_progress(), sink);
+    Result<EvalResult> result = evaluate(truth, *subject.renderer, mesh.bounding_sphere(), protocol, options, stderr_progress(), sink);
     if (!result) return result.status();
     result->device = device;
-    if (subject->mesh) {
-        Result<SurfaceDistance> surface = surface_distance(*subject->mesh, mesh, args.samples);
+    if (subject.mesh) {
+        Result<SurfaceDistance> surface = surface_distance(*subject.mesh, mesh, args.samples);
         if (!surface) return surface.status();
         result->surface = *surface;
     }
 
     nlohmann::json identity = {{"model", args.model},
                                {"package", path},
-                               {"representation", subject->representation()},
+                               {"representation", subject.representation()},
                                {"shadows", args.shadows.enabled},
                                {"shading", args.shading},
                                {"command", command_line(args)}};
     compared.package = path;
-    compared.representation = subject->representation();
+    compared.representation = subject.representation();
     compared.json = eval_to_json(*result, identity);
-    if (subject->package) {
+    if (subject.package) {
         if (Result<std::uint64_t> bytes = package_bytes(path)) compared.bytes = *bytes;
     } else {
         std::error_code ec;
@@ -154,7 +153,7 @@ static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& 
         compared.report = std::filesystem::path(report->directory()).filename().string();
     }
     print_summary(*result, compared.json);
-    subject->renderer.reset(); // the next stand-in's maps take its place on the GPU
+    subject.renderer.reset(); // the next stand-in's maps take its place on the GPU
     return compared;
 }
 
