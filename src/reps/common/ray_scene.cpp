@@ -184,13 +184,17 @@ SurfacePoint RayScene::closest_anywhere(glm::vec3 point, float first_radius) con
 // single-sided, 57 of 59 parts open by exact welding); a single-sided sheet's back faces the world.
 // At most k_back_probe_faces faces are probed, evenly over the index order, weighted by area.
 constexpr std::size_t k_back_probe_faces = 20000;
-double visible_single_sided_backs(const Mesh& mesh)
+namespace {
+
+// The share of the model's area on faces (single-sided ones only, or all) whose backs rays leave the
+// model from (visible_single_sided_backs, visible_backs).
+double backs_seen_from_outside(const Mesh& mesh, bool single_sided_only)
 {
     std::vector<std::uint32_t> single_sided;
     double total_area = 0.0;
     for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
         total_area += mesh.triangle_area(f);
-        if (!mesh.materials[mesh.face_materials[f]].double_sided) single_sided.push_back(std::uint32_t(f));
+        if (!single_sided_only || !mesh.materials[mesh.face_materials[f]].double_sided) single_sided.push_back(std::uint32_t(f));
     }
     if (single_sided.empty() || !(total_area > 0.0)) return 0.0;
     Result<std::unique_ptr<RayScene>> scene = RayScene::create(mesh.positions, mesh.indices);
@@ -215,5 +219,11 @@ double visible_single_sided_backs(const Mesh& mesh)
     for (std::uint32_t f : single_sided) single_sided_area += mesh.triangle_area(f);
     return probed_area > 0.0 ? seen_area / probed_area * single_sided_area / total_area : 0.0;
 }
+
+} // namespace
+
+double visible_single_sided_backs(const Mesh& mesh) { return backs_seen_from_outside(mesh, true); }
+
+double visible_backs(const Mesh& mesh) { return backs_seen_from_outside(mesh, false); }
 
 } // namespace standin::reps

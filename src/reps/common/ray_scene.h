@@ -65,5 +65,9 @@ glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::
 // --back-hits auto, the displaced mesh's --back-faces auto). 0 where the mesh is empty or embree fails.
 constexpr double k_visible_backs = 0.001;
 double visible_single_sided_backs(const Mesh& mesh);
+// The same over every face, double-sided ones included: the share of the model's area whose backs
+// face the world rather than the model's own inside (an open sheet's, a bowl's; a closed part's none,
+// a scan with a small hole a few faces' around it).
+double visible_backs(const Mesh& mesh);
 
 } // namespace standin::reps

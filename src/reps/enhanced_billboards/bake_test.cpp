@@ -1089,6 +1089,21 @@ TEST(BakeBillboards, VisibleSingleSidedBacksAreTheOpenSheetsOnes)
     EXPECT_EQ(closed.package->settings.back_hits, "show");
 }
 
+// The mesh and a copy of it 3 units along +x: two parts.
+Mesh two_apart(const Mesh& mesh)
+{
+    Mesh two = mesh;
+    const std::uint32_t offset = std::uint32_t(two.positions.size());
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+        two.positions.push_back(mesh.positions[v] + glm::vec3(3.0f, 0.0f, 0.0f));
+        two.normals.push_back(mesh.normals[v]), two.colors.push_back(mesh.colors[v]);
+        if (!mesh.uvs.empty()) two.uvs.push_back(mesh.uvs[v]);
+    }
+    for (std::uint32_t i : mesh.indices) two.indices.push_back(offset + i);
+    two.face_materials.insert(two.face_materials.end(), mesh.face_materials.begin(), mesh.face_materials.end());
+    return two;
+}
+
 // The bake's one-closed-surface mark (--cull-back-proxies auto): a closed sphere, its vertices split
 // at seams or not; not the sphere with a hole, turned inside out, with a second sphere beside it,
 // or an open square.
@@ -1117,19 +1132,46 @@ TEST(BakeBillboards, OneClosedSurfaceIsOneClosedOutwardPart)
     for (std::size_t f = 0; f < inside_out.triangle_count(); ++f) std::swap(inside_out.indices[3 * f + 1], inside_out.indices[3 * f + 2]);
     for (glm::vec3& n : inside_out.normals) n = -n;
     EXPECT_FALSE(closed(inside_out));
-    Mesh two = sphere;
-    const std::uint32_t offset = std::uint32_t(two.positions.size());
-    for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
-        two.positions.push_back(sphere.positions[v] + glm::vec3(3.0f, 0.0f, 0.0f));
-        two.normals.push_back(sphere.normals[v]), two.colors.push_back(sphere.colors[v]);
-        if (!sphere.uvs.empty()) two.uvs.push_back(sphere.uvs[v]);
-    }
-    for (std::uint32_t i : sphere.indices) two.indices.push_back(offset + i);
-    two.face_materials.insert(two.face_materials.end(), sphere.face_materials.begin(), sphere.face_materials.end());
-    EXPECT_FALSE(closed(two));
+    EXPECT_FALSE(closed(two_apart(sphere)));
     Mesh square;
     add_square(square, 0.0f);
     EXPECT_FALSE(closed(square));
+}
+
+// The bake's backs-unseen mark (--cull-back-proxies auto for models that are not closed): a sphere
+// of 4,000 faces with one face cut out (the ray from the back of the face opposite the hole leaves
+// through it: 1/4,000 of the area) is one part whose backs face its inside; a bowl (the sphere's lower
+// half: every back faces the sky) is not, nor are two holed spheres (two parts), and a closed sphere
+// is marked closed instead.
+TEST(BakeBillboards, BacksUnseenIsOnePartWhoseBacksFaceItsInside)
+{
+    const Mesh sphere = test::generated(GeneratedShape::sphere, 4000);
+    auto marks = [](const Mesh& mesh) {
+        Baked baked = bake_mesh(mesh, {{"resolution", "64"}});
+        EXPECT_TRUE(baked.status) << baked.status.message();
+        return baked.status ? std::pair<bool, bool>{baked.package->one_closed_surface, baked.package->backs_unseen}
+                            : std::pair<bool, bool>{false, false};
+    };
+    EXPECT_EQ(reps::visible_backs(sphere), 0.0);
+    EXPECT_EQ(marks(sphere), std::make_pair(true, false));
+    Mesh holed = sphere;
+    holed.indices.resize(holed.indices.size() - 3), holed.face_materials.pop_back();
+    EXPECT_GT(reps::visible_backs(holed), 0.0);
+    EXPECT_LE(reps::visible_backs(holed), reps::k_visible_backs);
+    EXPECT_EQ(marks(holed), std::make_pair(false, true));
+    Mesh bowl = sphere;
+    bowl.indices.clear(), bowl.face_materials.clear();
+    for (std::size_t f = 0; f < sphere.triangle_count(); ++f) {
+        const std::uint32_t* idx = &sphere.indices[3 * f];
+        if (sphere.positions[idx[0]].y + sphere.positions[idx[1]].y + sphere.positions[idx[2]].y > 0.0f) continue;
+        bowl.indices.insert(bowl.indices.end(), idx, idx + 3);
+        bowl.face_materials.push_back(sphere.face_materials[f]);
+    }
+    EXPECT_GT(reps::visible_backs(bowl), 0.3);
+    EXPECT_EQ(marks(bowl), std::make_pair(false, false));
+    const Mesh two = two_apart(holed);
+    EXPECT_LE(reps::visible_backs(two), reps::k_visible_backs);
+    EXPECT_EQ(marks(two), std::make_pair(false, false));
 }
 
 TEST(BakeBillboards, BadParametersAndMeshesAreRefused)

@@ -161,6 +161,9 @@ public:
     // one_closed_surface, absent: false): back hits are never the surface to show, and the renderer
     // leaves out proxies that hold only them (--cull-back-proxies auto).
     bool one_closed_surface = false;
+    // Not closed, but one part whose backs face its own inside (bake.cpp, backs_unseen; manifest
+    // backs_unseen, absent: false): the renderer leaves out back-hit proxies for it too.
+    bool backs_unseen = false;
     // The compact coarse-mesh file as read from a bc package (coarse_mesh.h), written back as it is:
     // quantising and reordering again would not give the same bytes (read, write: byte-identical).
     std::string coarse_file;

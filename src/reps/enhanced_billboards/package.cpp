@@ -246,6 +246,7 @@ Status write(const Package& base, const std::string& directory)
     manifest["area_captured_fraction"] = package.area_total > 0 ? std::min(1.0, package.area_captured / package.area_total) : 0.0;
     manifest["left"] = left;
     if (package.one_closed_surface) manifest["one_closed_surface"] = true; // only then: other packages keep their bytes
+    if (package.backs_unseen) manifest["backs_unseen"] = true;
     manifest["billboards"] = boards;
     manifest["coarse_mesh"] = coarse;
     manifest["files"] = files;
@@ -284,10 +285,12 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             l.faces = std::size_t(in.integer(entry, "faces", "left." + reason + ".", 0, INT64_MAX));
             l.area = in.number(entry, "area", "left." + reason + ".", 0.0, 1e300);
         }
-        if (manifest.contains("one_closed_surface")) { // absent in older packages and those of other models
-            if (!manifest["one_closed_surface"].is_boolean()) in.fail("one_closed_surface", "is not true or false");
-            package->one_closed_surface = manifest["one_closed_surface"].get<bool>();
-        }
+        for (const auto& [key, mark] : {std::pair<const char*, bool*>{"one_closed_surface", &package->one_closed_surface},
+                                        std::pair<const char*, bool*>{"backs_unseen", &package->backs_unseen}})
+            if (manifest.contains(key)) { // absent in older packages and those of other models
+                if (!manifest[key].is_boolean()) in.fail(key, "is not true or false");
+                *mark = manifest[key].get<bool>();
+            }
         const nlohmann::json& files = in.member(manifest, "files", "");
         if (!files.is_object()) in.fail("files", "is not an object");
         const nlohmann::json& boards = in.member(manifest, "billboards", "");

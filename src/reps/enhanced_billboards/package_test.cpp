@@ -178,12 +178,25 @@ TEST(BillboardPackage, OneClosedSurfaceIsMarkedAndReadBack)
     manifest["one_closed_surface"] = 1;
     write_manifest(directory, manifest);
     expect_refused(directory, "one_closed_surface");
+    // the mark of one part whose backs face its inside (bake.cpp backs_unseen) the same way
+    manifest.erase("one_closed_surface");
+    manifest["backs_unseen"] = true;
+    write_manifest(directory, manifest);
+    read = read_package(directory);
+    ASSERT_TRUE(read) << read.status().message();
+    EXPECT_TRUE(static_cast<const EnhancedBillboardsPackage&>(**read).backs_unseen);
+    ASSERT_TRUE(write_package(**read, base + "/again.standin"));
+    EXPECT_EQ(read_manifest(base + "/again.standin")["backs_unseen"], true);
+    manifest["backs_unseen"] = "yes";
+    write_manifest(directory, manifest);
+    expect_refused(directory, "backs_unseen");
 
     std::unique_ptr<Package> assembly = baked_assembly(false); // closed parts
     ASSERT_TRUE(assembly);
     EXPECT_FALSE(static_cast<const EnhancedBillboardsPackage&>(*assembly).one_closed_surface);
     ASSERT_TRUE(write_package(*assembly, base + "/assembly.standin"));
     EXPECT_FALSE(read_manifest(base + "/assembly.standin").contains("one_closed_surface"));
+    EXPECT_FALSE(read_manifest(base + "/assembly.standin").contains("backs_unseen"));
 }
 
 // Sheet edge lines (issue #17): the default bake of a sheet model records sheet_edges "clip" (as a

@@ -34,9 +34,10 @@
 // The CPU also leaves out proxies whose texels' normals (a cone per proxy, built at load) all face
 // away from the eye (--cull-back-proxies): llvmpipe starts a fragment for every pixel of every box,
 // however early its ray stops (ns235k, 800x600: 3.80 -> 2.16 fragments per covered pixel). By
-// default only for packages of one closed surface (bake.cpp one_closed_surface): elsewhere a back
-// hit can be the surface to show (an open sheet's back, a part's inside through a seam), and the
-// coarse mesh or what lies behind would show instead (docs/RESULTS.md).
+// default only for packages of one closed surface, or of one part whose backs face its own inside
+// (bake.cpp one_closed_surface, backs_unseen): elsewhere a back hit can be the surface to show (an
+// open sheet's back, a part's inside through a seam), and the coarse mesh or what lies behind
+// would show instead (docs/RESULTS.md).
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (before it, one for the boxes that may cross the near plane); textures are 2D arrays, one layer
 // per billboard, read with texelFetch (no filtering, so the empty background never bleeds into the colour).
@@ -439,7 +440,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->seed_hit_range_ = options.number("hit-range");
     renderer->tile_layers_ = options.flag("tile-layers");
     const std::string cull = options.choice("cull-back-proxies");
-    renderer->cull_back_proxies_ = cull == "on" || (cull == "auto" && package.one_closed_surface);
+    renderer->cull_back_proxies_ = cull == "on" || (cull == "auto" && (package.one_closed_surface || package.backs_unseen));
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
     renderer->one_closed_surface_ = package.one_closed_surface;

@@ -844,7 +844,8 @@ TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragme
         else
             EXPECT_EQ(fewer.fragments, every.fragments);
     }
-    // auto (the default) culls for packages the bake found to be one closed surface, and only those
+    // auto (the default) culls for packages the bake found to be one closed surface, or one part
+    // whose backs face its inside, and only those
     RenderOptions automatic;
     automatic.values.set("coarse", "off");
     automatic.values.set("depth-batches", "off");
@@ -852,6 +853,9 @@ TEST(BillboardRenderer, CulledBackProxiesKeepAClosedModelsPictureWithFewerFragme
     const std::uint64_t on = draw(culled, camera, glm::mat4(1.0f)).fragments;
     EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, draw(all, camera, glm::mat4(1.0f)).fragments);
     package.one_closed_surface = true;
+    EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, on);
+    package.one_closed_surface = false;
+    package.backs_unseen = true;
     EXPECT_EQ(draw(automatic, camera, glm::mat4(1.0f)).fragments, on);
 }
 
