@@ -241,14 +241,16 @@ static int run_eval(EvalArgs& args)
     const nlohmann::json comparison = comparison_to_json(args.model, args.protocol, device, command_line(args), compared);
     std::printf("compared %zu stand-ins of %s (protocol %s; means over views):\n", compared.size(), args.model.c_str(),
                 args.protocol.c_str());
-    std::printf("  %-3s %-22s %12s %8s %8s %8s %9s %9s  %s\n", "#", "representation", "bytes", "Luv", "dE2000", "IoU",
-                "holes %", "spill %", "stand-in");
+    std::printf("  %-3s %-22s %12s %8s %8s %8s %9s %9s %19s  %s\n", "#", "representation", "bytes", "Luv", "dE2000", "IoU",
+                "holes %", "spill %", "ms stand-in / mesh", "stand-in");
     for (std::size_t k = 0; k < compared.size(); ++k) {
         const nlohmann::json& s = compared[k].json["summary"];
-        std::printf("  %-3zu %-22s %12llu %8.3f %8.3f %8.4f %9.4f %9.4f  %s\n", k + 1, compared[k].representation.c_str(),
+        char frame[64] = "not timed";
+        if (const auto ms = comparison_frame_ms(compared[k].json)) std::snprintf(frame, sizeof frame, "%.2f / %.2f", ms->first, ms->second);
+        std::printf("  %-3zu %-22s %12llu %8.3f %8.3f %8.4f %9.4f %9.4f %19s  %s\n", k + 1, compared[k].representation.c_str(),
                     static_cast<unsigned long long>(compared[k].bytes), s["luv_mean"].get<double>(),
                     s["de2000_mean"].get<double>(), s["iou"].get<double>(), 100.0 * s["hole_fraction"].get<double>(),
-                    100.0 * s["spill_fraction"].get<double>(), compared[k].package.c_str());
+                    100.0 * s["spill_fraction"].get<double>(), frame, compared[k].package.c_str());
     }
     if (!args.json.empty())
         if (Status s = write_file_atomic(args.json, comparison.dump(2) + "\n"); !s) return fail(s);

@@ -19,6 +19,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -258,6 +259,11 @@ struct ComparedStandin {
     nlohmann::json json;        // eval_to_json's document
     std::vector<ImageRGBA8> pictures; // comparison_picture of its first views (k_comparison_sheet_views)
 };
+
+// A compared stand-in's frame time and the mesh's, means over its views, by the clock its verdict
+// compared them with (wall time on llvmpipe, else the GPU timer): {stand-in ms, mesh ms}, or
+// nullopt when it was not timed (--frames 0).
+std::optional<std::pair<double, double>> comparison_frame_ms(const nlohmann::json& eval);
 
 // Views of the contact sheet (the protocol's first ones) and their width there, at most.
 constexpr std::size_t k_comparison_sheet_views = 8;

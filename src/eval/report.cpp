@@ -396,6 +396,23 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
 // ---------------------------------------------------------------------------------------------
 // Comparison of several stand-ins (eval.h)
 
+std::optional<std::pair<double, double>> comparison_frame_ms(const nlohmann::json& eval)
+{
+    const std::string timing = eval.contains("verdict") ? json_text(eval["verdict"].value("timing", nlohmann::json("none"))) : "none";
+    if (timing == "none" || !eval.contains("views")) return std::nullopt;
+    const char* standin_key = timing == "wall" ? "standin_wall_ms" : "standin_ms";
+    const char* mesh_key = timing == "wall" ? "truth_wall_ms" : "truth_ms";
+    double standin = 0.0, mesh = 0.0;
+    std::size_t timed = 0;
+    for (const nlohmann::json& view : eval["views"]) {
+        const double s = view.value(standin_key, 0.0), m = view.value(mesh_key, 0.0);
+        if (s <= 0.0 || m <= 0.0) continue;
+        standin += s, mesh += m, ++timed;
+    }
+    if (timed == 0) return std::nullopt;
+    return std::make_pair(standin / double(timed), mesh / double(timed));
+}
+
 ImageRGBA8 comparison_picture(const ImageRGBA8& picture)
 {
     constexpr int k_grey = 64; // a dark grey behind the transparent background (most models are lighter)
@@ -539,7 +556,8 @@ Status write_comparison_page(const std::string& directory, const nlohmann::json&
             "charts and every view with its difference image.</p>\n<table><tr><th>#</th><th>stand-in</th>"
             "<th>representation</th><th>bytes</th>"
          << (source_bytes > 0 ? "<th>of the source</th>" : "")
-         << "<th>Luv</th><th>CIEDE2000</th><th>IoU</th><th>holes</th><th>spill</th><th>PSNR dB</th><th>verdict</th></tr>\n";
+         << "<th>Luv</th><th>CIEDE2000</th><th>IoU</th><th>holes</th><th>spill</th><th>PSNR dB</th>"
+            "<th>frame ms: stand-in / mesh</th><th>verdict</th></tr>\n";
     for (std::size_t k = 0; k < standins.size(); ++k) {
         const ComparedStandin& s = standins[k];
         const nlohmann::json& summary = s.json["summary"];
@@ -552,8 +570,10 @@ Status write_comparison_page(const std::string& directory, const nlohmann::json&
              << fmt("%.3f", summary["de2000_mean"].get<double>()) << "</td><td>" << fmt("%.4f", summary["iou"].get<double>())
              << "</td><td>" << fmt("%.3f%%", 100.0 * summary["hole_fraction"].get<double>()) << "</td><td>"
              << fmt("%.3f%%", 100.0 * summary["spill_fraction"].get<double>()) << "</td><td>"
-             << fmt("%.2f", summary["psnr"].get<double>()) << "</td><td class='text'>"
-             << escape_html(json_text(s.json["verdict"]["line"])) << "</td></tr>\n";
+             << fmt("%.2f", summary["psnr"].get<double>()) << "</td><td>";
+        if (const auto ms = comparison_frame_ms(s.json)) html << fmt("%.2f", ms->first) << " / " << fmt("%.2f", ms->second);
+        else html << "not timed";
+        html << "</td><td class='text'>" << escape_html(json_text(s.json["verdict"]["line"])) << "</td></tr>\n";
     }
     html << "</table>\n";
 

@@ -62,5 +62,25 @@ TEST(Report, WritesTablesChartsAndTriplets)
     EXPECT_TRUE(std::filesystem::exists(dir + "/index.html"));
 }
 
+// A comparison's frame times: means over the timed views by the verdict's clock; none untimed.
+TEST(Report, ComparisonFrameTimesFollowTheVerdictsClock)
+{
+    nlohmann::json eval = {{"verdict", {{"timing", "wall"}}},
+                           {"views",
+                            {{{"standin_wall_ms", 4.0}, {"truth_wall_ms", 2.0}, {"standin_ms", 1.0}, {"truth_ms", 1.0}},
+                             {{"standin_wall_ms", 8.0}, {"truth_wall_ms", 4.0}, {"standin_ms", 1.0}, {"truth_ms", 1.0}},
+                             {{"standin_wall_ms", 0.0}, {"truth_wall_ms", 0.0}}}}};
+    auto ms = comparison_frame_ms(eval);
+    ASSERT_TRUE(ms.has_value());
+    EXPECT_DOUBLE_EQ(ms->first, 6.0);
+    EXPECT_DOUBLE_EQ(ms->second, 3.0);
+    eval["verdict"]["timing"] = "gpu";
+    ms = comparison_frame_ms(eval);
+    ASSERT_TRUE(ms.has_value());
+    EXPECT_DOUBLE_EQ(ms->first, 1.0);
+    eval["verdict"]["timing"] = "none";
+    EXPECT_FALSE(comparison_frame_ms(eval).has_value());
+}
+
 } // namespace
 } // namespace standin
