@@ -44,6 +44,7 @@
 // Debug view "proxies" draws every billboard's box over the shaded picture as lines (boxes.vert).
 #include "reps/enhanced_billboards/acceleration.h"
 #include "reps/enhanced_billboards/billboards.h"
+#include "reps/enhanced_billboards/hidden_proxies.h"
 #include "reps/common/block_compress.h"
 #include "reps/common/depth_batches.h"
 #include "reps/common/package_cast.h"
@@ -307,12 +308,16 @@ private:
     bool marks_near_misses() const { return coarse_index_count_ > 0 && fill_near_misses_only_; }
     std::array<GLsizei, 2> build_draw_list(const DrawParams& params);
     void append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object, const BackCull* cull,
-                        const NearSplit* near, std::vector<DrawEntry>& front, std::vector<DrawEntry>& inside);
+                        const BackCull* hidden, const NearSplit* near, std::vector<DrawEntry>& front,
+                        std::vector<DrawEntry>& inside);
 
     int march_mode_ = MARCH_EXACT, seed_steps_ = 100, debug_view_ = DEBUG_VIEW_NONE;
     float seed_hit_range_ = 0.01f;
     bool tile_layers_ = true;   // build_tiles splits tiles into depth layers (--tile-layers)
     bool cull_back_proxies_ = false; // proxies that can hold only back hits are not drawn (--cull-back-proxies)
+    bool cull_hidden_proxies_ = true; // proxies hidden from the eye's cell of directions are not drawn (--cull-hidden-proxies)
+    HiddenProxies hidden_;
+    double hidden_area_ = 0.0; // this frame's hidden proxies' mean projected area (ProxyInfo::mean_area)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
     bool one_closed_surface_ = false; // the package's model is one closed surface wound outward
@@ -441,6 +446,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->tile_layers_ = options.flag("tile-layers");
     const std::string cull = options.choice("cull-back-proxies");
     renderer->cull_back_proxies_ = cull == "on" || (cull == "auto" && (package.one_closed_surface || package.backs_unseen));
+    renderer->cull_hidden_proxies_ = options.choice("cull-hidden-proxies") == "on";
     renderer->color_footprint_ = options.choice("color-filter") == "footprint";
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
     renderer->one_closed_surface_ = package.one_closed_surface;
@@ -538,6 +544,13 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     const int coarse_level = std::min(k_coarse_tile_level, levels), tile_level = std::min(fine_tile_level(package), coarse_level);
     coarse_tile_factor_ = float(1 << (coarse_level - tile_level));
     glm::vec3 bound_lo(1e30f), bound_hi(-1e30f);
+    std::size_t covered_texels = 0;
+    float largest_texel = 0.0f;
+    for (const Billboard& b : package.billboards) {
+        for (std::size_t k = 3; k < b.color.pixels.size(); k += 4) covered_texels += b.color.pixels[k] != 0;
+        largest_texel = std::max(largest_texel, b.texel_size);
+    }
+    const int hidden_stride = HiddenProxies::stride_for(covered_texels);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (int layer = 0; layer < billboard_count_; ++layer) { // (a billboard's index, as tiles name it)
         const Billboard& b = package.billboards[std::size_t(layer)];
@@ -579,7 +592,8 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
             const double layer_gap = tile_layers_ ? std::min(65535.0, k_tile_layer_gap * double(1 << level) *
                                                                           double(b.texel_size) / double(b.depth_range) * HF_DEPTH_CODES)
                                                   : 65535.0;
-            for (const TileBox& t : build_tiles(acc, 1 << level, int(layer_gap))) {
+            std::vector<TileBox> boxes = build_tiles(acc, 1 << level, int(layer_gap));
+            for (const TileBox& t : boxes) {
                 TileGpu tile;
                 // sheared to follow the surface (TileBox::slope): z holds the offset from the plane
                 tile.box_min = glm::vec4(glm::vec2(t.texel_min), t.offset_min - k_depth_margin, t.slope.x);
@@ -594,9 +608,15 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
                 texel_normal_cone(b, acc, t.texel_min, t.texel_max, proxy);
                 info.push_back(proxy);
             }
+            return boxes;
         };
-        add_tiles(tile_level, 0, fine, proxies_);
-        if (coarse_level > tile_level) add_tiles(coarse_level, 1, coarse, coarse_proxies);
+        const std::uint32_t first_fine = std::uint32_t(fine.size()), first_coarse = std::uint32_t(coarse.size());
+        const std::vector<TileBox> fine_boxes = add_tiles(tile_level, 0, fine, proxies_);
+        std::vector<TileBox> coarse_boxes;
+        if (coarse_level > tile_level) coarse_boxes = add_tiles(coarse_level, 1, coarse, coarse_proxies);
+        if (cull_hidden_proxies_)
+            hidden_.add_billboard(b, acc, {fine_boxes, 1 << tile_level, first_fine}, {coarse_boxes, 1 << coarse_level, first_coarse},
+                                  hidden_stride);
         TileGpu box{g.box_min, g.box_max, glm::ivec4(layer, levels, 1, 0)}; // z: a whole billboard (march.frag)
         whole.push_back(box);
         ProxyInfo whole_proxy{glm::vec3(g.object_from_box * (0.5f * (g.box_min + g.box_max) + glm::vec4(0, 0, 0, 1))), layer};
@@ -644,6 +664,9 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         bound_centre_ = 0.5f * (bound_lo + bound_hi);
         bound_radius_ = 0.5f * glm::length(bound_hi - bound_lo);
     }
+    // back-facing texels hide nothing where their back hits are dropped or their proxies culled
+    if (cull_hidden_proxies_)
+        hidden_.finish(bound_centre_, bound_radius_, largest_texel, hide_back_hits_ || cull_back_proxies_);
     return Status::ok();
 }
 
@@ -849,8 +872,8 @@ void BillboardRenderer::prepare_pixel_images(glm::ivec2 viewport, bool flags)
 // the inside pass, where a box's depth does not bound its hits (no depth_greater early depth test
 // on a GPU, no stop before the set-up in march.frag).
 void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, glm::vec3 forward_object,
-                                       const BackCull* cull, const NearSplit* near, std::vector<DrawEntry>& front,
-                                       std::vector<DrawEntry>& inside)
+                                       const BackCull* cull, const BackCull* hidden, const NearSplit* near,
+                                       std::vector<DrawEntry>& front, std::vector<DrawEntry>& inside)
 {
     const std::size_t bounds[4] = {0, fine_count_, coarse_end_, proxies_.size()};
     std::size_t first = bounds[proxy_level], last = bounds[proxy_level + 1];
@@ -859,6 +882,10 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         const ProxyInfo& p = proxies_[k];
         if (cull && faces_away(p, cull->orthographic ? cull->eye_object : cull->eye_object - p.centre_object, cull->orthographic))
             continue;
+        if (hidden && !hidden_.may_show(k, hidden->orthographic ? -hidden->eye_object : p.centre_object - hidden->eye_object)) {
+            hidden_area_ += double(p.mean_area);
+            continue;
+        }
         bool facing = glm::dot(billboard_directions_[std::size_t(p.billboard)], forward_object) > 0.0f;
         float key = glm::dot(p.centre_object - bound_centre_, forward_object) + (facing ? 0.0f : 4.0f * bound_radius_);
         sort_keys_.push_back({key, std::uint32_t(k)});
@@ -947,6 +974,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
 
     front_entries_.clear();
     inside_entries_.clear();
+    hidden_area_ = 0.0;
     for (const Visible& v : visible) {
         const glm::mat4& m = transforms[v.instance];
         glm::vec3 centre = glm::vec3(m * glm::vec4(bound_centre_, 1.0f));
@@ -965,9 +993,33 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
             cull.eye_object = camera.orthographic ? glm::transpose(glm::mat3(m)) * -camera.forward_world
                                                   : glm::vec3(glm::inverse(m) * glm::vec4(camera.eye_world, 1.0f));
         }
+        // --cull-hidden-proxies: proxies hidden along the eye's direction to them are left out. Along
+        // a line, occlusion is the same under any affine transform and for orthographic and
+        // perspective rays, as long as no part of the model lies behind the eye or before the near
+        // plane: so not for an instance whose texels' sphere holds the eye or reaches the near
+        // plane, nor where rays mark near misses behind what hides them (--coarse-fill near-misses).
+        // (The same eye as BackCull's, but through the exact inverse: any affine transform.)
+        BackCull hidden;
+        bool hides = cull_hidden_proxies_ && !hidden_.empty() && !marks_near_misses();
+        if (hides) {
+            const glm::vec3 texel_centre = glm::vec3(m * glm::vec4(hidden_.texel_centre(), 1.0f));
+            // (reaches_near_plane's margin grows with the distance: a far instance would never pass)
+            hides = glm::dot(texel_centre - camera.eye_world, camera.forward_world) - hidden_.texel_radius() * v.scale * 1.01f >
+                    camera.near_plane;
+        }
+        if (hides) {
+            const glm::mat4 object_from_world = glm::inverse(m);
+            hidden.orthographic = camera.orthographic;
+            if (camera.orthographic) {
+                hidden.eye_object = glm::mat3(object_from_world) * -camera.forward_world;
+            } else {
+                hidden.eye_object = glm::vec3(object_from_world * glm::vec4(camera.eye_world, 1.0f));
+                hides = glm::length(hidden.eye_object - hidden_.texel_centre()) > hidden_.texel_radius() * 1.001f + 1e-6f;
+            }
+        }
         const NearSplit near{&m, v.scale, &camera};
-        append_proxies(v.instance, v.proxy_level, forward_object, culls ? &cull : nullptr, v.inside ? &near : nullptr,
-                       front_entries_, inside_entries_);
+        append_proxies(v.instance, v.proxy_level, forward_object, culls ? &cull : nullptr, hides ? &hidden : nullptr,
+                       v.inside ? &near : nullptr, front_entries_, inside_entries_);
     }
     // the inside pass first: its proxies are the nearest, and front to back is what stops rays early
     std::array<GLsizei, 2> counts = {GLsizei(inside_entries_.size()), GLsizei(front_entries_.size())};
@@ -1006,7 +1058,10 @@ std::vector<std::size_t> BillboardRenderer::front_batch_ends(const DrawParams& p
         if (k == front_entries_.size() || front_entries_[k].instance != front_entries_[k - 1].instance) instance_ends.push_back(k);
     std::vector<std::size_t> ends;
     batch_rects_.clear();
-    const double overdraw = instance_ends.size() == 1 ? box_overdraw(front_entries_) : 0.0;
+    // (the hidden proxies left out count: how deep the model's layers lie is what decides whether
+    // batches pay, and the boxes kept still lie behind each other where the model is deep)
+    const double disc = std::numbers::pi * double(bound_radius_) * double(bound_radius_);
+    const double overdraw = instance_ends.size() == 1 ? box_overdraw(front_entries_) + (disc > 0.0 ? hidden_area_ / disc : 0.0) : 0.0;
     if (overdraw >= k_box_batch_overdraw) {
         // one instance whose boxes lie deep behind each other (nested parts, foliage): batches of its
         // boxes, front to back, each after the first tested early against those before it

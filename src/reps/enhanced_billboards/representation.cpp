@@ -106,6 +106,11 @@ std::vector<OptionSpec> render_options()
                       "for packages of one closed surface, whose picture it keeps, and of one part whose backs face "
                       "its own inside (a scan with small openings: +0.004 Luv); on also for others, where open "
                       "sheets and the seams between parts lose the backs that showed (up to +0.3 Luv, docs/RESULTS.md)"),
+        choice_option("cull-hidden-proxies", "on", {"on", "off"},
+                      "Leave out proxy boxes that hold no nearest hit from the eye's direction: hidden behind "
+                      "others from every corner of its cell of view directions (an octahedral grid of 16 x 16), found "
+                      "on first need from a depth buffer of the texels (docs/RESULTS.md); not with --coarse-fill "
+                      "near-misses, and not for an instance the eye is inside the bounding sphere of"),
         choice_option("depth-batches", "auto", {"auto", "off"},
                       "Crowds: instances sorted front to back are drawn in batches (8, then up to 4x more), each "
                       "after the first with its boxes' depth test before the shader, against the batches drawn "

@@ -1,0 +1,326 @@
+// Hidden proxies by view direction (hidden_proxies.h).
+#include "reps/enhanced_billboards/hidden_proxies.h"
+
+#include "reps/common/block_compress.h"
+#include "reps/common/surface_image.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace standin::billboards {
+
+namespace {
+
+// Depth-buffer pixels this many texels wide: about the texels' size on screen at
+// distance 1 (a model's diagonal of 512-1024 texels over about 600 pixels of 800x600), so a gap
+// the screen shows is mostly one the buffer shows.
+constexpr float k_pixel_texels = 2.0f;
+constexpr int k_max_resolution = 1024;
+// What lies within this many pixels behind its 3 x 3 neighbourhood's farthest nearest depth counts
+// as visible: squares are flat at their first texel's depth, the march meets tilted tops and walls.
+constexpr float k_depth_tolerance_pixels = 2.0f;
+// Where back-facing texels see through, a texel hides only if its normal faces the eye by more
+// than this (grazing ones may be either).
+constexpr float k_front_facing_cos = -0.05f;
+
+constexpr std::uint16_t k_block_hides = 1u << 14, k_block_square = 1u << 15;
+
+void set_proxy_bit(std::vector<std::uint64_t>& bits, std::size_t k) { bits[k >> 6] |= std::uint64_t(1) << (k & 63); }
+bool has_proxy_bit(const std::vector<std::uint64_t>& bits, std::size_t k) { return (bits[k >> 6] >> (k & 63)) & 1u; }
+
+// The octahedral map of the unit sphere to [-1, 1]^2 (the lower hemisphere folded over the
+// diagonals) and back.
+glm::vec2 octahedral_point(glm::vec3 d)
+{
+    d /= std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    glm::vec2 p(d.x, d.y);
+    if (d.z < 0.0f)
+        p = (1.0f - glm::abs(glm::vec2(p.y, p.x))) * glm::vec2(p.x >= 0.0f ? 1.0f : -1.0f, p.y >= 0.0f ? 1.0f : -1.0f);
+    return p;
+}
+
+glm::vec3 octahedral_direction(glm::vec2 p)
+{
+    glm::vec3 d(p.x, p.y, 1.0f - std::abs(p.x) - std::abs(p.y));
+    if (d.z < 0.0f) {
+        const glm::vec2 q = (1.0f - glm::abs(glm::vec2(d.y, d.x))) * glm::vec2(d.x >= 0.0f ? 1.0f : -1.0f, d.y >= 0.0f ? 1.0f : -1.0f);
+        d.x = q.x, d.y = q.y;
+    }
+    return glm::normalize(d);
+}
+
+bool in_box_layer(const SurfaceTexel& texel, const TileBox& box)
+{
+    return (texel.flags & k_texel_covered) && texel.min >= box.depth_min && texel.min <= box.depth_max;
+}
+
+} // namespace
+
+int HiddenProxies::stride_for(std::size_t covered_texels)
+{
+    int stride = 1;
+    while (covered_texels / std::size_t(stride * stride) > k_block_budget) ++stride;
+    return stride;
+}
+
+void HiddenProxies::add_billboard(const Billboard& b, const HeightFieldAcceleration& acc, const Level& fine,
+                                  const Level& coarse, int stride)
+{
+    Frame frame{b.origin, b.axis_u * b.texel_size, b.axis_v * b.texel_size, b.direction * b.depth_range};
+    frame.first_fine = fine.first;
+    frame.end_fine = fine.first + std::uint32_t(fine.boxes.size());
+    frame.stride = stride;
+    const std::uint32_t billboard = std::uint32_t(frames_.size());
+    frames_.push_back(frame);
+    const int width = std::min(b.width, acc.width), height = std::min(b.height, acc.height);
+    auto texel_at = [&](int i, int j) -> const SurfaceTexel& {
+        return acc.surface[std::size_t(j) * std::size_t(acc.width) + std::size_t(i)];
+    };
+    const float flat_codes = reps::k_depth_codes * b.texel_size / std::max(b.depth_range, 1e-30f); // a texel of depth
+    if (fine_blocks_.empty()) fine_blocks_.push_back(0);
+    for (const TileBox& box : fine.boxes) {
+        for (int j0 = box.texel_min.y; j0 < box.texel_max.y; j0 += stride)
+            for (int i0 = box.texel_min.x; i0 < box.texel_max.x; i0 += stride) {
+                // the block's first texel in the layer, and whether every texel of it is a plain
+                // one of the layer within a texel of it in depth
+                int first_i = -1, first_j = -1;
+                bool solid = true;
+                std::uint16_t lo = 65535, hi = 0;
+                for (int j = j0; j < j0 + stride; ++j)
+                    for (int i = i0; i < i0 + stride; ++i) {
+                        if (i >= width || j >= height || !in_box_layer(texel_at(i, j), box)) {
+                            solid = false;
+                            continue;
+                        }
+                        const SurfaceTexel& t = texel_at(i, j);
+                        if (first_i < 0) first_i = i, first_j = j;
+                        if (t.flags & k_texel_clipped) solid = false;
+                        lo = std::min(lo, t.depth), hi = std::max(hi, t.depth);
+                    }
+                if (first_i < 0) continue;
+                if (float(hi - lo) > flat_codes) solid = false;
+                const SurfaceTexel& t = texel_at(first_i, first_j);
+                const bool clipped = (t.flags & k_texel_clipped) != 0;
+                Block block;
+                block.i = std::uint16_t(solid ? i0 : first_i);
+                block.j = std::uint16_t(solid ? j0 : first_j);
+                block.depth = t.depth;
+                const std::uint16_t* n = &b.normal_depth.pixels[(std::size_t(first_j) * std::size_t(b.width) + std::size_t(first_i)) * 4];
+                const glm::vec2 e = glm::clamp(reps::octahedral_encode(glm::vec3(n[0], n[1], n[2]) / 32767.5f - 1.0f), 0.0f, 1.0f);
+                block.bits = std::uint16_t(std::lround(e.x * 127.0f) | (std::lround(e.y * 127.0f) << 7));
+                if (!clipped) block.bits |= k_block_hides;
+                // (a lone texel is a square of its own unless an outline crosses it)
+                if (solid || (stride == 1 && !clipped)) block.bits |= k_block_square;
+                blocks_.push_back(block);
+            }
+        fine_blocks_.push_back(std::uint32_t(blocks_.size()));
+        fine_billboard_.push_back(billboard);
+    }
+    // each coarse tile: the fine tiles of this billboard whose texels and depth ranges overlap it
+    if (coarse_fines_offset_.empty()) coarse_fines_offset_.push_back(0);
+    for (const TileBox& c : coarse.boxes) {
+        for (std::size_t k = 0; k < fine.boxes.size(); ++k) {
+            const TileBox& f = fine.boxes[k];
+            const bool overlap = f.texel_min.x < c.texel_max.x && c.texel_min.x < f.texel_max.x &&
+                                 f.texel_min.y < c.texel_max.y && c.texel_min.y < f.texel_max.y &&
+                                 f.depth_min <= c.depth_max && c.depth_min <= f.depth_max;
+            if (overlap) coarse_fines_.push_back(fine.first + std::uint32_t(k));
+        }
+        coarse_fines_offset_.push_back(std::uint32_t(coarse_fines_.size()));
+    }
+    fine_count_ = frame.end_fine;
+    coarse_count_ = coarse.first + coarse.boxes.size();
+}
+
+void HiddenProxies::finish(glm::vec3 centre, float radius, float texel, bool backs_see_through)
+{
+    backs_see_through_ = backs_see_through;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::size_t k = 0; k < fine_count_; ++k) {
+        const Frame& f = frames_[fine_billboard_[k]];
+        for (std::uint32_t s = fine_blocks_[k]; s < fine_blocks_[k + 1]; ++s) {
+            const Block& q = blocks_[s];
+            const glm::vec3 p = f.origin + f.u * (float(q.i) + 0.5f) + f.v * (float(q.j) + 0.5f) + f.z * reps::decode_depth(q.depth);
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+        }
+    }
+    texel_centre_ = blocks_.empty() ? centre : 0.5f * (lo + hi);
+    // (first texels' centres: a block's square reaches a stride's diagonal beyond)
+    int stride = 1;
+    for (const Frame& f : frames_) stride = std::max(stride, f.stride);
+    texel_radius_ = 0.5f * glm::length(hi - lo) + 1.5f * texel * float(stride);
+    // the depth buffer covers the texels' sphere (the boxes' reach further out)
+    centre_ = texel_centre_;
+    radius_ = blocks_.empty() ? radius : texel_radius_;
+    resolution_ = std::clamp(int(std::ceil(2.0f * radius_ / (k_pixel_texels * texel))), 1, k_max_resolution);
+    pixel_ = 2.0f * radius_ / float(resolution_);
+    corners_.assign(std::size_t((k_cells + 1) * (k_cells + 1)), {});
+    cells_.assign(std::size_t(k_cells * k_cells), {});
+}
+
+glm::ivec2 HiddenProxies::cell_of(glm::vec3 direction)
+{
+    const glm::vec2 p = octahedral_point(direction);
+    return glm::clamp(glm::ivec2(glm::floor((p * 0.5f + 0.5f) * float(k_cells))), glm::ivec2(0), glm::ivec2(k_cells - 1));
+}
+
+std::vector<std::uint64_t> HiddenProxies::visible_along(glm::vec3 direction) const
+{
+    const std::size_t proxies = proxy_count();
+    std::vector<std::uint64_t> bits((proxies + 63) / 64, 0);
+    const glm::vec3 d = glm::normalize(direction);
+    // the depth buffer's axes across the direction, and its corner
+    const glm::vec3 helper = std::abs(d.x) < 0.6f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 axis_x = glm::normalize(glm::cross(helper, d)), axis_y = glm::cross(d, axis_x);
+    const glm::vec3 corner = centre_ - radius_ * (axis_x + axis_y);
+    const int n = resolution_;
+    const float infinity = std::numeric_limits<float>::infinity();
+    std::vector<float> nearest(std::size_t(n) * std::size_t(n), infinity);
+
+    // A billboard's texel coordinates (x, y, depth in [0, 1]) to pixels and view depth: linear.
+    struct Projection {
+        glm::vec3 x, y, depth; // per unit of texel x, texel y, depth
+        glm::vec3 origin;      // pixel x, pixel y, view depth at x = y = depth = 0
+        glm::vec3 operator()(float tx, float ty, float tz) const
+        {
+            return origin + glm::vec3(x.x, y.x, depth.x) * tx + glm::vec3(x.y, y.y, depth.y) * ty + glm::vec3(x.z, y.z, depth.z) * tz;
+        }
+    };
+    const float inverse_pixel = 1.0f / pixel_;
+    std::vector<Projection> projections;
+    projections.reserve(frames_.size());
+    for (const Frame& f : frames_) {
+        Projection p;
+        p.x = glm::vec3(glm::dot(f.u, axis_x), glm::dot(f.v, axis_x), glm::dot(f.z, axis_x)) * inverse_pixel;
+        p.y = glm::vec3(glm::dot(f.u, axis_y), glm::dot(f.v, axis_y), glm::dot(f.z, axis_y)) * inverse_pixel;
+        p.depth = glm::vec3(glm::dot(f.u, d), glm::dot(f.v, d), glm::dot(f.z, d));
+        p.origin = glm::vec3(glm::dot(f.origin - corner, axis_x) * inverse_pixel, glm::dot(f.origin - corner, axis_y) * inverse_pixel,
+                             glm::dot(f.origin, d));
+        projections.push_back(p);
+    }
+    // Calls visit(pixel index, depth) for the pixel centres inside a block's square (or its
+    // centre's pixel, for a point or a square too small to hold one) until it returns true.
+    auto cover = [&](const Projection& p, const Block& b, int stride, auto&& visit) {
+        const float zc = reps::decode_depth(b.depth);
+        const float s = (b.bits & k_block_square) ? float(stride) : 0.0f;
+        const glm::vec3 c0 = p(float(b.i), float(b.j), zc);
+        if (s > 0.0f) {
+            // the square's corners c0 + s ex, c0 + s ey, ...; a pixel centre is inside where its
+            // texel coordinates (the inverse of [ex ey]) fall in [0, s)
+            const glm::vec2 ex(p.x.x, p.y.x), ey(p.x.y, p.y.y);
+            const float det = ex.x * ey.y - ex.y * ey.x;
+            if (std::abs(det) > 1e-6f) {
+                const glm::vec2 lo = glm::vec2(c0) + glm::min(glm::vec2(0.0f), s * ex) + glm::min(glm::vec2(0.0f), s * ey);
+                const glm::vec2 hi = glm::vec2(c0) + glm::max(glm::vec2(0.0f), s * ex) + glm::max(glm::vec2(0.0f), s * ey);
+                const int x0 = std::max(0, int(std::ceil(lo.x - 0.5f))), x1 = std::min(n - 1, int(std::floor(hi.x - 0.5f)));
+                const int y0 = std::max(0, int(std::ceil(lo.y - 0.5f))), y1 = std::min(n - 1, int(std::floor(hi.y - 0.5f)));
+                const float inverse_det = 1.0f / det;
+                bool any = false;
+                for (int y = y0; y <= y1; ++y)
+                    for (int x = x0; x <= x1; ++x) {
+                        const glm::vec2 r = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - glm::vec2(c0);
+                        const float tx = (r.x * ey.y - r.y * ey.x) * inverse_det, ty = (ex.x * r.y - ex.y * r.x) * inverse_det;
+                        if (tx < 0.0f || tx >= s || ty < 0.0f || ty >= s) continue;
+                        any = true;
+                        if (visit(std::size_t(y) * std::size_t(n) + std::size_t(x), c0.z + p.depth.x * tx + p.depth.y * ty)) return;
+                    }
+                if (any) return;
+            }
+        }
+        const float half = s > 0.0f ? 0.5f * s : 0.5f;
+        const glm::vec3 c = p(float(b.i) + half, float(b.j) + half, zc);
+        const int x = std::clamp(int(c.x), 0, n - 1), y = std::clamp(int(c.y), 0, n - 1);
+        visit(std::size_t(y) * std::size_t(n) + std::size_t(x), c.z);
+    };
+    auto hides = [&](const Block& b) {
+        if (!(b.bits & k_block_hides)) return false;
+        if (!backs_see_through_) return true;
+        const glm::vec3 normal = reps::octahedral_decode(glm::vec2(b.bits & 127u, (b.bits >> 7) & 127u) / 127.0f);
+        return glm::dot(normal, d) < k_front_facing_cos;
+    };
+    // pass 1: the nearest hiding surface of each pixel
+    for (std::size_t k = 0; k < fine_count_; ++k) {
+        const Projection& p = projections[fine_billboard_[k]];
+        const int stride = frames_[fine_billboard_[k]].stride;
+        for (std::uint32_t s = fine_blocks_[k]; s < fine_blocks_[k + 1]; ++s)
+            if (hides(blocks_[s]))
+                cover(p, blocks_[s], stride, [&](std::size_t pixel, float z) {
+                    nearest[pixel] = std::min(nearest[pixel], z);
+                    return false;
+                });
+    }
+    // each pixel's limit: the farthest nearest depth around it (beyond the buffer nothing hides)
+    std::vector<float> limit(nearest.size());
+    const float tolerance = k_depth_tolerance_pixels * pixel_;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            float farthest = -infinity;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    farthest = std::max(farthest, (xx < 0 || yy < 0 || xx >= n || yy >= n)
+                                                      ? infinity
+                                                      : nearest[std::size_t(yy) * std::size_t(n) + std::size_t(xx)]);
+                }
+            limit[std::size_t(y) * std::size_t(n) + std::size_t(x)] = farthest + tolerance;
+        }
+    // pass 2: fine tiles with a block within the limit at a pixel it covers; tiles without are kept
+    for (std::size_t k = 0; k < fine_count_; ++k) {
+        const Projection& p = projections[fine_billboard_[k]];
+        const int stride = frames_[fine_billboard_[k]].stride;
+        bool visible = fine_blocks_[k] == fine_blocks_[k + 1];
+        for (std::uint32_t s = fine_blocks_[k]; s < fine_blocks_[k + 1] && !visible; ++s)
+            cover(p, blocks_[s], stride, [&](std::size_t pixel, float z) { return visible = z <= limit[pixel]; });
+        if (visible) set_proxy_bit(bits, k);
+    }
+    for (std::size_t c = 0; c < coarse_count_; ++c) {
+        bool visible = coarse_fines_offset_[c] == coarse_fines_offset_[c + 1];
+        for (std::uint32_t o = coarse_fines_offset_[c]; o < coarse_fines_offset_[c + 1] && !visible; ++o)
+            visible = has_proxy_bit(bits, coarse_fines_[o]);
+        if (visible) set_proxy_bit(bits, fine_count_ + c);
+    }
+    for (std::size_t f = 0; f < frames_.size(); ++f) {
+        bool visible = frames_[f].first_fine == frames_[f].end_fine;
+        for (std::uint32_t k = frames_[f].first_fine; k < frames_[f].end_fine && !visible; ++k) visible = has_proxy_bit(bits, k);
+        if (visible) set_proxy_bit(bits, fine_count_ + coarse_count_ + f);
+    }
+    return bits;
+}
+
+void HiddenProxies::compute_corners(std::span<const int> corners)
+{
+    tbb::parallel_for(std::size_t(0), corners.size(), [&](std::size_t k) {
+        const int c = corners[k];
+        const glm::vec2 p = glm::vec2(c % (k_cells + 1), c / (k_cells + 1)) / float(k_cells) * 2.0f - 1.0f;
+        corners_[std::size_t(c)] = visible_along(octahedral_direction(p));
+    });
+}
+
+const std::vector<std::uint64_t>& HiddenProxies::cell(glm::ivec2 c)
+{
+    std::vector<std::uint64_t>& bits = cells_[std::size_t(c.y * k_cells + c.x)];
+    if (!bits.empty()) return bits;
+    int corners[4], missing[4], count = 0;
+    for (int k = 0; k < 4; ++k) {
+        corners[k] = (c.y + (k >> 1)) * (k_cells + 1) + c.x + (k & 1);
+        if (corners_[std::size_t(corners[k])].empty()) missing[count++] = corners[k];
+    }
+    compute_corners(std::span<const int>(missing, std::size_t(count)));
+    bits = corners_[std::size_t(corners[0])];
+    for (int k = 1; k < 4; ++k) {
+        const std::vector<std::uint64_t>& other = corners_[std::size_t(corners[k])];
+        for (std::size_t w = 0; w < bits.size(); ++w) bits[w] |= other[w];
+    }
+    return bits;
+}
+
+bool HiddenProxies::may_show(std::size_t k, glm::vec3 direction)
+{
+    if (k >= proxy_count() || blocks_.empty()) return true;
+    return has_proxy_bit(cell(cell_of(direction)), k);
+}
+
+} // namespace standin::billboards

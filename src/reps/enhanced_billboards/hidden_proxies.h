@@ -1,0 +1,113 @@
+// Hidden proxies by view direction (issue #17): which of a package's proxy boxes can hold the
+// nearest hit of rays along a direction, so that the renderer leaves the others out.
+//
+// An assembly's billboards lie many layers deep: from any one direction most tiles are behind
+// others (2CylinderEngine at 800x600: 3,243 of 43,367 tiles hold a pixel's nearest hit), yet each
+// box is drawn, and on llvmpipe, which tests depth after a shader that writes it, each of its
+// fragments runs the march's set-up. Precomputed visibility (Airey, Rohlf & Brooks 1990; Teller &
+// Séquin 1991) culls what no viewpoint of a region can see; here the region is a cell of view
+// directions: an instance is seen from outside its bounding sphere, and along one line occlusion
+// is the same for an orthographic and a perspective ray, and under any affine transform.
+// Steps:
+//  1. At load time (add_billboard): the covered texels of each fine tile, in blocks of `stride` x
+//     `stride` texels (1 unless the package is large): a block whose texels are all covered, in the
+//     tile's layer, unclipped and within a texel of each other in depth is a square at its first
+//     texel's depth; any other keeps one texel as a point. Each notes whether it may hide what lies
+//     behind it (not a texel an outline crosses, which is covered only in part) and its normal.
+//  2. A direction, on first need (visible_along): the squares are rasterised (pixel centres inside
+//     them) into an orthographic depth buffer over the texels' sphere; squares too small to reach a
+//     pixel centre and points mark their own pixel; back-facing ones hide nothing where back hits
+//     are dropped or back-facing proxies culled. A pixel's limit is the farthest of its 3 x 3
+//     neighbours' nearest depths (so a surface beside an outline or a gap, which may cover part of
+//     the pixel, is not hidden), plus a tolerance; a fine tile is visible where one of its squares
+//     or points lies within the limit at a pixel it covers; a coarse tile where a fine tile whose
+//     texels and depths overlap it is; a whole billboard where any of its tiles is. Squares are
+//     flat and not joined by walls, so a steep surface seen from its side lets what lies behind it
+//     through: what is kept is a superset of what shows.
+//  3. Directions: an octahedral grid of cells; a cell's proxies are those visible from any of its
+//     four corners, each corner computed once (in parallel with the others a cell needs).
+#pragma once
+
+#include "reps/enhanced_billboards/acceleration.h"
+#include "reps/enhanced_billboards/billboards.h"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace standin::billboards {
+
+class HiddenProxies {
+public:
+    // Octahedral cells per side (cells about 11 degrees wide, 289 corners at most): docs/RESULTS.md
+    // "Hidden proxies by view direction".
+    static constexpr int k_cells = 16;
+    // Blocks stay within about this many (the stride grows past it).
+    static constexpr std::size_t k_block_budget = std::size_t(4) << 20;
+    static int stride_for(std::size_t covered_texels);
+
+    // The proxies of one billboard at one level: `boxes` as build_tiles returned them (tiles of
+    // `tile_size` texels), the first of them proxy `first` of its level.
+    struct Level {
+        std::span<const TileBox> boxes;
+        int tile_size = 16;
+        std::uint32_t first = 0;
+    };
+    // Step 1 for the next billboard (billboards in order; its fine and coarse proxies numbered within
+    // their levels, in order).
+    void add_billboard(const Billboard& b, const HeightFieldAcceleration& acc, const Level& fine, const Level& coarse,
+                       int stride);
+    // After every billboard: the sphere around the boxes (object space), the largest texel, and
+    // whether back-facing texels hide nothing (back hits dropped, or back-facing proxies culled).
+    void finish(glm::vec3 centre, float radius, float texel, bool backs_see_through);
+
+    // Whether proxy `k` (fine tiles, then coarse tiles, then one whole box per billboard) may hold
+    // the nearest hit of a ray along `direction` (object space, from the eye towards it; need not be
+    // unit). The cell it falls in is computed on first need.
+    bool may_show(std::size_t k, glm::vec3 direction);
+
+    // A sphere around every texel (object space): an instance is culled only where the eye is outside
+    // it and the near plane clips none of it (what the near plane clips hides nothing).
+    glm::vec3 texel_centre() const { return texel_centre_; }
+    float texel_radius() const { return texel_radius_; }
+    bool empty() const { return blocks_.empty(); }
+
+    // Exposed for tests: the octahedral cell of a direction, and the proxies visible along exactly
+    // `direction` (one depth buffer, no cell) as bits.
+    static glm::ivec2 cell_of(glm::vec3 direction);
+    std::vector<std::uint64_t> visible_along(glm::vec3 direction) const;
+    std::size_t proxy_count() const { return fine_count_ + coarse_count_ + frames_.size(); }
+    std::size_t block_count() const { return blocks_.size(); }
+
+private:
+    struct Block { // 8 bytes: a package of 3M covered texels takes 25 MB
+        std::uint16_t i, j, depth; // its first texel, and that texel's depth code
+        // bits 0-6 and 7-13: the stored normal, octahedral; 14: hides (no outline crosses it);
+        // 15: a square of `stride` texels (else a point at the texel's centre)
+        std::uint16_t bits;
+    };
+    struct Frame { // a billboard's box space: object = origin + u x + v y + z depth (x, y texels, depth in [0, 1])
+        glm::vec3 origin, u, v, z;
+        std::uint32_t first_fine = 0, end_fine = 0;
+        int stride = 1;
+    };
+    std::vector<Block> blocks_;               // by fine tile
+    std::vector<std::uint32_t> fine_blocks_;  // fine tile k's blocks: [fine_blocks_[k], fine_blocks_[k + 1])
+    std::vector<std::uint32_t> fine_billboard_;
+    std::vector<std::uint32_t> coarse_fines_offset_, coarse_fines_; // coarse tile k: the fine tiles overlapping it
+    std::vector<Frame> frames_;
+    std::size_t fine_count_ = 0, coarse_count_ = 0;
+    glm::vec3 centre_{0.0f}, texel_centre_{0.0f};
+    float radius_ = 0.0f, pixel_ = 1.0f, texel_radius_ = 0.0f;
+    int resolution_ = 1, max_stride_ = 1;
+    bool backs_see_through_ = false;
+    std::vector<std::vector<std::uint64_t>> corners_; // (k_cells + 1)^2, empty until computed
+    std::vector<std::vector<std::uint64_t>> cells_;   // k_cells^2, empty until computed
+    const std::vector<std::uint64_t>& cell(glm::ivec2 c);
+    void compute_corners(std::span<const int> corners);
+};
+
+} // namespace standin::billboards

@@ -1,0 +1,161 @@
+// Hidden proxies by view direction (hidden_proxies.h): a plate in front of a smaller one hides it
+// from the front and not from the side or the back; outlines and back-facing texels hide nothing
+// where they should not; directions fall in octahedral cells that cover the sphere.
+#include "reps/enhanced_billboards/hidden_proxies.h"
+#include "reps/common/surface_image.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace standin::billboards {
+namespace {
+
+constexpr int k_side = 64;
+
+// A billboard looking along +z whose texels in [lo, hi)^2 are covered at world depth z (the
+// billboard's plane at z = 0, depth range 100), normals facing the billboard (-z).
+Billboard plate(int lo, int hi, float z, bool clipped = false)
+{
+    Billboard b;
+    b.width = b.height = k_side;
+    b.texel_size = 1.0f;
+    b.depth_range = 100.0f;
+    b.origin = {0.0f, 0.0f, 0.0f};
+    b.direction = {0, 0, 1};
+    b.axis_u = {1, 0, 0};
+    b.axis_v = {0, 1, 0};
+    b.color = ImageRGBA8(b.width, b.height);
+    b.normal_depth = ImageRGBA16(b.width, b.height);
+    for (int j = lo; j < hi; ++j)
+        for (int i = lo; i < hi; ++i) {
+            std::uint8_t* c = b.color.at(i, j);
+            c[0] = c[1] = c[2] = 200;
+            // an edge line code in the alpha (--sheet-edges clip) marks a texel clipped
+            c[3] = clipped ? 3 : 255;
+            std::uint16_t* nd = b.normal_depth.at(i, j);
+            nd[0] = reps::encode_normal(0.0f), nd[1] = reps::encode_normal(0.0f), nd[2] = reps::encode_normal(-1.0f);
+            nd[3] = reps::encode_depth(z / b.depth_range);
+        }
+    return b;
+}
+
+struct Built {
+    HiddenProxies hidden;
+    std::vector<std::size_t> fine_first; // each billboard's first fine proxy
+    std::size_t fine_count = 0;
+};
+
+void build(Built& out, std::vector<Billboard>& billboards, bool backs_see_through, bool edge_lines = false)
+{
+    LinkSettings links;
+    links.edge_lines = edge_lines;
+    std::uint32_t fine = 0, coarse = 0;
+    for (const Billboard& b : billboards) {
+        const HeightFieldAcceleration acc = build_acceleration(b, k_side, k_side, 6, links);
+        const std::vector<TileBox> fine_boxes = build_tiles(acc, 16), coarse_boxes = build_tiles(acc, 64);
+        out.fine_first.push_back(fine);
+        out.hidden.add_billboard(b, acc, {fine_boxes, 16, fine}, {coarse_boxes, 64, coarse}, 1);
+        fine += std::uint32_t(fine_boxes.size());
+        coarse += std::uint32_t(coarse_boxes.size());
+    }
+    out.fine_count = fine;
+    out.hidden.finish(glm::vec3(32.0f, 32.0f, 50.0f), 60.0f, 1.0f, backs_see_through);
+}
+
+std::size_t visible_fine(const Built& built, std::size_t billboard, const std::vector<std::uint64_t>& bits)
+{
+    const std::size_t first = built.fine_first[billboard];
+    const std::size_t end = billboard + 1 < built.fine_first.size() ? built.fine_first[billboard + 1] : built.fine_count;
+    std::size_t n = 0;
+    for (std::size_t k = first; k < end; ++k) n += (bits[k >> 6] >> (k & 63)) & 1u;
+    return n;
+}
+
+// A 64 x 64 plate at z = 20 in front of a 48 x 48 one at z = 60: seen along +z (from the front)
+// the small plate's 16 tiles are all hidden, the front plate's 16 all seen; from -z (the back) the
+// small plate hides the front plate's middle 4 tiles (whose texels lie 8 or more from its outline),
+// unless back-facing texels see through; from the side (along x) every tile shows.
+TEST(HiddenProxies, APlateHidesWhatLiesBehindItAlongTheDirection)
+{
+    for (bool backs_see_through : {false, true}) {
+        SCOPED_TRACE(backs_see_through ? "backs see through" : "backs hide");
+        std::vector<Billboard> billboards = {plate(0, 64, 20.0f), plate(8, 56, 60.0f)};
+        Built built;
+        build(built, billboards, backs_see_through);
+        ASSERT_EQ(built.fine_count, 32u);
+        ASSERT_EQ(built.hidden.proxy_count(), 32u + 2u + 2u); // one coarse tile and one whole box each
+
+        const std::vector<std::uint64_t> front = built.hidden.visible_along({0, 0, 1});
+        EXPECT_EQ(visible_fine(built, 0, front), 16u);
+        EXPECT_EQ(visible_fine(built, 1, front), 0u);
+        EXPECT_EQ((front[0] >> 32) & 1u, 1u) << "the front plate's coarse tile";
+        EXPECT_EQ((front[0] >> 33) & 1u, 0u) << "the small plate's coarse tile";
+        EXPECT_EQ((front[0] >> 35) & 1u, 0u) << "the small plate's whole box";
+
+        // from behind, the plates' normals (-z) face away from the eye
+        const std::vector<std::uint64_t> back = built.hidden.visible_along({0, 0, -1});
+        EXPECT_EQ(visible_fine(built, 1, back), 16u);
+        EXPECT_EQ(visible_fine(built, 0, back), backs_see_through ? 16u : 12u);
+
+        const std::vector<std::uint64_t> side = built.hidden.visible_along({1, 0, 0.02f});
+        EXPECT_EQ(visible_fine(built, 0, side) + visible_fine(built, 1, side), 32u);
+    }
+}
+
+// Texels an outline crosses are covered in part: a plate of them hides nothing, the same plate
+// unclipped hides everything behind it.
+TEST(HiddenProxies, ClippedTexelsHideNothing)
+{
+    for (bool clipped : {false, true}) {
+        std::vector<Billboard> billboards = {plate(0, 64, 20.0f, clipped), plate(8, 56, 60.0f)};
+        Built built;
+        build(built, billboards, false, true);
+        EXPECT_EQ(visible_fine(built, 1, built.hidden.visible_along({0, 0, 1})), clipped ? 16u : 0u)
+            << (clipped ? "clipped" : "plain");
+    }
+}
+
+// A tile wholly behind a plate is kept while its texels lie beside the plate's outline (a pixel's
+// limit is the farthest of its neighbours': the plate may cover only part of the pixels along its
+// rim), and hidden once the outline is a few pixels away.
+TEST(HiddenProxies, WhatLiesBesideAnOutlineIsKept)
+{
+    for (int front_end : {48, 56}) {
+        std::vector<Billboard> billboards = {plate(0, front_end, 20.0f), plate(32, 64, 60.0f)};
+        Built built;
+        build(built, billboards, false);
+        // the back plate's 4 tiles: the one at texels 32-47 lies behind the front plate
+        EXPECT_EQ(visible_fine(built, 1, built.hidden.visible_along({0, 0, 1})), front_end == 48 ? 4u : 3u)
+            << "front plate to texel " << front_end;
+    }
+}
+
+TEST(HiddenProxies, DirectionsFallInCellsCoveringTheSphere)
+{
+    std::mt19937 random(3);
+    std::normal_distribution<float> normal;
+    std::vector<int> hits(std::size_t(HiddenProxies::k_cells * HiddenProxies::k_cells), 0);
+    for (int k = 0; k < 200000; ++k) {
+        const glm::vec3 d(normal(random), normal(random), normal(random));
+        if (glm::length(d) < 1e-3f) continue;
+        const glm::ivec2 c = HiddenProxies::cell_of(d);
+        ASSERT_GE(c.x, 0);
+        ASSERT_LT(c.x, HiddenProxies::k_cells);
+        ASSERT_GE(c.y, 0);
+        ASSERT_LT(c.y, HiddenProxies::k_cells);
+        EXPECT_EQ(HiddenProxies::cell_of(d * 7.5f), c) << "a direction's length does not matter";
+        ++hits[std::size_t(c.y * HiddenProxies::k_cells + c.x)];
+    }
+    // every cell is reached, none holds more than 3x its share (the octahedral map's area distortion)
+    const double share = 200000.0 / double(hits.size());
+    for (int h : hits) {
+        EXPECT_GT(h, 0);
+        EXPECT_LT(double(h), 3.0 * share);
+    }
+    EXPECT_NE(HiddenProxies::cell_of({0, 0, 1}), HiddenProxies::cell_of({0, 0, -1}));
+}
+
+} // namespace
+} // namespace standin::billboards
