@@ -85,11 +85,12 @@ static void print_summary(const EvalResult& result, const nlohmann::json& json)
 }
 
 // One stand-in evaluated against the truth: its figures, its report in `report_directory` when
-// given, and the sheet's pictures when `sheet` (the truth's too when `truth_pictures`).
+// given, and the sheet's pictures when `sheet` (the truth's too when `truth_pictures`). The truth's
+// images and times are kept in `truth_views` for the next stand-in of a comparison.
 static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& subject, const RenderOptions& render_options,
                                                 const Mesh& mesh, Renderer& truth, const Protocol& protocol,
                                                 const std::string& device, const std::string& report_directory, bool sheet,
-                                                std::vector<ImageRGBA8>* truth_pictures)
+                                                std::vector<ImageRGBA8>* truth_pictures, TruthViews* truth_views)
 {
     const std::string& path = subject.path;
     RenderOptions own_options = render_options;
@@ -123,7 +124,8 @@ static Result<ComparedStandin> evaluate_standin(const EvalArgs& args, Drawable& 
     options.shadows = args.shadows.enabled;
     options.shadow_resolution = args.shadows.resolution;
     options.shading = args.shading == "lambert" ? ShadingModel::lambert_blinn_phong : ShadingModel::ggx;
-    Result<EvalResult> result = evaluate(truth, *subject.renderer, mesh.bounding_sphere(), protocol, options, stderr_progress(), sink);
+    Result<EvalResult> result =
+        evaluate(truth, *subject.renderer, mesh.bounding_sphere(), protocol, options, stderr_progress(), sink, truth_views);
     if (!result) return result.status();
     result->device = device;
     if (subject.mesh) {
@@ -198,7 +200,7 @@ static int run_eval(EvalArgs& args)
     // one stand-in: its report and JSON as they always were
     if (args.standins.size() == 1) {
         Result<ComparedStandin> one = evaluate_standin(args, subjects->front(), render_options, *mesh, **truth, *protocol,
-                                                       device, args.report, false, nullptr);
+                                                       device, args.report, false, nullptr, nullptr);
         if (!one) return fail(one.status());
         if (!args.json.empty())
             if (Status s = write_file_atomic(args.json, one->json.dump(2) + "\n"); !s) return fail(s);
@@ -228,13 +230,14 @@ static int run_eval(EvalArgs& args)
     } cleanup{report_temporary};
     std::vector<ComparedStandin> compared;
     std::vector<ImageRGBA8> truth_pictures;
+    TruthViews truth_views; // the mesh drawn and timed once for every stand-in
     for (std::size_t k = 0; k < args.standins.size(); ++k) {
         const std::string report_directory =
             report_temporary.empty() ? std::string()
                                      : (std::filesystem::path(report_temporary) / standin_report_name(k, args.standins[k])).string();
         Result<ComparedStandin> one = evaluate_standin(args, (*subjects)[k], render_options, *mesh, **truth, *protocol, device,
                                                        report_directory, !report_temporary.empty(),
-                                                       k == 0 ? &truth_pictures : nullptr);
+                                                       k == 0 ? &truth_pictures : nullptr, &truth_views);
         if (!one) return fail(one.status());
         compared.push_back(std::move(*one));
     }

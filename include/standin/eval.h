@@ -176,12 +176,23 @@ struct EvalResult {
 using ViewSink = std::function<Status(std::size_t index, const ViewResult& result, const RenderedImage& truth,
                                       const RenderedImage& standin)>;
 
+// The truth's images and frame times of an evaluation, by view: several stand-ins evaluated against
+// one truth with one protocol, sphere and options (`standin eval MODEL A B ...`) pass the same
+// object to each evaluate(), whose first call fills it and the others reuse it, so the mesh is
+// drawn and timed once, and every stand-in is compared with the same pictures and the same times.
+struct TruthViews {
+    std::vector<RenderedImage> images;
+    std::vector<double> gpu_ms, wall_ms; // 0 when not timed
+};
+
 // Renders every view of `protocol` with both renderers (same camera, same default_light) in the
 // current GL context and compares the images. `sphere` is the original model's bounding sphere,
 // which places the cameras for both. Progress: stage "eval", one step per view. gpu_error when
-// rendering fails; the sink's error when it fails.
+// rendering fails; the sink's error when it fails. `truth_views`: the truth's side kept across
+// evaluations (TruthViews); null renders it anew.
 Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSphere& sphere, const Protocol& protocol,
-                            const EvalOptions& options, const Progress& progress, const ViewSink& sink = {});
+                            const EvalOptions& options, const Progress& progress, const ViewSink& sink = {},
+                            TruthViews* truth_views = nullptr);
 
 // What a user asks of an evaluation: from how far is the stand-in as good as the mesh, and from how
 // far is it cheaper, so that an engine's level of detail knows where to switch.

@@ -96,8 +96,11 @@ std::string number(double value)
 } // namespace
 
 Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSphere& sphere, const Protocol& protocol,
-                            const EvalOptions& options, const Progress& progress, const ViewSink& sink)
+                            const EvalOptions& options, const Progress& progress, const ViewSink& sink,
+                            TruthViews* truth_views)
 {
+    TruthViews own;
+    TruthViews& kept = truth_views ? *truth_views : own;
     EvalResult result;
     result.protocol = protocol.name;
     for (std::size_t i = 0; i < protocol.views.size(); ++i) {
@@ -112,8 +115,15 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
         shadows.enabled = options.shadows;
         shadows.scene = sphere;
         shadows.resolution = options.shadow_resolution;
-        Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height, {}, shadows);
-        if (!truth_image) return truth_image.status();
+        const bool truth_kept = kept.images.size() > i;
+        if (!truth_kept) {
+            Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height, {}, shadows);
+            if (!truth_image) return truth_image.status();
+            kept.images.push_back(std::move(*truth_image));
+            kept.gpu_ms.push_back(0.0);
+            kept.wall_ms.push_back(0.0);
+        }
+        const RenderedImage& truth_image = kept.images[i];
         Result<RenderedImage> standin_image =
             render_offscreen(standin, camera, light, view.width, view.height, {}, shadows);
         if (!standin_image) return standin_image.status();
@@ -121,18 +131,22 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
         // compare, time, hand the images on
         ViewResult view_result;
         view_result.view = view;
-        view_result.metrics = compare_images(truth_image->color, standin_image->color, options.metrics);
+        view_result.metrics = compare_images(truth_image.color, standin_image->color, options.metrics);
         if (options.timed_frames > 0) {
-            Result<gpu::FrameTimes> truth_ms = time_view(truth, camera, light, view, options.timed_frames);
-            if (!truth_ms) return truth_ms.status();
+            if (!truth_kept) {
+                Result<gpu::FrameTimes> truth_ms = time_view(truth, camera, light, view, options.timed_frames);
+                if (!truth_ms) return truth_ms.status();
+                kept.gpu_ms[i] = truth_ms->median_ms;
+                kept.wall_ms[i] = truth_ms->wall_median_ms;
+            }
             Result<gpu::FrameTimes> standin_ms = time_view(standin, camera, light, view, options.timed_frames);
             if (!standin_ms) return standin_ms.status();
-            view_result.truth_ms = truth_ms->median_ms;
+            view_result.truth_ms = kept.gpu_ms[i];
             view_result.standin_ms = standin_ms->median_ms;
-            view_result.truth_wall_ms = truth_ms->wall_median_ms;
+            view_result.truth_wall_ms = kept.wall_ms[i];
             view_result.standin_wall_ms = standin_ms->wall_median_ms;
         }
-        if (sink) STANDIN_RETURN_IF_ERROR(sink(i, view_result, *truth_image, *standin_image));
+        if (sink) STANDIN_RETURN_IF_ERROR(sink(i, view_result, truth_image, *standin_image));
         result.views.push_back(view_result);
     }
     progress.report("eval", 1.0);

@@ -58,6 +58,54 @@ TEST(Evaluate, TruthAgainstItselfHasNoError)
     }
 }
 
+// A renderer that counts its draws, to see what an evaluation draws.
+class CountingRenderer final : public Renderer {
+public:
+    explicit CountingRenderer(Renderer& inner) : inner_(inner) {}
+    DrawStats draw(const DrawParams& params) override
+    {
+        ++draws;
+        return inner_.draw(params);
+    }
+    int draws = 0;
+
+private:
+    Renderer& inner_;
+};
+
+// `standin eval MODEL A B`: the truth's images and times kept (TruthViews) are drawn once, and each
+// stand-in scores exactly what it scores alone.
+TEST(Evaluate, TruthKeptForSeveralStandinsIsDrawnOnce)
+{
+    test::gpu_context();
+    Mesh truth = make_sphere(20000), finer = make_sphere(5000), coarser = make_sphere(300);
+    auto truth_renderer = make_mesh_renderer(truth);
+    auto finer_renderer = make_mesh_renderer(finer);
+    auto coarser_renderer = make_mesh_renderer(coarser);
+    ASSERT_TRUE(truth_renderer.is_ok() && finer_renderer.is_ok() && coarser_renderer.is_ok());
+    CountingRenderer counted(**truth_renderer);
+    EvalOptions options;
+    options.timed_frames = 1;
+    const Protocol protocol = *make_protocol("quick");
+    TruthViews kept;
+    Result<EvalResult> first = evaluate(counted, **finer_renderer, truth.bounding_sphere(), protocol, options, {}, {}, &kept);
+    ASSERT_TRUE(first.is_ok()) << first.status().message();
+    const int draws = counted.draws;
+    EXPECT_GE(draws, 2 * int(protocol.views.size())); // a picture and a timed frame each
+    EXPECT_EQ(kept.images.size(), protocol.views.size());
+    Result<EvalResult> second = evaluate(counted, **coarser_renderer, truth.bounding_sphere(), protocol, options, {}, {}, &kept);
+    ASSERT_TRUE(second.is_ok()) << second.status().message();
+    EXPECT_EQ(counted.draws, draws) << "the kept truth is not drawn again";
+    Result<EvalResult> alone = evaluate(**truth_renderer, **coarser_renderer, truth.bounding_sphere(), protocol, options, {});
+    ASSERT_TRUE(alone.is_ok());
+    for (std::size_t i = 0; i < protocol.views.size(); ++i) {
+        EXPECT_EQ(second->views[i].metrics.luv_mean, alone->views[i].metrics.luv_mean) << "view " << i;
+        EXPECT_EQ(second->views[i].metrics.iou, alone->views[i].metrics.iou) << "view " << i;
+        EXPECT_EQ(second->views[i].truth_wall_ms, first->views[i].truth_wall_ms) << "view " << i;
+        EXPECT_GT(second->views[i].metrics.luv_mean, first->views[i].metrics.luv_mean) << "view " << i;
+    }
+}
+
 TEST(Evaluate, CoarserMeshScoresWorse)
 {
     test::gpu_context();
