@@ -37,7 +37,9 @@
 // default only for packages of one closed surface, or of one part whose backs face its own inside
 // (bake.cpp one_closed_surface, backs_unseen): elsewhere a back hit can be the surface to show (an
 // open sheet's back, a part's inside through a seam), and the coarse mesh or what lies behind
-// would show instead (docs/RESULTS.md).
+// would show instead (docs/RESULTS.md). And it leaves out proxies hidden from the eye's cell of
+// view directions (--cull-hidden-proxies, hidden_proxies.h: nested parts; 2CylinderEngine, 800x600:
+// 9.62 -> 6.79 fragments per covered pixel, 406 -> 230 ms).
 // All boxes of all instances are one instanced draw driven by a per-frame (instance, tile) list
 // (before it, one for the boxes that may cross the near plane); textures are 2D arrays, one layer
 // per billboard, read with texelFetch (no filtering, so the empty background never bleeds into the colour).
