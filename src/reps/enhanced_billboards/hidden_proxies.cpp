@@ -20,13 +20,13 @@ namespace {
 constexpr float k_pixel_texels = 2.0f;
 constexpr int k_max_resolution = 1024;
 // What lies within this many pixels behind its 3 x 3 neighbourhood's farthest nearest depth counts
-// as visible: squares are flat at their first texel's depth, the march meets tilted tops and walls.
+// as visible: squares are flat at their texel's depth, the march meets tilted tops and walls.
 constexpr float k_depth_tolerance_pixels = 2.0f;
 // Where back-facing texels see through, a texel hides only if its normal faces the eye by more
 // than this (grazing ones may be either).
 constexpr float k_front_facing_cos = -0.05f;
 
-constexpr std::uint16_t k_block_hides = 1u << 14, k_block_square = 1u << 15;
+constexpr std::uint16_t k_block_hides = 1u << 14;
 
 void set_proxy_bit(std::vector<std::uint64_t>& bits, std::size_t k) { bits[k >> 6] |= std::uint64_t(1) << (k & 63); }
 bool has_proxy_bit(const std::vector<std::uint64_t>& bits, std::size_t k) { return (bits[k >> 6] >> (k & 63)) & 1u; }
@@ -59,61 +59,29 @@ bool in_box_layer(const SurfaceTexel& texel, const TileBox& box)
 
 } // namespace
 
-int HiddenProxies::stride_for(std::size_t covered_texels)
-{
-    int stride = 1;
-    while (covered_texels / std::size_t(stride * stride) > k_block_budget) ++stride;
-    return stride;
-}
-
 void HiddenProxies::add_billboard(const Billboard& b, const HeightFieldAcceleration& acc, const Level& fine,
-                                  const Level& coarse, int stride)
+                                  const Level& coarse)
 {
     Frame frame{b.origin, b.axis_u * b.texel_size, b.axis_v * b.texel_size, b.direction * b.depth_range};
     frame.first_fine = fine.first;
     frame.end_fine = fine.first + std::uint32_t(fine.boxes.size());
-    frame.stride = stride;
     const std::uint32_t billboard = std::uint32_t(frames_.size());
     frames_.push_back(frame);
     const int width = std::min(b.width, acc.width), height = std::min(b.height, acc.height);
     auto texel_at = [&](int i, int j) -> const SurfaceTexel& {
         return acc.surface[std::size_t(j) * std::size_t(acc.width) + std::size_t(i)];
     };
-    const float flat_codes = reps::k_depth_codes * b.texel_size / std::max(b.depth_range, 1e-30f); // a texel of depth
     if (fine_blocks_.empty()) fine_blocks_.push_back(0);
     for (const TileBox& box : fine.boxes) {
-        for (int j0 = box.texel_min.y; j0 < box.texel_max.y; j0 += stride)
-            for (int i0 = box.texel_min.x; i0 < box.texel_max.x; i0 += stride) {
-                // the block's first texel in the layer, and whether every texel of it is a plain
-                // one of the layer within a texel of it in depth
-                int first_i = -1, first_j = -1;
-                bool solid = true;
-                std::uint16_t lo = 65535, hi = 0;
-                for (int j = j0; j < j0 + stride; ++j)
-                    for (int i = i0; i < i0 + stride; ++i) {
-                        if (i >= width || j >= height || !in_box_layer(texel_at(i, j), box)) {
-                            solid = false;
-                            continue;
-                        }
-                        const SurfaceTexel& t = texel_at(i, j);
-                        if (first_i < 0) first_i = i, first_j = j;
-                        if (t.flags & k_texel_clipped) solid = false;
-                        lo = std::min(lo, t.depth), hi = std::max(hi, t.depth);
-                    }
-                if (first_i < 0) continue;
-                if (float(hi - lo) > flat_codes) solid = false;
-                const SurfaceTexel& t = texel_at(first_i, first_j);
-                const bool clipped = (t.flags & k_texel_clipped) != 0;
-                Block block;
-                block.i = std::uint16_t(solid ? i0 : first_i);
-                block.j = std::uint16_t(solid ? j0 : first_j);
-                block.depth = t.depth;
-                const std::uint16_t* n = &b.normal_depth.pixels[(std::size_t(first_j) * std::size_t(b.width) + std::size_t(first_i)) * 4];
+        for (int j = box.texel_min.y; j < std::min(box.texel_max.y, height); ++j)
+            for (int i = box.texel_min.x; i < std::min(box.texel_max.x, width); ++i) {
+                const SurfaceTexel& t = texel_at(i, j);
+                if (!in_box_layer(t, box)) continue;
+                Block block{std::uint16_t(i), std::uint16_t(j), t.depth, 0};
+                const std::uint16_t* n = &b.normal_depth.pixels[(std::size_t(j) * std::size_t(b.width) + std::size_t(i)) * 4];
                 const glm::vec2 e = glm::clamp(reps::octahedral_encode(glm::vec3(n[0], n[1], n[2]) / 32767.5f - 1.0f), 0.0f, 1.0f);
                 block.bits = std::uint16_t(std::lround(e.x * 127.0f) | (std::lround(e.y * 127.0f) << 7));
-                if (!clipped) block.bits |= k_block_hides;
-                // (a lone texel is a square of its own unless an outline crosses it)
-                if (solid || (stride == 1 && !clipped)) block.bits |= k_block_square;
+                if (!(t.flags & k_texel_clipped)) block.bits |= k_block_hides;
                 blocks_.push_back(block);
             }
         fine_blocks_.push_back(std::uint32_t(blocks_.size()));
@@ -148,10 +116,8 @@ void HiddenProxies::finish(glm::vec3 centre, float radius, float texel, bool bac
         }
     }
     texel_centre_ = blocks_.empty() ? centre : 0.5f * (lo + hi);
-    // (first texels' centres: a block's square reaches a stride's diagonal beyond)
-    int stride = 1;
-    for (const Frame& f : frames_) stride = std::max(stride, f.stride);
-    texel_radius_ = 0.5f * glm::length(hi - lo) + 1.5f * texel * float(stride);
+    // (texel centres: half a texel's diagonal beyond them holds the squares)
+    texel_radius_ = 0.5f * glm::length(hi - lo) + texel;
     // the depth buffer covers the texels' sphere (the boxes' reach further out)
     centre_ = texel_centre_;
     radius_ = blocks_.empty() ? radius : texel_radius_;
@@ -201,37 +167,33 @@ std::vector<std::uint64_t> HiddenProxies::visible_along(glm::vec3 direction) con
                              glm::dot(f.origin, d));
         projections.push_back(p);
     }
-    // Calls visit(pixel index, depth) for the pixel centres inside a block's square (or its
-    // centre's pixel, for a point or a square too small to hold one) until it returns true.
-    auto cover = [&](const Projection& p, const Block& b, int stride, auto&& visit) {
+    // Calls visit(pixel index, depth) for the pixel centres inside a texel's square (or its centre's
+    // pixel, for a square too small to hold one) until it returns true.
+    auto cover = [&](const Projection& p, const Block& b, auto&& visit) {
         const float zc = reps::decode_depth(b.depth);
-        const float s = (b.bits & k_block_square) ? float(stride) : 0.0f;
+        // the square's corners c0, c0 + ex, c0 + ey, c0 + ex + ey; a pixel centre is inside where its
+        // texel coordinates (the inverse of [ex ey]) fall in [0, 1)
         const glm::vec3 c0 = p(float(b.i), float(b.j), zc);
-        if (s > 0.0f) {
-            // the square's corners c0 + s ex, c0 + s ey, ...; a pixel centre is inside where its
-            // texel coordinates (the inverse of [ex ey]) fall in [0, s)
-            const glm::vec2 ex(p.x.x, p.y.x), ey(p.x.y, p.y.y);
-            const float det = ex.x * ey.y - ex.y * ey.x;
-            if (std::abs(det) > 1e-6f) {
-                const glm::vec2 lo = glm::vec2(c0) + glm::min(glm::vec2(0.0f), s * ex) + glm::min(glm::vec2(0.0f), s * ey);
-                const glm::vec2 hi = glm::vec2(c0) + glm::max(glm::vec2(0.0f), s * ex) + glm::max(glm::vec2(0.0f), s * ey);
-                const int x0 = std::max(0, int(std::ceil(lo.x - 0.5f))), x1 = std::min(n - 1, int(std::floor(hi.x - 0.5f)));
-                const int y0 = std::max(0, int(std::ceil(lo.y - 0.5f))), y1 = std::min(n - 1, int(std::floor(hi.y - 0.5f)));
-                const float inverse_det = 1.0f / det;
-                bool any = false;
-                for (int y = y0; y <= y1; ++y)
-                    for (int x = x0; x <= x1; ++x) {
-                        const glm::vec2 r = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - glm::vec2(c0);
-                        const float tx = (r.x * ey.y - r.y * ey.x) * inverse_det, ty = (ex.x * r.y - ex.y * r.x) * inverse_det;
-                        if (tx < 0.0f || tx >= s || ty < 0.0f || ty >= s) continue;
-                        any = true;
-                        if (visit(std::size_t(y) * std::size_t(n) + std::size_t(x), c0.z + p.depth.x * tx + p.depth.y * ty)) return;
-                    }
-                if (any) return;
-            }
+        const glm::vec2 ex(p.x.x, p.y.x), ey(p.x.y, p.y.y);
+        const float det = ex.x * ey.y - ex.y * ey.x;
+        if (std::abs(det) > 1e-6f) {
+            const glm::vec2 lo = glm::vec2(c0) + glm::min(glm::vec2(0.0f), ex) + glm::min(glm::vec2(0.0f), ey);
+            const glm::vec2 hi = glm::vec2(c0) + glm::max(glm::vec2(0.0f), ex) + glm::max(glm::vec2(0.0f), ey);
+            const int x0 = std::max(0, int(std::ceil(lo.x - 0.5f))), x1 = std::min(n - 1, int(std::floor(hi.x - 0.5f)));
+            const int y0 = std::max(0, int(std::ceil(lo.y - 0.5f))), y1 = std::min(n - 1, int(std::floor(hi.y - 0.5f)));
+            const float inverse_det = 1.0f / det;
+            bool any = false;
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) {
+                    const glm::vec2 r = glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - glm::vec2(c0);
+                    const float tx = (r.x * ey.y - r.y * ey.x) * inverse_det, ty = (ex.x * r.y - ex.y * r.x) * inverse_det;
+                    if (tx < 0.0f || tx >= 1.0f || ty < 0.0f || ty >= 1.0f) continue;
+                    any = true;
+                    if (visit(std::size_t(y) * std::size_t(n) + std::size_t(x), c0.z + p.depth.x * tx + p.depth.y * ty)) return;
+                }
+            if (any) return;
         }
-        const float half = s > 0.0f ? 0.5f * s : 0.5f;
-        const glm::vec3 c = p(float(b.i) + half, float(b.j) + half, zc);
+        const glm::vec3 c = p(float(b.i) + 0.5f, float(b.j) + 0.5f, zc);
         const int x = std::clamp(int(c.x), 0, n - 1), y = std::clamp(int(c.y), 0, n - 1);
         visit(std::size_t(y) * std::size_t(n) + std::size_t(x), c.z);
     };
@@ -244,10 +206,9 @@ std::vector<std::uint64_t> HiddenProxies::visible_along(glm::vec3 direction) con
     // pass 1: the nearest hiding surface of each pixel
     for (std::size_t k = 0; k < fine_count_; ++k) {
         const Projection& p = projections[fine_billboard_[k]];
-        const int stride = frames_[fine_billboard_[k]].stride;
         for (std::uint32_t s = fine_blocks_[k]; s < fine_blocks_[k + 1]; ++s)
             if (hides(blocks_[s]))
-                cover(p, blocks_[s], stride, [&](std::size_t pixel, float z) {
+                cover(p, blocks_[s], [&](std::size_t pixel, float z) {
                     nearest[pixel] = std::min(nearest[pixel], z);
                     return false;
                 });
@@ -270,10 +231,9 @@ std::vector<std::uint64_t> HiddenProxies::visible_along(glm::vec3 direction) con
     // pass 2: fine tiles with a block within the limit at a pixel it covers; tiles without are kept
     for (std::size_t k = 0; k < fine_count_; ++k) {
         const Projection& p = projections[fine_billboard_[k]];
-        const int stride = frames_[fine_billboard_[k]].stride;
         bool visible = fine_blocks_[k] == fine_blocks_[k + 1];
         for (std::uint32_t s = fine_blocks_[k]; s < fine_blocks_[k + 1] && !visible; ++s)
-            cover(p, blocks_[s], stride, [&](std::size_t pixel, float z) { return visible = z <= limit[pixel]; });
+            cover(p, blocks_[s], [&](std::size_t pixel, float z) { return visible = z <= limit[pixel]; });
         if (visible) set_proxy_bit(bits, k);
     }
     for (std::size_t c = 0; c < coarse_count_; ++c) {
@@ -319,7 +279,8 @@ const std::vector<std::uint64_t>& HiddenProxies::cell(glm::ivec2 c)
 
 bool HiddenProxies::may_show(std::size_t k, glm::vec3 direction)
 {
-    if (k >= proxy_count() || blocks_.empty()) return true;
+    const float length = glm::length(direction);
+    if (k >= proxy_count() || blocks_.empty() || !(length > 0.0f) || !std::isfinite(length)) return true;
     return has_proxy_bit(cell(cell_of(direction)), k);
 }
 

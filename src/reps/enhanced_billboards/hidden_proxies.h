@@ -9,18 +9,18 @@
 // directions: an instance is seen from outside its bounding sphere, and along one line occlusion
 // is the same for an orthographic and a perspective ray, and under any affine transform.
 // Steps:
-//  1. At load time (add_billboard): the covered texels of each fine tile, in blocks of `stride` x
-//     `stride` texels (1 unless the package is large): a block whose texels are all covered, in the
-//     tile's layer, unclipped and within a texel of each other in depth is a square at its first
-//     texel's depth; any other keeps one texel as a point. Each notes whether it may hide what lies
-//     behind it (not a texel an outline crosses, which is covered only in part) and its normal.
+//  1. At load time (add_billboard): each covered texel of each fine tile as a square at its depth,
+//     noting whether it may hide what lies behind it (not a texel an outline crosses, which is
+//     covered only in part) and its normal. Packages of over k_texel_budget covered texels (foliage
+//     at 2048 texels along the diagonal, whose leaves' texels are mostly clipped and hide little)
+//     are drawn without it.
 //  2. A direction, on first need (visible_along): the squares are rasterised (pixel centres inside
 //     them) into an orthographic depth buffer over the texels' sphere; squares too small to reach a
-//     pixel centre and points mark their own pixel; back-facing ones hide nothing where back hits
+//     pixel centre mark their centre's pixel; back-facing ones hide nothing where back hits
 //     are dropped or back-facing proxies culled. A pixel's limit is the farthest of its 3 x 3
 //     neighbours' nearest depths (so a surface beside an outline or a gap, which may cover part of
 //     the pixel, is not hidden), plus a tolerance; a fine tile is visible where one of its squares
-//     or points lies within the limit at a pixel it covers; a coarse tile where a fine tile whose
+//     lies within the limit at a pixel it covers; a coarse tile where a fine tile whose
 //     texels and depths overlap it is; a whole billboard where any of its tiles is. Squares are
 //     flat and not joined by walls, so a steep surface seen from its side lets what lies behind it
 //     through: what is kept is a superset of what shows.
@@ -45,9 +45,8 @@ public:
     // Octahedral cells per side (cells about 11 degrees wide, 289 corners at most): docs/RESULTS.md
     // "Hidden proxies by view direction".
     static constexpr int k_cells = 16;
-    // Blocks stay within about this many (the stride grows past it).
-    static constexpr std::size_t k_block_budget = std::size_t(4) << 20;
-    static int stride_for(std::size_t covered_texels);
+    // Covered texels kept at most (8 bytes each: 32 MB).
+    static constexpr std::size_t k_texel_budget = std::size_t(4) << 20;
 
     // The proxies of one billboard at one level: `boxes` as build_tiles returned them (tiles of
     // `tile_size` texels), the first of them proxy `first` of its level.
@@ -58,8 +57,7 @@ public:
     };
     // Step 1 for the next billboard (billboards in order; its fine and coarse proxies numbered within
     // their levels, in order).
-    void add_billboard(const Billboard& b, const HeightFieldAcceleration& acc, const Level& fine, const Level& coarse,
-                       int stride);
+    void add_billboard(const Billboard& b, const HeightFieldAcceleration& acc, const Level& fine, const Level& coarse);
     // After every billboard: the sphere around the boxes (object space), the largest texel, and
     // whether back-facing texels hide nothing (back hits dropped, or back-facing proxies culled).
     void finish(glm::vec3 centre, float radius, float texel, bool backs_see_through);
@@ -83,16 +81,14 @@ public:
     std::size_t block_count() const { return blocks_.size(); }
 
 private:
-    struct Block { // 8 bytes: a package of 3M covered texels takes 25 MB
-        std::uint16_t i, j, depth; // its first texel, and that texel's depth code
-        // bits 0-6 and 7-13: the stored normal, octahedral; 14: hides (no outline crosses it);
-        // 15: a square of `stride` texels (else a point at the texel's centre)
+    struct Block { // a covered texel, 8 bytes: a package of 3M covered texels takes 25 MB
+        std::uint16_t i, j, depth; // the texel and its depth code
+        // bits 0-6 and 7-13: the stored normal, octahedral; 14: hides (no outline crosses it)
         std::uint16_t bits;
     };
     struct Frame { // a billboard's box space: object = origin + u x + v y + z depth (x, y texels, depth in [0, 1])
         glm::vec3 origin, u, v, z;
         std::uint32_t first_fine = 0, end_fine = 0;
-        int stride = 1;
     };
     std::vector<Block> blocks_;               // by fine tile
     std::vector<std::uint32_t> fine_blocks_;  // fine tile k's blocks: [fine_blocks_[k], fine_blocks_[k + 1])
@@ -102,7 +98,7 @@ private:
     std::size_t fine_count_ = 0, coarse_count_ = 0;
     glm::vec3 centre_{0.0f}, texel_centre_{0.0f};
     float radius_ = 0.0f, pixel_ = 1.0f, texel_radius_ = 0.0f;
-    int resolution_ = 1, max_stride_ = 1;
+    int resolution_ = 1;
     bool backs_see_through_ = false;
     std::vector<std::vector<std::uint64_t>> corners_; // (k_cells + 1)^2, empty until computed
     std::vector<std::vector<std::uint64_t>> cells_;   // k_cells^2, empty until computed

@@ -552,7 +552,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         for (std::size_t k = 3; k < b.color.pixels.size(); k += 4) covered_texels += b.color.pixels[k] != 0;
         largest_texel = std::max(largest_texel, b.texel_size);
     }
-    const int hidden_stride = HiddenProxies::stride_for(covered_texels);
+    if (covered_texels > HiddenProxies::k_texel_budget) cull_hidden_proxies_ = false; // (hidden_proxies.h)
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (int layer = 0; layer < billboard_count_; ++layer) { // (a billboard's index, as tiles name it)
         const Billboard& b = package.billboards[std::size_t(layer)];
@@ -617,8 +617,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         std::vector<TileBox> coarse_boxes;
         if (coarse_level > tile_level) coarse_boxes = add_tiles(coarse_level, 1, coarse, coarse_proxies);
         if (cull_hidden_proxies_)
-            hidden_.add_billboard(b, acc, {fine_boxes, 1 << tile_level, first_fine}, {coarse_boxes, 1 << coarse_level, first_coarse},
-                                  hidden_stride);
+            hidden_.add_billboard(b, acc, {fine_boxes, 1 << tile_level, first_fine}, {coarse_boxes, 1 << coarse_level, first_coarse});
         TileGpu box{g.box_min, g.box_max, glm::ivec4(layer, levels, 1, 0)}; // z: a whole billboard (march.frag)
         whole.push_back(box);
         ProxyInfo whole_proxy{glm::vec3(g.object_from_box * (0.5f * (g.box_min + g.box_max) + glm::vec4(0, 0, 0, 1))), layer};
