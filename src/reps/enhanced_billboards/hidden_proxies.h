@@ -48,11 +48,10 @@ public:
     // Covered texels kept at most (8 bytes each: 32 MB).
     static constexpr std::size_t k_texel_budget = std::size_t(4) << 20;
 
-    // The proxies of one billboard at one level: `boxes` as build_tiles returned them (tiles of
-    // `tile_size` texels), the first of them proxy `first` of its level.
+    // The proxies of one billboard at one level: `boxes` as build_tiles returned them, the first of
+    // them proxy `first` of its level.
     struct Level {
         std::span<const TileBox> boxes;
-        int tile_size = 16;
         std::uint32_t first = 0;
     };
     // Step 1 for the next billboard (billboards in order; its fine and coarse proxies numbered within

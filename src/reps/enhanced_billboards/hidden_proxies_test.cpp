@@ -56,7 +56,7 @@ void build(Built& out, std::vector<Billboard>& billboards, bool backs_see_throug
         const HeightFieldAcceleration acc = build_acceleration(b, k_side, k_side, 6, links);
         const std::vector<TileBox> fine_boxes = build_tiles(acc, 16), coarse_boxes = build_tiles(acc, 64);
         out.fine_first.push_back(fine);
-        out.hidden.add_billboard(b, acc, {fine_boxes, 16, fine}, {coarse_boxes, 64, coarse});
+        out.hidden.add_billboard(b, acc, {fine_boxes, fine}, {coarse_boxes, coarse});
         fine += std::uint32_t(fine_boxes.size());
         coarse += std::uint32_t(coarse_boxes.size());
     }

@@ -617,7 +617,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         std::vector<TileBox> coarse_boxes;
         if (coarse_level > tile_level) coarse_boxes = add_tiles(coarse_level, 1, coarse, coarse_proxies);
         if (cull_hidden_proxies_)
-            hidden_.add_billboard(b, acc, {fine_boxes, 1 << tile_level, first_fine}, {coarse_boxes, 1 << coarse_level, first_coarse});
+            hidden_.add_billboard(b, acc, {fine_boxes, first_fine}, {coarse_boxes, first_coarse});
         TileGpu box{g.box_min, g.box_max, glm::ivec4(layer, levels, 1, 0)}; // z: a whole billboard (march.frag)
         whole.push_back(box);
         ProxyInfo whole_proxy{glm::vec3(g.object_from_box * (0.5f * (g.box_min + g.box_max) + glm::vec4(0, 0, 0, 1))), layer};
