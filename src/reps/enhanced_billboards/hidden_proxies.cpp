@@ -31,27 +31,6 @@ constexpr std::uint16_t k_block_hides = 1u << 14;
 void set_proxy_bit(std::vector<std::uint64_t>& bits, std::size_t k) { bits[k >> 6] |= std::uint64_t(1) << (k & 63); }
 bool has_proxy_bit(const std::vector<std::uint64_t>& bits, std::size_t k) { return (bits[k >> 6] >> (k & 63)) & 1u; }
 
-// The octahedral map of the unit sphere to [-1, 1]^2 (the lower hemisphere folded over the
-// diagonals) and back.
-glm::vec2 octahedral_point(glm::vec3 d)
-{
-    d /= std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
-    glm::vec2 p(d.x, d.y);
-    if (d.z < 0.0f)
-        p = (1.0f - glm::abs(glm::vec2(p.y, p.x))) * glm::vec2(p.x >= 0.0f ? 1.0f : -1.0f, p.y >= 0.0f ? 1.0f : -1.0f);
-    return p;
-}
-
-glm::vec3 octahedral_direction(glm::vec2 p)
-{
-    glm::vec3 d(p.x, p.y, 1.0f - std::abs(p.x) - std::abs(p.y));
-    if (d.z < 0.0f) {
-        const glm::vec2 q = (1.0f - glm::abs(glm::vec2(d.y, d.x))) * glm::vec2(d.x >= 0.0f ? 1.0f : -1.0f, d.y >= 0.0f ? 1.0f : -1.0f);
-        d.x = q.x, d.y = q.y;
-    }
-    return glm::normalize(d);
-}
-
 bool in_box_layer(const SurfaceTexel& texel, const TileBox& box)
 {
     return (texel.flags & k_texel_covered) && texel.min >= box.depth_min && texel.min <= box.depth_max;
@@ -129,8 +108,9 @@ void HiddenProxies::finish(glm::vec3 centre, float radius, float texel, bool bac
 
 glm::ivec2 HiddenProxies::cell_of(glm::vec3 direction)
 {
-    const glm::vec2 p = octahedral_point(direction);
-    return glm::clamp(glm::ivec2(glm::floor((p * 0.5f + 0.5f) * float(k_cells))), glm::ivec2(0), glm::ivec2(k_cells - 1));
+    // (the octahedral map the packages' normals use: the lower hemisphere folded over the diagonals)
+    const glm::vec2 p = reps::octahedral_encode(direction);
+    return glm::clamp(glm::ivec2(glm::floor(p * float(k_cells))), glm::ivec2(0), glm::ivec2(k_cells - 1));
 }
 
 std::vector<std::uint64_t> HiddenProxies::visible_along(glm::vec3 direction) const
@@ -254,8 +234,8 @@ void HiddenProxies::compute_corners(std::span<const int> corners)
 {
     tbb::parallel_for(std::size_t(0), corners.size(), [&](std::size_t k) {
         const int c = corners[k];
-        const glm::vec2 p = glm::vec2(c % (k_cells + 1), c / (k_cells + 1)) / float(k_cells) * 2.0f - 1.0f;
-        corners_[std::size_t(c)] = visible_along(octahedral_direction(p));
+        const glm::vec2 p = glm::vec2(c % (k_cells + 1), c / (k_cells + 1)) / float(k_cells);
+        corners_[std::size_t(c)] = visible_along(reps::octahedral_decode(p));
     });
 }
 

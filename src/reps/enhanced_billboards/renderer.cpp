@@ -989,17 +989,18 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
         // it does only for rotations and uniform scales.
         BackCull cull;
         const bool culls = cull_back_proxies_ && !marks_near_misses() && similarity(glm::mat3(m));
+        // the eye in object space, for both cullers (the exact inverse: any affine transform)
+        const glm::mat4 object_from_world = glm::inverse(m);
+        const glm::vec3 eye_object = glm::vec3(object_from_world * glm::vec4(camera.eye_world, 1.0f));
         if (culls) {
             cull.orthographic = camera.orthographic;
-            cull.eye_object = camera.orthographic ? glm::transpose(glm::mat3(m)) * -camera.forward_world
-                                                  : glm::vec3(glm::inverse(m) * glm::vec4(camera.eye_world, 1.0f));
+            cull.eye_object = camera.orthographic ? glm::transpose(glm::mat3(m)) * -camera.forward_world : eye_object;
         }
         // --cull-hidden-proxies: proxies hidden along the eye's direction to them are left out. Along
         // a line, occlusion is the same under any affine transform and for orthographic and
         // perspective rays, as long as no part of the model lies behind the eye or before the near
         // plane: so not for an instance whose texels' sphere holds the eye or reaches the near
         // plane, nor where rays mark near misses behind what hides them (--coarse-fill near-misses).
-        // (The same eye as BackCull's, but through the exact inverse: any affine transform.)
         BackCull hidden;
         bool hides = cull_hidden_proxies_ && !hidden_.empty() && !marks_near_misses();
         if (hides) {
@@ -1009,12 +1010,11 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
                     camera.near_plane;
         }
         if (hides) {
-            const glm::mat4 object_from_world = glm::inverse(m);
             hidden.orthographic = camera.orthographic;
             if (camera.orthographic) {
                 hidden.eye_object = glm::mat3(object_from_world) * -camera.forward_world;
             } else {
-                hidden.eye_object = glm::vec3(object_from_world * glm::vec4(camera.eye_world, 1.0f));
+                hidden.eye_object = eye_object;
                 hides = glm::length(hidden.eye_object - hidden_.texel_centre()) > hidden_.texel_radius() * 1.001f + 1e-6f;
             }
         }
