@@ -66,6 +66,8 @@ void HiddenProxies::add_billboard(const Billboard& b, const HeightFieldAccelerat
         fine_blocks_.push_back(std::uint32_t(blocks_.size()));
         fine_billboard_.push_back(billboard);
     }
+    fine_boxes_.insert(fine_boxes_.end(), fine.boxes.begin(), fine.boxes.end());
+    coarse_boxes_.insert(coarse_boxes_.end(), coarse.boxes.begin(), coarse.boxes.end());
     // each coarse tile: the fine tiles of this billboard whose texels and depth ranges overlap it
     if (coarse_fines_offset_.empty()) coarse_fines_offset_.push_back(0);
     for (const TileBox& c : coarse.boxes) {
@@ -255,6 +257,60 @@ const std::vector<std::uint64_t>& HiddenProxies::cell(glm::ivec2 c)
         for (std::size_t w = 0; w < bits.size(); ++w) bits[w] |= other[w];
     }
     return bits;
+}
+
+bool HiddenProxies::cut_box(std::size_t k, std::size_t cell_at, Cut& cut)
+{
+    if (k < fine_count_ || k >= proxy_count() || cell_at >= cells_.size()) return false;
+    const std::vector<std::uint64_t>& bits = cell(glm::ivec2(int(cell_at % k_cells), int(cell_at / k_cells)));
+    // the proxy's own box: a coarse tile's, or the union of its billboard's fine tiles (a whole box
+    // holds every covered texel, and each fine tile every crossing of its texels)
+    const bool coarse = k < fine_count_ + coarse_count_;
+    const std::size_t billboard = coarse ? 0 : k - fine_count_ - coarse_count_;
+    const TileBox* own = coarse ? &coarse_boxes_[k - fine_count_] : nullptr;
+    const glm::vec2 slope = own ? own->slope : glm::vec2(0.0f);
+    // z - slope . (x, y) over a fine box's rectangle: its own range plus the planes' difference at
+    // the corners (both planes are linear)
+    auto fine_range = [&](const TileBox& f, float& lo, float& hi) {
+        const glm::vec2 ds = f.slope - slope;
+        const float x0 = ds.x * float(f.texel_min.x), x1 = ds.x * float(f.texel_max.x);
+        const float y0 = ds.y * float(f.texel_min.y), y1 = ds.y * float(f.texel_max.y);
+        lo = f.offset_min + std::min(x0, x1) + std::min(y0, y1);
+        hi = f.offset_max + std::max(x0, x1) + std::max(y0, y1);
+    };
+    Cut all{glm::ivec2(std::numeric_limits<int>::max()), glm::ivec2(std::numeric_limits<int>::min()),
+            std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+    Cut shown = all;
+    auto add = [&](Cut& c, const TileBox& f) {
+        float lo = 0.0f, hi = 0.0f;
+        fine_range(f, lo, hi);
+        c.texel_min = glm::min(c.texel_min, f.texel_min), c.texel_max = glm::max(c.texel_max, f.texel_max);
+        c.offset_min = std::min(c.offset_min, lo), c.offset_max = std::max(c.offset_max, hi);
+    };
+    auto visit = [&](std::uint32_t f) {
+        add(all, fine_boxes_[f]);
+        if (has_proxy_bit(bits, f)) add(shown, fine_boxes_[f]);
+    };
+    if (coarse) {
+        for (std::uint32_t s = coarse_fines_offset_[k - fine_count_]; s < coarse_fines_offset_[k - fine_count_ + 1]; ++s)
+            visit(coarse_fines_[s]);
+        // within the coarse tile's own box (its layer)
+        for (Cut* c : {&all, &shown}) {
+            c->texel_min = glm::max(c->texel_min, own->texel_min), c->texel_max = glm::min(c->texel_max, own->texel_max);
+            c->offset_min = std::max(c->offset_min, own->offset_min), c->offset_max = std::min(c->offset_max, own->offset_max);
+        }
+    } else {
+        for (std::uint32_t f = frames_[billboard].first_fine; f < frames_[billboard].end_fine; ++f) visit(f);
+    }
+    if (shown.texel_min.x >= shown.texel_max.x || shown.texel_min.y >= shown.texel_max.y || !(shown.offset_min <= shown.offset_max))
+        return false; // nothing shows: may_show leaves the proxy out
+    // worth a box of its own where it leaves out a tenth of the volume
+    auto volume = [](const Cut& c) {
+        return double(c.texel_max.x - c.texel_min.x) * double(c.texel_max.y - c.texel_min.y) * std::max(double(c.offset_max - c.offset_min), 1e-4);
+    };
+    if (!(volume(shown) < 0.9 * volume(all))) return false;
+    cut = shown;
+    return true;
 }
 
 bool HiddenProxies::may_show(std::size_t k, glm::vec3 direction)

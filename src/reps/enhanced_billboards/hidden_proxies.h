@@ -26,6 +26,10 @@
 //     through: what is kept is a superset of what shows.
 //  3. Directions: an octahedral grid of cells; a cell's proxies are those visible from any of its
 //     four corners, each corner computed once (in parallel with the others a cell needs).
+//  4. Cut boxes (cut_box): a coarse tile's or a whole billboard's box, which small instances draw,
+//     spans every texel it holds, though from one cell only some of its fine tiles show (of a
+//     closed surface, those facing the eye; of an assembly, the outer parts); cut to the fine tiles
+//     visible from the cell, it holds every nearest hit the whole box held, with fewer fragments.
 #pragma once
 
 #include "reps/enhanced_billboards/acceleration.h"
@@ -66,6 +70,21 @@ public:
     // unit). The cell it falls in is computed on first need.
     bool may_show(std::size_t k, glm::vec3 direction);
 
+    // Step 4: the box of coarse tile or whole billboard k cut to its fine tiles visible from cell
+    // `cell` (cell_index): a texel rectangle and a range of z about the proxy's own plane (the
+    // coarse tile's slope; 0 for a whole billboard, whose z is depth in [0, 1]), within the proxy's
+    // own box. False where the cut would keep nearly all of the box, or k is a fine tile.
+    struct Cut {
+        glm::ivec2 texel_min{0}, texel_max{0};
+        float offset_min = 0.0f, offset_max = 0.0f;
+    };
+    bool cut_box(std::size_t k, std::size_t cell, Cut& cut);
+    static std::size_t cell_index(glm::vec3 direction)
+    {
+        const glm::ivec2 c = cell_of(direction);
+        return std::size_t(c.y * k_cells + c.x);
+    }
+
     // A sphere around every texel (object space): an instance is culled only where the eye is outside
     // it and the near plane clips none of it (what the near plane clips hides nothing).
     glm::vec3 texel_centre() const { return texel_centre_; }
@@ -93,6 +112,7 @@ private:
     std::vector<std::uint32_t> fine_blocks_;  // fine tile k's blocks: [fine_blocks_[k], fine_blocks_[k + 1])
     std::vector<std::uint32_t> fine_billboard_;
     std::vector<std::uint32_t> coarse_fines_offset_, coarse_fines_; // coarse tile k: the fine tiles overlapping it
+    std::vector<TileBox> fine_boxes_, coarse_boxes_;                 // for cut_box
     std::vector<Frame> frames_;
     std::size_t fine_count_ = 0, coarse_count_ = 0;
     glm::vec3 centre_{0.0f}, texel_centre_{0.0f};

@@ -1,6 +1,7 @@
 // Hidden proxies by view direction (hidden_proxies.h): a plate in front of a smaller one hides it
 // from the front and not from the side or the back; outlines and back-facing texels hide nothing
-// where they should not; directions fall in octahedral cells that cover the sphere.
+// where they should not; coarse and whole boxes are cut to what shows; directions fall in
+// octahedral cells that cover the sphere.
 #include "reps/enhanced_billboards/hidden_proxies.h"
 #include "reps/common/surface_image.h"
 
@@ -130,6 +131,46 @@ TEST(HiddenProxies, WhatLiesBesideAnOutlineIsKept)
         EXPECT_EQ(visible_fine(built, 1, built.hidden.visible_along({0, 0, 1})), front_end == 48 ? 4u : 3u)
             << "front plate to texel " << front_end;
     }
+}
+
+// A billboard holding two surfaces over texels 8-55, those at x < 32 at z = 20 and the others at
+// z = 60, and a second billboard's plate at z = 50 over x >= 16 (reaching past the first's outline,
+// which would show what lies behind it): from the cell around +z only the near half of the first
+// shows, so its coarse tile and its whole box are cut to that half (rectangle and depth); from the
+// side every tile shows and nothing is cut.
+TEST(HiddenProxies, BoxesAreCutToTheFineTilesThatShow)
+{
+    Billboard two = plate(8, 56, 20.0f);
+    for (int j = 8; j < 56; ++j)
+        for (int i = 32; i < 56; ++i) two.normal_depth.at(i, j)[3] = reps::encode_depth(60.0f / two.depth_range);
+    Billboard front = plate(0, 64, 50.0f);
+    for (int j = 0; j < k_side; ++j)
+        for (int i = 0; i < 16; ++i) front.color.at(i, j)[3] = 0;
+    std::vector<Billboard> billboards = {two, front};
+    Built built;
+    build(built, billboards, false);
+    ASSERT_EQ(built.fine_count, 16u + 12u); // (tiles of 16 texels: texels 8-55 reach four a side)
+    const std::size_t coarse_two = built.fine_count, whole_two = built.fine_count + 2, whole_front = whole_two + 1;
+    ASSERT_EQ(built.hidden.proxy_count(), whole_front + 1);
+
+    const std::size_t from_front = HiddenProxies::cell_index({0, 0, 1});
+    for (std::size_t k : {coarse_two, whole_two}) {
+        SCOPED_TRACE(k == coarse_two ? "coarse tile" : "whole box");
+        HiddenProxies::Cut cut;
+        ASSERT_TRUE(built.hidden.cut_box(k, from_front, cut));
+        EXPECT_EQ(cut.texel_min, glm::ivec2(8, 8));
+        EXPECT_EQ(cut.texel_max, glm::ivec2(32, 56));
+        // (the coarse tile's plane may be tilted: its z about the plane is not the depth)
+        if (k == whole_two) {
+            EXPECT_NEAR(cut.offset_min, 0.2f, 0.02f);
+            EXPECT_NEAR(cut.offset_max, 0.2f, 0.02f);
+        }
+    }
+    // the plate in front shows wholly: nothing to cut
+    HiddenProxies::Cut cut;
+    EXPECT_FALSE(built.hidden.cut_box(whole_front, from_front, cut));
+    EXPECT_FALSE(built.hidden.cut_box(whole_two, HiddenProxies::cell_index({1, 0, 0.02f}), cut));
+    EXPECT_FALSE(built.hidden.cut_box(0, from_front, cut)) << "fine tiles are not cut";
 }
 
 TEST(HiddenProxies, DirectionsFallInCellsCoveringTheSphere)

@@ -319,6 +319,13 @@ private:
     bool cull_back_proxies_ = false; // proxies that can hold only back hits are not drawn (--cull-back-proxies)
     bool cull_hidden_proxies_ = true; // proxies hidden from the eye's cell of directions are not drawn (--cull-hidden-proxies)
     HiddenProxies hidden_;
+    // cut boxes (HiddenProxies::cut_box) by cell: for each coarse and whole proxy, the proxy to draw
+    // in its place (itself where not cut); computed on a cell's first need, appended to tile_boxes_
+    std::vector<std::vector<std::uint32_t>> cut_proxies_;
+    std::uint32_t cut_proxy(std::size_t k, std::size_t cell);
+    std::vector<TileGpu> tile_boxes_; // every proxy's box as tiles_ holds it (cut ones appended)
+    std::size_t tiles_uploaded_ = 0, tiles_capacity_ = 0;
+    void upload_cut_boxes();
     double hidden_area_ = 0.0; // this frame's hidden proxies' mean projected area (ProxyInfo::mean_area)
     bool color_footprint_ = true; // colour filtered over the pixel's footprint (--color-filter)
     bool hide_back_hits_ = false; // the package's back_hits is "hide": back hits are dropped
@@ -347,9 +354,10 @@ private:
     gpu::Counters counters_{COUNTER_COUNT};
     // proxies: tiles [0, fine_count_), coarse tiles [fine_count_, coarse_end_), then one
     // whole-billboard box per billboard
-    std::vector<ProxyInfo> proxies_;
-    std::size_t fine_count_ = 0, coarse_end_ = 0;
+    std::vector<ProxyInfo> proxies_; // (cut boxes appended after whole_end_)
+    std::size_t fine_count_ = 0, coarse_end_ = 0, whole_end_ = 0;
     std::vector<glm::vec3> billboard_directions_; // object space
+    std::vector<glm::mat4> object_from_box_;      // by billboard
     glm::vec3 bound_centre_{0.0f};                 // object-space sphere around every box
     float bound_radius_ = 0.0f;
     float tile_world_ = 0.0f;                      // object units across a tile
@@ -626,6 +634,7 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
         texel_normal_cone(b, acc, glm::ivec2(0), glm::ivec2(b.width, b.height), whole_proxy);
         whole_proxies.push_back(whole_proxy);
         billboard_directions_.push_back(b.direction);
+        object_from_box_.push_back(g.object_from_box);
         tile_world_ = std::max(tile_world_, float(1 << tile_level) * b.texel_size);
         smallest_texel_ = smallest_texel_ > 0.0f ? std::min(smallest_texel_, b.texel_size) : b.texel_size;
         if (g.box_min.x <= g.box_max.x) {
@@ -660,14 +669,19 @@ Status BillboardRenderer::upload_billboards(const EnhancedBillboardsPackage& pac
     proxies_.insert(proxies_.end(), whole_proxies.begin(), whole_proxies.end());
     fine.insert(fine.end(), coarse.begin(), coarse.end());
     fine.insert(fine.end(), whole.begin(), whole.end());
-    tiles_ = gpu::make_buffer(fine);
+    whole_end_ = proxies_.size();
+    tile_boxes_ = std::move(fine);
+    tiles_capacity_ = tiles_uploaded_ = tile_boxes_.size();
+    tiles_ = gpu::make_buffer(tile_boxes_, GL_DYNAMIC_STORAGE_BIT);
     if (bound_lo.x <= bound_hi.x) {
         bound_centre_ = 0.5f * (bound_lo + bound_hi);
         bound_radius_ = 0.5f * glm::length(bound_hi - bound_lo);
     }
     // back-facing texels hide nothing where their back hits are dropped or their proxies culled
-    if (cull_hidden_proxies_)
+    if (cull_hidden_proxies_) {
         hidden_.finish(bound_centre_, bound_radius_, largest_texel, hide_back_hits_ || cull_back_proxies_);
+        cut_proxies_.assign(std::size_t(HiddenProxies::k_cells * HiddenProxies::k_cells), {});
+    }
     return Status::ok();
 }
 
@@ -876,20 +890,31 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
                                        const BackCull* cull, const BackCull* hidden, const NearSplit* near,
                                        std::vector<DrawEntry>& front, std::vector<DrawEntry>& inside)
 {
-    const std::size_t bounds[4] = {0, fine_count_, coarse_end_, proxies_.size()};
+    const std::size_t bounds[4] = {0, fine_count_, coarse_end_, whole_end_};
     std::size_t first = bounds[proxy_level], last = bounds[proxy_level + 1];
     sort_keys_.clear();
     for (std::size_t k = first; k < last; ++k) {
         const ProxyInfo& p = proxies_[k];
         if (cull && faces_away(p, cull->orthographic ? cull->eye_object : cull->eye_object - p.centre_object, cull->orthographic))
             continue;
-        if (hidden && !hidden_.may_show(k, hidden->orthographic ? -hidden->eye_object : p.centre_object - hidden->eye_object)) {
-            hidden_area_ += double(p.mean_area);
-            continue;
+        std::uint32_t drawn = std::uint32_t(k);
+        if (hidden) {
+            const glm::vec3 direction = hidden->orthographic ? -hidden->eye_object : p.centre_object - hidden->eye_object;
+            if (!hidden_.may_show(k, direction)) {
+                hidden_area_ += double(p.mean_area);
+                continue;
+            }
+            // a coarse tile or whole box: cut to what shows from the cell (which may append to
+            // proxies_: p is read again below)
+            if (k >= fine_count_) {
+                drawn = cut_proxy(k, HiddenProxies::cell_index(direction));
+                hidden_area_ += double(proxies_[k].mean_area - proxies_[drawn].mean_area);
+            }
         }
-        bool facing = glm::dot(billboard_directions_[std::size_t(p.billboard)], forward_object) > 0.0f;
-        float key = glm::dot(p.centre_object - bound_centre_, forward_object) + (facing ? 0.0f : 4.0f * bound_radius_);
-        sort_keys_.push_back({key, std::uint32_t(k)});
+        const ProxyInfo& kept = proxies_[k];
+        bool facing = glm::dot(billboard_directions_[std::size_t(kept.billboard)], forward_object) > 0.0f;
+        float key = glm::dot(kept.centre_object - bound_centre_, forward_object) + (facing ? 0.0f : 4.0f * bound_radius_);
+        sort_keys_.push_back({key, drawn});
     }
     std::sort(sort_keys_.begin(), sort_keys_.end());
     for (const auto& [key, tile] : sort_keys_) {
@@ -901,6 +926,56 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         }
         (crosses ? inside : front).push_back({instance, tile});
     }
+}
+
+// The proxy drawn for coarse tile or whole box k seen from `cell`: its box cut to the fine tiles that
+// show from there (HiddenProxies::cut_box), appended on the cell's first need; k itself where not cut.
+std::uint32_t BillboardRenderer::cut_proxy(std::size_t k, std::size_t cell)
+{
+    std::vector<std::uint32_t>& drawn = cut_proxies_[cell];
+    if (drawn.empty()) {
+        drawn.resize(whole_end_ - fine_count_);
+        for (std::size_t q = fine_count_; q < whole_end_; ++q) {
+            drawn[q - fine_count_] = std::uint32_t(q);
+            HiddenProxies::Cut cut;
+            if (!hidden_.cut_box(q, cell, cut)) continue;
+            const TileGpu& own = tile_boxes_[q];
+            TileGpu box = own;
+            // (the cut lies within the box but for rounding: keep it there, with the margin the box has)
+            box.box_min = glm::vec4(glm::max(glm::vec2(own.box_min), glm::vec2(cut.texel_min)),
+                                    std::max(own.box_min.z, cut.offset_min - k_depth_margin), own.box_min.w);
+            box.box_max = glm::vec4(glm::min(glm::vec2(own.box_max), glm::vec2(cut.texel_max)),
+                                    std::min(own.box_max.z, cut.offset_max + k_depth_margin), own.box_max.w);
+            const ProxyInfo& p = proxies_[q];
+            const glm::mat4 object_from_box = object_from_box_[std::size_t(p.billboard)];
+            ProxyInfo info = p; // (its normal cone: of the whole box, a superset)
+            const glm::vec2 centre = 0.5f * (glm::vec2(box.box_min) + glm::vec2(box.box_max));
+            const float centre_z = 0.5f * (box.box_min.z + box.box_max.z) + box.box_min.w * centre.x + box.box_max.w * centre.y;
+            info.centre_object = glm::vec3(object_from_box * glm::vec4(centre, centre_z, 1.0f));
+            info.radius = proxy_radius(object_from_box, box, info.centre_object);
+            info.mean_area = proxy_mean_area(object_from_box, box);
+            drawn[q - fine_count_] = std::uint32_t(proxies_.size());
+            proxies_.push_back(info);
+            tile_boxes_.push_back(box);
+        }
+        upload_cut_boxes();
+    }
+    return drawn[k - fine_count_];
+}
+
+// tiles_ holds tile_boxes_: the new cut boxes written after those uploaded, into a buffer twice as
+// large where they do not fit
+void BillboardRenderer::upload_cut_boxes()
+{
+    if (tile_boxes_.size() == tiles_uploaded_) return;
+    if (tile_boxes_.size() > tiles_capacity_) {
+        tiles_capacity_ = std::max(tile_boxes_.size(), 2 * tiles_capacity_);
+        tiles_ = gpu::make_buffer(nullptr, tiles_capacity_ * sizeof(TileGpu), GL_DYNAMIC_STORAGE_BIT);
+        tiles_uploaded_ = 0;
+    }
+    glNamedBufferSubData(tiles_.get(), GLintptr(tiles_uploaded_ * sizeof(TileGpu)),
+                         GLsizeiptr((tile_boxes_.size() - tiles_uploaded_) * sizeof(TileGpu)), tile_boxes_.data() + tiles_uploaded_);
+    tiles_uploaded_ = tile_boxes_.size();
 }
 
 // The (instance, proxy) list of this frame: instances outside the view are left out; the others,

@@ -433,9 +433,11 @@ TEST(BillboardRenderer, BoxBatchesKeepANestedAssemblysPictureWithFewerFragments)
 }
 
 // --cull-hidden-proxies (hidden_proxies.h): the tiles hidden from the eye's cell of directions are
-// left out. Nested parts hide most tiles from any direction, so fewer fragments run (measured:
-// 35,028 -> 30,631 at distance 1, where box batches already stop most hidden ones; the crowd
-// 131,113 -> 103,272, the stretched instance 17,675 -> 13,829); the
+// left out, and the coarse tiles and whole boxes of smaller instances are cut to their fine tiles
+// that show. Nested parts hide most tiles from any direction, so fewer fragments run (measured:
+// 35,028 -> 30,573 at distance 1, where box batches already stop most hidden ones; the crowd
+// 131,113 -> 78,782, 102,889 without the cut boxes; the orthographic view 96,969 -> 82,990, 92,494
+// without; the stretched instance 17,675 -> 13,922); the
 // picture keeps all but a few pixels (a tile seen through a gap the direction grid missed), under
 // perspective and orthographic cameras, a stretched instance (occlusion along a line survives any
 // affine map) and a crowd whose instances each look up their own direction; an eye inside the
@@ -474,9 +476,9 @@ TEST(BillboardRenderer, HiddenProxiesLeftOutKeepANestedAssemblysPicture)
     } cases[] = {
         {"perspective, distance 1", camera_at(30.0f, 20.0f, 1.0f), {}, 0.9},
         {"perspective from below, distance 2", camera_at(250.0f, -60.0f, 2.0f), {}, 1.0},
-        {"orthographic", camera_at(120.0f, -25.0f, 1.0f, true), {}, 1.0},
+        {"orthographic", camera_at(120.0f, -25.0f, 1.0f, true), {}, 0.92},
         {"stretched", camera_at(70.0f, 10.0f, 1.2f), {stretched}, 0.9},
-        {"crowd", crowd_camera, crowd, 0.9},
+        {"crowd", crowd_camera, crowd, 0.7},
         {"eye inside the sphere", inside, {}, 0.0},
     };
     for (const auto& view : cases) {

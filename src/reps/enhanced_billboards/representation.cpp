@@ -109,7 +109,8 @@ std::vector<OptionSpec> render_options()
         choice_option("cull-hidden-proxies", "on", {"on", "off"},
                       "Leave out proxy boxes that hold no nearest hit from the eye's direction: hidden behind "
                       "others from every corner of its cell of view directions (an octahedral grid of 16 x 16), found "
-                      "on first need from a depth buffer of the texels (docs/RESULTS.md); not with --coarse-fill "
+                      "on first need from a depth buffer of the texels (docs/RESULTS.md); the coarse tiles and "
+                      "whole boxes of small instances cut to the tiles that show; not with --coarse-fill "
                       "near-misses, and not for an instance the eye is inside the bounding sphere of"),
         choice_option("depth-batches", "auto", {"auto", "off"},
                       "Crowds: instances sorted front to back are drawn in batches (8, then up to 4x more), each "
