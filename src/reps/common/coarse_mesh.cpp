@@ -124,6 +124,35 @@ Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders, float ma
     return coarse;
 }
 
+std::vector<CoarseLevel> coarse_mesh_levels(const Mesh& coarse, std::vector<std::uint32_t>& indices)
+{
+    indices = coarse.indices;
+    std::vector<CoarseLevel> levels = {{0, std::uint32_t(indices.size()), 0.0f}};
+    const std::size_t index_count = coarse.indices.size(), min_indices = 3 * (k_min_coarse_triangles / 4);
+    if (index_count < 4 * min_indices || coarse.vertex_count() == 0) return levels;
+    const float* positions = &coarse.positions[0].x;
+    std::vector<std::uint32_t> source(index_count), simplified(index_count);
+    meshopt_generateShadowIndexBuffer(source.data(), coarse.indices.data(), index_count, positions, coarse.vertex_count(),
+                                      sizeof(glm::vec3), sizeof(glm::vec3));
+    const float scale = meshopt_simplifyScale(positions, coarse.vertex_count(), sizeof(glm::vec3));
+    float error = 0.0f;
+    for (;;) {
+        const std::size_t target = source.size() / 12 * 3;
+        if (target < min_indices) break;
+        float error_rel = 0.0f;
+        const std::size_t count = meshopt_simplify(simplified.data(), source.data(), source.size(), positions,
+                                                   coarse.vertex_count(), sizeof(glm::vec3), target, 1.0f,
+                                                   meshopt_SimplifyLockBorder, &error_rel);
+        // (locked borders stop it early on sheets: a level of barely fewer triangles is not worth one)
+        if (count < 3 || double(count) > 0.8 * double(source.size())) break;
+        error += error_rel * scale;
+        levels.push_back({std::uint32_t(indices.size()), std::uint32_t(count), error});
+        indices.insert(indices.end(), simplified.begin(), simplified.begin() + std::ptrdiff_t(count));
+        source.assign(simplified.begin(), simplified.begin() + std::ptrdiff_t(count));
+    }
+    return levels;
+}
+
 // ------------------------------------------------------------------------------------------------
 // Compact file (docs/FORMAT.md, "Compact coarse mesh"), little-endian:
 //   0 "STCOARSE", 8 u32 layout 1, 12 u32 vertices, 16 u32 triangles, 20 f32 lo[3], 32 f32 extent[3],

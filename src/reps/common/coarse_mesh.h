@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace standin::reps {
 
@@ -22,6 +23,20 @@ namespace standin::reps {
 // model (meshoptimizer's error estimate), the simplification stops where it would exceed it
 // instead, keeping more triangles (at most all of them); 0: the ratio alone decides.
 Mesh make_coarse_mesh(const Mesh& mesh, float ratio, bool lock_borders = false, float max_error = 0.0f);
+
+// Coarser levels of a coarse mesh, for instances small on screen (issue #17: in a crowd of 1,000
+// copies of a 252k-face head the coarse mesh of the few near instances, 25k triangles each over a
+// few thousand pixels, took a third of the frame): each level about a quarter of the triangles of
+// the one before (meshopt_simplify on the position-welded topology, borders locked: a sheet's
+// outline stays where it is), down to k_min_coarse_triangles / 4 or where simplification stalls.
+// `indices` gets the mesh's own indices (level 0) followed by each level's; `error` is how far (model
+// units) a level may stray from the mesh, meshoptimizer's estimates summed down the levels.
+// Deterministic.
+struct CoarseLevel {
+    std::uint32_t first_index = 0, index_count = 0;
+    float error = 0.0f;
+};
+std::vector<CoarseLevel> coarse_mesh_levels(const Mesh& coarse, std::vector<std::uint32_t>& indices);
 
 // Small models keep enough triangles to stay closed: 10% of a 12-triangle box is one triangle,
 // which fills no hole at all.

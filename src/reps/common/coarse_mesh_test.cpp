@@ -157,6 +157,48 @@ TEST(CoarseMesh, ClosedSurfacesStayClosedAndWoundOutward)
     }
 }
 
+// The coarse mesh's levels for small instances (issue #17): level 0 is the mesh itself, each later
+// one at most 4/5 of the triangles before it, all on the mesh's vertices, closed where the mesh is,
+// and with an error that grows down the levels and bounds how far the enclosed volume moves (a
+// surface within e of the mesh encloses a volume within area x e of its own).
+TEST(CoarseMesh, LevelsHaveFewerTrianglesWithinTheirError)
+{
+    const Mesh coarse = coarse_of_noisy_sphere();
+    std::vector<std::uint32_t> indices;
+    const std::vector<CoarseLevel> levels = coarse_mesh_levels(coarse, indices);
+    ASSERT_GE(levels.size(), 3u) << coarse.triangle_count() << " triangles";
+    EXPECT_EQ(levels[0].first_index, 0u);
+    EXPECT_EQ(levels[0].index_count, coarse.indices.size());
+    EXPECT_EQ(levels[0].error, 0.0f);
+    EXPECT_TRUE(std::equal(coarse.indices.begin(), coarse.indices.end(), indices.begin()));
+    for (std::uint32_t i : indices) ASSERT_LT(i, coarse.vertex_count());
+    auto volume_and_area = [&](const CoarseLevel& level) {
+        double v = 0.0, a = 0.0;
+        for (std::uint32_t t = level.first_index; t < level.first_index + level.index_count; t += 3) {
+            glm::dvec3 p = coarse.positions[indices[t]], q = coarse.positions[indices[t + 1]], r = coarse.positions[indices[t + 2]];
+            v += glm::dot(p, glm::cross(q, r)) / 6.0;
+            a += 0.5 * glm::length(glm::cross(q - p, r - p));
+        }
+        return std::pair<double, double>(v, a);
+    };
+    const auto [volume, area] = volume_and_area(levels[0]);
+    for (std::size_t k = 1; k < levels.size(); ++k) {
+        SCOPED_TRACE("level " + std::to_string(k));
+        EXPECT_EQ(levels[k].first_index, levels[k - 1].first_index + levels[k - 1].index_count);
+        EXPECT_EQ(levels[k].index_count % 3, 0u);
+        EXPECT_LE(double(levels[k].index_count), 0.8 * double(levels[k - 1].index_count));
+        EXPECT_GE(levels[k].index_count, 3 * (k_min_coarse_triangles / 4) / 4);
+        EXPECT_GT(levels[k].error, levels[k - 1].error);
+        EXPECT_LE(std::abs(volume_and_area(levels[k]).first - volume), area * double(levels[k].error) + 1e-9);
+    }
+    EXPECT_EQ(indices.size(), std::size_t(levels.back().first_index + levels.back().index_count));
+
+    // too few triangles for a level: the mesh alone
+    const Mesh small = make_coarse_mesh(test::generated(GeneratedShape::sphere, 200), 1.0f);
+    std::vector<std::uint32_t> small_indices;
+    EXPECT_EQ(coarse_mesh_levels(small, small_indices).size(), 1u) << small.triangle_count() << " triangles";
+}
+
 TEST(CoarseMeshFile, RoundTripKeepsEveryTriangle)
 {
     Mesh mesh = coarse_of_noisy_sphere();

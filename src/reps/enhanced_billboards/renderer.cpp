@@ -48,6 +48,7 @@
 #include "reps/enhanced_billboards/billboards.h"
 #include "reps/enhanced_billboards/hidden_proxies.h"
 #include "reps/common/block_compress.h"
+#include "reps/common/coarse_mesh.h"
 #include "reps/common/depth_batches.h"
 #include "reps/common/package_cast.h"
 #include <standin/log.h>
@@ -132,6 +133,11 @@ constexpr float k_min_tile_pixels = 6.0f;
 // together (1000 copies of a 235k-face model on llvmpipe: 13.3 s with it at r >= 16 px, 2.8 s
 // without; 7.0 s at r >= 32 px).
 constexpr float k_min_coarse_radius_pixels = 40.0f;
+// Those instances draw the coarsest level of the coarse mesh (reps::coarse_mesh_levels) that lies
+// within this many pixels of the coarse mesh: it fills the same holes, with a quarter of the
+// triangles a level (1000 copies of a 252k-face head at 800x600 on llvmpipe: 25k triangles on each
+// of the near instances took a third of the frame; docs/RESULTS.md).
+constexpr float k_coarse_level_pixels = 0.5f;
 // march.frag's level of detail ends the walk at pyramid nodes no wider than half a pixel, from 4
 // texels per pixel (pixel_level >= 1): an instance that cannot reach that anywhere on screen is
 // drawn by the program without it (MARCH_LOD 0), whose loop is shorter (the contact test's code,
@@ -346,7 +352,7 @@ private:
     std::vector<std::size_t> front_batch_ends(const DrawParams& params);
     double box_overdraw(std::span<const DrawEntry> entries) const; // k_box_batch_overdraw
     std::vector<glm::ivec4> batch_rects_; // front_batch_ends: each batch's instances on screen
-    GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1;
+    GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1, coarse_first_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_, color_mips_;
     gpu::Texture orm_maps_, emission_maps_; // only for packages with PBR maps (issue #14)
@@ -366,6 +372,9 @@ private:
     std::size_t draw_list_capacity_ = 0;
     std::vector<DrawEntry> front_entries_, inside_entries_, draw_entries_; // the passes' proxies; both, as drawn
     std::vector<std::uint32_t> coarse_instances_; // instances that get the coarse mesh this frame
+    std::vector<std::uint8_t> coarse_instance_levels_; // and the level of the coarse mesh each gets
+    std::vector<reps::CoarseLevel> coarse_levels_;     // the coarse mesh and its coarser levels (--coarse-lod)
+    bool coarse_lod_ = true;
     gpu::Buffer coarse_list_;
     std::size_t coarse_list_capacity_ = 0;
     std::vector<std::pair<float, std::uint32_t>> sort_keys_;
@@ -461,6 +470,8 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->hide_back_hits_ = package.settings.back_hits == "hide";
     renderer->one_closed_surface_ = package.one_closed_surface;
     renderer->fill_near_misses_only_ = options.choice("coarse-fill") == "near-misses";
+    // (near misses are filled by the mesh the bake made: its rims first, drawn apart)
+    renderer->coarse_lod_ = options.choice("coarse-lod") == "on" && !renderer->fill_near_misses_only_;
     // "proxies" is the shaded picture with the box lines drawn over it
     bool proxies = settings.debug_view == DebugView::proxies;
     renderer->debug_view_ = proxies ? DEBUG_VIEW_NONE : int(settings.debug_view);
@@ -473,6 +484,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->coarse_ = std::move(*coarse);
     renderer->coarse_near_only_at_ = renderer->coarse_.uniform("fill_near_misses_only");
     renderer->coarse_debug_at_ = renderer->coarse_.uniform("debug_view");
+    renderer->coarse_first_at_ = renderer->coarse_.uniform("first_coarse");
     if (proxies) {
         Result<gpu::Program> lines = gpu::Program::create(
             {"reps/enhanced_billboards/shaders/boxes.vert", "reps/enhanced_billboards/shaders/boxes.frag"});
@@ -735,8 +747,16 @@ void BillboardRenderer::upload_coarse_mesh(const Mesh& mesh, bool rims)
 {
     Mesh ordered = rims ? mesh : Mesh{};
     coarse_rim_index_count_ = rims ? GLsizei(rims_first(ordered)) : 0;
-    coarse_mesh_ = gpu::MeshBuffers::upload(coarse_rim_index_count_ > 0 ? ordered : mesh);
-    coarse_index_count_ = coarse_mesh_.index_count();
+    const Mesh& drawn = coarse_rim_index_count_ > 0 ? ordered : mesh;
+    std::vector<std::uint32_t> indices;
+    if (coarse_lod_) {
+        coarse_levels_ = reps::coarse_mesh_levels(drawn, indices);
+    } else {
+        indices = drawn.indices;
+        coarse_levels_ = {{0, std::uint32_t(indices.size()), 0.0f}};
+    }
+    coarse_mesh_ = gpu::MeshBuffers::upload(drawn, indices);
+    coarse_index_count_ = GLsizei(coarse_levels_[0].index_count);
 }
 
 // The twelve edges of every billboard's whole box, in object space: corner bits (u, v, depth) pick
@@ -1008,6 +1028,7 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
     };
     std::vector<Visible> visible;
     coarse_instances_.clear();
+    coarse_instance_levels_.clear();
     lod_instances_.assign(transforms.size(), 0);
     for (std::size_t i = 0; i < transforms.size(); ++i) {
         const glm::mat4& m = transforms[i];
@@ -1043,7 +1064,17 @@ std::array<GLsizei, 2> BillboardRenderer::build_draw_list(const DrawParams& para
         const float texels_per_pixel = far_distance / (pixels_per_unit_at_1 * smallest_texel_ * std::max(smallest_scale, 1e-30f));
         if (!(texels_per_pixel < k_lod_texels_per_pixel)) lod_instances_[i] = 1;
         float radius_pixels = radius * pixels_per_unit_at_1 / (camera.orthographic ? 1.0f : std::max(depth, camera.near_plane));
-        if (inside || radius_pixels >= k_min_coarse_radius_pixels) coarse_instances_.push_back(std::uint32_t(i));
+        if (inside || radius_pixels >= k_min_coarse_radius_pixels) {
+            // the coarsest level that strays under half a pixel from the coarse mesh at the
+            // instance's nearest point (--coarse-lod)
+            std::size_t level = 0;
+            const float pixels_per_unit = pixels_per_unit_at_1 / (camera.orthographic ? 1.0f : std::max(depth - radius, camera.near_plane));
+            while (!inside && level + 1 < coarse_levels_.size() &&
+                   coarse_levels_[level + 1].error * scale * pixels_per_unit <= k_coarse_level_pixels)
+                ++level;
+            coarse_instances_.push_back(std::uint32_t(i));
+            coarse_instance_levels_.push_back(std::uint8_t(level));
+        }
     }
     std::sort(visible.begin(), visible.end(),
               [](const Visible& a, const Visible& b) { return a.depth < b.depth || (a.depth == b.depth && a.instance < b.instance); });
@@ -1243,6 +1274,19 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
     if (coarse && billboard_count_ == 0) {
         coarse_instances_.resize(std::size_t(instances));
         for (std::size_t i = 0; i < coarse_instances_.size(); ++i) coarse_instances_[i] = std::uint32_t(i);
+        coarse_instance_levels_.assign(coarse_instances_.size(), 0);
+    }
+    // the instances by level, each level's a run of the list (a stable order: the same at every run)
+    std::vector<std::size_t> level_ends;
+    if (coarse && !coarse_instances_.empty()) {
+        std::vector<std::uint32_t> by_level;
+        by_level.reserve(coarse_instances_.size());
+        for (std::size_t level = 0; level < coarse_levels_.size(); ++level) {
+            for (std::size_t k = 0; k < coarse_instances_.size(); ++k)
+                if (coarse_instance_levels_[k] == level) by_level.push_back(coarse_instances_[k]);
+            level_ends.push_back(by_level.size());
+        }
+        coarse_instances_ = std::move(by_level);
     }
     if (coarse && !coarse_instances_.empty()) {
         if (coarse_instances_.size() > coarse_list_capacity_ || !coarse_list_) {
@@ -1267,6 +1311,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
             glFrontFace(GL_CCW);
         }
         GLsizei coarse_count = GLsizei(coarse_instances_.size());
+        glProgramUniform1i(coarse_.id(), coarse_first_at_, 0);
         if (coarse_rim_index_count_ > 0 && fill_near_misses_only_) {
             // sheet rims (rims_first): without the near-miss test
             glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 0);
@@ -1274,11 +1319,24 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
             glProgramUniform1i(coarse_.id(), coarse_near_only_at_, 1);
             stats.draw_calls += 1;
         }
-        GLsizei first = fill_near_misses_only_ ? coarse_rim_index_count_ : 0;
-        glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_ - first, GL_UNSIGNED_INT,
-                                reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)), coarse_count);
-        stats.draw_calls += 1;
-        stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
+        if (fill_near_misses_only_) {
+            const GLsizei first = coarse_rim_index_count_;
+            glDrawElementsInstanced(GL_TRIANGLES, coarse_index_count_ - first, GL_UNSIGNED_INT,
+                                    reinterpret_cast<const void*>(std::uintptr_t(first) * sizeof(std::uint32_t)), coarse_count);
+            stats.draw_calls += 1;
+            stats.primitives += std::uint64_t(coarse_index_count_ / 3) * std::uint64_t(coarse_count);
+        } else {
+            for (std::size_t level = 0, begin = 0; level < level_ends.size(); begin = level_ends[level++]) {
+                const GLsizei count = GLsizei(level_ends[level] - begin);
+                if (count == 0) continue;
+                const reps::CoarseLevel& at = coarse_levels_[level];
+                glProgramUniform1i(coarse_.id(), coarse_first_at_, GLint(begin));
+                glDrawElementsInstanced(GL_TRIANGLES, GLsizei(at.index_count), GL_UNSIGNED_INT,
+                                        reinterpret_cast<const void*>(std::uintptr_t(at.first_index) * sizeof(std::uint32_t)), count);
+                stats.draw_calls += 1;
+                stats.primitives += std::uint64_t(at.index_count / 3) * std::uint64_t(count);
+            }
+        }
         glDisable(GL_CULL_FACE);
     }
 

@@ -389,6 +389,60 @@ TEST(BillboardRenderer, DepthBatchesKeepThePictureWithFewerFragments)
     }
 }
 
+// Keeps the statistics of the last draw of another renderer.
+class Recording final : public Renderer {
+public:
+    explicit Recording(Renderer& inner) : inner_(inner) {}
+    DrawStats draw(const DrawParams& params) override { return stats = inner_.draw(params); }
+    DrawStats stats;
+
+private:
+    Renderer& inner_;
+};
+
+// One frame of `package` with render option `name` set to `value` (counting on): the picture, the
+// march's fragments and the primitives drawn. An empty picture where the renderer fails.
+struct OptionFrame {
+    RenderedImage image;
+    std::uint64_t fragments = 0, primitives = 0;
+};
+OptionFrame render_with_option(const Package& package, const char* name, const char* value, const Camera& camera,
+                               const std::vector<glm::mat4>& instances = {}, int width = k_width, int height = k_height)
+{
+    OptionFrame frame;
+    RenderOptions options;
+    options.values.set(name, value);
+    auto renderer = make_package_renderer(package, options);
+    if (!renderer) {
+        ADD_FAILURE() << renderer.status().message();
+        return frame;
+    }
+    (*renderer)->set_counting(true);
+    Recording recording(**renderer);
+    auto image = render_offscreen(recording, camera, default_light(camera), width, height, instances);
+    if (!image) {
+        ADD_FAILURE() << image.status().message();
+        return frame;
+    }
+    frame.image = std::move(*image);
+    frame.fragments = (*renderer)->read_counter(Counter::fragments);
+    frame.primitives = recording.stats.primitives;
+    return frame;
+}
+
+// Covered pixels of `a`, and pixels where a channel of `b` differs from `a`'s by more than 8.
+std::pair<std::size_t, std::size_t> covered_and_differing(const RenderedImage& a, const RenderedImage& b)
+{
+    std::size_t covered = 0, differ = 0;
+    for (std::size_t i = 0; i < a.color.pixels.size(); i += 4) {
+        covered += a.color.pixels[i + 3] > 0;
+        int most = 0;
+        for (std::size_t c = 0; c < 4; ++c) most = std::max(most, std::abs(int(a.color.pixels[i + c]) - int(b.color.pixels[i + c])));
+        differ += most > 8;
+    }
+    return {covered, differ};
+}
+
 // One stand-in whose boxes lie deep behind each other (nested closed parts) is drawn in batches of
 // its boxes on a software rasteriser (renderer.cpp, k_box_batch_overdraw): the same picture and
 // depth, byte for byte, with far fewer fragments shaded (measured: 115,572 -> 35,028 and 110,287 ->
@@ -409,15 +463,9 @@ TEST(BillboardRenderer, BoxBatchesKeepANestedAssemblysPictureWithFewerFragments)
         std::uint64_t fragments[2] = {0, 0};
         std::vector<RenderedImage> images;
         for (const char* batches : {"off", "auto"}) {
-            RenderOptions options;
-            options.values.set("depth-batches", batches);
-            auto renderer = make_package_renderer(*package, options);
-            ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
-            (*renderer)->set_counting(true);
-            auto image = render_offscreen(**renderer, camera, default_light(camera), k_width, k_height);
-            ASSERT_TRUE(image.is_ok()) << image.status().message();
-            fragments[images.size()] = (*renderer)->read_counter(Counter::fragments);
-            images.push_back(std::move(*image));
+            OptionFrame frame = render_with_option(*package, "depth-batches", batches, camera);
+            fragments[images.size()] = frame.fragments;
+            images.push_back(std::move(frame.image));
         }
         std::size_t covered = 0;
         for (std::size_t i = 3; i < images[0].color.pixels.size(); i += 4) covered += images[0].color.pixels[i] > 0;
@@ -486,25 +534,13 @@ TEST(BillboardRenderer, HiddenProxiesLeftOutKeepANestedAssemblysPicture)
         std::uint64_t fragments[2] = {0, 0};
         std::vector<RenderedImage> images;
         for (const char* cull : {"off", "on"}) {
-            RenderOptions options;
-            options.values.set("cull-hidden-proxies", cull);
-            auto renderer = make_package_renderer(*package, options);
-            ASSERT_TRUE(renderer.is_ok()) << renderer.status().message();
-            (*renderer)->set_counting(true);
-            auto image = render_offscreen(**renderer, view.camera, default_light(view.camera), k_width, k_height, view.instances);
-            ASSERT_TRUE(image.is_ok()) << image.status().message();
-            fragments[images.size()] = (*renderer)->read_counter(Counter::fragments);
-            images.push_back(std::move(*image));
+            OptionFrame frame = render_with_option(*package, "cull-hidden-proxies", cull, view.camera, view.instances);
+            fragments[images.size()] = frame.fragments;
+            images.push_back(std::move(frame.image));
         }
-        std::size_t covered = 0, differ = 0;
+        const auto [covered, differ] = covered_and_differing(images[0], images[1]);
         const std::vector<std::uint8_t>& a = images[0].color.pixels;
         const std::vector<std::uint8_t>& b = images[1].color.pixels;
-        for (std::size_t i = 0; i < a.size(); i += 4) {
-            covered += a[i + 3] > 0;
-            int most = 0;
-            for (int ch = 0; ch < 4; ++ch) most = std::max(most, std::abs(int(a[i + std::size_t(ch)]) - int(b[i + std::size_t(ch)])));
-            differ += most > 8;
-        }
         std::printf("[ hidden proxies ] %s: %zu covered pixels, %zu differ; fragments %llu -> %llu\n", view.name, covered,
                     differ, (unsigned long long)fragments[0], (unsigned long long)fragments[1]);
         EXPECT_GT(covered, 2000u);
@@ -679,16 +715,6 @@ TEST(BillboardRenderer, CoarseMeshFillsSurfacesNoBillboardCaptured)
     EXPECT_EQ(near_misses.spill, 0u);
 }
 
-// Keeps the statistics of the last draw of another renderer.
-class Recording final : public Renderer {
-public:
-    explicit Recording(Renderer& inner) : inner_(inner) {}
-    DrawStats draw(const DrawParams& params) override { return stats = inner_.draw(params); }
-    DrawStats stats;
-
-private:
-    Renderer& inner_;
-};
 
 TEST(BillboardRenderer, InstancesDrawInFewCallsWhereTheirTransformsPutThem)
 {
@@ -1010,6 +1036,45 @@ TEST(BillboardRenderer, CoarseMeshIsDrawnOnlyOnInstancesLargeEnoughToShowHoles)
     EXPECT_GT(one, coarse_triangles) << "the near instance gets its coarse mesh";
     EXPECT_GT(two, one) << "the far instance's billboards are drawn";
     EXPECT_LT(two - one, coarse_triangles) << "but not its coarse mesh";
+}
+
+// --coarse-lod: instances from 40 px in radius get the coarse mesh, the smaller ones a coarser level
+// of it (reps::coarse_mesh_levels) within half a pixel: fewer triangles, the same picture but for a
+// few pixels of the outline where a level's chords cross a pixel centre the mesh's did not.
+TEST(BillboardRenderer, CoarseMeshLevelsOnSmallInstancesKeepThePicture)
+{
+    test::gpu_context();
+    const Mesh mesh = test::generated(GeneratedShape::noisy_sphere, 20000);
+    std::unique_ptr<Package> package = test::bake(mesh, "enhanced-billboards", {});
+    ASSERT_TRUE(package);
+    const BoundingSphere sphere = mesh.bounding_sphere();
+    // copies from 150 px in radius down to 45 px at 800 x 600, fov 40 (bounding spheres): radius,
+    // centre in pixels from the middle of the picture, y up
+    const float pixels_at_1 = 600.0f / (2.0f * std::tan(glm::radians(20.0f)));
+    const glm::vec3 copies[] = {{150, -200, 130}, {100, 200, 150}, {70, -300, -200}, {55, -100, -200}, {45, 100, -200}, {45, 300, -200}};
+    std::vector<glm::mat4> row;
+    for (const glm::vec3& copy : copies) {
+        const float distance = sphere.radius * pixels_at_1 / copy.x;
+        const glm::vec3 at(copy.y * distance / pixels_at_1, copy.z * distance / pixels_at_1, -distance);
+        row.push_back(glm::translate(glm::mat4(1.0f), at - sphere.center));
+    }
+    const Camera camera = look_at_camera({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40.0f, 800.0f / 600.0f, 0.01f * sphere.radius,
+                                         100.0f * sphere.radius);
+    std::uint64_t primitives[2] = {0, 0};
+    std::vector<RenderedImage> images;
+    for (const char* lod : {"off", "on"}) {
+        OptionFrame frame = render_with_option(*package, "coarse-lod", lod, camera, row, 800, 600);
+        primitives[images.size()] = frame.primitives;
+        images.push_back(std::move(frame.image));
+    }
+    const auto [covered, differ] = covered_and_differing(images[0], images[1]);
+    std::printf("[ coarse levels ] %zu covered pixels, %zu differ; primitives %llu -> %llu\n", covered, differ,
+                (unsigned long long)primitives[0], (unsigned long long)primitives[1]);
+    EXPECT_GT(covered, 30000u); // (the bounding sphere is the box's: the surface fills a third of its disc)
+    EXPECT_LE(double(differ), 0.001 * double(covered));
+    // at least the two smallest copies draw a level of at most half the coarse mesh's triangles
+    const std::uint64_t coarse = dynamic_cast<const EnhancedBillboardsPackage&>(*package).coarse_mesh.triangle_count();
+    EXPECT_GE(primitives[0], primitives[1] + coarse);
 }
 
 // march.frag's billboard_color() (the "billboard" and "boxes" debug views), in 8-bit codes

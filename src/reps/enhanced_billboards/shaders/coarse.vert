@@ -7,6 +7,7 @@
 layout(std430, binding = BINDING_COARSE_LIST_SSBO) readonly buffer CoarseListBlock {
     uint instance_index[];
 } coarse_list;
+uniform int first_coarse; // this draw's run of the list: one level of the coarse mesh (renderer.cpp)
 
 layout(location = ATTRIB_POSITION) in vec3 position_object;
 layout(location = ATTRIB_NORMAL) in vec3 normal_object;
@@ -18,7 +19,7 @@ out vec4 v_color;
 
 void main()
 {
-    mat4 world_from_object = instances.world_from_object[coarse_list.instance_index[gl_InstanceID]];
+    mat4 world_from_object = instances.world_from_object[coarse_list.instance_index[first_coarse + gl_InstanceID]];
     vec4 world = world_from_object * vec4(position_object, 1.0);
     v_position_world = world.xyz;
     v_normal_world = mat3(world_from_object) * normal_object;
