@@ -29,7 +29,8 @@
 //  4. Cut boxes (cut_box): a coarse tile's or a whole billboard's box, which small instances draw,
 //     spans every texel it holds, though from one cell only some of its fine tiles show (of a
 //     closed surface, those facing the eye; of an assembly, the outer parts); cut to the fine tiles
-//     visible from the cell, it holds every nearest hit the whole box held, with fewer fragments.
+//     visible from the cell, it holds every nearest hit the whole box held, with fewer fragments;
+//     a whole box whose visible tiles lie apart becomes a box per quadrant of them.
 #pragma once
 
 #include "reps/enhanced_billboards/acceleration.h"
@@ -37,6 +38,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -71,14 +73,16 @@ public:
     bool may_show(std::size_t k, glm::vec3 direction);
 
     // Step 4: the box of coarse tile or whole billboard k cut to its fine tiles visible from cell
-    // `cell` (cell_index): a texel rectangle and a range of z about the proxy's own plane (the
+    // `cell` (cell_index): texel rectangles and ranges of z about the proxy's own plane (the
     // coarse tile's slope; 0 for a whole billboard, whose z is depth in [0, 1]), within the proxy's
-    // own box. False where the cut would keep nearly all of the box, or k is a fine tile.
+    // own box. Returns how many boxes `parts` holds: 1 for one cut box; 2 to 4 for a whole box
+    // whose visible tiles lie apart, one per quadrant of their rectangle that holds some; 0 where
+    // the cut would keep nearly all of the box, or k is a fine tile.
     struct Cut {
         glm::ivec2 texel_min{0}, texel_max{0};
         float offset_min = 0.0f, offset_max = 0.0f;
     };
-    bool cut_box(std::size_t k, std::size_t cell, Cut& cut);
+    int cut_box(std::size_t k, std::size_t cell, std::array<Cut, 4>& parts);
     static std::size_t cell_index(glm::vec3 direction)
     {
         const glm::ivec2 c = cell_of(direction);

@@ -1,12 +1,13 @@
 // Hidden proxies by view direction (hidden_proxies.h): a plate in front of a smaller one hides it
 // from the front and not from the side or the back; outlines and back-facing texels hide nothing
-// where they should not; coarse and whole boxes are cut to what shows; directions fall in
-// octahedral cells that cover the sphere.
+// where they should not; coarse and whole boxes are cut to what shows, whole boxes of parts
+// apart split; directions fall in octahedral cells that cover the sphere.
 #include "reps/enhanced_billboards/hidden_proxies.h"
 #include "reps/common/surface_image.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -137,7 +138,7 @@ TEST(HiddenProxies, WhatLiesBesideAnOutlineIsKept)
 // z = 60, and a second billboard's plate at z = 50 over x >= 16 (reaching past the first's outline,
 // which would show what lies behind it): from the cell around +z only the near half of the first
 // shows, so its coarse tile and its whole box are cut to that half (rectangle and depth); from the
-// side every tile shows and nothing is cut.
+// side every tile shows and the whole box's parts span all of it.
 TEST(HiddenProxies, BoxesAreCutToTheFineTilesThatShow)
 {
     Billboard two = plate(8, 56, 20.0f);
@@ -154,23 +155,52 @@ TEST(HiddenProxies, BoxesAreCutToTheFineTilesThatShow)
     ASSERT_EQ(built.hidden.proxy_count(), whole_front + 1);
 
     const std::size_t from_front = HiddenProxies::cell_index({0, 0, 1});
+    std::array<HiddenProxies::Cut, 4> parts;
     for (std::size_t k : {coarse_two, whole_two}) {
         SCOPED_TRACE(k == coarse_two ? "coarse tile" : "whole box");
-        HiddenProxies::Cut cut;
-        ASSERT_TRUE(built.hidden.cut_box(k, from_front, cut));
-        EXPECT_EQ(cut.texel_min, glm::ivec2(8, 8));
-        EXPECT_EQ(cut.texel_max, glm::ivec2(32, 56));
+        ASSERT_EQ(built.hidden.cut_box(k, from_front, parts), 1);
+        EXPECT_EQ(parts[0].texel_min, glm::ivec2(8, 8));
+        EXPECT_EQ(parts[0].texel_max, glm::ivec2(32, 56));
         // (the coarse tile's plane may be tilted: its z about the plane is not the depth)
         if (k == whole_two) {
-            EXPECT_NEAR(cut.offset_min, 0.2f, 0.02f);
-            EXPECT_NEAR(cut.offset_max, 0.2f, 0.02f);
+            EXPECT_NEAR(parts[0].offset_min, 0.2f, 0.02f);
+            EXPECT_NEAR(parts[0].offset_max, 0.2f, 0.02f);
         }
     }
     // the plate in front shows wholly: nothing to cut
-    HiddenProxies::Cut cut;
-    EXPECT_FALSE(built.hidden.cut_box(whole_front, from_front, cut));
-    EXPECT_FALSE(built.hidden.cut_box(whole_two, HiddenProxies::cell_index({1, 0, 0.02f}), cut));
-    EXPECT_FALSE(built.hidden.cut_box(0, from_front, cut)) << "fine tiles are not cut";
+    EXPECT_EQ(built.hidden.cut_box(whole_front, from_front, parts), 0);
+    // from the side every tile shows: the whole box's parts (its near and far halves lie apart in
+    // depth) span its whole rectangle
+    const int side = built.hidden.cut_box(whole_two, HiddenProxies::cell_index({1, 0, 0.02f}), parts);
+    glm::ivec2 lo(1 << 20), hi(-(1 << 20));
+    for (int p = 0; p < side; ++p) lo = glm::min(lo, parts[std::size_t(p)].texel_min), hi = glm::max(hi, parts[std::size_t(p)].texel_max);
+    EXPECT_GE(side, 2);
+    EXPECT_EQ(lo, glm::ivec2(8, 8));
+    EXPECT_EQ(hi, glm::ivec2(56, 56));
+    EXPECT_EQ(built.hidden.cut_box(0, from_front, parts), 0) << "fine tiles are not cut";
+}
+
+// A billboard whose texels are two patches at opposite corners (texels 0-15 and 48-63 along both
+// axes): nothing hides them, so one cut box would be the whole box; two boxes, one a patch, hold
+// them in an eighth of its volume.
+TEST(HiddenProxies, AWholeBoxOfPartsApartIsDrawnAsOneBoxAPart)
+{
+    Billboard patches = plate(0, 64, 20.0f);
+    for (int j = 0; j < k_side; ++j)
+        for (int i = 0; i < k_side; ++i)
+            if (!((i < 16 && j < 16) || (i >= 48 && j >= 48))) patches.color.at(i, j)[3] = 0;
+    std::vector<Billboard> billboards = {patches};
+    Built built;
+    build(built, billboards, false);
+    ASSERT_EQ(built.fine_count, 2u);
+    std::array<HiddenProxies::Cut, 4> parts;
+    ASSERT_EQ(built.hidden.cut_box(built.fine_count + 1, HiddenProxies::cell_index({0, 0, 1}), parts), 2);
+    EXPECT_EQ(parts[0].texel_min, glm::ivec2(0, 0));
+    EXPECT_EQ(parts[0].texel_max, glm::ivec2(16, 16));
+    EXPECT_EQ(parts[1].texel_min, glm::ivec2(48, 48));
+    EXPECT_EQ(parts[1].texel_max, glm::ivec2(64, 64));
+    EXPECT_EQ(built.hidden.cut_box(built.fine_count, HiddenProxies::cell_index({0, 0, 1}), parts), 0)
+        << "a coarse tile is cut, never split";
 }
 
 TEST(HiddenProxies, DirectionsFallInCellsCoveringTheSphere)

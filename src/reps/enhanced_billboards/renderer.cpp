@@ -67,6 +67,7 @@
 #include <cstdint>
 #include <cstring>
 #include <numbers>
+#include <tuple>
 #include <span>
 
 namespace standin::billboards {
@@ -325,10 +326,14 @@ private:
     bool cull_back_proxies_ = false; // proxies that can hold only back hits are not drawn (--cull-back-proxies)
     bool cull_hidden_proxies_ = true; // proxies hidden from the eye's cell of directions are not drawn (--cull-hidden-proxies)
     HiddenProxies hidden_;
-    // cut boxes (HiddenProxies::cut_box) by cell: for each coarse and whole proxy, the proxy to draw
-    // in its place (itself where not cut); computed on a cell's first need, appended to tile_boxes_
-    std::vector<std::vector<std::uint32_t>> cut_proxies_;
-    std::uint32_t cut_proxy(std::size_t k, std::size_t cell);
+    // cut boxes (HiddenProxies::cut_box) by cell: for each coarse and whole proxy, the proxies to draw
+    // in its place, [first, first + count) (itself where count is 0); computed on a cell's first
+    // need, appended to proxies_ and tile_boxes_
+    struct CutProxies {
+        std::uint32_t first = 0, count = 0;
+    };
+    std::vector<std::vector<CutProxies>> cut_proxies_;
+    CutProxies cut_proxy(std::size_t k, std::size_t cell);
     std::vector<TileGpu> tile_boxes_; // every proxy's box as tiles_ holds it (cut ones appended)
     std::size_t tiles_uploaded_ = 0, tiles_capacity_ = 0;
     void upload_cut_boxes();
@@ -377,7 +382,9 @@ private:
     bool coarse_lod_ = true;
     gpu::Buffer coarse_list_;
     std::size_t coarse_list_capacity_ = 0;
-    std::vector<std::pair<float, std::uint32_t>> sort_keys_;
+    // append_proxies: (key, proxy, the proxy drawn: a cut box's index depends on when its cell was
+    // first used, so ties go by the proxy's own and then by the part's place among its parts)
+    std::vector<std::tuple<float, std::uint32_t, std::uint32_t, std::uint32_t>> sort_keys_;
     gpu::VertexArray empty_vertex_array_;
     gpu::MeshBuffers coarse_mesh_;
     GLsizei coarse_index_count_ = 0;
@@ -917,7 +924,7 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         const ProxyInfo& p = proxies_[k];
         if (cull && faces_away(p, cull->orthographic ? cull->eye_object : cull->eye_object - p.centre_object, cull->orthographic))
             continue;
-        std::uint32_t drawn = std::uint32_t(k);
+        CutProxies drawn{std::uint32_t(k), 0};
         if (hidden) {
             const glm::vec3 direction = hidden->orthographic ? -hidden->eye_object : p.centre_object - hidden->eye_object;
             if (!hidden_.may_show(k, direction)) {
@@ -928,16 +935,19 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
             // proxies_: p is read again below)
             if (k >= fine_count_) {
                 drawn = cut_proxy(k, HiddenProxies::cell_index(direction));
-                hidden_area_ += double(proxies_[k].mean_area - proxies_[drawn].mean_area);
+                hidden_area_ += double(proxies_[k].mean_area);
+                if (drawn.count == 0) drawn = {std::uint32_t(k), 1};
+                for (std::uint32_t part = 0; part < drawn.count; ++part) hidden_area_ -= double(proxies_[drawn.first + part].mean_area);
             }
         }
         const ProxyInfo& kept = proxies_[k];
         bool facing = glm::dot(billboard_directions_[std::size_t(kept.billboard)], forward_object) > 0.0f;
         float key = glm::dot(kept.centre_object - bound_centre_, forward_object) + (facing ? 0.0f : 4.0f * bound_radius_);
-        sort_keys_.push_back({key, drawn});
+        if (drawn.count == 0) drawn.count = 1;
+        for (std::uint32_t part = 0; part < drawn.count; ++part) sort_keys_.push_back({key, std::uint32_t(k), part, drawn.first + part});
     }
     std::sort(sort_keys_.begin(), sort_keys_.end());
-    for (const auto& [key, tile] : sort_keys_) {
+    for (const auto& [key, own, part, tile] : sort_keys_) {
         bool crosses = false;
         if (near) {
             const ProxyInfo& p = proxies_[tile];
@@ -948,35 +958,37 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
     }
 }
 
-// The proxy drawn for coarse tile or whole box k seen from `cell`: its box cut to the fine tiles that
-// show from there (HiddenProxies::cut_box), appended on the cell's first need; k itself where not cut.
-std::uint32_t BillboardRenderer::cut_proxy(std::size_t k, std::size_t cell)
+// The proxies drawn for coarse tile or whole box k seen from `cell`: its box cut to the fine tiles
+// that show from there, or a whole box's parts (HiddenProxies::cut_box), appended on the cell's first
+// need; a count of 0 where k itself is drawn.
+BillboardRenderer::CutProxies BillboardRenderer::cut_proxy(std::size_t k, std::size_t cell)
 {
-    std::vector<std::uint32_t>& drawn = cut_proxies_[cell];
+    std::vector<CutProxies>& drawn = cut_proxies_[cell];
     if (drawn.empty()) {
         drawn.resize(whole_end_ - fine_count_);
         for (std::size_t q = fine_count_; q < whole_end_; ++q) {
-            drawn[q - fine_count_] = std::uint32_t(q);
-            HiddenProxies::Cut cut;
-            if (!hidden_.cut_box(q, cell, cut)) continue;
-            const TileGpu& own = tile_boxes_[q];
-            TileGpu box = own;
-            // (the cut lies within the box but for rounding: keep it there, with the margin the box has)
-            box.box_min = glm::vec4(glm::max(glm::vec2(own.box_min), glm::vec2(cut.texel_min)),
-                                    std::max(own.box_min.z, cut.offset_min - k_depth_margin), own.box_min.w);
-            box.box_max = glm::vec4(glm::min(glm::vec2(own.box_max), glm::vec2(cut.texel_max)),
-                                    std::min(own.box_max.z, cut.offset_max + k_depth_margin), own.box_max.w);
-            const ProxyInfo& p = proxies_[q];
-            const glm::mat4 object_from_box = object_from_box_[std::size_t(p.billboard)];
-            ProxyInfo info = p; // (its normal cone: of the whole box, a superset)
-            const glm::vec2 centre = 0.5f * (glm::vec2(box.box_min) + glm::vec2(box.box_max));
-            const float centre_z = 0.5f * (box.box_min.z + box.box_max.z) + box.box_min.w * centre.x + box.box_max.w * centre.y;
-            info.centre_object = glm::vec3(object_from_box * glm::vec4(centre, centre_z, 1.0f));
-            info.radius = proxy_radius(object_from_box, box, info.centre_object);
-            info.mean_area = proxy_mean_area(object_from_box, box);
-            drawn[q - fine_count_] = std::uint32_t(proxies_.size());
-            proxies_.push_back(info);
-            tile_boxes_.push_back(box);
+            std::array<HiddenProxies::Cut, 4> parts;
+            const int count = hidden_.cut_box(q, cell, parts);
+            drawn[q - fine_count_] = {std::uint32_t(proxies_.size()), std::uint32_t(count)};
+            for (int part = 0; part < count; ++part) {
+                const HiddenProxies::Cut& cut = parts[std::size_t(part)];
+                const TileGpu own = tile_boxes_[q];
+                TileGpu box = own;
+                // (the cut lies within the box but for rounding: keep it there, with the margin the box has)
+                box.box_min = glm::vec4(glm::max(glm::vec2(own.box_min), glm::vec2(cut.texel_min)),
+                                        std::max(own.box_min.z, cut.offset_min - k_depth_margin), own.box_min.w);
+                box.box_max = glm::vec4(glm::min(glm::vec2(own.box_max), glm::vec2(cut.texel_max)),
+                                        std::min(own.box_max.z, cut.offset_max + k_depth_margin), own.box_max.w);
+                ProxyInfo info = proxies_[q]; // (its normal cone: of the whole box, a superset)
+                const glm::mat4 object_from_box = object_from_box_[std::size_t(info.billboard)];
+                const glm::vec2 centre = 0.5f * (glm::vec2(box.box_min) + glm::vec2(box.box_max));
+                const float centre_z = 0.5f * (box.box_min.z + box.box_max.z) + box.box_min.w * centre.x + box.box_max.w * centre.y;
+                info.centre_object = glm::vec3(object_from_box * glm::vec4(centre, centre_z, 1.0f));
+                info.radius = proxy_radius(object_from_box, box, info.centre_object);
+                info.mean_area = proxy_mean_area(object_from_box, box);
+                proxies_.push_back(info);
+                tile_boxes_.push_back(box);
+            }
         }
         upload_cut_boxes();
     }

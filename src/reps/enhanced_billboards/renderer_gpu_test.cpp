@@ -484,7 +484,7 @@ TEST(BillboardRenderer, BoxBatchesKeepANestedAssemblysPictureWithFewerFragments)
 // left out, and the coarse tiles and whole boxes of smaller instances are cut to their fine tiles
 // that show. Nested parts hide most tiles from any direction, so fewer fragments run (measured:
 // 35,028 -> 30,573 at distance 1, where box batches already stop most hidden ones; the crowd
-// 131,113 -> 78,782, 102,889 without the cut boxes; the orthographic view 96,969 -> 82,990, 92,494
+// 131,113 -> 77,719, 102,889 without the cut boxes; the orthographic view 96,969 -> 82,990, 92,494
 // without; the stretched instance 17,675 -> 13,922); the
 // picture keeps all but a few pixels (a tile seen through a gap the direction grid missed), under
 // perspective and orthographic cameras, a stretched instance (occlusion along a line survives any
