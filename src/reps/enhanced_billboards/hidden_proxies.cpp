@@ -36,7 +36,6 @@ bool in_box_layer(const SurfaceTexel& texel, const TileBox& box)
     return (texel.flags & k_texel_covered) && texel.min >= box.depth_min && texel.min <= box.depth_max;
 }
 
-
 // Cut boxes (HiddenProxies::cut_box): a rectangle and a range of z about a plane of slope `slope`
 // growing to hold fine box f, whose z about it over f's rectangle is f's own range plus the planes'
 // difference at f's corners (both planes are linear); the volume of one, 0 when empty.
