@@ -154,5 +154,35 @@ TEST(ReferenceRenderer, InstancesAreDrawnWhereTheirTransformsPutThem)
     EXPECT_EQ(image->color.at(100 + 36, 50)[3], 255) << "right instance";
 }
 
+// A single-sided closed sphere under a mirroring transform looks as it does unmirrored (a sphere is
+// its own mirror image): its front faces, whose winding the mirror turns, are the ones drawn, not
+// its inside. Culled by winding alone, the mirrored one showed the far half's inside.
+TEST(ReferenceRenderer, MirroredInstanceOfASingleSidedMeshShowsItsOutside)
+{
+    test::gpu_context();
+    Mesh sphere = unit_sphere();
+    for (Material& m : sphere.materials) m.double_sided = false;
+    auto renderer = make_mesh_renderer(sphere);
+    ASSERT_TRUE(renderer.is_ok());
+    Camera camera = look_at_camera({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.0f, 1.0f, 0.5f, 20.0f);
+    Light light = default_light(camera);
+    light.direction_to_light_world = glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f)); // in the mirror plane
+    const glm::mat4 mirror = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
+    auto plain = render_offscreen(**renderer, camera, light, 128, 128);
+    auto mirrored = render_offscreen(**renderer, camera, light, 128, 128, std::span<const glm::mat4>(&mirror, 1));
+    ASSERT_TRUE(plain.is_ok() && mirrored.is_ok());
+    EXPECT_EQ(covered_pixels(mirrored->color), covered_pixels(plain->color));
+    // the near side's depth and shading at the centre
+    EXPECT_NEAR(mirrored->depth[64 * 128 + 64], plain->depth[64 * 128 + 64], 1e-4f);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(int(mirrored->color.at(64, 64)[c]), int(plain->color.at(64, 64)[c]), 2);
+    // and a mirror alongside an unmirrored instance in one draw culls each by its own handedness
+    const std::vector<glm::mat4> both = {glm::translate(glm::mat4(1.0f), glm::vec3(-1.1f, 0, 0)),
+                                         glm::translate(glm::mat4(1.0f), glm::vec3(1.1f, 0, 0)) * mirror};
+    auto pair = render_offscreen(**renderer, camera, light, 128, 128, both);
+    ASSERT_TRUE(pair.is_ok());
+    const int left = 15, right = 127 - left; // the two centres' pixels (44 px a unit), symmetric about the image's centre
+    EXPECT_NEAR(pair->depth[64 * 128 + left], pair->depth[64 * 128 + right], 1e-4f);
+}
+
 } // namespace
 } // namespace standin

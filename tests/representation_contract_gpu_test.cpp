@@ -7,6 +7,7 @@
 //   bytes on 2 threads as none given on 1, and draw the same picture) and refused just outside its
 //   range;
 // - the silhouette matches the mesh from the 14 directions of Saraiva et al. (IoU >= 0.98);
+// - an instance that mirrors draws the mirror image, in colour and depth;
 // - it writes true depth: composited with a plane through the model, each pixel shows what the
 //   mesh composited with the same plane shows;
 // - it casts the mesh's shadow onto a ground plate;
@@ -285,6 +286,20 @@ TEST_P(RepresentationContract, SilhouetteMatchesTheMeshFromFourteenDirections)
         ImageMetrics m = compare_images(t->color, s->color);
         EXPECT_GE(m.iou, 0.98) << "azimuth " << direction.x << ", elevation " << direction.y;
     }
+}
+
+// An instance under a mirroring transform (scale -1 along x, about the model's centre) draws the
+// mirror image of the unmirrored instance: seen along the mirror plane, with a light in it, the
+// picture flipped left to right. Renderers that pick faces by winding (boxes' front faces, hulls)
+// must turn it for such transforms, or draw what lies behind.
+TEST_P(RepresentationContract, MirroredInstanceDrawsTheMirrorImage)
+{
+    test::gpu_context();
+    Result<std::unique_ptr<Renderer>> standin = make_package_renderer(package(), {});
+    ASSERT_TRUE(standin.is_ok()) << standin.status().message();
+    const double differing = test::mirrored_picture_difference(**standin, test::bunny().bounding_sphere(), 0.0f, 192);
+    std::printf("[ mirror ] %s: %.3f%% of the pixels differ\n", GetParam().c_str(), 100.0 * differing);
+    EXPECT_LT(differing, 0.01);
 }
 
 TEST_P(RepresentationContract, WritesTrueDepth)

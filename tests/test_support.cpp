@@ -238,4 +238,37 @@ std::pair<double, double> worst_spill_and_iou(const Mesh& mesh, const Package& p
     return {spill, iou};
 }
 
+double mirrored_picture_difference(Renderer& renderer, const BoundingSphere& sphere, float elevation, int size)
+{
+    OrbitView view;
+    view.elevation_degrees = elevation;
+    const Camera camera = orbit_camera(sphere, view, 1.0f);
+    Light light = default_light(camera);
+    light.direction_to_light_world = glm::normalize(glm::vec3(0.0f, 0.6f, 0.8f));
+    glm::mat4 mirror(1.0f);
+    mirror[0][0] = -1.0f;
+    mirror[3][0] = 2.0f * sphere.center.x; // x -> 2 c.x - x
+    Result<RenderedImage> plain = render_offscreen(renderer, camera, light, size, size);
+    Result<RenderedImage> mirrored = render_offscreen(renderer, camera, light, size, size, std::span<const glm::mat4>(&mirror, 1));
+    EXPECT_TRUE(plain.is_ok() && mirrored.is_ok());
+    if (!plain.is_ok() || !mirrored.is_ok()) return 1.0;
+    float nearest = 1.0f, farthest = 0.0f;
+    for (float d : plain->depth)
+        if (d < 1.0f) nearest = std::min(nearest, d), farthest = std::max(farthest, d);
+    std::size_t covered = 0, differing = 0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const std::size_t a = std::size_t(y) * std::size_t(size) + std::size_t(size - 1 - x), b = std::size_t(y) * std::size_t(size) + std::size_t(x);
+            const std::uint8_t* ca = &plain->color.pixels[a * 4];
+            const std::uint8_t* cb = &mirrored->color.pixels[b * 4];
+            const bool in_a = ca[3] > 0, in_b = cb[3] > 0;
+            if (!in_a && !in_b) continue;
+            ++covered;
+            bool differs = in_a != in_b || std::abs(plain->depth[a] - mirrored->depth[b]) > 1e-3f * (farthest - nearest);
+            for (int c = 0; c < 3; ++c) differs = differs || std::abs(int(ca[c]) - int(cb[c])) > 8;
+            differing += differs;
+        }
+    return covered > 0 ? double(differing) / double(covered) : 0.0;
+}
+
 } // namespace standin::test

@@ -88,5 +88,11 @@ Mesh sphere_over_single_sided_plane();
 // The largest spill fraction and the smallest IoU of `package` against the truth of `mesh` from
 // azimuths 0 and 130 at `elevation`, 320 x 240.
 std::pair<double, double> worst_spill_and_iou(const Mesh& mesh, const Package& package, float elevation);
+// The share of the pixels covered in either picture where `renderer`'s picture of one instance
+// mirrored across the plane x = sphere.center.x differs from its unmirrored picture flipped left to
+// right (in coverage, by more than 8 in a colour channel, or in depth by more than a thousandth of
+// the picture's depth range): seen from azimuth 0 at `elevation` (the camera in the mirror plane),
+// lit from a direction in it. Renderers that cull by winding must turn it for mirroring instances.
+double mirrored_picture_difference(Renderer& renderer, const BoundingSphere& sphere, float elevation, int size = 160);
 
 } // namespace standin::test

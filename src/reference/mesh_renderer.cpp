@@ -59,6 +59,7 @@ private:
     gpu::FrameResources frame_;
     GLint has_texture_location_ = -1;
     GLint alpha_cutoff_location_ = -1;
+    GLint cull_in_shader_location_ = -1;
     GLint pbr_factors_location_ = -1, emissive_factor_location_ = -1, pbr_maps_location_ = -1;
 };
 
@@ -181,6 +182,7 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
     renderer->program_ = std::move(*program);
     renderer->has_texture_location_ = renderer->program_.uniform("has_texture");
     renderer->alpha_cutoff_location_ = renderer->program_.uniform("alpha_cutoff");
+    renderer->cull_in_shader_location_ = renderer->program_.uniform("cull_in_shader");
     renderer->pbr_factors_location_ = renderer->program_.uniform("pbr_factors");
     renderer->emissive_factor_location_ = renderer->program_.uniform("emissive_factor");
     renderer->pbr_maps_location_ = renderer->program_.uniform("pbr_maps");
@@ -212,11 +214,17 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     DrawStats stats;
+    // single-sided materials cull back faces; a mirroring instance transform turns its front faces'
+    // winding, and one draw holds every instance: where any mirrors, mesh.frag culls instead (by
+    // gl_FrontFacing and the instance's handedness)
+    const bool mirrors = std::any_of(params.world_from_object.begin(), params.world_from_object.end(),
+                                     [](const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; });
     for (const MaterialRange& range : ranges_) {
         bool textured = range.texture >= 0 && range.texture < int(textures_.size());
         glUniform1i(has_texture_location_, textured ? 1 : 0);
         glUniform1f(alpha_cutoff_location_, range.alpha_cutoff);
-        if (range.double_sided) {
+        glUniform1i(cull_in_shader_location_, !range.double_sided && mirrors ? 1 : 0);
+        if (range.double_sided || mirrors) {
             glDisable(GL_CULL_FACE);
         } else {
             glEnable(GL_CULL_FACE);

@@ -7,6 +7,7 @@ in vec3 v_position_world;
 in vec3 v_normal_world;
 in vec4 v_color;
 in vec2 v_uv;
+flat in float v_handedness; // -1 for a mirroring instance transform
 
 layout(binding = BINDING_FIRST_RENDERER_TEXTURE) uniform sampler2D albedo_texture; // the ground truth's one texture unit
 // Albedo = vertex colour (material colour folded in at import) x texture where the material has
@@ -15,6 +16,10 @@ uniform int has_texture;
 // Alpha test (issue #14): fragments whose alpha is under this are cut out; 0 for opaque materials.
 // The alpha is read from the texture's level 0 (mesh_renderer.cpp says why).
 uniform float alpha_cutoff;
+// a single-sided material drawn with instances that mirror (mesh_renderer.cpp): back faces are
+// culled here, a face being a front face when its winding seen on screen, turned by a mirror, is
+// counter-clockwise
+uniform int cull_in_shader;
 
 // glTF metallic-roughness inputs of the material being drawn (issue #14): factors times maps, as
 // Mesh::pbr_at and Mesh::shading_normal_at compute them for the bakers.
@@ -34,8 +39,10 @@ vec3 mapped_normal(vec3 n, vec3 position_world, vec2 uv)
     vec3 dp1 = dFdx(position_world), dp2 = dFdy(position_world);
     vec2 duv1 = dFdx(uv), duv2 = dFdy(uv);
     vec3 dp2_perp = cross(dp2, n), dp1_perp = cross(n, dp1);
-    vec3 t = dp2_perp * duv1.x + dp1_perp * duv2.x;
-    vec3 b = dp2_perp * duv1.y + dp1_perp * duv2.y;
+    // (a mirror turns the cross products, and with them the frame's handedness: turned back, the
+    // bumps of a mirrored instance are the mirror image of the unmirrored one's)
+    vec3 t = (dp2_perp * duv1.x + dp1_perp * duv2.x) * v_handedness;
+    vec3 b = (dp2_perp * duv1.y + dp1_perp * duv2.y) * v_handedness;
     float scale = max(dot(t, t), dot(b, b));
     if (!(scale > 0.0)) return n;
     vec3 m = texture(normal_texture, uv).xyz * 2.0 - 1.0;
@@ -52,10 +59,10 @@ void main()
     if (has_texture != 0) albedo *= texture(albedo_texture, v_uv);
     // the alpha test and a cross-fade's other renderer drop the pixel only after every derivative
     // below (implicit texture derivatives, the normal map's frame), which need the 2x2 quad alive
-    bool cut_out = false;
+    bool cut_out = cull_in_shader != 0 && gl_FrontFacing == (v_handedness < 0.0);
     if (alpha_cutoff > 0.0) {
         float alpha = v_color.a * (has_texture != 0 ? textureLod(albedo_texture, v_uv, 0.0).a : 1.0);
-        cut_out = alpha < alpha_cutoff;
+        cut_out = cut_out || alpha < alpha_cutoff;
     }
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz
                                               : normalize(frame.eye_world.xyz - v_position_world);

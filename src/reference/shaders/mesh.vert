@@ -11,6 +11,7 @@ out vec3 v_position_world;
 out vec3 v_normal_world;
 out vec4 v_color;
 out vec2 v_uv;
+flat out float v_handedness; // -1 for a mirroring instance transform (mesh.frag)
 
 void main()
 {
@@ -21,5 +22,6 @@ void main()
     v_normal_world = mat3(world_from_object) * normal_object;
     v_color = color;
     v_uv = uv;
+    v_handedness = determinant(mat3(world_from_object)) < 0.0 ? -1.0 : 1.0;
     gl_Position = frame.clip_from_world * world;
 }

@@ -449,7 +449,9 @@ bool face_visible(const RefineSurface& s, std::uint32_t face, const RefineView& 
     if (d.cone_half_angle >= 0.5f * std::numbers::pi_v<float>) return true;
     glm::vec3 p0 = to_view(view, (*s.positions)[c[0]]), p1 = to_view(view, (*s.positions)[c[1]]);
     glm::vec3 p2 = to_view(view, (*s.positions)[c[2]]);
+    // (a mirroring transform turns the cross product of the face's edges against its normal)
     glm::vec3 axis = glm::cross(p1 - p0, p2 - p0);
+    if (glm::determinant(glm::mat3(view.view_from_object)) < 0.0f) axis = -axis;
     if (!(glm::length(axis) > 0.0f)) return true;
     axis = glm::normalize(axis);
     float sin_cone = std::sin(d.cone_half_angle);

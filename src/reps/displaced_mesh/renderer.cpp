@@ -168,7 +168,7 @@ private:
     // this draw's program of draw_ or patches_: late depth tests, measuring
     const gpu::Program& chosen(gpu::Program (&programs)[2][2]) const
     {
-        return programs[faded_ || cutouts_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
+        return programs[faded_ || cutouts_ || cull_in_shader_][counters_->counting() || debug_code_ == DEBUG_VIEW_ERROR];
     }
     bool tessellated_ = false; // --subdivision tess
     bool faded_ = false; // this draw is part of a cross-fade (DrawParams::fade)
@@ -176,6 +176,10 @@ private:
     // depth after the fragment stage (the faded programs), or the holes would still write depth
     bool cutouts_ = false;
     bool cull_back_faces_ = false; // the package's back_faces is cull
+    // this draw's instances include a mirroring transform, which turns its faces' winding: one draw
+    // holds every instance, so draw.frag culls back faces instead of GL (late depth tests, as a
+    // discard needs)
+    bool cull_in_shader_ = false;
     int shading_segments_ = 0;           // the shading pattern's segments per edge
     std::uint32_t shading_per_face_ = 0; // and its samples per face
     gpu::Query primitives_query_;
@@ -421,6 +425,9 @@ DrawStats Impl::draw(const DrawParams& params)
 {
     frame_.bind(params);
     faded_ = params.fade.incoming || params.fade.amount > 0.0f;
+    cull_in_shader_ = cull_back_faces_ && std::any_of(params.world_from_object.begin(), params.world_from_object.end(), [](const glm::mat4& m) {
+                          return glm::determinant(glm::mat3(m)) < 0.0f;
+                      });
     std::uint32_t instances = std::uint32_t(frame_.instance_count());
     if (settings_.subdivision == "tess") {
         upload_block(params, instances);
@@ -446,6 +453,7 @@ DrawStats Impl::draw(const DrawParams& params)
     glProgramUniform1i(draw_program.id(), draw_program.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glProgramUniform1i(draw_program.id(), draw_program.uniform("shading_segments"), shading_segments_);
     glProgramUniform1ui(draw_program.id(), draw_program.uniform("shading_per_face"), shading_per_face_);
+    glProgramUniform1i(draw_program.id(), draw_program.uniform("cull_in_shader"), cull_in_shader_ ? 1 : 0);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
@@ -459,10 +467,11 @@ DrawStats Impl::draw(const DrawParams& params)
     return {std::uint64_t(2 + 3 * passes_ + 1), refine_counters_.rendered};
 }
 
-// Both sides drawn, or back faces culled for packages of single-sided sheets (back_faces cull).
+// Both sides drawn, or back faces culled for packages of single-sided sheets (back_faces cull):
+// by GL, or by draw.frag where an instance mirrors (cull_in_shader_).
 void Impl::set_face_culling()
 {
-    if (cull_back_faces_) {
+    if (cull_back_faces_ && !cull_in_shader_) {
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
     } else {
@@ -480,6 +489,7 @@ DrawStats Impl::draw_patches(std::uint32_t instances)
     glProgramUniform1i(patches.id(), patches.uniform("has_pbr_maps"), pbr_ ? 1 : 0);
     glProgramUniform1i(patches.id(), patches.uniform("shading_segments"), shading_segments_);
     glProgramUniform1ui(patches.id(), patches.uniform("shading_per_face"), shading_per_face_);
+    glProgramUniform1i(patches.id(), patches.uniform("cull_in_shader"), cull_in_shader_ ? 1 : 0);
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);
     set_face_culling();

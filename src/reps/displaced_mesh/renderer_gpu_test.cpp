@@ -423,6 +423,15 @@ TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
     EXPECT_GT(below_iou, 0.95);
     EXPECT_GT(above_iou, 0.97) << "the plane's front is drawn";
     EXPECT_GT(shown_spill, 0.5) << "the plane's underside, which the truth culls";
+    // an instance that mirrors, whose faces' winding the mirror turns: the mirror image from below,
+    // the plane's back culled (by GL it showed the back and hid the front), in the truth too
+    {
+        auto truth = make_mesh_renderer(mesh);
+        auto standin = make_package_renderer(*culled, RenderOptions{});
+        ASSERT_TRUE(truth.is_ok() && standin.is_ok());
+        EXPECT_LT(test::mirrored_picture_difference(**truth, mesh.bounding_sphere(), -35.0f), 0.01);
+        EXPECT_LT(test::mirrored_picture_difference(**standin, mesh.bounding_sphere(), -35.0f), 0.01);
+    }
     // a closed single-sided model keeps both sides (its backs face its inside)
     Mesh closed = test::generated(GeneratedShape::sphere, 800);
     for (Material& m : closed.materials) m.double_sided = false;

@@ -357,7 +357,7 @@ private:
     std::vector<std::size_t> front_batch_ends(const DrawParams& params);
     double box_overdraw(std::span<const DrawEntry> entries) const; // k_box_batch_overdraw
     std::vector<glm::ivec4> batch_rects_; // front_batch_ends: each batch's instances on screen
-    GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1, coarse_first_at_ = -1;
+    GLint coarse_near_only_at_ = -1, coarse_debug_at_ = -1, coarse_first_at_ = -1, coarse_cull_in_shader_at_ = -1;
     int billboard_count_ = 0, top_level_ = 0;
     gpu::Texture color_maps_, normal_maps_, surface_maps_, minmax_maps_, color_mips_;
     gpu::Texture orm_maps_, emission_maps_; // only for packages with PBR maps (issue #14)
@@ -492,6 +492,7 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     renderer->coarse_near_only_at_ = renderer->coarse_.uniform("fill_near_misses_only");
     renderer->coarse_debug_at_ = renderer->coarse_.uniform("debug_view");
     renderer->coarse_first_at_ = renderer->coarse_.uniform("first_coarse");
+    renderer->coarse_cull_in_shader_at_ = renderer->coarse_.uniform("cull_in_shader");
     if (proxies) {
         Result<gpu::Program> lines = gpu::Program::create(
             {"reps/enhanced_billboards/shaders/boxes.vert", "reps/enhanced_billboards/shaders/boxes.frag"});
@@ -1316,8 +1317,13 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         // models with open single-sided parts (back_hits "hide"): the truth culls their backs, and
         // so does the coarse mesh (closed parts show no back face anyway); one closed surface wound
         // outward: its back faces lie behind its front faces, which fill every hole they could
-        // (the same picture for half the fragments: docs/RESULTS.md)
-        if (hide_back_hits_ || one_closed_surface_) {
+        // (the same picture for half the fragments: docs/RESULTS.md). A mirroring instance turns
+        // its faces' winding, and one draw holds every instance: where any mirrors, the culling
+        // the picture needs (back_hits "hide") is coarse.frag's, and the other is left out
+        const bool mirrors = std::any_of(params.world_from_object.begin(), params.world_from_object.end(),
+                                         [](const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; });
+        glProgramUniform1i(coarse_.id(), coarse_cull_in_shader_at_, hide_back_hits_ && mirrors ? 1 : 0);
+        if ((hide_back_hits_ || one_closed_surface_) && !mirrors) {
             glEnable(GL_CULL_FACE);
             glCullFace(GL_BACK);
             glFrontFace(GL_CCW);

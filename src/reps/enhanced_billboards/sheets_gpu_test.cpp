@@ -119,6 +119,15 @@ TEST(BillboardSheets, SingleSidedOpenPartsShowNothingFromBehind)
     EXPECT_GT(below_iou, 0.95);
     EXPECT_GT(above_iou, 0.97);
     EXPECT_GT(shown_spill, 0.5) << "the plane's underside, which the truth culls";
+    // an instance that mirrors, whose faces' winding the mirror turns: the mirror image from below,
+    // the plane's back culled (by GL it showed the back and hid the front), in the truth too
+    {
+        auto truth = make_mesh_renderer(mesh);
+        auto standin = make_package_renderer(*hidden, RenderOptions{});
+        ASSERT_TRUE(truth.is_ok() && standin.is_ok());
+        EXPECT_LT(test::mirrored_picture_difference(**truth, mesh.bounding_sphere(), -35.0f), 0.01);
+        EXPECT_LT(test::mirrored_picture_difference(**standin, mesh.bounding_sphere(), -35.0f), 0.01);
+    }
 }
 
 // Outline lines (issue #17, session 20): the closed assembly's parts end inside texels everywhere

@@ -245,7 +245,9 @@ bool face_visible(uint face, mat4 view_object)
     vec3 p0 = (view_object * vec4(control_position(d.corners.x), 1.0)).xyz;
     vec3 p1 = (view_object * vec4(control_position(d.corners.y), 1.0)).xyz;
     vec3 p2 = (view_object * vec4(control_position(d.corners.z), 1.0)).xyz;
+    // (a mirroring transform turns the cross product of the face's edges against its normal)
     vec3 axis = cross(p1 - p0, p2 - p0);
+    if (determinant(mat3(view_object)) < 0.0) axis = -axis;
     if (!(length(axis) > 0.0)) return true;
     axis = normalize(axis);
     float sin_cone = sin(d.range.z);

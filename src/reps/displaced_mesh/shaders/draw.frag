@@ -19,6 +19,9 @@ uniform int has_pbr_maps; // the package has ORM and emission (issue #14); other
 // samples. Read from the finest pattern at every refinement, so a pixel far away point-samples
 // the same field the truth point-samples its texture with, and the leaves keep their area.
 uniform int has_coverage;
+// back faces culled here, not by GL (renderer.cpp cull_in_shader_): a front face is one whose
+// winding on screen, turned by its instance's mirror where it has one, is counter-clockwise
+uniform int cull_in_shader;
 
 // Counters count the fragments that pass the depth test. Early tests write depth before the shader
 // runs, so a fragment a cross-fade drops, or a cut-out discards, would still write depth: the
@@ -141,6 +144,7 @@ void main()
     if (has_coverage != 0 && albedo.a < 0.5) discard;
     if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
+    if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(world_from_object)) < 0.0)) discard;
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);
     vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);

@@ -14,17 +14,22 @@
 in vec3 v_position_world;
 in vec3 v_normal_world;
 in vec4 v_color;
+flat in float v_handedness;
 
 layout(binding = IMAGE_PIXEL_FLAGS, r32ui) uniform coherent uimage2D pixel_flags;
 layout(binding = IMAGE_PIXEL_DEPTH, r32ui) uniform coherent uimage2D pixel_depth;
 uniform int fill_near_misses_only;
 uniform int debug_view;
+// back faces culled here, not by GL (renderer.cpp: where an instance mirrors, which turns its
+// faces' winding): a front face's winding on screen, turned by its mirror, is counter-clockwise
+uniform int cull_in_shader;
 
 layout(location = 0) out vec4 out_color;
 
 void main()
 {
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
+    if (cull_in_shader != 0 && gl_FrontFacing == (v_handedness < 0.0)) discard;
     uint nearest = imageLoad(pixel_depth, ivec2(gl_FragCoord.xy)).r;
     bool front_hit = uintBitsToFloat(nearest & ~PIXEL_DEPTH_BACK) < 1.0 && (nearest & PIXEL_DEPTH_BACK) == 0u;
     if (front_hit) discard;

@@ -16,6 +16,7 @@ layout(location = ATTRIB_COLOR) in vec4 color;
 out vec3 v_position_world;
 out vec3 v_normal_world;
 out vec4 v_color;
+flat out float v_handedness; // -1 for a mirroring instance transform (coarse.frag)
 
 void main()
 {
@@ -24,5 +25,6 @@ void main()
     v_position_world = world.xyz;
     v_normal_world = mat3(world_from_object) * normal_object;
     v_color = color;
+    v_handedness = determinant(mat3(world_from_object)) < 0.0 ? -1.0 : 1.0;
     gl_Position = frame.clip_from_world * world;
 }
