@@ -340,11 +340,10 @@ int HiddenProxies::cut_box(std::size_t k, std::size_t cell_at, std::array<Cut, 4
     return 1;
 }
 
-bool HiddenProxies::may_show(std::size_t k, glm::vec3 direction)
+bool HiddenProxies::may_show(std::size_t k, std::size_t cell_index)
 {
-    const float length = glm::length(direction);
-    if (k >= proxy_count() || blocks_.empty() || !(length > 0.0f) || !std::isfinite(length)) return true;
-    return has_proxy_bit(cell(cell_of(direction)), k);
+    if (k >= proxy_count() || blocks_.empty() || cell_index >= std::size_t(k_cells * k_cells)) return true;
+    return has_proxy_bit(cell(glm::ivec2(int(cell_index % k_cells), int(cell_index / k_cells))), k);
 }
 
 } // namespace standin::billboards

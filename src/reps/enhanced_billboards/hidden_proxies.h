@@ -39,6 +39,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -70,7 +71,9 @@ public:
     // Whether proxy `k` (fine tiles, then coarse tiles, then one whole box per billboard) may hold
     // the nearest hit of a ray along `direction` (object space, from the eye towards it; need not be
     // unit). The cell it falls in is computed on first need.
-    bool may_show(std::size_t k, glm::vec3 direction);
+    bool may_show(std::size_t k, glm::vec3 direction) { return may_show(k, cell_index_or_none(direction)); }
+    // The same for a direction's cell (cell_index_or_none), for callers that need the cell too.
+    bool may_show(std::size_t k, std::size_t cell);
 
     // Step 4: the box of coarse tile or whole billboard k cut to its fine tiles visible from cell
     // `cell` (cell_index): texel rectangles and ranges of z about the proxy's own plane (the
@@ -87,6 +90,13 @@ public:
     {
         const glm::ivec2 c = cell_of(direction);
         return std::size_t(c.y * k_cells + c.x);
+    }
+    // cell_index, or k_no_cell for a direction of no length or not finite (every proxy may show)
+    static constexpr std::size_t k_no_cell = std::size_t(-1);
+    static std::size_t cell_index_or_none(glm::vec3 direction)
+    {
+        const float length = glm::length(direction);
+        return length > 0.0f && std::isfinite(length) ? cell_index(direction) : k_no_cell;
     }
 
     // A sphere around every texel (object space): an instance is culled only where the eye is outside

@@ -385,7 +385,8 @@ private:
     // append_proxies: (key, proxy, the proxy drawn: a cut box's index depends on when its cell was
     // first used, so ties go by the proxy's own and then by the part's place among its parts)
     std::vector<std::tuple<float, std::uint32_t, std::uint32_t, std::uint32_t>> sort_keys_;
-    gpu::VertexArray empty_vertex_array_;
+    gpu::VertexArray empty_vertex_array_; // with box_indices_ as its element buffer
+    gpu::Buffer box_indices_;
     gpu::MeshBuffers coarse_mesh_;
     GLsizei coarse_index_count_ = 0;
     GLsizei coarse_rim_index_count_ = 0; // leading indices: triangles on a sheet's rim (rims_first)
@@ -508,6 +509,12 @@ Result<std::unique_ptr<Renderer>> BillboardRenderer::create(const EnhancedBillbo
     if (renderer->box_lines_) renderer->upload_box_lines(package);
     STANDIN_RETURN_IF_ERROR(renderer->create_march_programs(options));
     renderer->empty_vertex_array_ = gpu::make_vertex_array();
+    // box.vert's corners, 12 triangles counter-clockwise seen from outside: drawn indexed, so that a
+    // box's 8 corners are shaded once each, not once per triangle (36 times)
+    const std::vector<std::uint16_t> box_indices = {0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
+                                                    2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
+    renderer->box_indices_ = gpu::make_buffer(box_indices);
+    glVertexArrayElementBuffer(renderer->empty_vertex_array_.get(), renderer->box_indices_.get());
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
         return error(StatusCode::gpu_error, "enhanced billboards: " + gpu::gl_error_text(e) + " while uploading");
     return std::unique_ptr<Renderer>(std::move(renderer));
@@ -928,14 +935,15 @@ void BillboardRenderer::append_proxies(std::uint32_t instance, int proxy_level, 
         CutProxies drawn{std::uint32_t(k), 0};
         if (hidden) {
             const glm::vec3 direction = hidden->orthographic ? -hidden->eye_object : p.centre_object - hidden->eye_object;
-            if (!hidden_.may_show(k, direction)) {
+            const std::size_t cell = HiddenProxies::cell_index_or_none(direction); // (one octahedral encode)
+            if (!hidden_.may_show(k, cell)) {
                 hidden_area_ += double(p.mean_area);
                 continue;
             }
             // a coarse tile or whole box: cut to what shows from the cell (which may append to
             // proxies_: p is read again below)
-            if (k >= fine_count_) {
-                drawn = cut_proxy(k, HiddenProxies::cell_index(direction));
+            if (k >= fine_count_ && cell != HiddenProxies::k_no_cell) {
+                drawn = cut_proxy(k, cell);
                 hidden_area_ += double(proxies_[k].mean_area);
                 if (drawn.count == 0) drawn = {std::uint32_t(k), 1};
                 for (std::uint32_t part = 0; part < drawn.count; ++part) hidden_area_ -= double(proxies_[drawn.first + part].mean_area);
@@ -1266,7 +1274,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
                 set_march_uniforms(program, at, first + GLint(begin));
                 program.use();
                 glBindVertexArray(empty_vertex_array_.get());
-                glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(end - begin));
+                glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_SHORT, nullptr, GLsizei(end - begin));
                 stats.draw_calls += 1;
                 if (early) {
                     depth_batches_.resolve(stamp, batch_rects_[batch]);

@@ -19,10 +19,6 @@ flat out int v_instance;
 flat out mat4 v_box_from_world;
 flat out mat4 v_world_from_box;
 
-// corners (bit 0: x, bit 1: y, bit 2: z) of 12 triangles, counter-clockwise seen from outside
-const int k_corners[36] = int[36](0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4,
-                                  2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6);
-
 vec3 corner_position(int corner) { return vec3(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1); }
 
 void main()
@@ -35,10 +31,12 @@ void main()
     mat4 world_from_box = world_from_object * data.object_from_box;
     vec3 box_min = box.box_min.xyz, box_size = box.box_max.xyz - box.box_min.xyz;
 
-    // mirroring transforms flip the winding
-    int vertex = gl_VertexID % 3;
-    if (determinant(mat3(world_from_box)) < 0.0 && vertex != 0) vertex = 3 - vertex;
-    int corner = k_corners[gl_VertexID - gl_VertexID % 3 + vertex];
+    // the corner (bit 0: x, bit 1: y, bit 2: z) this index names (renderer.cpp box_indices: 12
+    // triangles counter-clockwise seen from outside, drawn indexed so that each corner is shaded
+    // once). A mirroring transform reverses their winding; the box mirrored along x in its own
+    // space is the same box, and reverses it back: each triangle lands on the mirrored face
+    int corner = gl_VertexID;
+    if (determinant(mat3(world_from_box)) < 0.0) corner ^= 1;
     vec3 p = box_min + corner_position(corner) * box_size;
     p.z += box.box_min.w * p.x + box.box_max.w * p.y; // the tile's shear (TileData)
     vec4 world = world_from_box * vec4(p, 1.0);
