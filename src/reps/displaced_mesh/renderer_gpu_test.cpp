@@ -428,9 +428,13 @@ TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
     {
         auto truth = make_mesh_renderer(mesh);
         auto standin = make_package_renderer(*culled, RenderOptions{});
-        ASSERT_TRUE(truth.is_ok() && standin.is_ok());
+        RenderOptions tessellated; // the hardware-tessellation baseline culls through the same shader
+        tessellated.values.set("subdivision", "tess");
+        auto patches = make_package_renderer(*culled, tessellated);
+        ASSERT_TRUE(truth.is_ok() && standin.is_ok() && patches.is_ok());
         EXPECT_LT(test::mirrored_picture_difference(**truth, mesh.bounding_sphere(), -35.0f), 0.01);
         EXPECT_LT(test::mirrored_picture_difference(**standin, mesh.bounding_sphere(), -35.0f), 0.01);
+        EXPECT_LT(test::mirrored_picture_difference(**patches, mesh.bounding_sphere(), -35.0f), 0.01);
     }
     // a closed single-sided model keeps both sides (its backs face its inside)
     Mesh closed = test::generated(GeneratedShape::sphere, 800);
