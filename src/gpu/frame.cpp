@@ -1,5 +1,7 @@
 #include "gpu/frame.h"
 
+#include <glm/glm.hpp>
+
 #include <algorithm>
 
 namespace standin::gpu {
@@ -55,6 +57,8 @@ void FrameResources::bind(const DrawParams& params)
     }
     glNamedBufferSubData(instance_buffer_.get(), 0, GLsizeiptr(transforms.size() * sizeof(glm::mat4)), transforms.data());
     instance_count_ = transforms.size();
+    any_instance_mirrors_ = std::any_of(transforms.begin(), transforms.end(),
+                                        [](const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; });
     glBindBufferBase(GL_UNIFORM_BUFFER, BINDING_FRAME_UBO, frame_buffer_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, BINDING_INSTANCES_SSBO, instance_buffer_.get());
     glBindTextureUnit(BINDING_SHADOW_TEXTURE, params.shadow_map ? GLuint(params.shadow_map->texture()) : 0u);

@@ -42,12 +42,16 @@ public:
     // texture when params has one (otherwise unbinds that unit: a map being drawn is never read).
     void bind(const DrawParams& params);
     std::size_t instance_count() const { return instance_count_; }
+    // Whether an instance bound last mirrors (negative determinant): one instanced draw applies GL's
+    // winding cull to every instance alike, so where any mirrors, renderers cull in the shader
+    bool any_instance_mirrors() const { return any_instance_mirrors_; }
 
 private:
     Buffer frame_buffer_;
     Buffer instance_buffer_;
     std::size_t instance_capacity_ = 0;
     std::size_t instance_count_ = 0;
+    bool any_instance_mirrors_ = false;
 };
 
 } // namespace standin::gpu

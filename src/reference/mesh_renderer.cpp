@@ -217,8 +217,7 @@ DrawStats MeshRenderer::draw(const DrawParams& params)
     // single-sided materials cull back faces; a mirroring instance transform turns its front faces'
     // winding, and one draw holds every instance: where any mirrors, mesh.frag culls instead (by
     // gl_FrontFacing and the instance's handedness)
-    const bool mirrors = std::any_of(params.world_from_object.begin(), params.world_from_object.end(),
-                                     [](const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; });
+    const bool mirrors = frame_.any_instance_mirrors();
     for (const MaterialRange& range : ranges_) {
         bool textured = range.texture >= 0 && range.texture < int(textures_.size());
         glUniform1i(has_texture_location_, textured ? 1 : 0);

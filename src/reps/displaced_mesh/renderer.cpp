@@ -425,9 +425,7 @@ DrawStats Impl::draw(const DrawParams& params)
 {
     frame_.bind(params);
     faded_ = params.fade.incoming || params.fade.amount > 0.0f;
-    cull_in_shader_ = cull_back_faces_ && std::any_of(params.world_from_object.begin(), params.world_from_object.end(), [](const glm::mat4& m) {
-                          return glm::determinant(glm::mat3(m)) < 0.0f;
-                      });
+    cull_in_shader_ = cull_back_faces_ && frame_.any_instance_mirrors();
     std::uint32_t instances = std::uint32_t(frame_.instance_count());
     if (settings_.subdivision == "tess") {
         upload_block(params, instances);

@@ -1328,8 +1328,7 @@ DrawStats BillboardRenderer::draw(const DrawParams& params)
         // (the same picture for half the fragments: docs/RESULTS.md). A mirroring instance turns
         // its faces' winding, and one draw holds every instance: where any mirrors, the culling
         // the picture needs (back_hits "hide") is coarse.frag's, and the other is left out
-        const bool mirrors = std::any_of(params.world_from_object.begin(), params.world_from_object.end(),
-                                         [](const glm::mat4& m) { return glm::determinant(glm::mat3(m)) < 0.0f; });
+        const bool mirrors = frame_.any_instance_mirrors();
         glProgramUniform1i(coarse_.id(), coarse_cull_in_shader_at_, hide_back_hits_ && mirrors ? 1 : 0);
         if ((hide_back_hits_ || one_closed_surface_) && !mirrors) {
             glEnable(GL_CULL_FACE);
