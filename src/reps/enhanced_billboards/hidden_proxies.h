@@ -17,7 +17,9 @@
 //  2. A direction, on first need (visible_along): the squares are rasterised (pixel centres inside
 //     them) into an orthographic depth buffer over the texels' sphere; squares too small to reach a
 //     pixel centre mark their centre's pixel; back-facing ones hide nothing where back hits
-//     are dropped or back-facing proxies culled. A pixel's limit is the farthest of its 3 x 3
+//     are dropped or back-facing proxies culled. Tiles go front to back on every core, and a tile,
+//     or a group of 4 x 4 of its texels, whose pixels are all nearer already is skipped whole
+//     (the same buffer, at any thread count). A pixel's limit is the farthest of its 3 x 3
 //     neighbours' nearest depths (so a surface beside an outline or a gap, which may cover part of
 //     the pixel, is not hidden), plus a tolerance; a fine tile is visible where one of its squares
 //     lies within the limit at a pixel it covers; a coarse tile where a fine tile whose
@@ -42,6 +44,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -52,7 +55,7 @@ public:
     // Octahedral cells per side (cells about 11 degrees wide, 289 corners at most): docs/RESULTS.md
     // "Hidden proxies by view direction".
     static constexpr int k_cells = 16;
-    // Covered texels kept at most (8 bytes each: 32 MB).
+    // Covered texels kept at most (8 bytes each: 32 MB; and 24 bytes for each group of up to 16).
     static constexpr std::size_t k_texel_budget = std::size_t(4) << 20;
 
     // The proxies of one billboard at one level: `boxes` as build_tiles returned them, the first of
@@ -122,8 +125,25 @@ private:
         glm::vec3 origin, u, v, z;
         std::uint32_t first_fine = 0, end_fine = 0;
     };
+    struct Extent { // the texels and depths a fine tile's blocks span (inclusive), for whole-tile tests
+        std::uint16_t i0, j0, i1, j1;
+        float depth0, depth1;
+    };
     std::vector<Block> blocks_;               // by fine tile
     std::vector<std::uint32_t> fine_blocks_;  // fine tile k's blocks: [fine_blocks_[k], fine_blocks_[k + 1])
+    struct Group { // a fine tile's blocks within a square of texels: blocks_[first, end)
+        Extent extent;
+        std::uint32_t first = 0, end = 0;
+    };
+    std::vector<Extent> fine_extents_;        // fine tile k's
+    std::vector<Group> groups_;               // by fine tile
+    std::vector<std::uint32_t> fine_groups_;  // fine tile k's groups: [fine_groups_[k], fine_groups_[k + 1])
+    static Extent empty_extent()
+    {
+        return {0xffff, 0xffff, 0, 0, std::numeric_limits<float>::max(), -std::numeric_limits<float>::max()};
+    }
+    static void grow(Extent& e, const Block& b);
+    static void grow(Extent& e, const Extent& other);
     std::vector<std::uint32_t> fine_billboard_;
     std::vector<std::uint32_t> coarse_fines_offset_, coarse_fines_; // coarse tile k: the fine tiles overlapping it
     std::vector<TileBox> fine_boxes_, coarse_boxes_;                 // for cut_box

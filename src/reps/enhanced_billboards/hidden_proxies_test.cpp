@@ -1,11 +1,13 @@
 // Hidden proxies by view direction (hidden_proxies.h): a plate in front of a smaller one hides it
 // from the front and not from the side or the back; outlines and back-facing texels hide nothing
 // where they should not; coarse and whole boxes are cut to what shows, whole boxes of parts
-// apart split; directions fall in octahedral cells that cover the sphere.
+// apart split; directions fall in octahedral cells that cover the sphere; the answer is the same
+// at any thread count.
 #include "reps/enhanced_billboards/hidden_proxies.h"
 #include "reps/common/surface_image.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <array>
 #include <cmath>
@@ -226,6 +228,41 @@ TEST(HiddenProxies, DirectionsFallInCellsCoveringTheSphere)
         EXPECT_LT(double(h), 3.0 * share);
     }
     EXPECT_NE(HiddenProxies::cell_of({0, 0, 1}), HiddenProxies::cell_of({0, 0, -1}));
+}
+
+// A stack of plates behind a full one: seen from the front only the front plate's tiles show (the
+// ones behind are skipped whole, tile or group at a time), and along any direction the answer is
+// the same on one thread as on every core (tiles lower the depth buffer concurrently).
+TEST(HiddenProxies, AStackOfPlatesGivesTheSameAnswerOnOneThreadAsOnEveryCore)
+{
+    std::vector<Billboard> billboards = {plate(0, 64, 10.0f)};
+    std::mt19937 random(7);
+    for (int k = 0; k < 7; ++k) {
+        const int lo = 4 + int(random() % 12), hi = 48 + int(random() % 12);
+        billboards.push_back(plate(lo, hi, 20.0f + 9.0f * float(k) + float(random() % 5)));
+    }
+    Built built;
+    build(built, billboards, false);
+    const std::vector<std::uint64_t> front = built.hidden.visible_along({0, 0, 1});
+    EXPECT_EQ(visible_fine(built, 0, front), 16u);
+    for (std::size_t b = 1; b < billboards.size(); ++b) EXPECT_EQ(visible_fine(built, b, front), 0u) << "plate " << b;
+
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    std::size_t differ = 0, shown = 0;
+    for (int k = 0; k < 24; ++k) {
+        const glm::vec3 direction(unit(random), unit(random), unit(random));
+        const std::vector<std::uint64_t> every_core = built.hidden.visible_along(direction);
+        std::vector<std::uint64_t> one_thread;
+        {
+            tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+            one_thread = built.hidden.visible_along(direction);
+        }
+        differ += one_thread != every_core ? 1 : 0;
+        for (std::size_t b = 0; b < billboards.size(); ++b) shown += visible_fine(built, b, every_core);
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(shown, 24u * 16u) << "some directions see past the front plate";
+    EXPECT_LT(shown, 24u * built.fine_count) << "some directions see tiles hidden";
 }
 
 } // namespace
