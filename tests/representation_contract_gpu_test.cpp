@@ -6,6 +6,7 @@
 // - every declared option is accepted at its declared default (all given at once bake the same
 //   bytes on 2 threads as none given on 1, and draw the same picture) and refused just outside its
 //   range;
+// - a renderer made and drawn on one thread draws what one on every core draws;
 // - the silhouette matches the mesh from the 14 directions of Saraiva et al. (IoU >= 0.98);
 // - an instance that mirrors draws the mirror image, in colour and depth;
 // - it writes true depth: composited with a plane through the model, each pixel shows what the
@@ -20,6 +21,7 @@
 #include <standin/render.h>
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -267,6 +269,27 @@ TEST_P(RepresentationContract, EveryOptionIsAcceptedAtItsDefaultAndRefusedOutsid
         bool declared = std::find(drawn.begin(), drawn.end(), view.debug_view) != drawn.end();
         EXPECT_EQ(make_package_renderer(package(), view).is_ok(), declared) << debug_view_name(view.debug_view);
     }
+}
+
+// Renderers prepare what they upload on every core (the billboards a few at a time, the hidden
+// proxies' depth buffers): one made and drawn on one thread draws the same picture, byte for byte.
+TEST_P(RepresentationContract, DrawsTheSamePictureOnOneThreadAsOnEveryCore)
+{
+    test::gpu_context();
+    Camera camera = orbit_camera(test::bunny().bounding_sphere(), OrbitView{}, 1.0f);
+    auto picture = [&] {
+        Result<std::unique_ptr<Renderer>> renderer = make_package_renderer(package(), {});
+        EXPECT_TRUE(renderer.is_ok()) << renderer.status().message();
+        Result<RenderedImage> image = render_offscreen(**renderer, camera, default_light(camera), 128, 128);
+        EXPECT_TRUE(image.is_ok());
+        return image->color.pixels;
+    };
+    std::vector<std::uint8_t> one_thread;
+    {
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        one_thread = picture();
+    }
+    EXPECT_EQ(one_thread, picture());
 }
 
 TEST_P(RepresentationContract, SilhouetteMatchesTheMeshFromFourteenDirections)
