@@ -295,8 +295,11 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (!files.is_object()) in.fail("files", "is not an object");
         const nlohmann::json& boards = in.member(manifest, "billboards", "");
         if (!boards.is_array()) in.fail("billboards", "is not an array");
-        for (std::size_t k = 0; k < boards.size(); ++k)
-            package->billboards.push_back(read_billboard(in, files, boards[k], k, package->settings.depth_bits));
+        // side by side (PNG and BC decoding are most of a read; the lowest billboard's refusal is reported)
+        package->billboards.resize(boards.size());
+        manifest_io::read_each(boards.size(), [&](std::size_t k) {
+            package->billboards[k] = read_billboard(in, files, boards[k], k, package->settings.depth_bits);
+        });
         const nlohmann::json& coarse = in.member(manifest, "coarse_mesh", "");
         if (!coarse.is_null()) {
             std::string name = in.string(coarse, "file", "coarse_mesh.");
