@@ -6,7 +6,8 @@
 //  1. the settings (declared in representation.cpp); the target control-face count is the
 //     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
 //     paper's 0.4% and 0.1%); alpha-masked models default to degree 33, coarser where their cards would
-//     hold over 8 million samples (cutout_degree, issue #14);
+//     hold over 8 million samples (cutout_degree, issue #14); a control mesh that stops over
+//     k_max_pattern_growth times its target's samples takes 9 or 5 instead (control_degree);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
 //     alpha-masked materials keeps its leaf cards whole in it (issue #14);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
@@ -27,6 +28,7 @@
 #include "reps/common/coverage_capture.h"
 #include "reps/common/ray_scene.h"
 #include "reps/displaced_mesh/sample.h"
+#include <standin/log.h>
 
 #include <tbb/global_control.h>
 
@@ -157,6 +159,16 @@ double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<s
 
 } // namespace
 
+// The default degree where the control mesh stopped above its target (displaced_mesh.h
+// k_max_pattern_growth): the given default, coarser (9, 5) while `faces` would hold over
+// k_max_pattern_growth times the finest samples `target` faces would.
+int control_degree(std::size_t faces, std::size_t target, int degree)
+{
+    const std::size_t wanted = target * triangle_samples(degree - 1);
+    while (degree > 5 && faces * triangle_samples(degree - 1) > k_max_pattern_growth * wanted) degree = (degree + 1) / 2;
+    return degree;
+}
+
 // The default degree of a model with alpha-masked materials (displaced_mesh.h k_alpha_degree): its
 // cut-out faces stay whole in the control mesh, so each holds a whole pattern; k_alpha_degree,
 // coarser (17, 9, 5) while those faces would hold over k_max_cutout_samples finest samples.
@@ -223,14 +235,11 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // elsewhere, where a closed model's backs face its inside
     if (effective.choice("back-faces") == "auto")
         effective.set_choice("back-faces", reps::visible_single_sided_backs(mesh) > reps::k_visible_backs ? "cull" : "show");
-    const BakeSettings settings = settings_from(effective);
+    BakeSettings settings = settings_from(effective);
     STANDIN_RETURN_IF_ERROR(check_settings(settings));
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "displaced mesh bake"));
     auto package = std::make_unique<DisplacedMeshPackage>();
     package->source = source;
-    package->parameters = effective;
-    package->settings = settings;
-    const PatternLayout layout(settings.degree);
 
     // the control mesh under the cone constraint
     progress.report("control mesh", 0.0);
@@ -250,6 +259,22 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     if (!topology) return topology.status();
     package->topology = std::move(*topology);
     progress.report("control mesh", 1.0);
+    // a control mesh that stopped far above its target (the boundary loops of many open parts keep
+    // their vertices) takes a coarser default degree, so that its finest pattern holds about what
+    // the target's would (control_degree)
+    if (!effective.given("degree") && !reps::has_cutouts(mesh)) {
+        const int degree = control_degree(package->face_count(), simplify.target_faces, settings.degree);
+        if (degree != settings.degree) {
+            log_message(LogLevel::info, "displaced mesh: " + std::to_string(package->face_count()) + " control faces (target " +
+                                            std::to_string(simplify.target_faces) + "): degree " + std::to_string(degree) +
+                                            " instead of " + std::to_string(settings.degree));
+            effective.set_integer("degree", degree);
+            settings = settings_from(effective);
+        }
+    }
+    package->parameters = effective;
+    package->settings = settings;
+    const PatternLayout layout(settings.degree);
     // the shading detail: given, or for auto the finest that shows (finest_useful_detail), then the
     // coarsest whose colours stay within k_shading_residual of it (after sampling, below)
     const bool auto_detail = effective.choice("shading-detail") == "auto";

@@ -83,6 +83,15 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
 // round rim or hole as a 12-gon is within 3.5% of its radius, where a triangle (what the quadrics
 // alone reach on a model of many small open parts) is 50% off.
 constexpr std::size_t k_min_loop_vertices = 12;
+// A control mesh that stops above its target (boundary loops kept, above) would refine to far more
+// triangles than the input has: the held-out 2CylinderEngine (110,000 faces, 59 open parts) keeps
+// 17,197 control faces for a target of 431, whose degree-17 patterns drew 3.7 million triangles a
+// frame (7 s at 800 x 600 on llvmpipe, against 34 ms for the mesh). Without a given --degree such a
+// mesh takes the finest of 17, 9 and 5 that keeps its finest samples within this factor of what
+// the target's faces would hold, or 5 (bake.cpp control_degree; docs/RESULTS.md "Displaced mesh on
+// assemblies: a coarser degree where the control mesh stops early").
+constexpr std::size_t k_max_pattern_growth = 4;
+int control_degree(std::size_t faces, std::size_t target, int degree);
 
 struct ControlStats {
     std::size_t input_faces = 0, target_faces = 0;

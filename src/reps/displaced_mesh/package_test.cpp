@@ -232,6 +232,43 @@ TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
     EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (bake keeps 17 for them)
 }
 
+// A control mesh that stops far above its target (the boundary loops of many open parts keep their
+// vertices) takes a coarser default degree: its finest pattern within k_max_pattern_growth (4) times
+// what the target's faces would hold at the given degree (153 samples a face at 17, 45 at 9, 15 at 5).
+TEST(DisplacedMeshPackage, AControlMeshFarAboveItsTargetTakesACoarserDefaultDegree)
+{
+    EXPECT_EQ(control_degree(256, 256, 17), 17);
+    EXPECT_EQ(control_degree(1018, 424, 17), 17);  // the generated assembly: 2.4 times its target
+    EXPECT_EQ(control_degree(1000, 100, 17), 9);   // 153,000 over 61,200; 45,000 not
+    EXPECT_EQ(control_degree(17197, 431, 17), 5);  // the held-out engine: over at 9 (773,865 > 263,772)
+    EXPECT_EQ(control_degree(100000, 10, 17), 5);  // 5 at most coarse
+
+    // 1,600 separate opaque cards (3,200 faces, each card's 4-vertex loop kept whole) against a
+    // target of 256 faces: degree 9 by default, a given degree kept
+    Mesh cards = tiled_cards(40);
+    cards.materials[0].alpha_mode = AlphaMode::opaque;
+    const std::size_t per_card = cards.positions.size() / 1600; // each card shrunk about its centre: apart
+    for (std::size_t first = 0; first < cards.positions.size(); first += per_card) {
+        glm::vec3 centre(0.0f);
+        for (std::size_t v = first; v < first + per_card; ++v) centre += cards.positions[v] / float(per_card);
+        for (std::size_t v = first; v < first + per_card; ++v) cards.positions[v] = centre + 0.8f * (cards.positions[v] - centre);
+    }
+    SourceInfo source;
+    source.bounds = cards.bounds();
+    const Representation& r = *find_representation("displaced-mesh");
+    Result<std::unique_ptr<Package>> by_default = bake_package(r, cards, source, {}, {}, 2);
+    ASSERT_TRUE(by_default.is_ok()) << by_default.status().message();
+    const auto& coarse = dynamic_cast<const DisplacedMeshPackage&>(**by_default);
+    EXPECT_EQ(coarse.face_count(), 3200u);
+    EXPECT_EQ(coarse.settings.degree, 9);
+    EXPECT_EQ(coarse.parameters.integer("degree"), 9) << "the package records the degree it was baked at";
+    OptionValues given;
+    given.set("degree", "17");
+    Result<std::unique_ptr<Package>> kept = bake_package(r, cards, source, given, {}, 2);
+    ASSERT_TRUE(kept.is_ok()) << kept.status().message();
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(**kept).settings.degree, 17);
+}
+
 // Cut-out cards ask for finer coverage than colour does: a leaf's outline a pixel off shows where a
 // colour blur of 4 pixels does not. The tiled cards' pattern step at degree 33 (cards kept whole) is
 // 1.138 / 32 / n of the unit square, a reference pixel sqrt(2) / 564.

@@ -23,7 +23,8 @@ std::vector<OptionSpec> bake_options()
                        "Sampling-pattern degree k: 5, 9, 17 or 33 vertices per edge, (k-1)^2 triangles per control "
                        "face (Bauman et al.: 17 and 33; 17 measured better; models with alpha-masked materials default to 33, "
                        "whose colours then hold the leaf texture's detail, coarser where their cut-out faces would hold over "
-                       "8 million samples)"),
+                       "8 million samples; where the control mesh stops over 4x its target's samples, as on assemblies of many "
+                       "small parts, 9 or 5, so that the refined mesh stays near the model's size)"),
         integer_option("control-faces", 0, 0, 50'000'000,
                        "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them)"),
         number_option("cone-angle", "90", 0.0, 180.0,
