@@ -27,7 +27,8 @@ namespace standin::displaced_mesh {
 // error:    beyond the paper: the weight is the segment's estimated chord error over its length,
 //           kappa * L / 6 (kappa: the largest curvature of the displaced surface on the edge's
 //           faces, L: the segment's length), so |e_p| * w is the segment's geometric error in
-//           pixels and tau bounds the error itself, not the edge length. Conforming like weighted.
+//           pixels and tau bounds the error itself, not the edge length. Conforming like weighted;
+//           it bisects the longest passing edge in the pattern's own units (refine.cpp step 2).
 enum class Criterion { weighted, length, seed, error };
 bool parse_criterion(const std::string& name, Criterion& out);
 

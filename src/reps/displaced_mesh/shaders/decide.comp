@@ -1,23 +1,27 @@
 #version 450 core
 // One bisection pass (Bauman, Livny & El-Sana §3.3; refine.cpp decide): each record of the current
 // list is tested; it bisects the longest of its edges whose own test passes (|e_p| * w_e > tau and
-// longer than one pattern grid unit), else it is final. Writes the decision and the group scan of
-// (splits, finals).
+// longer than one pattern grid unit), else it is final: under the error criterion the longest in
+// pattern units with the projected length breaking ties (refine.cpp), under the paper's rules the
+// longest on screen. Writes the decision and the group
+// scan of (splits, finals).
 #include "gpu/shaders/common/frame.glsl"
 #include "reps/displaced_mesh/shaders/displaced.glsl"
 #include "reps/displaced_mesh/shaders/passes.glsl"
 
 uniform uint last_pass; // 1: nothing splits any more (counted as capped)
 
-bool splittable(uvec2 a, uvec2 b)
+// A segment's squared length in pattern grid units (the pattern's equilateral metric)
+float pattern_units2(uvec2 a, uvec2 b)
 {
     float d1 = float(int(a.x - b.x)) / float(BARY_ONE);
     float d2 = float(int(a.y - b.y)) / float(BARY_ONE);
     float d0 = -(d1 + d2);
     float n = float(refine.counts.z);
     precise float units2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) * n * n;
-    return units2 > 1.001 * 1.001;
+    return units2;
 }
+bool splittable(uvec2 a, uvec2 b) { return pattern_units2(a, b) > 1.001 * 1.001; }
 
 // The face edge a segment lies on, 3 inside (refine.cpp segment_edge).
 int segment_edge(uvec2 a, uvec2 b)
@@ -70,8 +74,13 @@ uint decide(uint face, uint q[6], mat4 view_object)
             if (can_split[k] && (best < 0 || len[k] > len[best])) best = k;
         if (best >= 0 && !(len[best] * w[best] > tau)) best = -1;
     } else {
+        // (the error criterion: longest in pattern units, the projected length breaking ties; the
+        // paper's weighted and length rules: longest on screen)
+        const bool by_pattern = refine.options.x == DM_CRITERION_ERROR;
+        float units[3];
+        for (int k = 0; k < 3; ++k) units[k] = by_pattern ? pattern_units2(corner[k], corner[(k + 1) % 3]) : 0.0;
         for (int k = 0; k < 3; ++k)
-            if (can_split[k] && len[k] * w[k] > tau && (best < 0 || len[k] > len[best])) best = k;
+            if (can_split[k] && len[k] * w[k] > tau && (best < 0 || units[k] > units[best] * 1.0001 || (!(units[best] > units[k] * 1.0001) && len[k] > len[best]))) best = k;
     }
     return best < 0 ? DECIDE_FINAL : uint(best);
 }
