@@ -123,8 +123,8 @@ float projected_length(const RefineView& view, glm::vec3 a, glm::vec3 b)
     return length / std::max(view.near_plane, std::min(-a.z, -b.z));
 }
 
-// Whether a segment is longer than one grid unit of the pattern (measured in the pattern's own
-// equilateral metric, from the integer weights: symmetric in the two ends).
+// A segment's squared length in pattern grid units (the pattern's own equilateral metric, from the
+// integer weights: symmetric in the two ends); longer than one unit splits.
 float pattern_units2(const std::uint32_t* a, const std::uint32_t* b, int segments)
 {
     float d1 = float(std::int32_t(a[0] - b[0])) / float(k_bary_one);
@@ -133,10 +133,6 @@ float pattern_units2(const std::uint32_t* a, const std::uint32_t* b, int segment
     return 0.5f * (d0 * d0 + d1 * d1 + d2 * d2) * float(segments) * float(segments);
 }
 
-bool splittable(const std::uint32_t* a, const std::uint32_t* b, int segments)
-{
-    return pattern_units2(a, b, segments) > k_segment_min_units * k_segment_min_units;
-}
 
 // The weight of a segment: its control edge's when both ends lie on one, else the face's. Ends are
 // (q1, q2); a zero weight on corner c for both ends puts the segment on the edge opposite c.
@@ -256,7 +252,7 @@ Decision decide(const RefineSurface& s, const PatternLayout& layout, const Refin
         p[k] = to_view(view, point.position);
         normal[k] = unit_direction(glm::mat3(view.view_from_object) * point.normal);
     }
-    float length[3], weight[3];
+    float length[3], weight[3], units2[3];
     bool can_split[3];
     const float scale = glm::length(glm::vec3(view.view_from_object[0]));
     for (int k = 0; k < 3; ++k) {
@@ -268,7 +264,8 @@ Decision decide(const RefineSurface& s, const PatternLayout& layout, const Refin
             weight[k] = error_weight(face, a, b, p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale, view.orthographic,
                                      options.outline);
         else weight[k] = segment_weight(face, a, b);
-        can_split[k] = splittable(a, b, layout.segments);
+        units2[k] = pattern_units2(a, b, layout.segments);
+        can_split[k] = units2[k] > k_segment_min_units * k_segment_min_units;
     }
     Decision d;
     if (options.criterion == Criterion::seed) {
@@ -282,7 +279,7 @@ Decision decide(const RefineSurface& s, const PatternLayout& layout, const Refin
     // the paper's weighted and length rules: longest on screen
     const bool by_pattern = options.criterion == Criterion::error;
     float units[3];
-    for (int k = 0; k < 3; ++k) units[k] = by_pattern ? pattern_units2(t.q[k], t.q[(k + 1) % 3], layout.segments) : 0.0f;
+    for (int k = 0; k < 3; ++k) units[k] = by_pattern ? units2[k] : 0.0f;
     for (int k = 0; k < 3; ++k)
         if (can_split[k] && length[k] * weight[k] > options.tau &&
             (d.edge < 0 || units[k] > units[d.edge] * 1.0001f || (!(units[d.edge] > units[k] * 1.0001f) && length[k] > length[d.edge])))

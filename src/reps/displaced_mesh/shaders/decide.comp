@@ -21,7 +21,6 @@ float pattern_units2(uvec2 a, uvec2 b)
     precise float units2 = 0.5 * (d0 * d0 + d1 * d1 + d2 * d2) * n * n;
     return units2;
 }
-bool splittable(uvec2 a, uvec2 b) { return pattern_units2(a, b) > 1.001 * 1.001; }
 
 // The face edge a segment lies on, 3 inside (refine.cpp segment_edge).
 int segment_edge(uvec2 a, uvec2 b)
@@ -57,7 +56,7 @@ uint decide(uint face, uint q[6], mat4 view_object)
         p[k] = (view_object * vec4(point.position, 1.0)).xyz;
         normal[k] = unit_direction(mat3(view_object) * point.normal);
     }
-    float len[3], w[3];
+    float len[3], w[3], units2[3];
     bool can_split[3];
     for (int k = 0; k < 3; ++k) {
         len[k] = projected_length(p[k], p[(k + 1) % 3]);
@@ -65,7 +64,8 @@ uint decide(uint face, uint q[6], mat4 view_object)
         if (refine.options.x == DM_CRITERION_LENGTH) w[k] = 1.0;
         else if (refine.options.x == DM_CRITERION_ERROR) w[k] = error_weight(curvature[edge], p[k], p[(k + 1) % 3], normal[k], normal[(k + 1) % 3], scale);
         else w[k] = weights[edge];
-        can_split[k] = splittable(corner[k], corner[(k + 1) % 3]);
+        units2[k] = pattern_units2(corner[k], corner[(k + 1) % 3]);
+        can_split[k] = units2[k] > 1.001 * 1.001; // refine.cpp k_segment_min_units
     }
     float tau = refine.view_terms.x;
     int best = -1;
@@ -78,7 +78,7 @@ uint decide(uint face, uint q[6], mat4 view_object)
         // paper's weighted and length rules: longest on screen)
         const bool by_pattern = refine.options.x == DM_CRITERION_ERROR;
         float units[3];
-        for (int k = 0; k < 3; ++k) units[k] = by_pattern ? pattern_units2(corner[k], corner[(k + 1) % 3]) : 0.0;
+        for (int k = 0; k < 3; ++k) units[k] = by_pattern ? units2[k] : 0.0;
         for (int k = 0; k < 3; ++k)
             if (can_split[k] && len[k] * w[k] > tau && (best < 0 || units[k] > units[best] * 1.0001 || (!(units[best] > units[k] * 1.0001) && len[k] > len[best]))) best = k;
     }
