@@ -5,7 +5,10 @@
 // Steps:
 //  1. the settings (declared in representation.cpp); the target control-face count is the
 //     input's over (k - 1)^2, so the refined mesh has about as many triangles as the input (the
-//     paper's 0.4% and 0.1%); alpha-masked models default to degree 33, coarser where their cards would
+//     paper's 0.4% and 0.1%) at degree 17; with the degree chosen (--degree 0, the default),
+//     inputs under 65,536 faces spend the 65,536 finest triangles of the floor's 256 faces on
+//     4,096 control faces at degree 5, or keep every face (default_control_plan: beyond the paper,
+//     whose models are large); alpha-masked models default to degree 33, coarser where their cards would
 //     hold over 8 million samples (cutout_degree, issue #14); a control mesh that stops over
 //     k_max_pattern_growth times its target's samples takes 9 or 5 instead (control_degree);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
@@ -159,6 +162,19 @@ double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<s
 
 } // namespace
 
+ControlPlan default_control_plan(std::size_t input_faces)
+{
+    constexpr std::size_t paper_per_face = std::size_t(k_paper_degree - 1) * std::size_t(k_paper_degree - 1);
+    const std::size_t paper_target = (input_faces + paper_per_face / 2) / paper_per_face;
+    if (paper_target >= k_min_control_faces) return {k_paper_degree, paper_target};
+    // the finest triangles the floor's faces held at the paper's degree, spent on control faces
+    constexpr std::size_t budget = k_min_control_faces * paper_per_face;
+    if (input_faces * 16 > budget) return {5, budget / 16};
+    for (const int degree : {33, 17, 9})
+        if (input_faces * std::size_t(degree - 1) * std::size_t(degree - 1) <= budget) return {degree, input_faces};
+    return {5, input_faces};
+}
+
 // The default degree where the control mesh stopped above its target (displaced_mesh.h
 // k_max_pattern_growth): the given default, coarser (9, 5) while `faces` would hold over
 // k_max_pattern_growth times the finest samples `target` faces would.
@@ -229,7 +245,13 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the settings: the paper's target is the input's faces over (k - 1)^2; alpha-masked models at
     // the default degree take cutout_degree (the leaf texture's detail lives in the samples' colours)
     Options effective = parameters;
-    if (reps::has_cutouts(mesh) && !effective.given("degree")) effective.set_integer("degree", cutout_degree(mesh));
+    const bool auto_degree = effective.integer("degree") == 0, cutouts = reps::has_cutouts(mesh);
+    std::optional<ControlPlan> plan; // small inputs: more control faces at a coarser degree, or all of them
+    if (auto_degree) {
+        if (cutouts) effective.set_integer("degree", cutout_degree(mesh));
+        else if (effective.integer("control-faces") == 0) effective.set_integer("degree", (plan = default_control_plan(mesh.triangle_count()))->degree);
+        else effective.set_integer("degree", k_paper_degree);
+    }
     // back faces: culled where the truth culls single-sided backs that can be seen from outside
     // (assimp's COLLADA.dae, a single-sided plane under text: drawn from below, IoU 0.62); shown
     // elsewhere, where a closed model's backs face its inside
@@ -244,9 +266,9 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the control mesh under the cone constraint
     progress.report("control mesh", 0.0);
     ControlMeshOptions simplify;
-    simplify.target_faces = target_faces(mesh.triangle_count(), settings);
+    simplify.target_faces = plan ? plan->target_faces : target_faces(mesh.triangle_count(), settings);
     simplify.cone_angle_degrees = settings.cone_angle;
-    simplify.keep_cutout_faces = reps::has_cutouts(mesh);
+    simplify.keep_cutout_faces = cutouts;
     simplify.min_loop_vertices = k_min_loop_vertices;
     Result<ControlMesh> control = build_control_mesh(mesh, simplify);
     if (!control) return control.status();
@@ -262,7 +284,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // a control mesh that stopped far above its target (the boundary loops of many open parts keep
     // their vertices) takes a coarser default degree, so that its finest pattern holds about what
     // the target's would (control_degree)
-    if (!effective.given("degree") && !reps::has_cutouts(mesh)) {
+    if (auto_degree && !cutouts) {
         const int degree = control_degree(package->face_count(), simplify.target_faces, settings.degree);
         if (degree != settings.degree) {
             log_message(LogLevel::info, "displaced mesh: " + std::to_string(package->face_count()) + " control faces (target " +

@@ -22,7 +22,7 @@ namespace standin::displaced_mesh {
 // Bake parameters typed (docs/FORMAT.md, "Displaced control mesh"; declared in representation.cpp,
 // defaults measured in docs/RESULTS.md).
 struct BakeSettings {
-    int degree = 17;                   // pattern degree k: 5, 9, 17 or 33
+    int degree = 17;                   // pattern degree k: 5, 9, 17 or 33 (the option's 0, chosen, is resolved by the bake)
     int control_faces = 0;             // target; 0: input faces / (k - 1)^2, at least k_min_control_faces (or all)
     float cone_angle = 90.0f;          // degrees: no vertex's normal cone may reach it (90: a half-sphere)
     std::string sampler = "intersection"; // "intersection" or "interpolation" (§3.1)
@@ -42,6 +42,26 @@ struct BakeSettings {
 // Control faces wanted at least (all the input's when it has fewer): small models would otherwise
 // get a handful of faces whose patches cannot follow the surface.
 constexpr std::size_t k_min_control_faces = 256;
+// The pattern degree the paper measured best (Bauman et al. §5.1: 17 and 33, 17 faster at equal
+// error): the default where the control faces are asked for (--control-faces) and the model is
+// large enough for the paper's target (default_control_plan).
+constexpr int k_paper_degree = 17;
+// The default plan (--degree and --control-faces not given, no cut-outs): the paper's target, the
+// input's faces over (k - 1)^2 at degree 17, holds at least k_min_control_faces from 65,536 input
+// faces on. Below that the floor made the refined mesh far larger than the input (256 faces x 256
+// = 65,536 finest triangles) and its simplification lost parts (assimp's 2,032-face jeep: 504
+// control faces, fenders gone, Luv 3.60, IoU 0.964; a 576-face minigun 70 ms a frame against the
+// mesh's 6). The same 65,536 finest triangles are now spent on control faces: 4,096 of them at
+// degree 5, and inputs of 4,096 faces or fewer keep every face, at the finest degree (5 to 33)
+// whose pattern stays within them; a flat face then refines no further than itself, and the
+// displaced surface is the input's own (the jeep: Luv 0.73, IoU 1.0, the same bytes; the minigun
+// 5 ms; a 5,126-face model at 4,096 faces: Luv 2.21 -> 0.03; docs/RESULTS.md "Small models:
+// every face a control face"). Returns the degree and the control-face target.
+struct ControlPlan {
+    int degree = 17;
+    std::size_t target_faces = 0;
+};
+ControlPlan default_control_plan(std::size_t input_faces);
 // The default pattern degree of models with alpha-masked materials (issue #14). A leaf card stays
 // whole in the control mesh and its texture's detail lives in the samples' colours: degree 17 left
 // 2 or more pixels per sample on the generated tree's cards at distance 1 (foliage Luv 3.40 there,

@@ -93,9 +93,10 @@ TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
     Result<std::unique_ptr<Package>> two = bake_package(r, *box, source, {}, {}, 2);
     ASSERT_TRUE(one.is_ok() && two.is_ok()) << one.status().message();
     const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**one);
+    EXPECT_EQ(p.settings.degree, 33); // 12 faces, every one a control face (default_control_plan)
     EXPECT_EQ(p.settings.shading_detail, 4);
-    EXPECT_EQ(p.shading_segments(), 64);
-    EXPECT_EQ(p.shading_normals.size(), p.face_count() * triangle_samples(64));
+    EXPECT_EQ(p.shading_segments(), 128);
+    EXPECT_EQ(p.shading_normals.size(), p.face_count() * triangle_samples(128));
     std::string dir = test::fresh_directory("displaced_fine_shading");
     ASSERT_TRUE(write_package(**one, dir + "/a.standin").is_ok());
     ASSERT_TRUE(write_package(**two, dir + "/b.standin").is_ok());
@@ -165,8 +166,8 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
 // Issue #14: the cut-out texels of most leaf textures are black. Samples on the cut-out take their
 // covered neighbours' colour, and covered samples average only covered texels of their cell, so the
 // interpolated colour never darkens towards the cut-out: every sample of the disc quad keeps the
-// disc's green. An alpha-masked card filling the view defaults to degree 33 (k_alpha_degree); opaque
-// models keep 17.
+// disc's green. An alpha-masked card filling the view defaults to degree 33 (k_alpha_degree); an
+// opaque one keeps its 2 faces, at 33 too (default_control_plan).
 TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampleFiner)
 {
     Mesh leaf = test::alpha_quad(AlphaMode::mask, 0.5f, true);
@@ -193,7 +194,8 @@ TEST(DisplacedMeshPackage, CutOutSamplesTakeTheCoveredColourAndMaskedModelsSampl
     EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*masked_default).settings.degree, k_alpha_degree);
     std::unique_ptr<Package> opaque_default = test::bake(test::alpha_quad(AlphaMode::opaque, 0.5f, true), "displaced-mesh", {});
     ASSERT_TRUE(opaque_default);
-    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 17);
+    // (an opaque quad: its 2 faces kept at 33 by default_control_plan, not by k_alpha_degree)
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(*opaque_default).settings.degree, 33);
 }
 
 // n x n disc cards (test::alpha_quad: 2 faces, a 256-texel texture) tiling the unit square
@@ -229,7 +231,50 @@ TEST(DisplacedMeshPackage, TheDefaultDegreeOfManyCardsStaysWithinASampleBudget)
     EXPECT_EQ(cutout_degree(tiled_cards(300)), 5);  // 180,000 x 45 is over too
     Mesh opaque = tiled_cards(100);
     opaque.materials[0].alpha_mode = AlphaMode::opaque;
-    EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (bake keeps 17 for them)
+    EXPECT_EQ(cutout_degree(opaque), k_alpha_degree); // no cut-out faces: not asked (the bake plans their degree: default_control_plan)
+}
+
+// With the degree chosen and no --control-faces, the paper's target (input faces over (k - 1)^2 at
+// 17) holds from 65,536 faces; smaller inputs spend its floor's 65,536 finest triangles on 4,096
+// control faces at degree 5, and inputs of 4,096 faces or fewer keep every face at the finest
+// degree within them, where the displaced surface is the input's own (each sample lies on its
+// face: elevations zero).
+TEST(DisplacedMeshPackage, SmallInputsTakeACoarserDegreeOrKeepEveryFace)
+{
+    const auto plan = [](std::size_t faces) {
+        ControlPlan p = default_control_plan(faces);
+        return std::pair<int, std::size_t>(p.degree, p.target_faces);
+    };
+    EXPECT_EQ(plan(1'000'000), std::make_pair(17, std::size_t(3906)));
+    EXPECT_EQ(plan(65'536), std::make_pair(17, std::size_t(256)));
+    EXPECT_EQ(plan(60'000), std::make_pair(5, std::size_t(4096)));
+    EXPECT_EQ(plan(4'097), std::make_pair(5, std::size_t(4096)));
+    EXPECT_EQ(plan(4'096), std::make_pair(5, std::size_t(4096)));  // 65,536 finest triangles
+    EXPECT_EQ(plan(3'000), std::make_pair(5, std::size_t(3000)));  // 48,000 at 5; 192,000 at 9
+    EXPECT_EQ(plan(576), std::make_pair(9, std::size_t(576)));     // 36,864 at 9
+    EXPECT_EQ(plan(256), std::make_pair(17, std::size_t(256)));
+    EXPECT_EQ(plan(12), std::make_pair(33, std::size_t(12)));
+
+    Result<Mesh> bunny = import_mesh(test::source_dir() + "/data/bunny.ply");
+    ASSERT_TRUE(bunny.is_ok());
+    SourceInfo source;
+    source.bounds = bunny->bounds();
+    const Representation& r = *find_representation("displaced-mesh");
+    Result<std::unique_ptr<Package>> baked = bake_package(r, *bunny, source, {}, {}, 2);
+    ASSERT_TRUE(baked.is_ok()) << baked.status().message();
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**baked);
+    EXPECT_EQ(p.face_count(), bunny->triangle_count());
+    EXPECT_EQ(p.settings.degree, 5);
+    EXPECT_TRUE(p.parameters.requested().empty()) << "a re-bake with the defaults takes the same plan";
+    float largest = 0.0f;
+    for (float h : p.elevations) largest = std::max(largest, std::abs(h));
+    EXPECT_LT(largest, 1e-4f * bunny->bounds().diagonal()) << "the samples lie on the input's faces";
+    // a given degree takes the paper's target (at least 256 faces) as before
+    OptionValues given;
+    given.set("degree", "17");
+    Result<std::unique_ptr<Package>> paper = bake_package(r, *bunny, source, given, {}, 2);
+    ASSERT_TRUE(paper.is_ok()) << paper.status().message();
+    EXPECT_LT(dynamic_cast<const DisplacedMeshPackage&>(**paper).face_count(), bunny->triangle_count() / 4);
 }
 
 // A control mesh that stops far above its target (the boundary loops of many open parts keep their
@@ -243,8 +288,9 @@ TEST(DisplacedMeshPackage, AControlMeshFarAboveItsTargetTakesACoarserDefaultDegr
     EXPECT_EQ(control_degree(17197, 431, 17), 5);  // the held-out engine: over at 9 (773,865 > 263,772)
     EXPECT_EQ(control_degree(100000, 10, 17), 5);  // 5 at most coarse
 
-    // 1,600 separate opaque cards (3,200 faces, each card's 4-vertex loop kept whole) against a
-    // target of 256 faces: degree 9 by default, a given degree kept
+    // 1,600 separate opaque cards (3,200 faces, each card's 4-vertex loop kept whole) against the
+    // given target of 256 faces: degree 9 (without it every face is kept, at 5: default_control_plan);
+    // a given degree kept
     Mesh cards = tiled_cards(40);
     cards.materials[0].alpha_mode = AlphaMode::opaque;
     const std::size_t per_card = cards.positions.size() / 1600; // each card shrunk about its centre: apart
@@ -256,12 +302,17 @@ TEST(DisplacedMeshPackage, AControlMeshFarAboveItsTargetTakesACoarserDefaultDegr
     SourceInfo source;
     source.bounds = cards.bounds();
     const Representation& r = *find_representation("displaced-mesh");
-    Result<std::unique_ptr<Package>> by_default = bake_package(r, cards, source, {}, {}, 2);
+    OptionValues target_given;
+    target_given.set("control-faces", "256");
+    Result<std::unique_ptr<Package>> by_default = bake_package(r, cards, source, target_given, {}, 2);
     ASSERT_TRUE(by_default.is_ok()) << by_default.status().message();
     const auto& coarse = dynamic_cast<const DisplacedMeshPackage&>(**by_default);
     EXPECT_EQ(coarse.face_count(), 3200u);
     EXPECT_EQ(coarse.settings.degree, 9);
     EXPECT_EQ(coarse.parameters.integer("degree"), 9) << "the package records the degree it was baked at";
+    Result<std::unique_ptr<Package>> whole = bake_package(r, cards, source, {}, {}, 2);
+    ASSERT_TRUE(whole.is_ok()) << whole.status().message();
+    EXPECT_EQ(dynamic_cast<const DisplacedMeshPackage&>(**whole).settings.degree, 5);
     OptionValues given;
     given.set("degree", "17");
     Result<std::unique_ptr<Package>> kept = bake_package(r, cards, source, given, {}, 2);

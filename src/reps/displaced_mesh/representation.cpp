@@ -19,14 +19,17 @@ namespace {
 std::vector<OptionSpec> bake_options()
 {
     return {
-        integer_option("degree", 17, 5, 33,
+        integer_option("degree", 0, 0, 33,
                        "Sampling-pattern degree k: 5, 9, 17 or 33 vertices per edge, (k-1)^2 triangles per control "
-                       "face (Bauman et al.: 17 and 33; 17 measured better; models with alpha-masked materials default to 33, "
-                       "whose colours then hold the leaf texture's detail, coarser where their cut-out faces would hold over "
-                       "8 million samples; where the control mesh stops over 4x its target's samples, as on assemblies of many "
-                       "small parts, 9 or 5, so that the refined mesh stays near the model's size)"),
+                       "face; 0: chosen (Bauman et al.'s 17, which they measured better than 33, for models of 65,536 "
+                       "faces or more; smaller ones 5 over up to 4,096 control faces, and under 4,096 faces every face kept "
+                       "at the finest degree whose pattern stays within 65,536 triangles; models with alpha-masked "
+                       "materials 33, whose colours then hold the leaf texture's detail, coarser where their cut-out faces "
+                       "would hold over 8 million samples; where the control mesh stops over 4x its target's samples, as on "
+                       "assemblies of many small parts, 9 or 5, so that the refined mesh stays near the model's size)"),
         integer_option("control-faces", 0, 0, 50'000'000,
-                       "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them)"),
+                       "Control faces wanted (0: the model's faces / (k-1)^2, at least 256 or all of them; with the degree "
+                       "chosen, see --degree; given, the degree chosen is 17)"),
         number_option("cone-angle", "90", 0.0, 180.0,
                       "No vertex's normal cone may reach this half-angle, degrees (90: a half-sphere, the paper)", true),
         choice_option("sampler", "intersection", {"intersection", "interpolation"},
