@@ -361,6 +361,8 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
             sampled->coverage = std::move(fine.coverage);
         }
     }
+    // textures finer than the shading samples chosen: their colours averaged over each sample's cell
+    prefilter_texture_colour(mesh, **scene, geometry, layout.segments * shading_detail, sample_options.ray_range, *sampled);
     if (auto_detail) {
         effective.set_choice("shading-detail", std::to_string(shading_detail));
         package->parameters = effective;

@@ -32,7 +32,11 @@
 //     neighbouring samples share the work. Rings cross control edges and corners; their sums are
 //     gathered per edge and per vertex in increasing face order, so both sides agree;
 //  3. every face's finest array is assembled by copying the edge and corner samples in; on models
-//     with cut-outs, cut-out samples take their covered neighbours' colour (bleed_into_cutouts).
+//     with cut-outs, cut-out samples take their covered neighbours' colour (bleed_into_cutouts);
+//     on models with cut-outs a sample that lies on the original takes the mean colour over its
+//     cell, the box filter of the truth's mip level at the sample spacing (prefilter_surface_colour;
+//     on textured models the bake does the same once their shading detail is chosen:
+//     prefilter_texture_colour).
 // Then Ms (the sampled mesh) is rebuilt and measured against the original: ∆_f and d.
 // Departure: for a textured model the bake may ask for shading 2 or 4 times finer than the pattern
 // (sample_fine_shading: the original's shading closest to the displaced surface at the finer
@@ -436,21 +440,50 @@ void ring_sums(const Mesh& original, const RayScene& scene, const ControlGeometr
         }
 }
 
+// Whether any face reads a base-colour texture: the models whose samples' colours are prefiltered.
+bool has_base_colour_textures(const Mesh& mesh)
+{
+    if (!mesh.has_texture_coordinates()) return false;
+    for (const Material& material : mesh.materials)
+        if (material.base_color_texture >= 0) return true;
+    return false;
+}
+
+// The world length of a texel of a triangle's base-colour texture (sqrt of its world area over its
+// area in texels); infinite without a texture or with degenerate texture coordinates.
+float triangle_texel_length(const Mesh& mesh, std::uint32_t triangle)
+{
+    const Material& material = mesh.materials[mesh.face_materials[triangle]];
+    if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return std::numeric_limits<float>::infinity();
+    const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
+    const std::uint32_t* t = &mesh.indices[3 * std::size_t(triangle)];
+    const float world = 0.5f * glm::length(glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
+    const glm::vec2 u = mesh.uvs[t[1]] - mesh.uvs[t[0]], v = mesh.uvs[t[2]] - mesh.uvs[t[0]];
+    const float texels = 0.5f * std::abs(u.x * v.y - u.y * v.x) * float(texture.width) * float(texture.height);
+    return texels > 0.0f ? std::sqrt(world / texels) : std::numeric_limits<float>::infinity();
+}
+
 // Sub-points per side of a sample's cell whose colours are averaged (step 3, prefiltering).
 constexpr int k_colour_subsamples = 3;
 
-// The albedo of samples that lie on the original (a leaf card kept whole in the control mesh),
+// The albedo of samples that lie on the original (a leaf card kept whole in the control mesh; any
+// textured face of a small model, which keeps every face: bake.cpp default_control_plan),
 // averaged over the sample's cell: k x k points spread over one pattern step around it, each the
 // point of the original it lies on, weighted by whether it survives the alpha test. A point
 // sample of the texture aliases once a face holds more texels than samples (a 256-texel leaf
 // texture on a card of 33 samples a side), while the truth reads coverage-weighted mips: this is
 // the box filter a mip level applies, at the sample spacing. Samples off the surface (rays that
 // travelled) keep their point sample. Returns per sample whether it holds a covered colour.
+// `where_texels_finer`: only samples whose triangle's texels are finer than the sample step (a
+// textured model's), where a point sample aliases; coarser texels keep the bilinear point sample,
+// which is what the truth's level 0 shows magnified (averaged anyway, the bundled box's 64 samples a
+// face over about 100 texels came out blurred: Luv 0.77 -> 1.06).
 std::vector<std::uint8_t> prefilter_surface_colour(const Mesh& original, const RayScene& scene, const ControlGeometry& control,
-                                                   int n, std::size_t per_face, float range, SampledSurface& out)
+                                                   int n, std::size_t per_face, float range, bool where_texels_finer, SampledSurface& out)
 {
     const std::size_t faces = control.face_count();
     std::vector<std::uint8_t> has_colour(out.coverage.begin(), out.coverage.end());
+    if (out.coverage.empty()) has_colour.assign(faces * per_face, 0); // an opaque model: every point counts
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t face = r.begin(); face != r.end(); ++face) {
             const std::uint32_t* corner = &control.indices[3 * face];
@@ -459,11 +492,13 @@ std::vector<std::uint8_t> prefilter_surface_colour(const Mesh& original, const R
                 float w1 = j / float(n), w2 = i / float(n);
                 return (1.0f - w1 - w2) * p0 + w1 * p1 + w2 * p2;
             };
+            const float step = (glm::length(p1 - p0) + glm::length(p2 - p1) + glm::length(p0 - p2)) / (3.0f * float(n));
             for (int i = 0; i <= n; ++i)
                 for (int j = 0; j <= n - i; ++j) {
                     std::size_t at = face * per_face + triangle_index(n, i, j);
                     SurfacePoint centre = scene.closest(point_at(float(i), float(j)), k_on_surface * range);
                     if (!centre.found) continue;
+                    if (where_texels_finer && !(triangle_texel_length(original, centre.triangle) < step)) continue;
                     // most sub-points lie on the centre's triangle: a projection finds them without
                     // a scene query
                     const std::uint32_t* t = &original.indices[3 * std::size_t(centre.triangle)];
@@ -765,7 +800,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
         }
     });
     if (cutouts) {
-        std::vector<std::uint8_t> has_colour = prefilter_surface_colour(original, scene, control, n, per_face, range, out);
+        std::vector<std::uint8_t> has_colour = prefilter_surface_colour(original, scene, control, n, per_face, range, false, out);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, faces), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t f = r.begin(); f != r.end(); ++f) bleed_into_cutouts(n, per_face, f, has_colour, out.albedo);
         });
@@ -912,6 +947,13 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
         if (cutouts) bleed_into_cutouts(fine_n, per_fine, face, out.coverage, out.albedo);
     });
     return out;
+}
+
+void prefilter_texture_colour(const Mesh& original, const RayScene& scene, const ControlGeometry& control, int segments, float range,
+                              SampledSurface& shading)
+{
+    if (reps::has_cutouts(original) || !has_base_colour_textures(original)) return;
+    prefilter_surface_colour(original, scene, control, segments, triangle_samples(segments), range, true, shading);
 }
 
 Quantisation choose_quantisation(const std::vector<float>& values)
