@@ -277,6 +277,35 @@ TEST(DisplacedMeshPackage, SmallInputsTakeACoarserDegreeOrKeepEveryFace)
     EXPECT_LT(dynamic_cast<const DisplacedMeshPackage&>(**paper).face_count(), bunny->triangle_count() / 4);
 }
 
+// A texture finer than the shading samples is averaged over each sample's cell, as the truth's mip
+// level averages it, not point-sampled: a checker of 48 texels a side on a quad kept whole (2 faces
+// at degree 33, 32 steps a side, detail 1) puts every other sample on a texel's centre, where a
+// point sample reads pure black or white; averaged over its cell (1.5 texels) none is within a
+// tenth of either (the quad's rim, whose cells are cut by the face, 0.28 at the least).
+TEST(DisplacedMeshPackage, TexturesFinerThanTheSamplesAreAveragedOverTheirCells)
+{
+    Mesh quad = test::alpha_quad(AlphaMode::opaque, 0.5f, true);
+    quad.textures[0] = test::painted_texture("checker", 48, [](int x, int y, std::uint8_t* t) {
+        t[0] = t[1] = t[2] = (x + y) % 2 ? 255 : 0;
+        t[3] = 255;
+    });
+    SourceInfo source;
+    source.bounds = quad.bounds();
+    OptionValues values;
+    values.set("shading-detail", "1");
+    const Representation& r = *find_representation("displaced-mesh");
+    Result<std::unique_ptr<Package>> baked = bake_package(r, quad, source, values, {}, 2);
+    ASSERT_TRUE(baked.is_ok()) << baked.status().message();
+    const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**baked);
+    ASSERT_EQ(p.settings.degree, 33);
+    std::size_t pure = 0;
+    for (std::uint32_t rgba : p.albedo) {
+        const std::uint32_t red = rgba & 0xffu;
+        pure += red < 26 || red > 229;
+    }
+    EXPECT_EQ(pure, 0u) << "of " << p.albedo.size() << " samples, some read the checker's texels point-sampled";
+}
+
 // A control mesh that stops far above its target (the boundary loops of many open parts keep their
 // vertices) takes a coarser default degree: its finest pattern within k_max_pattern_growth (4) times
 // what the target's faces would hold at the given degree (153 samples a face at 17, 45 at 9, 15 at 5).
