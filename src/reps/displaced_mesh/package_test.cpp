@@ -19,6 +19,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// A displaced-mesh package of `mesh` baked on 2 threads with `values` (the bounds its source).
+Result<std::unique_ptr<Package>> bake_on_two_threads(const Mesh& mesh, const OptionValues& values)
+{
+    SourceInfo source;
+    source.bounds = mesh.bounds();
+    return bake_package(*find_representation("displaced-mesh"), mesh, source, values, {}, 2);
+}
+
 Mesh small_sphere()
 {
     GenerateOptions options;
@@ -257,10 +265,7 @@ TEST(DisplacedMeshPackage, SmallInputsTakeACoarserDegreeOrKeepEveryFace)
 
     Result<Mesh> bunny = import_mesh(test::source_dir() + "/data/bunny.ply");
     ASSERT_TRUE(bunny.is_ok());
-    SourceInfo source;
-    source.bounds = bunny->bounds();
-    const Representation& r = *find_representation("displaced-mesh");
-    Result<std::unique_ptr<Package>> baked = bake_package(r, *bunny, source, {}, {}, 2);
+    Result<std::unique_ptr<Package>> baked = bake_on_two_threads(*bunny, {});
     ASSERT_TRUE(baked.is_ok()) << baked.status().message();
     const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**baked);
     EXPECT_EQ(p.face_count(), bunny->triangle_count());
@@ -272,7 +277,7 @@ TEST(DisplacedMeshPackage, SmallInputsTakeACoarserDegreeOrKeepEveryFace)
     // a given degree takes the paper's target (at least 256 faces) as before
     OptionValues given;
     given.set("degree", "17");
-    Result<std::unique_ptr<Package>> paper = bake_package(r, *bunny, source, given, {}, 2);
+    Result<std::unique_ptr<Package>> paper = bake_on_two_threads(*bunny, given);
     ASSERT_TRUE(paper.is_ok()) << paper.status().message();
     EXPECT_LT(dynamic_cast<const DisplacedMeshPackage&>(**paper).face_count(), bunny->triangle_count() / 4);
 }
@@ -289,12 +294,9 @@ TEST(DisplacedMeshPackage, TexturesFinerThanTheSamplesAreAveragedOverTheirCells)
         t[0] = t[1] = t[2] = (x + y) % 2 ? 255 : 0;
         t[3] = 255;
     });
-    SourceInfo source;
-    source.bounds = quad.bounds();
     OptionValues values;
     values.set("shading-detail", "1");
-    const Representation& r = *find_representation("displaced-mesh");
-    Result<std::unique_ptr<Package>> baked = bake_package(r, quad, source, values, {}, 2);
+    Result<std::unique_ptr<Package>> baked = bake_on_two_threads(quad, values);
     ASSERT_TRUE(baked.is_ok()) << baked.status().message();
     const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**baked);
     ASSERT_EQ(p.settings.degree, 33);
