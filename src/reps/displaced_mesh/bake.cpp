@@ -312,6 +312,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     sample_options.sampler = settings.sampler;
     sample_options.interpolation_rays = settings.interpolation_rays;
     sample_options.ray_range = settings.ray_range * mesh.bounds().diagonal();
+    sample_options.move_hidden_out = control->collapses > 0 || cutouts; // kept whole: every surface its own faces
     Result<SampledSurface> sampled = sample_surface(mesh, **scene, geometry, sample_options, progress);
     if (!sampled) return sampled.status();
     std::vector<float> levels = build_levels(layout, sampled->elevation);

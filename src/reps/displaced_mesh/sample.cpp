@@ -116,7 +116,7 @@ SurfacePoint nearer_of(const SurfacePoint& forward, const SurfacePoint& backward
 // The nearer of the hits along +direction and -direction within `range`, as a signed distance;
 // the closest point's offset along `direction` when both miss.
 SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
-                           float& elevation, bool& missed, HiddenHit* hidden = nullptr);
+                           float& elevation, bool& missed, HiddenHit* hidden = nullptr, bool move_out = true);
 
 // The same for a model with alpha-masked materials (issue #14): the nearer hit that survives the
 // alpha test, `covered`; where neither direction meets one, the nearest hit of any kind (the
@@ -273,7 +273,7 @@ SurfacePoint over_layers(const RayScene& scene, const Mesh& original, glm::vec3 
 }
 
 SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec3 origin, glm::vec3 direction, float range,
-                           float& elevation, bool& missed, HiddenHit* hidden)
+                           float& elevation, bool& missed, HiddenHit* hidden, bool move_out)
 {
     missed = false;
     // a sample on the surface itself (every control vertex is an input vertex) is that point: a ray
@@ -287,6 +287,7 @@ SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec
         if (on.found) elevation = glm::dot(on.position - origin, direction);
         hit = over_layers(scene, original, origin, direction, range, hit, elevation);
         const float first_elevation = elevation;
+        if (!move_out) return hit;
         SurfacePoint visible = outermost_visible(scene, original, origin, direction, range, hit, elevation);
         if (hidden && visible.triangle != hit.triangle) *hidden = {true, first_elevation, hit};
         return visible;
@@ -315,12 +316,14 @@ void shade_sample(const Mesh& original, const SurfacePoint& hit, Sample& s)
 }
 
 // `cutouts`: the original has alpha-masked materials, and rays see through their cut-outs.
-Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts)
+// `move_out`: a hit hidden inside a closed part moves out to the surface enclosing it
+// (outermost_visible; SampleOptions::move_hidden_out).
+Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts, bool move_out = true)
 {
     Sample s;
     glm::vec3 direction = unit_direction(point.normal);
     SurfacePoint hit = cutouts ? nearest_covered_along(scene, original, point.position, direction, range, s.elevation, s.missed, s.covered)
-                               : nearest_along(scene, original, point.position, direction, range, s.elevation, s.missed, &s.hidden);
+                               : nearest_along(scene, original, point.position, direction, range, s.elevation, s.missed, &s.hidden, move_out);
     if (hit.found) shade_sample(original, hit, s);
     return s;
 }
@@ -592,12 +595,12 @@ void bleed_into_cutouts(int n, std::size_t per_face, std::size_t face, const std
 // centre) is shaded otherwise (normals over 10 degrees apart, or a colour channel over 8/255), the
 // face's copy takes that shading. Smooth, evenly coloured surfaces keep the shared sample's bytes.
 void take_own_shading(const Mesh& original, const RayScene& scene, const ControlGeometry& control, const std::uint32_t corner[3],
-                      int n, int i, int j, float range, bool cutouts, Sample& shared)
+                      int n, int i, int j, float range, bool cutouts, bool move_out, Sample& shared)
 {
     if (shared.missed) return;
     auto toward_centre = [&](int index) { return std::uint32_t(std::lround(toward_centroid(index, n) * double(k_bary_one))); };
     FacePoint inside = face_point(control.positions.data(), control.normals.data(), corner, toward_centre(j), toward_centre(i));
-    Sample own = sample_at(original, scene, inside, range, cutouts);
+    Sample own = sample_at(original, scene, inside, range, cutouts, move_out);
     if (shared.kept_first && own.hidden.moved) take_hidden(original, own); // a crease's sample stayed on its part
     if (own.missed || (cutouts && !own.covered)) return; // a cut-out's colour is no shading
     const bool creased = glm::dot(glm::normalize(own.normal), glm::normalize(shared.normal)) < std::cos(glm::radians(10.0f));
@@ -738,12 +741,12 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
     const std::size_t faces = control.face_count(), per_face = layout.finest_samples;
     const ControlTopology& topology = control.topology;
     const float range = options.ray_range;
-    const bool cutouts = reps::has_cutouts(original);
+    const bool cutouts = reps::has_cutouts(original), move_out = options.move_hidden_out;
 
     // corners and edges, once each
     std::vector<Sample> corners(control.positions.size());
     for_each_chunked(corners.size(), progress, "sampling corners", [&](std::size_t v) {
-        corners[v] = sample_at(original, scene, {control.positions[v], control.normals[v]}, range, cutouts);
+        corners[v] = sample_at(original, scene, {control.positions[v], control.normals[v]}, range, cutouts, move_out);
     });
     std::vector<Sample> edge_samples(topology.edges.size() * std::size_t(n - 1));
     for_each_chunked(topology.edges.size(), progress, "sampling edges", [&](std::size_t e) {
@@ -751,7 +754,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
         const std::uint32_t ends[3] = {edge.lo, edge.hi, edge.hi};
         for (int s = 1; s < n; ++s) {
             FacePoint point = face_point(control.positions.data(), control.normals.data(), ends, bary(s, n), 0);
-            edge_samples[e * std::size_t(n - 1) + std::size_t(s - 1)] = sample_at(original, scene, point, range, cutouts);
+            edge_samples[e * std::size_t(n - 1) + std::size_t(s - 1)] = sample_at(original, scene, point, range, cutouts, move_out);
         }
     });
 
@@ -776,7 +779,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
             for (int j = 1; j < n - i; ++j) {
                 Sample s = sample_at(original, scene,
                                      face_point(control.positions.data(), control.normals.data(), corner, bary(j, n), bary(i, n)),
-                                     range, cutouts);
+                                     range, cutouts, move_out);
                 std::size_t at = face * per_face + triangle_index(n, i, j);
                 store_sample(out, at, s, cutouts);
                 missed[at] = s.missed;
@@ -794,7 +797,7 @@ Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& scen
                     VertexKind kind = classify(n, i, j, which, along);
                     if (kind == VertexKind::interior) continue;
                     Sample s = shared_sample(f, kind, which, along);
-                    take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, s);
+                    take_own_shading(original, scene, control, corner, n, i, j, range, cutouts, move_out, s);
                     store_sample(out, face * per_face + triangle_index(n, i, j), s, cutouts);
                 }
         }
