@@ -129,7 +129,7 @@ BakeSettings settings_from(const Options& parameters)
 
 Status check_settings(const BakeSettings& s)
 {
-    if (!is_pattern_degree(s.degree)) return error(StatusCode::invalid_argument, "--degree: must be 5, 9, 17 or 33");
+    if (!is_pattern_degree(s.degree)) return error(StatusCode::invalid_argument, "--degree: must be 5, 9, 17 or 33 (or 0: chosen by the bake)");
     int root = int(std::lround(std::sqrt(double(s.interpolation_rays))));
     if (root * root != s.interpolation_rays)
         return error(StatusCode::invalid_argument, "--interpolation-rays: must be a square number (1, 4, 9, ..., 64)");

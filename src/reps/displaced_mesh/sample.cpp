@@ -285,9 +285,9 @@ SurfacePoint nearest_along(const RayScene& scene, const Mesh& original, glm::vec
     if (on.found || forward.found || backward.found) {
         SurfacePoint hit = on.found ? on : nearer_of(forward, backward, elevation);
         if (on.found) elevation = glm::dot(on.position - origin, direction);
+        if (!move_out) return hit; // the surface it lies on or meets first (SampleOptions::move_hidden_out)
         hit = over_layers(scene, original, origin, direction, range, hit, elevation);
         const float first_elevation = elevation;
-        if (!move_out) return hit;
         SurfacePoint visible = outermost_visible(scene, original, origin, direction, range, hit, elevation);
         if (hidden && visible.triangle != hit.triangle) *hidden = {true, first_elevation, hit};
         return visible;
@@ -316,8 +316,8 @@ void shade_sample(const Mesh& original, const SurfacePoint& hit, Sample& s)
 }
 
 // `cutouts`: the original has alpha-masked materials, and rays see through their cut-outs.
-// `move_out`: a hit hidden inside a closed part moves out to the surface enclosing it
-// (outermost_visible; SampleOptions::move_hidden_out).
+// `move_out`: a hit under a layer or hidden inside a closed part moves to the layer or the surface
+// enclosing it (over_layers, outermost_visible; SampleOptions::move_hidden_out).
 Sample sample_at(const Mesh& original, const RayScene& scene, const FacePoint& point, float range, bool cutouts, bool move_out = true)
 {
     Sample s;
