@@ -61,12 +61,8 @@ double texel_length(const Mesh& mesh)
         const Material& material = mesh.materials[mesh.face_materials[f]];
         const int texture = material.base_color_texture >= 0 ? material.base_color_texture : material.normal_texture;
         if (texture < 0) continue;
-        const Texture& t = mesh.textures[std::size_t(texture)];
-        const std::uint32_t* v = &mesh.indices[3 * f];
-        const glm::dvec2 a(mesh.uvs[v[0]]), b(mesh.uvs[v[1]]), c(mesh.uvs[v[2]]);
-        const glm::dvec2 e1 = b - a, e2 = c - a;
         world += mesh.triangle_area(f);
-        texels += 0.5 * std::abs(e1.x * e2.y - e1.y * e2.x) * double(t.width) * double(t.height);
+        texels += triangle_texel_area(mesh, f, texture);
     }
     return texels > 0.0 && world > 0.0 ? std::sqrt(world / texels) : 0.0;
 }

@@ -452,18 +452,13 @@ bool has_base_colour_textures(const Mesh& mesh)
     return false;
 }
 
-// The world length of a texel of a triangle's base-colour texture (sqrt of its world area over its
-// area in texels); infinite without a texture or with degenerate texture coordinates.
+// The world length of a texel of a triangle's base-colour texture; infinite without a texture or
+// with degenerate texture coordinates.
 float triangle_texel_length(const Mesh& mesh, std::uint32_t triangle)
 {
-    const Material& material = mesh.materials[mesh.face_materials[triangle]];
-    if (material.base_color_texture < 0 || !mesh.has_texture_coordinates()) return std::numeric_limits<float>::infinity();
-    const Texture& texture = mesh.textures[std::size_t(material.base_color_texture)];
-    const std::uint32_t* t = &mesh.indices[3 * std::size_t(triangle)];
-    const float world = 0.5f * glm::length(glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]));
-    const glm::vec2 u = mesh.uvs[t[1]] - mesh.uvs[t[0]], v = mesh.uvs[t[2]] - mesh.uvs[t[0]];
-    const float texels = 0.5f * std::abs(u.x * v.y - u.y * v.x) * float(texture.width) * float(texture.height);
-    return texels > 0.0f ? std::sqrt(world / texels) : std::numeric_limits<float>::infinity();
+    const int texture = mesh.materials[mesh.face_materials[triangle]].base_color_texture;
+    const double texels = texture >= 0 && mesh.has_texture_coordinates() ? triangle_texel_area(mesh, triangle, texture) : 0.0;
+    return texels > 0.0 ? float(std::sqrt(mesh.triangle_area(triangle) / texels)) : std::numeric_limits<float>::infinity();
 }
 
 // Sub-points per side of a sample's cell whose colours are averaged (step 3, prefiltering).
@@ -950,6 +945,14 @@ SampledSurface sample_fine_shading(const Mesh& original, const RayScene& scene, 
         if (cutouts) bleed_into_cutouts(fine_n, per_fine, face, out.coverage, out.albedo);
     });
     return out;
+}
+
+double triangle_texel_area(const Mesh& mesh, std::size_t triangle, int texture)
+{
+    const Texture& t = mesh.textures[std::size_t(texture)];
+    const std::uint32_t* v = &mesh.indices[3 * triangle];
+    const glm::dvec2 a(mesh.uvs[v[0]]), e1 = glm::dvec2(mesh.uvs[v[1]]) - a, e2 = glm::dvec2(mesh.uvs[v[2]]) - a;
+    return 0.5 * std::abs(e1.x * e2.y - e1.y * e2.x) * double(t.width) * double(t.height);
 }
 
 void prefilter_texture_colour(const Mesh& original, const RayScene& scene, const ControlGeometry& control, int segments, float range,

@@ -69,6 +69,10 @@ struct SampledSurface {
 Result<SampledSurface> sample_surface(const Mesh& original, const RayScene& original_scene, const ControlGeometry& control,
                                       const SampleOptions& options, const Progress& progress);
 
+// The area of `triangle` in texels of `texture` (its texture coordinates' area times the
+// texture's size): with Mesh::triangle_area, how fine a texture lies on the surface.
+double triangle_texel_area(const Mesh& mesh, std::size_t triangle, int texture);
+
 // Departure: shading finer than the elevations. A textured model keeps its colour detail in the
 // shading samples, and at one per pattern vertex a low-poly textured model's texture was read 17
 // times along a control face (the bundled 12-face box: thesis Luv 7.1). `detail` (2 or 4) times
