@@ -18,6 +18,7 @@
 #include "gpu/frame.h"
 #include "gpu/gl.h"
 #include "gpu/mesh_buffers.h"
+#include "gpu/source_texture.h"
 #include "gpu/shaders/common/bindings.h"
 
 #include <standin/render.h>
@@ -101,78 +102,6 @@ std::vector<std::uint32_t> indices_by_material(const Mesh& mesh, std::vector<Mat
     return indices;
 }
 
-// The next coverage-weighted mip level of an RGBA8 image (w x h): each texel the 2 x 2 (1 x 2 or
-// 2 x 1 along a side of size 1) block under it; colour weighted by alpha, alpha the plain mean. A
-// block with no coverage takes its covered neighbours' colour (below).
-std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t>& fine, int w, int h)
-{
-    const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
-    std::vector<std::uint8_t> out(std::size_t(nw) * nh * 4);
-    for (int y = 0; y < nh; ++y)
-        for (int x = 0; x < nw; ++x) {
-            double weighted[3] = {0, 0, 0}, plain[3] = {0, 0, 0}, alpha = 0.0;
-            int count = 0;
-            for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
-                for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
-                    const std::uint8_t* t = &fine[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 4];
-                    for (int c = 0; c < 3; ++c) weighted[c] += double(t[c]) * t[3], plain[c] += t[c];
-                    alpha += t[3];
-                    ++count;
-                }
-            std::uint8_t* o = &out[(std::size_t(y) * nw + std::size_t(x)) * 4];
-            for (int c = 0; c < 3; ++c)
-                o[c] = std::uint8_t(std::lround(alpha > 0.0 ? weighted[c] / alpha : plain[c] / count));
-            o[3] = std::uint8_t(std::lround(alpha / count));
-        }
-    // an empty texel takes the mean colour of its covered neighbours (wrapping, as the sampler
-    // does), so that bilinear lookups at a cut-out's rim do not mix in the empty texels' colour
-    std::vector<std::uint8_t> filled = out;
-    for (int y = 0; y < nh; ++y)
-        for (int x = 0; x < nw; ++x) {
-            std::uint8_t* o = &filled[(std::size_t(y) * nw + std::size_t(x)) * 4];
-            if (o[3] != 0) continue;
-            int sum[3] = {0, 0, 0}, n = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    int nx = (x + dx + nw) % nw, ny = (y + dy + nh) % nh;
-                    const std::uint8_t* t = &out[(std::size_t(ny) * nw + std::size_t(nx)) * 4];
-                    if (t[3] == 0) continue;
-                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
-                    ++n;
-                }
-            if (n > 0)
-                for (int c = 0; c < 3; ++c) o[c] = std::uint8_t((sum[c] + n / 2) / n);
-        }
-    return filled;
-}
-
-gpu::Texture upload_texture(const Texture& texture)
-{
-    int levels = 1 + int(std::floor(std::log2(std::max(texture.width, texture.height))));
-    gpu::Texture handle = gpu::make_texture_2d(GL_RGBA8, texture.width, texture.height, levels);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
-                        texture.rgba.data());
-    bool has_alpha = false;
-    for (std::size_t i = 3; i < texture.rgba.size() && !has_alpha; i += 4) has_alpha = texture.rgba[i] != 255;
-    if (has_alpha) {
-        std::vector<std::uint8_t> level = texture.rgba;
-        int w = texture.width, h = texture.height;
-        for (int l = 1; l < levels; ++l) {
-            level = coverage_weighted_level(level, w, h);
-            w = std::max(1, w / 2), h = std::max(1, h / 2);
-            glTextureSubImage2D(handle.get(), l, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
-        }
-    } else {
-        glGenerateTextureMipmap(handle.get());
-    }
-    glTextureParameteri(handle.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(handle.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTextureParameteri(handle.get(), GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return handle;
-}
-
 Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
 {
     STANDIN_RETURN_IF_ERROR(validate_mesh(mesh, "mesh renderer"));
@@ -189,7 +118,7 @@ Result<std::unique_ptr<Renderer>> MeshRenderer::create(const Mesh& mesh)
 
     std::vector<std::uint32_t> indices = indices_by_material(mesh, renderer->ranges_);
     renderer->buffers_ = gpu::MeshBuffers::upload(mesh, indices);
-    for (const Texture& texture : mesh.textures) renderer->textures_.push_back(upload_texture(texture));
+    for (const Texture& texture : mesh.textures) renderer->textures_.push_back(gpu::upload_source_texture(texture));
     return std::unique_ptr<Renderer>(std::move(renderer));
 }
 

@@ -12,7 +12,8 @@
 //     hold over 8 million samples (cutout_degree, issue #14); a control mesh that stops over
 //     k_max_pattern_growth times its target's samples takes 9 or 5 instead (control_degree);
 //  2. the control mesh (control_mesh.cpp), and its edge table (topology.cpp); a model with
-//     alpha-masked materials keeps its leaf cards whole in it (issue #14);
+//     alpha-masked materials keeps its leaf cards whole in it (issue #14); control faces that are
+//     textured source triangles keep the source's texture (source_textures.cpp);
 //  3. sample the original along the pattern (sample.cpp), the mip levels (levels.cpp);
 //  4. quantise the elevations (16 bits over the package's range) and use the decoded values from
 //     here on, so what is measured is what is drawn;
@@ -276,6 +277,10 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     Result<ControlTopology> topology = build_topology(package->positions.size(), package->indices);
     if (!topology) return topology.status();
     package->topology = std::move(*topology);
+    // faces that are the source's textured triangles draw its texture (leaf cards always; every
+    // face where the control mesh kept them all)
+    if (settings.source_textures == "auto")
+        package->source_textures = match_source_textures(mesh, package->positions, package->indices, control->collapses == 0);
     progress.report("control mesh", 1.0);
     // a control mesh that stopped far above its target (the boundary loops of many open parts keep
     // their vertices) takes a coarser default degree, so that its finest pattern holds about what

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "reps/displaced_mesh/pattern.h"
+#include "reps/displaced_mesh/source_textures.h"
 #include "reps/displaced_mesh/topology.h"
 
 #include <standin/package.h>
@@ -37,6 +38,9 @@ struct BakeSettings {
     // the model's texel size; the package records which)
     int shading_detail = 1;
     bool compressed = true; // arrays as .bin.gz (docs/FORMAT.md "Compressed arrays"), else raw .bin
+    // "auto": control faces that are textured source triangles read the source's texture at render
+    // time (source_textures.h); "off": every face draws its samples, as the paper's maps
+    std::string source_textures = "auto";
 };
 
 // Control faces wanted at least (all the input's when it has fewer): small models would otherwise
@@ -165,6 +169,9 @@ public:
     std::vector<std::uint8_t> coverage;
     std::vector<float> face_error; // ∆_f per face, world units
     SamplingStats sampling;
+    // control faces that are source triangles, drawn with the source's base-colour texture
+    // (source_textures.h; bake option source-textures), or empty
+    SourceTextures source_textures;
 };
 
 // Octahedral encoding of unit normals into two snorm16 (x in the low half).

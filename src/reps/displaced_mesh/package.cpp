@@ -33,6 +33,9 @@ const char* const k_albedo_file = "albedo.bin";
 const char* const k_orm_file = "orm.bin";           // PBR packages only
 const char* const k_emission_file = "emission.bin"; // PBR packages only
 const char* const k_coverage_file = "coverage.bin"; // alpha-masked models only (issue #14)
+const char* const k_face_texture_file = "face_texture.bin"; // source textures only (source_textures.h)
+
+std::string source_texture_name(std::size_t layer) { return manifest_io::numbered_png("source_texture", layer, "color"); }
 
 // An array's bytes as written: NAME, or NAME.gz (package.settings.compressed).
 struct ArrayFile {
@@ -72,6 +75,39 @@ std::vector<T> read_array(const manifest_io::Reader& in, const std::string& dire
     std::vector<T> values(count);
     std::memcpy(values.data(), bytes.data(), bytes.size());
     return values;
+}
+
+// The source textures' layers and per-face records, checked: every layer index names a layer, UVs
+// are finite, cutoffs within [0, 1].
+void read_source_textures(const manifest_io::Reader& in, const std::string& directory, const nlohmann::json& files,
+                          const nlohmann::json& entry, std::size_t faces, DisplacedMeshPackage& p)
+{
+    SourceTextures& t = p.source_textures;
+    const nlohmann::json& sizes = in.member(entry, "layers", "source_textures.");
+    if (!sizes.is_array() || sizes.empty() || sizes.size() > 256) in.fail("source_textures.layers", "is not a list of 1 to 256 sizes");
+    const std::size_t layers = sizes.size();
+    std::vector<glm::ivec2> size(layers);
+    for (std::size_t k = 0; k < layers; ++k) {
+        const std::string where = "source_textures.layers[" + std::to_string(k) + "].";
+        size[k] = {int(in.integer(sizes[k], "width", where, 1, 16384)), int(in.integer(sizes[k], "height", where, 1, 16384))};
+    }
+    const std::string name = in.string(entry, "file", "source_textures.");
+    t.faces = read_array<FaceTexture>(in, directory, files, name, faces);
+    t.layers.resize(layers);
+    manifest_io::read_each(layers, [&](std::size_t k) {
+        ImageRGBA8 image = manifest_io::read_image8(in, files, source_texture_name(k), size[k].x, size[k].y);
+        t.layers[k].name = source_texture_name(k);
+        t.layers[k].width = image.width;
+        t.layers[k].height = image.height;
+        t.layers[k].rgba = std::move(image.pixels);
+    });
+    for (const FaceTexture& f : t.faces) {
+        if (f.layer == k_no_texture) continue;
+        if (f.layer >= layers) in.fail("source_textures.file", "names texture layer " + std::to_string(f.layer) + " of " + std::to_string(layers));
+        for (glm::vec2 uv : f.uv)
+            if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) in.fail("source_textures.file", "holds a UV that is not finite");
+        if (!(f.cutoff >= 0.0f && f.cutoff <= 1.0f)) in.fail("source_textures.file", "holds an alpha cutoff outside [0, 1]");
+    }
 }
 
 Mesh control_as_mesh(const DisplacedMeshPackage& p)
@@ -143,6 +179,15 @@ Status write(const Package& base, const std::string& directory)
         arrays.push_back(array_file(p, k_emission_file, p.emission));
     }
     if (!p.coverage.empty()) arrays.push_back(array_file(p, k_coverage_file, p.coverage));
+    const SourceTextures& textures = p.source_textures;
+    if (!textures.faces.empty()) {
+        arrays.push_back(array_file(p, k_face_texture_file, textures.faces));
+        for (std::size_t k = 0; k < textures.layers.size(); ++k) {
+            ImageRGBA8 image(textures.layers[k].width, textures.layers[k].height);
+            image.pixels = textures.layers[k].rgba;
+            STANDIN_RETURN_IF_ERROR(manifest_io::write_image(image, directory, source_texture_name(k), files));
+        }
+    }
     // side by side: deflating the shading arrays (tens of MB on foliage) is most of the writing
     STANDIN_RETURN_IF_ERROR(manifest_io::write_each(arrays.size(), [&](std::size_t k, nlohmann::json& files_k) -> Status {
         const ArrayFile& a = arrays[k];
@@ -176,6 +221,14 @@ Status write(const Package& base, const std::string& directory)
         manifest["orm"] = {{"file", stored_name(p, k_orm_file)}, {"encoding", "rgba8: occlusion, roughness, metallic (linear), 255"}};
         manifest["emission"] = {{"file", stored_name(p, k_emission_file)}, {"encoding", "rgba8-srgb"}};
     }
+    if (!textures.faces.empty()) {
+        nlohmann::json sizes = nlohmann::json::array();
+        for (const Texture& layer : textures.layers) sizes.push_back({{"width", layer.width}, {"height", layer.height}});
+        manifest["source_textures"] = {{"file", stored_name(p, k_face_texture_file)}, {"layers", sizes}, {"matched_faces", textures.matched_faces()},
+                                       {"encoding", "per control face 48 bytes: float32 u0 v0 u1 v1 u2 v2, uint32 layer (0xffffffff: none), "
+                                                    "float32 alpha cutoff, uint32 rgba8 colour x 3, uint32 0; layers " +
+                                                        source_texture_name(0) + "..."}};
+    }
     if (!p.coverage.empty())
         manifest["coverage"] = {{"file", stored_name(p, k_coverage_file)}, {"encoding", "unorm8: 255 covered, 0 cut out; drawn where the interpolation >= 1/2"}};
     return manifest_io::write_manifest(directory, manifest, 1);
@@ -193,7 +246,10 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
             manifest_io::with_setting_default(
                 manifest_io::with_setting_default(manifest, "back_faces", "show", patched), "shading_detail", "1", patched_again),
             "compression", "none", patched_thrice);
-        p->parameters = manifest_io::read_settings(in, settings, registration().bake_options);
+        // packages from before source textures drew every face from its samples
+        nlohmann::json patched_source;
+        const nlohmann::json& settings_now = manifest_io::with_setting_default(settings, "source_textures", "off", patched_source);
+        p->parameters = manifest_io::read_settings(in, settings_now, registration().bake_options);
         p->settings = settings_from(p->parameters);
         if (Status checked = check_settings(p->settings); !checked) in.fail("bake", checked.message());
         // a package records the detail its bake resolved
@@ -244,6 +300,8 @@ Result<std::unique_ptr<Package>> read(const std::string& directory, const nlohma
         if (manifest.contains("coverage"))
             arrays.push_back([&, name = file_of("coverage")] { p->coverage = read_array<std::uint8_t>(in, directory, files, name, shading); });
         manifest_io::read_each(arrays.size(), [&](std::size_t k) { arrays[k](); });
+        if (manifest.contains("source_textures"))
+            read_source_textures(in, directory, files, in.member(manifest, "source_textures", ""), faces, *p);
         if (p->settings.elevation_bits == 16) {
             p->elevations.resize(samples);
             for (std::size_t i = 0; i < samples; ++i)

@@ -171,6 +171,65 @@ TEST(DisplacedMeshPackage, CoverageOnlyForAlphaMaskedModelsAndRoundTrips)
     EXPECT_EQ(file_text(dir + "/opaque.standin/manifest.json").find("coverage"), std::string::npos);
 }
 
+// Issue #14: control faces that are source triangles keep the source's texture, corner for corner:
+// the alpha-masked card's two faces always, the opaque card's because the control mesh kept every
+// face; records and texture round-trip, `off` and untextured models store none, and a record naming
+// a layer the package lacks is refused naming the field.
+TEST(DisplacedMeshPackage, SourceTrianglesKeepTheirTextureCornerForCorner)
+{
+    std::string dir = test::fresh_directory("displaced_source_textures");
+    for (AlphaMode mode : {AlphaMode::mask, AlphaMode::opaque}) {
+        const Mesh card = test::alpha_quad(mode, 0.5f, true);
+        std::unique_ptr<Package> baked = test::bake(card, "displaced-mesh", {{"degree", "9"}});
+        ASSERT_TRUE(baked);
+        auto& p = dynamic_cast<DisplacedMeshPackage&>(*baked);
+        const SourceTextures& t = p.source_textures;
+        ASSERT_EQ(t.faces.size(), p.face_count());
+        EXPECT_EQ(t.matched_faces(), card.triangle_count());
+        ASSERT_EQ(t.layers.size(), 1u);
+        EXPECT_EQ(t.layers[0].width, card.textures[0].width);
+        EXPECT_EQ(t.layers[0].rgba, card.textures[0].rgba);
+        for (std::size_t f = 0; f < p.face_count(); ++f) {
+            EXPECT_EQ(t.faces[f].layer, 0u);
+            EXPECT_EQ(t.faces[f].cutoff, alpha_test_cutoff(card.materials[0]));
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec3 corner = p.positions[p.indices[3 * f + std::size_t(k)]];
+                std::size_t v = 0;
+                while (v < card.positions.size() && card.positions[v] != corner) ++v;
+                ASSERT_LT(v, card.positions.size());
+                EXPECT_EQ(t.faces[f].uv[k], card.uvs[v]) << "face " << f << " corner " << k;
+                EXPECT_EQ(t.faces[f].color[k], pack_rgba8(card.colors[v]));
+            }
+        }
+        const std::string path = dir + (mode == AlphaMode::mask ? "/mask.standin" : "/opaque.standin");
+        ASSERT_TRUE(write_package(p, path).is_ok());
+        Result<std::unique_ptr<Package>> back = read_package(path);
+        ASSERT_TRUE(back.is_ok()) << back.status().message();
+        const SourceTextures& read = dynamic_cast<const DisplacedMeshPackage&>(**back).source_textures;
+        ASSERT_EQ(read.faces.size(), t.faces.size());
+        EXPECT_EQ(std::memcmp(read.faces.data(), t.faces.data(), t.faces.size() * sizeof(FaceTexture)), 0);
+        ASSERT_EQ(read.layers.size(), 1u);
+        EXPECT_EQ(read.layers[0].rgba, t.layers[0].rgba);
+
+        if (mode == AlphaMode::mask) {
+            p.source_textures.faces[1].layer = 3; // a layer the package does not hold
+            ASSERT_TRUE(write_package(p, dir + "/bad_layer.standin").is_ok());
+            Result<std::unique_ptr<Package>> bad = read_package(dir + "/bad_layer.standin");
+            ASSERT_FALSE(bad.is_ok());
+            EXPECT_NE(bad.status().message().find("source_textures"), std::string::npos) << bad.status().message();
+        }
+    }
+    std::unique_ptr<Package> off =
+        test::bake(test::alpha_quad(AlphaMode::mask, 0.5f, true), "displaced-mesh", {{"degree", "9"}, {"source-textures", "off"}});
+    ASSERT_TRUE(off);
+    EXPECT_TRUE(dynamic_cast<const DisplacedMeshPackage&>(*off).source_textures.faces.empty());
+    ASSERT_TRUE(write_package(*off, dir + "/off.standin").is_ok());
+    EXPECT_EQ(file_text(dir + "/off.standin/manifest.json").find("\"source_textures\": {"), std::string::npos);
+    std::unique_ptr<Package> untextured = test::bake(small_sphere(), "displaced-mesh", {{"degree", "5"}});
+    ASSERT_TRUE(untextured);
+    EXPECT_TRUE(dynamic_cast<const DisplacedMeshPackage&>(*untextured).source_textures.faces.empty());
+}
+
 // Issue #14: the cut-out texels of most leaf textures are black. Samples on the cut-out take their
 // covered neighbours' colour, and covered samples average only covered texels of their cell, so the
 // interpolated colour never darkens towards the cut-out: every sample of the disc quad keeps the

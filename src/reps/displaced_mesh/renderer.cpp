@@ -19,6 +19,7 @@
 
 #include "gpu/counters.h"
 #include "gpu/frame.h"
+#include "gpu/source_texture.h"
 #include "gpu/gl.h"
 #include "reps/common/package_cast.h"
 #include "reps/displaced_mesh/face_point.h"
@@ -67,6 +68,9 @@ struct ControlVertex {
     glm::uvec4 reference;
 };
 
+// The most GPU memory the source textures' array may take (layers resampled to the largest).
+constexpr std::uint64_t k_max_source_texture_bytes = std::uint64_t(2) << 30;
+
 // The package's storage buffers (init uploads them; the refinement's lists are apart).
 struct PackageBuffer {
     const char* what;
@@ -81,6 +85,8 @@ std::vector<PackageBuffer> package_buffers(const DisplacedMeshPackage& package)
         {"shading samples", std::uint64_t(package.shading_normals.size()) * sizeof(glm::uvec2)},
     };
     if (!package.orm.empty()) buffers.push_back({"PBR samples", std::uint64_t(package.orm.size()) * sizeof(glm::uvec2)});
+    if (!package.source_textures.faces.empty())
+        buffers.push_back({"source texture records", std::uint64_t(package.source_textures.faces.size()) * sizeof(FaceTexture)});
     return buffers;
 }
 
@@ -101,6 +107,26 @@ Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t lim
                              " control faces) take " + mib(b.bytes) + " MiB, over the " + mib(limit) +
                              " MiB this OpenGL lets a shader read from one buffer; bake it again with --degree 5 "
                              "--shading-detail 1, or as another representation");
+    return Status::ok();
+}
+
+// The source textures' array (every layer at the largest width and height, with its mip levels)
+// must be one the GL can make and not a memory bomb: a package may name 256 layers of up to 16384².
+Status check_source_texture_size(const SourceTextures& textures)
+{
+    int width = 0, height = 0;
+    for (const Texture& t : textures.layers) width = std::max(width, t.width), height = std::max(height, t.height);
+    GLint max_size = 0, max_layers = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    const std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * textures.layers.size() * 4u * 4u / 3u;
+    if (width > max_size || height > max_size || GLint(textures.layers.size()) > max_layers || bytes > k_max_source_texture_bytes)
+        return error(StatusCode::unsupported, "displaced mesh: its " + std::to_string(textures.layers.size()) + " source textures take " +
+                                                  std::to_string(width) + "x" + std::to_string(height) + " texels each on the GPU (" +
+                                                  std::to_string(bytes >> 20) + " MiB), over what this OpenGL or standin allows (" +
+                                                  std::to_string(max_size) + " texels a side, " + std::to_string(max_layers) + " layers, " +
+                                                  std::to_string(k_max_source_texture_bytes >> 20) +
+                                                  " MiB); bake it again with --source-textures off");
     return Status::ok();
 }
 
@@ -184,6 +210,9 @@ private:
     std::uint32_t shading_per_face_ = 0; // and its samples per face
     gpu::Query primitives_query_;
     gpu::Buffer pbr_; // PBR packages only (issue #14)
+    // faces drawn with the source's textures (source_textures.h): their records and the textures
+    gpu::Buffer face_textures_;
+    gpu::Texture source_textures_;
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
     gpu::Buffer lists_[2];
     std::uint64_t list_capacity_ = 0, final_capacity_ = 0, scan_capacity_ = 0;
@@ -251,6 +280,12 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
         for (std::size_t i = 0; i < package.coverage.size(); ++i)
             if (package.coverage[i] == 0) see_through[i / per_face] = 1;
     }
+    // and faces alpha-tested with the source's texture, whose samples may all be covered
+    const SourceTextures& source_textures = package.source_textures;
+    bool textured_cutouts = false;
+    for (std::size_t f = 0; f < source_textures.faces.size(); ++f)
+        if (source_textures.faces[f].layer != k_no_texture && source_textures.faces[f].cutoff > 0.0f)
+            see_through[f] = 1, textured_cutouts = true;
     std::vector<FaceRefineData> prepared = prepare_faces(package.positions, package.normals, package.indices, package.topology,
                                                          layout_, package.elevations, package.face_error, see_through);
     std::vector<FaceData> faces(face_count_);
@@ -268,7 +303,7 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     std::vector<glm::uvec2> shading(package.shading_normals.size());
     // with coverage, it takes the albedo's alpha byte (which the shading never reads): one fetch
     // gives colour and coverage, interpolated alike
-    cutouts_ = !package.coverage.empty();
+    cutouts_ = !package.coverage.empty() || textured_cutouts;
     cull_back_faces_ = package.settings.back_faces == "cull";
     shading_segments_ = package.shading_segments();
     shading_per_face_ = std::uint32_t(package.shading_samples_per_face());
@@ -282,6 +317,11 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
         std::vector<glm::uvec2> pbr(package.orm.size());
         for (std::size_t i = 0; i < pbr.size(); ++i) pbr[i] = {package.orm[i], package.emission[i]};
         pbr_ = gpu::make_buffer(pbr);
+    }
+    if (!source_textures.faces.empty()) {
+        STANDIN_RETURN_IF_ERROR(check_source_texture_size(source_textures));
+        face_textures_ = gpu::make_buffer(source_textures.faces);
+        source_textures_ = gpu::upload_source_texture_array(source_textures.layers);
     }
     STANDIN_RETURN_IF_ERROR(compile_draw_programs());
     refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);
@@ -300,7 +340,8 @@ Status Impl::compile_draw_programs()
     for (int faded = 0; faded < 2; ++faded) {
         for (int measuring = 0; measuring < 2; ++measuring) {
             std::vector<std::pair<std::string, std::string>> defines = {
-                {"DM_MEASURE_ERROR", measuring ? "1" : "0"}, {"DM_FOLLOW_CONTROL", moved_ ? "1" : "0"}, {"DM_PBR", pbr_ ? "1" : "0"}};
+                {"DM_MEASURE_ERROR", measuring ? "1" : "0"}, {"DM_FOLLOW_CONTROL", moved_ ? "1" : "0"}, {"DM_PBR", pbr_ ? "1" : "0"},
+                {"DM_SOURCE_TEXTURES", face_textures_ ? "1" : "0"}};
             if (faded) defines.push_back({"DM_FADED", "1"});
             Result<gpu::Program> draw =
                 gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"}, defines);
@@ -372,6 +413,8 @@ void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_STATE_SSBO, state_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_PBR_SSBO, pbr_ ? pbr_.get() : 0u);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FACE_TEXTURE_SSBO, face_textures_ ? face_textures_.get() : 0u);
+    glBindTextureUnit(DM_SOURCE_TEXTURE_UNIT, source_textures_ ? source_textures_.get() : 0u);
 }
 
 void Impl::run_passes(const DrawParams& params, std::uint32_t instances)

@@ -178,6 +178,30 @@ TEST(DisplacedMeshRenderer, BuffersOverTheStorageBlockLimitAreRefused)
     EXPECT_TRUE(DisplacedRenderer::create(*s.package, settings).is_ok());
 }
 
+// A package whose source textures would make a texture array the GL cannot hold, or a memory bomb
+// (a hostile package may list 256 layers of 16384²; every layer takes the largest size), is refused
+// in one line before anything is uploaded.
+TEST(DisplacedMeshRenderer, SourceTexturesOverTheArrayLimitsAreRefused)
+{
+    test::gpu_context();
+    Result<Options> parameters = bake_parameters({{"degree", "5"}});
+    ASSERT_TRUE(parameters.is_ok());
+    Result<std::unique_ptr<DisplacedMeshPackage>> package =
+        bake_displaced(test::alpha_quad(AlphaMode::mask, 0.5f, true), SourceInfo{}, *parameters, Progress());
+    ASSERT_TRUE(package.is_ok()) << package.status().message();
+    ASSERT_EQ((*package)->source_textures.layers.size(), 1u);
+    EXPECT_TRUE(DisplacedRenderer::create(**package, RendererSettings{}).is_ok());
+    Texture huge; // its size alone is read before the refusal
+    huge.width = huge.height = 16384;
+    (*package)->source_textures.layers.push_back(huge);
+    Result<std::unique_ptr<DisplacedRenderer>> refused = DisplacedRenderer::create(**package, RendererSettings{});
+    ASSERT_FALSE(refused.is_ok());
+    EXPECT_EQ(refused.status().code(), StatusCode::unsupported);
+    const std::string message = refused.status().message();
+    EXPECT_NE(message.find("--source-textures off"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+}
+
 TEST(DisplacedMeshRenderer, FewerTrianglesAsTauGrowsAndCullingHelps)
 {
     const Subject& s = noisy_sphere();
@@ -310,7 +334,9 @@ TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
 // from outside and culls back faces; drawn both sides (show), the plane's underside spills.
 // A textured low-poly model (the bundled 12-face box, a 211-pixel texture): its texture's detail
 // lives in the shading samples, which auto takes 4 times finer than the pattern there (thesis
-// protocol: Luv 5.27 at 1, 1.08 at 4, docs/RESULTS.md "Shading finer than the pattern").
+// protocol: Luv 5.27 at 1, 1.08 at 4, docs/RESULTS.md "Shading finer than the pattern"), with the
+// source's texture left out (--source-textures off); with it, every face of the box kept whole
+// reads the texture itself (source_textures.h), closer still.
 TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
 {
     test::gpu_context();
@@ -318,14 +344,16 @@ TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
     ASSERT_TRUE(box.is_ok()) << box.status().message();
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(*box);
     ASSERT_TRUE(truth.is_ok());
-    double luv[2] = {0.0, 0.0};
-    for (int k = 0; k < 2; ++k) {
+    double luv[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < 3; ++k) {
         // (degree 17 given: chosen, the 12 faces would take 33, default_control_plan)
-        Result<Options> parameters = bake_parameters({{"degree", "17"}, {"shading-detail", k == 0 ? "1" : "auto"}});
+        Result<Options> parameters = bake_parameters(
+            {{"degree", "17"}, {"shading-detail", k == 0 ? "1" : "auto"}, {"source-textures", k < 2 ? "off" : "auto"}});
         ASSERT_TRUE(parameters.is_ok());
         Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(*box, SourceInfo{}, *parameters, Progress());
         ASSERT_TRUE(package.is_ok()) << package.status().message();
         EXPECT_EQ((*package)->settings.shading_detail, k == 0 ? 1 : 4);
+        EXPECT_EQ((*package)->source_textures.matched_faces(), k < 2 ? 0u : (*package)->face_count());
         EXPECT_EQ((*package)->albedo.size(), (*package)->face_count() * (*package)->shading_samples_per_face());
         std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
         ASSERT_TRUE(renderer);
@@ -334,9 +362,11 @@ TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
             luv[k] += 0.5 * compare_images(render(**truth, camera, 400, 300).color, render(*renderer, camera, 400, 300).color).luv_mean;
         }
     }
-    std::printf("[displaced textured box] Luv: shading detail 1 %.3f, auto (4) %.3f\n", luv[0], luv[1]);
+    std::printf("[displaced textured box] Luv: shading detail 1 %.3f, auto (4) %.3f, the source's texture %.3f\n", luv[0], luv[1],
+                luv[2]);
     EXPECT_LT(luv[1], 2.0);
     EXPECT_LT(luv[1], luv[0] - 2.0);
+    EXPECT_LT(luv[2], 0.1); // measured 0.003: the truth's own texture on the truth's own faces
 }
 
 // A closed cube, wound outward, whose six faces share an alpha-masked texture: stripes of colour
@@ -380,14 +410,15 @@ TEST(DisplacedMeshRenderer, CutOutsOfALowPolyModelAreOutlinedFinerAndSeenInto)
     const Mesh cube = perforated_cube();
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(cube);
     ASSERT_TRUE(truth.is_ok());
-    double luv[2] = {0.0, 0.0}, iou[2] = {0.0, 0.0};
-    for (int k = 0; k < 2; ++k) {
-        Result<Options> parameters = bake_parameters({{"shading-detail", k == 0 ? "1" : "auto"}});
+    double luv[3] = {0.0, 0.0, 0.0}, iou[3] = {0.0, 0.0, 0.0};
+    for (int k = 0; k < 3; ++k) {
+        Result<Options> parameters =
+            bake_parameters({{"shading-detail", k == 0 ? "1" : "auto"}, {"source-textures", k < 2 ? "off" : "auto"}});
         ASSERT_TRUE(parameters.is_ok());
         Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(cube, SourceInfo{}, *parameters, Progress());
         ASSERT_TRUE(package.is_ok()) << package.status().message();
         ASSERT_EQ((*package)->coverage.size(), (*package)->albedo.size());
-        if (k == 1) {
+        if (k >= 1) {
             EXPECT_EQ((*package)->settings.shading_detail, 4);
         }
         std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
@@ -398,13 +429,18 @@ TEST(DisplacedMeshRenderer, CutOutsOfALowPolyModelAreOutlinedFinerAndSeenInto)
             luv[k] += 0.5 * m.luv_mean, iou[k] += 0.5 * m.iou;
         }
     }
-    std::printf("[displaced perforated cube] detail 1: Luv %.3f IoU %.4f; auto (4): Luv %.3f IoU %.4f\n", luv[0], iou[0], luv[1], iou[1]);
-    // measured: detail 1 Luv 22.6, IoU 0.978; auto 5.8, 0.985; with the far walls' insides culled
-    // 33.2, 0.748 and 19.5, 0.778
+    std::printf("[displaced perforated cube] detail 1: Luv %.3f IoU %.4f; auto (4): Luv %.3f IoU %.4f; the source's texture: Luv "
+                "%.3f IoU %.4f\n",
+                luv[0], iou[0], luv[1], iou[1], luv[2], iou[2]);
+    // measured (the samples alone, --source-textures off): detail 1 Luv 22.6, IoU 0.978; auto 5.8,
+    // 0.985; with the far walls' insides culled 33.2, 0.748 and 19.5, 0.778
     EXPECT_GT(iou[0], 0.97) << "the far walls' insides, seen through the holes, are drawn";
     EXPECT_GT(iou[1], 0.98);
     EXPECT_LT(luv[1], 8.0);
     EXPECT_LT(luv[1], luv[0] - 8.0) << "finer coverage and colour outline the holes";
+    // the faces read the texture's own cut-outs (source_textures.h): measured Luv 0.003, IoU 1.0000
+    EXPECT_GT(iou[2], 0.999);
+    EXPECT_LT(luv[2], 0.1);
 }
 
 TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)

@@ -55,6 +55,11 @@ std::vector<OptionSpec> bake_options()
                       "Arrays in the package: gzip (each .bin as a .bin.gz: foliage's shading arrays shrink 20-50x, "
                       "a scan's elevations and normals 4-10%) or none (raw little-endian arrays, read by standin before "
                       "format version 7)"),
+        choice_option("source-textures", "auto", {"auto", "off"},
+                      "Control faces that are the model's own textured triangles (every leaf card of an alpha-masked "
+                      "material, and every face of a model kept whole) draw its base-colour texture at the pixel, "
+                      "filtered and alpha-tested as the mesh draws it (auto; the package keeps those textures), or "
+                      "only the sampled colour and coverage, as the paper's maps (off)"),
     };
 }
 
@@ -96,6 +101,8 @@ PackageSummary summarise(const Package& base)
                        {"shading_detail", p.settings.shading_detail},
                        {"shading_samples", p.shading_normals.size()},
                        {"compression", p.settings.compressed ? "gzip" : "none"},
+                       {"source_textured_faces", p.source_textures.matched_faces()},
+                       {"source_texture_layers", p.source_textures.layers.size()},
                        {"gpu_buffer_bytes", gpu_bytes}};
     char line[320];
     std::snprintf(line, sizeof line,
@@ -124,6 +131,7 @@ BakeSettings settings_from(const Options& parameters)
     const std::string detail = parameters.choice("shading-detail");
     s.shading_detail = detail == "auto" ? 0 : std::stoi(detail); // 0: not resolved yet (the bake resolves it)
     s.compressed = parameters.choice("compression") == "gzip";
+    s.source_textures = parameters.choice("source-textures");
     return s;
 }
 

@@ -21,6 +21,10 @@
 #define DM_GROUPS_SSBO (BINDING_FIRST_RENDERER_SSBO + 8)     // per workgroup: sums, then their exclusive prefix
 #define DM_STATE_SSBO (BINDING_FIRST_RENDERER_SSBO + 9)      // refinement state and indirect arguments (DM_STATE_*)
 #define DM_PBR_SSBO (BINDING_FIRST_RENDERER_SSBO + 10)       // uvec2 per finest sample: RGBA8 ORM, RGBA8 emission (PBR packages)
+#define DM_FACE_TEXTURE_SSBO (BINDING_FIRST_RENDERER_SSBO + 11) // FaceTexture per control face (source_textures.h; packages with them)
+
+// texture units
+#define DM_SOURCE_TEXTURE_UNIT (BINDING_FIRST_RENDERER_TEXTURE + 0) // the source textures, one layer each
 
 // the renderer's own counters (gpu/counters.h), after the shared ones
 #define DM_COUNTER_ERROR_SUM (COUNTER_SHARED_COUNT + 0) // over fragments, the distance to the finest surface, 1/DM_ERROR_UNITS px

@@ -2,7 +2,8 @@
 // Shading of the displaced surface: the normal and albedo sampled with the displacement (the paper
 // never says where its shading normals came from), read at the fragment's place in its control
 // face from the shading pattern (the finest, or 2 or 4 times finer for textures; three samples,
-// barycentric), lit by the shared lighting.glsl with
+// barycentric), or on faces that are source triangles the albedo and cut-out from the source's
+// texture (source_textures.h), lit by the shared lighting.glsl with
 // the frame's shadows. True depth: the triangles are real geometry. Debug views: control faces,
 // bisection depth, and the distance to the finest surface in pixels (the paper's Fig. 11c).
 #include "gpu/shaders/common/frame.glsl"
@@ -46,6 +47,25 @@ uniform int counting; // 1: add this fragment, its reads and its error to the co
 #endif
 #ifndef DM_PBR
 #define DM_PBR 1 // the package may have ORM and emission samples (has_pbr_maps says)
+#endif
+
+#ifndef DM_SOURCE_TEXTURES
+#define DM_SOURCE_TEXTURES 1 // the package has faces drawn with the source's textures (source_textures.h)
+#endif
+
+#if DM_SOURCE_TEXTURES
+// A control face that is a source triangle (source_textures.h FaceTexture, 48 bytes): its corners'
+// UVs and colours, the layer of its texture (DM_NO_TEXTURE: none) and its alpha cutoff.
+struct FaceTexture {
+    vec2 uv[3];
+    uint layer;
+    float cutoff;
+    uint color[3];
+    uint reserved;
+};
+#define DM_NO_TEXTURE 0xffffffffu
+layout(std430, binding = DM_FACE_TEXTURE_SSBO) readonly buffer FaceTextureBlock { FaceTexture face_textures[]; };
+layout(binding = DM_SOURCE_TEXTURE_UNIT) uniform sampler2DArray source_textures;
 #endif
 
 in vec3 v_position_world;
@@ -130,6 +150,22 @@ float error_pixels(mat4 world_from_object)
 
 void main()
 {
+#if DM_SOURCE_TEXTURES
+    // a face that is a source triangle reads the source's texture as the truth does (mesh.frag):
+    // colour through the mip levels, the alpha test at the full-resolution level; read before any
+    // discard, on every fragment (implicit derivatives want the whole quad)
+    FaceTexture source = face_textures[v_face];
+    const float w0 = 1.0 - v_face_bary.x - v_face_bary.y;
+    const vec3 source_uv = vec3(w0 * source.uv[0] + v_face_bary.x * source.uv[1] + v_face_bary.y * source.uv[2],
+                                float(source.layer == DM_NO_TEXTURE ? 0u : source.layer));
+    // (the UV's derivatives from the barycentrics', a varying's: derived implicitly from the
+    // records' storage reads, llvmpipe's came out near zero, and the minigun's texture was
+    // point-sampled at level 0, Luv 0.59 -> 5.8)
+    const vec2 d_bary_x = dFdx(v_face_bary), d_bary_y = dFdy(v_face_bary);
+    const mat2 uv_from_bary = mat2(source.uv[1] - source.uv[0], source.uv[2] - source.uv[0]);
+    const vec4 source_texel = textureGrad(source_textures, source_uv, uv_from_bary * d_bary_x, uv_from_bary * d_bary_y);
+    const float source_alpha = textureLod(source_textures, source_uv, 0.0).a;
+#endif
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     uint index[3];
     float weight[3];
@@ -141,7 +177,16 @@ void main()
         normal += weight[k] * decode_normal(s.x);
         albedo += weight[k] * unpackUnorm4x8(s.y);
     }
-    if (has_coverage != 0 && albedo.a < 0.5) discard;
+    bool cut_out = has_coverage != 0 && albedo.a < 0.5;
+#if DM_SOURCE_TEXTURES
+    if (source.layer != DM_NO_TEXTURE) {
+        vec4 corners = w0 * unpackUnorm4x8(source.color[0]) + v_face_bary.x * unpackUnorm4x8(source.color[1]) +
+                       v_face_bary.y * unpackUnorm4x8(source.color[2]);
+        albedo = vec4(corners.rgb * source_texel.rgb, 1.0);
+        cut_out = source.cutoff > 0.0 && corners.a * source_alpha < source.cutoff;
+    }
+#endif
+    if (cut_out) discard;
     if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(world_from_object)) < 0.0)) discard;

@@ -1,0 +1,141 @@
+// Source textures on the GPU with the truth's mip levels (source_texture.h; why coverage-weighted:
+// src/reference/mesh_renderer.cpp).
+#include "gpu/source_texture.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace standin::gpu {
+
+namespace {
+
+bool has_alpha(const standin::Texture& texture)
+{
+    for (std::size_t i = 3; i < texture.rgba.size(); i += 4)
+        if (texture.rgba[i] != 255) return true;
+    return false;
+}
+
+standin::Texture resampled(const standin::Texture& texture, int width, int height)
+{
+    if (texture.width == width && texture.height == height) return texture;
+    standin::Texture out;
+    out.name = texture.name;
+    out.width = width;
+    out.height = height;
+    out.rgba.resize(std::size_t(width) * height * 4);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec4 c = texture.sample({(float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height)});
+            for (int k = 0; k < 4; ++k)
+                out.rgba[(std::size_t(y) * width + x) * 4 + std::size_t(k)] = std::uint8_t(std::lround(std::clamp(c[k], 0.0f, 1.0f) * 255.0f));
+        }
+    return out;
+}
+
+int level_count(int width, int height) { return 1 + int(std::floor(std::log2(std::max(width, height)))); }
+
+void set_sampling(GLuint handle)
+{
+    glTextureParameteri(handle, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(handle, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(handle, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTextureParameteri(handle, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+} // namespace
+
+std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t>& fine, int w, int h)
+{
+    const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
+    std::vector<std::uint8_t> out(std::size_t(nw) * nh * 4);
+    for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+            double weighted[3] = {0, 0, 0}, plain[3] = {0, 0, 0}, alpha = 0.0;
+            int count = 0;
+            for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy)
+                for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
+                    const std::uint8_t* t = &fine[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 4];
+                    for (int c = 0; c < 3; ++c) weighted[c] += double(t[c]) * t[3], plain[c] += t[c];
+                    alpha += t[3];
+                    ++count;
+                }
+            std::uint8_t* o = &out[(std::size_t(y) * nw + std::size_t(x)) * 4];
+            for (int c = 0; c < 3; ++c)
+                o[c] = std::uint8_t(std::lround(alpha > 0.0 ? weighted[c] / alpha : plain[c] / count));
+            o[3] = std::uint8_t(std::lround(alpha / count));
+        }
+    // an empty texel takes the mean colour of its covered neighbours (wrapping, as the sampler
+    // does), so that bilinear lookups at a cut-out's rim do not mix in the empty texels' colour
+    std::vector<std::uint8_t> filled = out;
+    for (int y = 0; y < nh; ++y)
+        for (int x = 0; x < nw; ++x) {
+            std::uint8_t* o = &filled[(std::size_t(y) * nw + std::size_t(x)) * 4];
+            if (o[3] != 0) continue;
+            int sum[3] = {0, 0, 0}, n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    int nx = (x + dx + nw) % nw, ny = (y + dy + nh) % nh;
+                    const std::uint8_t* t = &out[(std::size_t(ny) * nw + std::size_t(nx)) * 4];
+                    if (t[3] == 0) continue;
+                    for (int c = 0; c < 3; ++c) sum[c] += t[c];
+                    ++n;
+                }
+            if (n > 0)
+                for (int c = 0; c < 3; ++c) o[c] = std::uint8_t((sum[c] + n / 2) / n);
+        }
+    return filled;
+}
+
+Texture upload_source_texture(const standin::Texture& texture)
+{
+    const int levels = level_count(texture.width, texture.height);
+    Texture handle = make_texture_2d(GL_RGBA8, texture.width, texture.height, levels);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        texture.rgba.data());
+    if (has_alpha(texture)) {
+        std::vector<std::uint8_t> level = texture.rgba;
+        int w = texture.width, h = texture.height;
+        for (int l = 1; l < levels; ++l) {
+            level = coverage_weighted_level(level, w, h);
+            w = std::max(1, w / 2), h = std::max(1, h / 2);
+            glTextureSubImage2D(handle.get(), l, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
+        }
+    } else {
+        glGenerateTextureMipmap(handle.get());
+    }
+    set_sampling(handle.get());
+    return handle;
+}
+
+Texture upload_source_texture_array(const std::vector<standin::Texture>& sources)
+{
+    int width = 0, height = 0;
+    for (const standin::Texture& t : sources) width = std::max(width, t.width), height = std::max(height, t.height);
+    std::vector<standin::Texture> layers;
+    for (const standin::Texture& t : sources) layers.push_back(resampled(t, width, height));
+    const int levels = level_count(width, height);
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
+    Texture handle(name);
+    glTextureStorage3D(name, levels, GL_RGBA8, width, height, GLsizei(layers.size()));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (std::size_t k = 0; k < layers.size(); ++k)
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), width, height, 1, GL_RGBA, GL_UNSIGNED_BYTE, layers[k].rgba.data());
+    glGenerateTextureMipmap(name);
+    for (std::size_t k = 0; k < layers.size(); ++k) {
+        if (!has_alpha(layers[k])) continue;
+        std::vector<std::uint8_t> level = layers[k].rgba;
+        int w = width, h = height;
+        for (int l = 1; l < levels; ++l) {
+            level = coverage_weighted_level(level, w, h);
+            w = std::max(1, w / 2), h = std::max(1, h / 2);
+            glTextureSubImage3D(name, l, 0, 0, GLint(k), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
+        }
+    }
+    set_sampling(name);
+    return handle;
+}
+
+} // namespace standin::gpu
