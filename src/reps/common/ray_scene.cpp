@@ -81,36 +81,42 @@ SurfacePoint RayScene::intersect(glm::vec3 origin, glm::vec3 direction, float t_
 // the three edges' closest points.
 glm::vec3 closest_point_in_triangle(glm::vec3 p, glm::vec3 a, glm::vec3 b, glm::vec3 c, float& b1, float& b2)
 {
-    glm::vec3 e1 = b - a, e2 = c - a, d = p - a;
-    float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
-    float det = d11 * d22 - d12 * d12;
-    if (det > 0.0f) {
-        float r1 = glm::dot(d, e1), r2 = glm::dot(d, e2);
-        float u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
-        if (u >= 0.0f && v >= 0.0f && u + v <= 1.0f) {
-            b1 = u, b2 = v;
-            return a + u * e1 + v * e2;
+    // in double: the normal equations' determinant of a long thin triangle cancels in float, and
+    // a point on such a triangle's edge came back up to 1.1e-5 off it on the generated tree's trunk
+    // (its edge ~0.1 long), past the samplers' on-surface radius: the displaced mesh then cast rays
+    // from a point on the surface and took a branch behind it (elevations of +-0.01, faces refined
+    // 6-10 bisections, 463,621 triangles a frame)
+    const glm::dvec3 da(a), e1 = glm::dvec3(b) - da, e2 = glm::dvec3(c) - da, d = glm::dvec3(p) - da;
+    const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const double det = d11 * d22 - d12 * d12;
+    if (det > 0.0) {
+        const double r1 = glm::dot(d, e1), r2 = glm::dot(d, e2);
+        const double u = (d22 * r1 - d12 * r2) / det, v = (d11 * r2 - d12 * r1) / det;
+        if (u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
+            b1 = float(u), b2 = float(v);
+            return glm::vec3(da + u * e1 + v * e2);
         }
     }
     // on the boundary: the best of the three segments, each clamped
-    const glm::vec3 corners[3] = {a, b, c};
-    float best = std::numeric_limits<float>::infinity();
-    glm::vec3 best_point = a;
+    const glm::dvec3 corners[3] = {da, glm::dvec3(b), glm::dvec3(c)};
+    const glm::dvec3 dp(p);
+    double best = std::numeric_limits<double>::infinity();
+    glm::dvec3 best_point = da;
     b1 = b2 = 0.0f;
     for (int k = 0; k < 3; ++k) {
-        glm::vec3 s0 = corners[k], s1 = corners[(k + 1) % 3], s = s1 - s0;
-        float length2 = glm::dot(s, s);
-        float t = length2 > 0.0f ? std::clamp(glm::dot(p - s0, s) / length2, 0.0f, 1.0f) : 0.0f;
-        glm::vec3 q = s0 + t * s;
-        float dist2 = glm::dot(p - q, p - q);
+        const glm::dvec3 s0 = corners[k], s = corners[(k + 1) % 3] - s0;
+        const double length2 = glm::dot(s, s);
+        const double t = length2 > 0.0 ? std::clamp(glm::dot(dp - s0, s) / length2, 0.0, 1.0) : 0.0;
+        const glm::dvec3 q = s0 + t * s;
+        const double dist2 = glm::dot(dp - q, dp - q);
         if (dist2 < best) {
             best = dist2, best_point = q;
             float w[3] = {0.0f, 0.0f, 0.0f};
-            w[k] = 1.0f - t, w[(k + 1) % 3] = t;
+            w[k] = float(1.0 - t), w[(k + 1) % 3] = float(t);
             b1 = w[1], b2 = w[2];
         }
     }
-    return best_point;
+    return glm::vec3(best_point);
 }
 
 namespace {

@@ -49,3 +49,25 @@ TEST(RayScene, TheClosestPointFoundNearFirstIsTheClosestAnywhere)
 
 } // namespace
 } // namespace standin::reps
+
+namespace standin::reps {
+namespace {
+
+// A point on an edge of a long thin triangle is on the triangle: its closest point is itself, to
+// float rounding. The triangle is one of the generated tree's trunk faces (an edge 0.012 long against
+// sides of 0.15), where the normal equations solved in float put 6 of 31 such points 1.1e-5 away,
+// past the displaced mesh's on-surface radius (sample.cpp k_on_surface).
+TEST(RayScene, APointOnTheEdgeOfASliverIsItsOwnClosestPoint)
+{
+    const glm::vec3 a(-0.214441f, 0.176804f, -0.0476398f), b(-0.201151f, 0.29306f, -0.142386f), c(-0.207063f, 0.29306f, -0.142765f);
+    for (int k = 1; k < 32; ++k) {
+        const glm::vec3 q = c + (float(k) / 32.0f) * (b - c);
+        float b1 = 0.0f, b2 = 0.0f;
+        const glm::vec3 p = closest_point_in_triangle(q, a, b, c, b1, b2);
+        EXPECT_LT(glm::length(p - q), 1e-6f) << "point " << k << " of the edge";
+        EXPECT_NEAR(b1 + b2, 1.0f, 1e-5f) << "point " << k << " lies on edge bc";
+    }
+}
+
+} // namespace
+} // namespace standin::reps
