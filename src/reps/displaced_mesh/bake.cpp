@@ -320,7 +320,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
 
     // quantise, and keep what the renderer will decode
     if (settings.elevation_bits == 16) {
-        Quantisation q = choose_quantisation(levels);
+        Quantisation q = choose_quantisation(levels, elevation_step_floor(mesh.bounds().diagonal()));
         package->elevation_codes = quantise(levels, q);
         package->elevation_minimum = q.minimum;
         package->elevation_step = q.step;

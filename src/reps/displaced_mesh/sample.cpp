@@ -962,13 +962,13 @@ void prefilter_texture_colour(const Mesh& original, const RayScene& scene, const
     prefilter_surface_colour(original, scene, control, segments, triangle_samples(segments), range, true, shading);
 }
 
-Quantisation choose_quantisation(const std::vector<float>& values)
+Quantisation choose_quantisation(const std::vector<float>& values, float min_step)
 {
     Quantisation q;
     if (values.empty()) return q;
     auto [lo, hi] = std::minmax_element(values.begin(), values.end());
     q.minimum = *lo;
-    q.step = (*hi - *lo) / 65535.0f;
+    q.step = std::max((*hi - *lo) / 65535.0f, min_step);
     return q;
 }
 

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <cmath>
 #include <vector>
 
 namespace standin::displaced_mesh {
@@ -106,10 +107,16 @@ std::vector<float> build_levels(const PatternLayout& layout, const std::vector<f
 // decode the sample two faces share differently on each, and crack).
 struct Quantisation {
     float minimum = 0.0f;
-    float step = 0.0f; // (maximum - minimum) / 65535
+    float step = 0.0f; // (maximum - minimum) / 65535, at least the floor below
     float decode(std::uint16_t code) const { return minimum + float(code) * step; }
 };
-Quantisation choose_quantisation(const std::vector<float>& values);
+// `min_step`: no finer than this (the bake's: 2^-22 of the model's diagonal, two float ulps of its
+// largest coordinates). Samples lying on the original carry elevations of float rounding; where
+// nothing else widens the range (a model kept whole: the generated tree's ±7e-8), 65,535 codes over
+// that noise made it incompressible (elevations 32 kB -> 2.6 MB).
+Quantisation choose_quantisation(const std::vector<float>& values, float min_step = 0.0f);
+// The bake's floor for choose_quantisation: two float ulps of a model of this diagonal.
+inline float elevation_step_floor(float diagonal) { return std::ldexp(diagonal, -22); }
 std::vector<std::uint16_t> quantise(const std::vector<float>& values, const Quantisation& q);
 
 // The sampled mesh Ms at the finest level: every face's pattern displaced, one vertex per face

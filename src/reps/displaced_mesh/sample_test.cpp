@@ -442,3 +442,26 @@ TEST(DisplacedMeshSample, EdgeLevelsDependOnTheEdgeAlone)
 
 } // namespace
 } // namespace standin::displaced_mesh
+
+namespace standin::displaced_mesh {
+namespace {
+
+// Elevations of float rounding (samples lying on the original, nothing else to widen the range)
+// take the floor's step, not 65,535 codes over the noise: a few codes, which compress.
+TEST(DisplacedMeshSample, ElevationsOfRoundingNoiseQuantiseToTheFloor)
+{
+    std::vector<float> noise;
+    for (int i = 0; i < 1000; ++i) noise.push_back(7e-8f * std::sin(float(i) * 1.7f));
+    const float floor = elevation_step_floor(1.5f);
+    EXPECT_NEAR(floor, 1.5f / 4194304.0f, 1e-12f);
+    const Quantisation q = choose_quantisation(noise, floor);
+    EXPECT_EQ(q.step, floor);
+    std::vector<std::uint16_t> codes = quantise(noise, q);
+    EXPECT_LE(*std::max_element(codes.begin(), codes.end()), 1);
+    // a range wider than 65,535 floors keeps its own step
+    noise.push_back(1.0f);
+    EXPECT_FLOAT_EQ(choose_quantisation(noise, floor).step, (1.0f - *std::min_element(noise.begin(), noise.end())) / 65535.0f);
+}
+
+} // namespace
+} // namespace standin::displaced_mesh
