@@ -35,6 +35,8 @@ const char* const k_emission_file = "emission.bin"; // PBR packages only
 const char* const k_coverage_file = "coverage.bin"; // alpha-masked models only (issue #14)
 const char* const k_face_texture_file = "face_texture.bin"; // source textures only (source_textures.h)
 
+constexpr std::uint64_t k_max_source_texels = std::uint64_t(1) << 29;
+
 std::string source_texture_name(std::size_t layer) { return manifest_io::numbered_png("source_texture", layer, "color"); }
 
 // An array's bytes as written: NAME, or NAME.gz (package.settings.compressed).
@@ -87,10 +89,16 @@ void read_source_textures(const manifest_io::Reader& in, const std::string& dire
     if (!sizes.is_array() || sizes.empty() || sizes.size() > 256) in.fail("source_textures.layers", "is not a list of 1 to 256 sizes");
     const std::size_t layers = sizes.size();
     std::vector<glm::ivec2> size(layers);
+    std::uint64_t texels = 0;
     for (std::size_t k = 0; k < layers; ++k) {
         const std::string where = "source_textures.layers[" + std::to_string(k) + "].";
         size[k] = {int(in.integer(sizes[k], "width", where, 1, 16384)), int(in.integer(sizes[k], "height", where, 1, 16384))};
+        texels += std::uint64_t(size[k].x) * std::uint64_t(size[k].y);
     }
+    // decoded before anything else is checked: a few well-compressed PNGs could ask for far more
+    if (texels > k_max_source_texels)
+        in.fail("source_textures.layers", "hold " + std::to_string(texels) + " texels, over the " + std::to_string(k_max_source_texels) +
+                                              " (2 GiB of RGBA8) standin reads");
     const std::string name = in.string(entry, "file", "source_textures.");
     t.faces = read_array<FaceTexture>(in, directory, files, name, faces);
     t.layers.resize(layers);

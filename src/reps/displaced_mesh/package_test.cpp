@@ -217,6 +217,25 @@ TEST(DisplacedMeshPackage, SourceTrianglesKeepTheirTextureCornerForCorner)
             Result<std::unique_ptr<Package>> bad = read_package(dir + "/bad_layer.standin");
             ASSERT_FALSE(bad.is_ok());
             EXPECT_NE(bad.status().message().find("source_textures"), std::string::npos) << bad.status().message();
+            // layers asking for more texels than standin reads (a memory bomb of well-compressed PNGs)
+            p.source_textures.faces[1].layer = 0;
+            ASSERT_TRUE(write_package(p, dir + "/huge.standin").is_ok());
+            std::string manifest = file_text(dir + "/huge.standin/manifest.json");
+            const std::string width = "\"width\": " + std::to_string(card.textures[0].width);
+            ASSERT_NE(manifest.find(width), std::string::npos);
+            manifest.replace(manifest.find(width), width.size(), "\"width\": 16384");
+            const std::string height = "\"height\": " + std::to_string(card.textures[0].height);
+            ASSERT_NE(manifest.find(height), std::string::npos);
+            manifest.replace(manifest.find(height), height.size(), "\"height\": 16384");
+            std::size_t at = manifest.find("\"layers\": [");
+            ASSERT_NE(at, std::string::npos);
+            std::size_t end = manifest.find(']', at);
+            const std::string one = manifest.substr(manifest.find('{', at), manifest.rfind('}', end) - manifest.find('{', at) + 1);
+            manifest.insert(end, ", " + one + ", " + one); // three layers of 16384²: 805 million texels
+            ASSERT_TRUE(write_file_atomic(dir + "/huge.standin/manifest.json", manifest).is_ok());
+            Result<std::unique_ptr<Package>> huge = read_package(dir + "/huge.standin");
+            ASSERT_FALSE(huge.is_ok());
+            EXPECT_NE(huge.status().message().find("source_textures.layers"), std::string::npos) << huge.status().message();
         }
     }
     std::unique_ptr<Package> off =
