@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace standin::gpu {
 
@@ -18,7 +19,6 @@ bool has_alpha(const standin::Texture& texture)
 
 standin::Texture resampled(const standin::Texture& texture, int width, int height)
 {
-    if (texture.width == width && texture.height == height) return texture;
     standin::Texture out;
     out.name = texture.name;
     out.width = width;
@@ -43,8 +43,9 @@ void set_sampling(GLuint handle)
     glTextureParameteri(handle, GL_TEXTURE_WRAP_T, GL_REPEAT);
 }
 
-} // namespace
-
+// The next coverage-weighted mip level of an RGBA8 image (w x h): each texel the 2 x 2 (1 x 2 or
+// 2 x 1 along a side of size 1) block under it; colour weighted by alpha, alpha the plain mean. A
+// block with no coverage takes its covered neighbours' colour.
 std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t>& fine, int w, int h)
 {
     const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
@@ -87,6 +88,20 @@ std::vector<std::uint8_t> coverage_weighted_level(const std::vector<std::uint8_t
     return filled;
 }
 
+// Levels 1.. of `rgba` (w x h), coverage-weighted, each handed to `store` (level, width, height, texels).
+void for_each_coverage_level(const std::vector<std::uint8_t>& rgba, int w, int h, int levels,
+                             const std::function<void(int, int, int, const std::uint8_t*)>& store)
+{
+    std::vector<std::uint8_t> level = rgba;
+    for (int l = 1; l < levels; ++l) {
+        level = coverage_weighted_level(level, w, h);
+        w = std::max(1, w / 2), h = std::max(1, h / 2);
+        store(l, w, h, level.data());
+    }
+}
+
+} // namespace
+
 Texture upload_source_texture(const standin::Texture& texture)
 {
     const int levels = level_count(texture.width, texture.height);
@@ -95,13 +110,9 @@ Texture upload_source_texture(const standin::Texture& texture)
     glTextureSubImage2D(handle.get(), 0, 0, 0, texture.width, texture.height, GL_RGBA, GL_UNSIGNED_BYTE,
                         texture.rgba.data());
     if (has_alpha(texture)) {
-        std::vector<std::uint8_t> level = texture.rgba;
-        int w = texture.width, h = texture.height;
-        for (int l = 1; l < levels; ++l) {
-            level = coverage_weighted_level(level, w, h);
-            w = std::max(1, w / 2), h = std::max(1, h / 2);
-            glTextureSubImage2D(handle.get(), l, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
-        }
+        for_each_coverage_level(texture.rgba, texture.width, texture.height, levels, [&](int l, int w, int h, const std::uint8_t* texels) {
+            glTextureSubImage2D(handle.get(), l, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+        });
     } else {
         glGenerateTextureMipmap(handle.get());
     }
@@ -113,8 +124,14 @@ Texture upload_source_texture_array(const std::vector<standin::Texture>& sources
 {
     int width = 0, height = 0;
     for (const standin::Texture& t : sources) width = std::max(width, t.width), height = std::max(height, t.height);
-    std::vector<standin::Texture> layers;
-    for (const standin::Texture& t : sources) layers.push_back(resampled(t, width, height));
+    // (only layers of another size are copied, resampled)
+    std::vector<standin::Texture> resized(sources.size());
+    std::vector<const standin::Texture*> layers;
+    for (std::size_t k = 0; k < sources.size(); ++k) {
+        const bool same = sources[k].width == width && sources[k].height == height;
+        if (!same) resized[k] = resampled(sources[k], width, height);
+        layers.push_back(same ? &sources[k] : &resized[k]);
+    }
     const int levels = level_count(width, height);
     GLuint name = 0;
     glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &name);
@@ -122,18 +139,13 @@ Texture upload_source_texture_array(const std::vector<standin::Texture>& sources
     glTextureStorage3D(name, levels, GL_RGBA8, width, height, GLsizei(layers.size()));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (std::size_t k = 0; k < layers.size(); ++k)
-        glTextureSubImage3D(name, 0, 0, 0, GLint(k), width, height, 1, GL_RGBA, GL_UNSIGNED_BYTE, layers[k].rgba.data());
+        glTextureSubImage3D(name, 0, 0, 0, GLint(k), width, height, 1, GL_RGBA, GL_UNSIGNED_BYTE, layers[k]->rgba.data());
     glGenerateTextureMipmap(name);
-    for (std::size_t k = 0; k < layers.size(); ++k) {
-        if (!has_alpha(layers[k])) continue;
-        std::vector<std::uint8_t> level = layers[k].rgba;
-        int w = width, h = height;
-        for (int l = 1; l < levels; ++l) {
-            level = coverage_weighted_level(level, w, h);
-            w = std::max(1, w / 2), h = std::max(1, h / 2);
-            glTextureSubImage3D(name, l, 0, 0, GLint(k), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, level.data());
-        }
-    }
+    for (std::size_t k = 0; k < layers.size(); ++k)
+        if (has_alpha(*layers[k]))
+            for_each_coverage_level(layers[k]->rgba, width, height, levels, [&](int l, int w, int h, const std::uint8_t* texels) {
+                glTextureSubImage3D(name, l, 0, 0, GLint(k), w, h, 1, GL_RGBA, GL_UNSIGNED_BYTE, texels);
+            });
     set_sampling(name);
     return handle;
 }
