@@ -205,6 +205,13 @@ TEST(Alpha, GeneratedTreeIsDeterministicWithAMaskedDoubleSidedLeafMaterial)
     std::size_t masked = 0;
     for (const Material& m : imported->materials) masked += m.alpha_mode == AlphaMode::mask && m.double_sided;
     EXPECT_EQ(masked, 1u);
+    // base colours written as glTF's linear factors and encoded back on import (bark and leaves)
+    for (const Material& m : imported->materials) {
+        auto same = std::find_if(a->materials.begin(), a->materials.end(), [&](const Material& o) { return o.name == m.name; });
+        ASSERT_NE(same, a->materials.end()) << m.name;
+        for (int c = 0; c < 4; ++c) EXPECT_NEAR(m.base_color[c], same->base_color[c], 1e-5f) << m.name << " channel " << c;
+    }
+    EXPECT_LT(glm::length(glm::vec3(imported->colors[imported->indices[0]]) - glm::vec3(a->colors[a->indices[0]])), 1e-4f);
     // vertex colours other than the material's cannot be written without vertex colours
     Mesh shrub = *generate_mesh({GeneratedShape::shrub, 400});
     EXPECT_EQ(write_gltf(shrub, path + "2.gltf").code(), StatusCode::invalid_argument);

@@ -587,7 +587,8 @@ struct MaterialUse {
 class SceneConverter {
 public:
     SceneConverter(const aiScene& scene, const std::string& path, const ImportOptions& options, ImportReport& report)
-        : scene_(scene), path_(quoted(path)), model_directory_(fs::path(path).parent_path()), options_(options), report_(report)
+        : scene_(scene), path_(quoted(path)), model_directory_(fs::path(path).parent_path()), options_(options), report_(report),
+          linear_colors_(lower_extension(path) == "gltf" || lower_extension(path) == "glb")
     {
     }
 
@@ -613,6 +614,9 @@ private:
     fs::path model_directory_;
     ImportOptions options_;
     ImportReport& report_;
+    // glTF's baseColorFactor and COLOR_0 are linear (glTF 2.0 §3.9.2, §3.7.2.1), where Mesh's
+    // colours are sRGB-encoded like every other format's: they are encoded on import
+    bool linear_colors_ = false;
     Mesh mesh_;
     std::map<std::pair<unsigned, unsigned>, MaterialUse> materials_; // (assimp index, variant) -> use
     std::map<std::string, int> textures_;                            // reference -> index, -1 failed
@@ -644,6 +648,17 @@ static bool paints_vertex_colors(const aiMesh& source)
     return false;
 }
 
+static float srgb_encode(float linear)
+{
+    linear = std::clamp(linear, 0.0f, 1.0f);
+    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+static glm::vec4 srgb_encode(glm::vec4 linear)
+{
+    return {srgb_encode(linear.x), srgb_encode(linear.y), srgb_encode(linear.z), linear.w};
+}
+
 static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colors)
 {
     if (!is_authored(material)) return has_vertex_colors ? glm::vec4(1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
@@ -653,6 +668,13 @@ static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colo
     float opacity = 1.0f;
     if (material.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS) color.a = opacity;
     return {color.r, color.g, color.b, color.a};
+}
+
+// (glTF's factor encoded as Mesh's colours are; the defaults are standin's, sRGB already)
+static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colors, bool linear_colors)
+{
+    const glm::vec4 color = material_color(material, has_vertex_colors);
+    return linear_colors && is_authored(material) ? srgb_encode(color) : color;
 }
 
 static bool has_pbr_map(const aiMaterial& material)
@@ -763,7 +785,7 @@ MaterialUse SceneConverter::use_material(const aiMesh& source)
     if (!inserted) return it->second;
 
     MaterialUse& use = it->second;
-    use.factor = material_color(material, colored);
+    use.factor = material_color(material, colored, linear_colors_);
     use.vertex_colors = colored;
     use.texture = textured ? texture : -1;
     use.uv_channel = uv_channel;
@@ -940,7 +962,8 @@ Status SceneConverter::add_mesh(const aiMesh& source, const glm::mat4& world_fro
         glm::vec4 color = material.factor;
         if (material.vertex_colors) {
             const aiColor4D& c = source.mColors[0][v];
-            color *= glm::max(glm::vec4(c.r, c.g, c.b, c.a), glm::vec4(0.0f)); // negative: no light reflected
+            const glm::vec4 painted = glm::max(glm::vec4(c.r, c.g, c.b, c.a), glm::vec4(0.0f)); // negative: no light reflected
+            color *= linear_colors_ ? srgb_encode(painted) : painted;
         }
         mesh_.colors.push_back(color);
         glm::vec2 uv(0.0f);

@@ -1,7 +1,7 @@
 // A minimal glTF 2.0 writer (Khronos glTF 2.0 specification, 2017): one self-contained .gltf whose
 // buffer and textures are data URIs, so `standin generate tree` writes one file, atomically.
 // Steps: check that vertex colours are the materials' base colours (glTF vertex colours are linear
-// and would multiply the base colour a second time on import); pack positions, normals, UVs and one
+// and would multiply the base colour a second time on import), written as glTF's linear factors; pack positions, normals, UVs and one
 // index range per material into one buffer; write one primitive per material with its base colour,
 // texture, alphaMode, alphaCutoff and doubleSided. Textures are written top row first with v
 // flipped (glTF's UV origin is the image's top left; Mesh keeps row 0 at v = 0), which is what
@@ -96,7 +96,9 @@ Status write_gltf(const Mesh& mesh, const std::string& path)
     }
     nlohmann::json materials = nlohmann::json::array();
     for (const Material& m : mesh.materials) {
-        nlohmann::json pbr = {{"baseColorFactor", {m.base_color.x, m.base_color.y, m.base_color.z, m.base_color.w}},
+        // glTF's factor is linear; Mesh's colours are sRGB-encoded (import encodes it back)
+        auto linear = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
+        nlohmann::json pbr = {{"baseColorFactor", {linear(m.base_color.x), linear(m.base_color.y), linear(m.base_color.z), m.base_color.w}},
                               {"metallicFactor", 0.0},
                               {"roughnessFactor", 1.0}};
         if (m.base_color_texture >= 0) pbr["baseColorTexture"] = {{"index", m.base_color_texture}};
