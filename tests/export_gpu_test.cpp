@@ -8,10 +8,12 @@
 #include <standin/files.h>
 #include <standin/mesh.h>
 #include <standin/package.h>
+#include <standin/render.h>
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -208,7 +210,9 @@ TEST(Export, DisplacedMeshRefinesWithTau)
 TEST(Export, DisplacedMeshKeepsCutOutsAsAMaskTexture)
 {
     Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
-    auto package = bake_small(card, "displaced-mesh", {{"degree", "17"}});
+    // the samples' path: with the source's texture (the default) the card is exported as the
+    // source triangles it is (the next test)
+    auto package = bake_small(card, "displaced-mesh", {{"degree", "17"}, {"source-textures", "off"}});
     ASSERT_TRUE(package);
     const nlohmann::json faces = summarise_package(*package).details;
     std::string dir = test::fresh_directory("export_displaced_alpha");
@@ -255,6 +259,104 @@ TEST(Export, DisplacedMeshKeepsCutOutsAsAMaskTexture)
     ParsedGlb torus = export_and_parse(*bake_small(export_torus(), "displaced-mesh", {{"degree", "5"}}), {}, dir + "/torus.glb", 0.05f);
     EXPECT_EQ(torus.json["materials"][0]["alphaMode"], "OPAQUE");
     EXPECT_TRUE(torus.json["meshes"][0]["primitives"][0]["attributes"].contains("COLOR_0"));
+}
+
+// Faces drawn with the source's own texture (session 46) export as the source triangles they are:
+// the texture itself (repeated: the card's UVs run to 2), the corners' UVs and colours (linear in
+// COLOR_0; left out when all white), the material's own alpha cutoff. Read back as a model, the
+// card draws what the source does, cut-outs and tints.
+TEST(Export, DisplacedMeshExportsSourceTrianglesWithTheSourceTexture)
+{
+    std::string dir = test::fresh_directory("export_displaced_source");
+    for (AlphaMode mode : {AlphaMode::mask, AlphaMode::opaque}) {
+        Mesh card = test::alpha_quad(mode, 0.3f, true);
+        for (glm::vec2& uv : card.uvs) uv *= 2.0f; // the disc tiled 2 x 2
+        const bool tinted = mode == AlphaMode::opaque;
+        if (tinted) card.colors = {{1.0f, 0.8f, 0.6f, 1.0f}, {0.6f, 1.0f, 0.8f, 1.0f}, {0.8f, 0.6f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}};
+        auto package = bake_small(card, "displaced-mesh", {{"degree", "17"}});
+        ASSERT_TRUE(package);
+        const std::string path = dir + (mode == AlphaMode::mask ? "/mask.glb" : "/opaque.glb");
+        ExportScene scene;
+        ParsedGlb glb = export_and_parse(*package, {}, path, 0.05f, &scene);
+        ASSERT_EQ(glb.json["meshes"].size(), 1u) << "no samples' mesh: every face is a source triangle";
+        ASSERT_EQ(scene.textures.size(), 1u) << "no samples' atlas";
+        const auto& primitive = glb.json["meshes"][0]["primitives"][0];
+        const auto& material = glb.json["materials"][primitive["material"].get<std::size_t>()];
+        if (mode == AlphaMode::mask) {
+            EXPECT_EQ(material["alphaMode"], "MASK");
+            EXPECT_EQ(material["alphaCutoff"], 0.3) << "the material's own cutoff";
+        } else {
+            EXPECT_EQ(material["alphaMode"], "OPAQUE");
+        }
+        const int texture = material["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+        const auto& sampler = glb.json["samplers"][glb.json["textures"][std::size_t(texture)]["sampler"].get<std::size_t>()];
+        EXPECT_EQ(sampler["wrapS"], 10497) << "repeated, as the truth reads it";
+        EXPECT_EQ(sampler["wrapT"], 10497);
+        ASSERT_TRUE(write_file_atomic(dir + "/texture.png", scene.textures[0].png).is_ok());
+        Result<ImageRGBA8> image = read_png_rgba8(dir + "/texture.png");
+        ASSERT_TRUE(image.is_ok());
+        EXPECT_EQ(image->pixels, card.textures[0].rgba) << "the source's texture, row 0 on top";
+
+        std::vector<glm::vec3> positions = read_accessor<glm::vec3>(glb, primitive["attributes"]["POSITION"].get<int>());
+        std::vector<glm::vec2> uvs = read_accessor<glm::vec2>(glb, primitive["attributes"]["TEXCOORD_0"].get<int>());
+        ASSERT_EQ(uvs.size(), positions.size());
+        ASSERT_EQ(primitive["attributes"].contains("COLOR_0"), tinted);
+        std::vector<glm::vec4> colors;
+        if (tinted) colors = read_accessor<glm::vec4>(glb, primitive["attributes"]["COLOR_0"].get<int>());
+        EXPECT_EQ(read_accessor<std::uint32_t>(glb, primitive["indices"].get<int>()).size(), 6u) << "the card's two triangles";
+        for (std::size_t v = 0; v < positions.size(); ++v) {
+            std::size_t corner = 0;
+            while (corner < card.positions.size() && glm::length(card.positions[corner] - positions[v]) > 1e-6f) ++corner;
+            ASSERT_LT(corner, card.positions.size()) << "vertex " << v << " is a corner of the card";
+            EXPECT_EQ(uvs[v], card.uvs[corner]);
+            for (int c = 0; c < 3 && tinted; ++c) {
+                const float srgb = float(std::lround(card.colors[corner][c] * 255.0f)) / 255.0f;
+                const float linear = srgb <= 0.04045f ? srgb / 12.92f : std::pow((srgb + 0.055f) / 1.055f, 2.4f);
+                EXPECT_NEAR(colors[v][c], linear, 1e-5f) << "vertex " << v << " channel " << c;
+            }
+        }
+        // read back as a model: the cut-outs, tiled 2 x 2, and the colours as the source's
+        Result<Mesh> back = import_mesh(path);
+        ASSERT_TRUE(back.is_ok()) << back.status().message();
+        auto truth = make_mesh_renderer(card);
+        auto exported = make_mesh_renderer(*back);
+        ASSERT_TRUE(truth.is_ok() && exported.is_ok());
+        Result<EvalResult> result = test::evaluate_views(**truth, **exported, card, {0.0f, 200.0f}, {20.0f}, 320, 240);
+        ASSERT_TRUE(result.is_ok());
+        for (const ViewResult& v : result->views) {
+            EXPECT_GE(v.metrics.iou, 0.99) << "azimuth " << v.view.orbit.azimuth_degrees;
+            EXPECT_LE(v.metrics.luv_mean, 0.5) << "azimuth " << v.view.orbit.azimuth_degrees;
+        }
+    }
+}
+
+// glTF's COLOR_0 and baseColorFactor are linear: an export's vertex colours (linear, as written
+// from standin's sRGB-encoded albedo) read back as the albedo they came from, the factor too.
+TEST(Export, LinearColoursReadBackAsTheAlbedoTheyCameFrom)
+{
+    ExportScene scene;
+    ExportMesh mesh;
+    mesh.name = "triangle";
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.normals.assign(3, glm::vec3(0, 0, 1));
+    mesh.colors = {{0.2140f, 0.2140f, 0.2140f, 1.0f}, {1.0f, 0.0f, 0.0508f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}}; // sRGB 0.5, (1, 0, 0.25), 1
+    mesh.base_color = glm::vec4(0.2140f, 1.0f, 1.0f, 1.0f);
+    mesh.indices = {0, 1, 2};
+    scene.meshes.push_back(mesh);
+    Result<std::string> glb = encode_glb(scene, "test");
+    ASSERT_TRUE(glb.is_ok());
+    const std::string path = test::fresh_directory("export_linear_colours") + "/triangle.glb";
+    ASSERT_TRUE(write_file_atomic(path, *glb).is_ok());
+    Result<Mesh> back = import_mesh(path);
+    ASSERT_TRUE(back.is_ok()) << back.status().message();
+    ASSERT_EQ(back->vertex_count(), 3u);
+    const glm::vec4 expected[3] = {{0.25f, 0.5f, 0.5f, 1.0f}, {0.5f, 0.0f, 0.25f, 1.0f}, {0.5f, 1.0f, 1.0f, 1.0f}}; // factor x colour
+    for (std::size_t v = 0; v < 3; ++v) {
+        std::size_t k = 0;
+        while (k < 3 && glm::length(back->positions[v] - mesh.positions[k]) > 1e-6f) ++k;
+        ASSERT_LT(k, 3u);
+        for (int c = 0; c < 4; ++c) EXPECT_NEAR(back->colors[v][c], expected[k][c], 2e-3f) << "vertex " << k << " channel " << c;
+    }
 }
 
 TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)

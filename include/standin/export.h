@@ -27,6 +27,9 @@ struct ExportTexture {
     int width = 0, height = 0;
     int bits = 8;
     std::string png; // the encoded file
+    // repeated beyond [0, 1] (a source model's own texture, whose UVs may tile it); otherwise
+    // clamped to the edge (atlas frames and maps must not wrap into their neighbours)
+    bool repeat = false;
 };
 Result<ExportTexture> make_export_texture(const std::string& name, const ImageRGBA8& image);
 Result<ExportTexture> make_export_texture(const std::string& name, const ImageRGBA16& image);
@@ -41,7 +44,8 @@ struct ExportMesh {
     std::vector<std::uint32_t> indices; // three per triangle, counter-clockwise from outside
     glm::vec4 base_color{1.0f};         // linear
     int base_color_texture = -1;        // index into ExportScene::textures, or -1
-    std::string alpha_mode = "OPAQUE";  // OPAQUE, MASK (cut-off 0.5) or BLEND
+    std::string alpha_mode = "OPAQUE";  // OPAQUE, MASK (cut-off alpha_cutoff) or BLEND
+    float alpha_cutoff = 0.5f;          // MASK only: glTF's alphaCutoff
     bool double_sided = false;
     // the node's extras: {"standin": {...}} with what a shader needs (docs/FORMAT.md)
     nlohmann::json extras = nlohmann::json::object();

@@ -24,6 +24,7 @@ constexpr int k_gltf_element_array_buffer = 34963;
 constexpr int k_gltf_linear = 9729;
 constexpr int k_gltf_linear_mipmap_linear = 9987;
 constexpr int k_gltf_clamp_to_edge = 33071;
+constexpr int k_gltf_repeat = 10497;
 
 struct GlbBuilder {
     std::string bin;
@@ -140,7 +141,7 @@ Result<std::string> encode_glb(const ExportScene& scene, const std::string& gene
             return error(StatusCode::bad_data, "export texture " + t.name + ": empty");
         int view = b.add_view(t.png.data(), t.png.size(), 0);
         images.push_back({{"name", t.name}, {"bufferView", view}, {"mimeType", "image/png"}});
-        textures.push_back({{"name", t.name}, {"sampler", 0}, {"source", int(images.size()) - 1}});
+        textures.push_back({{"name", t.name}, {"sampler", t.repeat ? 1 : 0}, {"source", int(images.size()) - 1}});
     }
 
     nlohmann::json meshes = nlohmann::json::array(), materials = nlohmann::json::array(), nodes = nlohmann::json::array();
@@ -170,7 +171,8 @@ Result<std::string> encode_glb(const ExportScene& scene, const std::string& gene
                               {"roughnessFactor", 1.0}};
         if (mesh.base_color_texture >= 0) pbr["baseColorTexture"] = {{"index", mesh.base_color_texture}};
         nlohmann::json material = {{"name", mesh.name}, {"pbrMetallicRoughness", pbr}, {"alphaMode", mesh.alpha_mode}};
-        if (mesh.alpha_mode == "MASK") material["alphaCutoff"] = 0.5;
+        // (as its shortest decimal: a float's 0.3 prints as 0.30000001192092896 through double)
+        if (mesh.alpha_mode == "MASK") material["alphaCutoff"] = std::stod(std::to_string(mesh.alpha_cutoff));
         if (mesh.double_sided) material["doubleSided"] = true;
         materials.push_back(material);
         meshes.push_back({{"name", mesh.name},
@@ -194,9 +196,13 @@ Result<std::string> encode_glb(const ExportScene& scene, const std::string& gene
     if (!images.empty()) {
         gltf["images"] = images;
         gltf["textures"] = textures;
-        // clamped: atlas frames and billboard maps must not wrap into their neighbours
+        // 0 clamped: atlas frames and billboard maps must not wrap into their neighbours; 1 (only
+        // when a texture asks for it) repeated, as the source model's own textures are read
         gltf["samplers"] = {{{"magFilter", k_gltf_linear}, {"minFilter", k_gltf_linear_mipmap_linear},
                              {"wrapS", k_gltf_clamp_to_edge}, {"wrapT", k_gltf_clamp_to_edge}}};
+        if (std::any_of(scene.textures.begin(), scene.textures.end(), [](const ExportTexture& t) { return t.repeat; }))
+            gltf["samplers"].push_back({{"magFilter", k_gltf_linear}, {"minFilter", k_gltf_linear_mipmap_linear},
+                                        {"wrapS", k_gltf_repeat}, {"wrapT", k_gltf_repeat}});
     }
     while (b.bin.size() % 4 != 0) b.bin.push_back('\0');
     gltf["buffers"] = {{{"byteLength", b.bin.size()}}};
