@@ -74,18 +74,30 @@ double texel_length(const Mesh& mesh)
 // k_blurred_pixels reference pixels (the thesis protocol's at 800 x 600, where the model's
 // bounding sphere fills the view: a pixel is about diagonal / 564), or the cut-out faces' step
 // over k_outline_pixels, and over two of the model's texels; within k_max_shading_samples (models
-// with cut-out faces: k_max_outline_shading_samples). 1 for
-// untextured models.
+// with cut-out faces: k_max_outline_shading_samples). 1 for untextured models, and where every
+// face draws the source's texture. Faces drawn from the source's texture are left out of the mean
+// step, and the cut-out faces' step is left out when as many cut-out faces draw it as the source
+// has (leaf cards, matched always): the 2,000-face bush took detail 2 for its cards' outlines,
+// which its texture now draws.
 int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
-                         int degree)
+                         int degree, const std::vector<std::uint8_t>& drawn_from_source)
 {
     const double texel = texel_length(mesh);
     if (!(texel > 0.0) || indices.empty()) return 1;
     const std::size_t faces = indices.size() / 3;
+    auto from_source = [&](std::size_t f) { return f < drawn_from_source.size() && drawn_from_source[f] != 0; };
     double edges = 0.0;
-    for (std::size_t k = 0; k < indices.size(); ++k)
-        edges += glm::length(glm::dvec3(positions[indices[k]]) - glm::dvec3(positions[indices[k - k % 3 + (k + 1) % 3]]));
-    const double step = edges / double(indices.size()) / double(degree - 1); // the mean pattern step
+    std::size_t sampled_faces = 0, cutout_faces_from_source = 0;
+    for (std::size_t f = 0; f < faces; ++f) {
+        if (from_source(f)) {
+            cutout_faces_from_source += drawn_from_source[f] == k_drawn_from_source_cut_out;
+            continue;
+        }
+        for (std::size_t k = 3 * f; k < 3 * f + 3; ++k)
+            edges += glm::length(glm::dvec3(positions[indices[k]]) - glm::dvec3(positions[indices[k - k % 3 + (k + 1) % 3]]));
+        ++sampled_faces;
+    }
+    const double step = sampled_faces > 0 ? edges / double(3 * sampled_faces) / double(degree - 1) : 0.0; // the mean pattern step
     // the cut-out faces' own (kept whole in the control mesh, cutout_degree): the mean step over them
     double cutout_edges = 0.0;
     std::size_t cutout_faces = 0;
@@ -96,6 +108,7 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
             cutout_edges += glm::length(glm::dvec3(mesh.positions[v[k]]) - glm::dvec3(mesh.positions[v[(k + 1) % 3]]));
         ++cutout_faces;
     }
+    if (cutout_faces > 0 && cutout_faces_from_source >= cutout_faces) cutout_faces = 0;
     const double cutout_step = cutout_faces > 0 ? cutout_edges / double(3 * cutout_faces) / double(degree - 1) : 0.0;
     const double pixel = mesh.bounds().diagonal() / k_reference_pixels;
     auto shows = [&](int d) {
@@ -132,14 +145,17 @@ std::vector<T> coarser(const std::vector<T>& fine, std::size_t faces, int n, int
 // renderer's interpolation), in [0, 1]. With `coverage` (alpha-masked models), a fine sample whose
 // coverage the blend, cut at 1/2, gets wrong counts 1: a cut-out's outline is what detail draws there.
 double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<std::uint8_t>& coverage, std::size_t faces, int n,
-                       int fine_detail, int detail)
+                       int fine_detail, int detail, const std::vector<std::uint8_t>& drawn_from_source)
 {
     const int fine_n = n * fine_detail, coarse_n = n * detail, ratio = fine_detail / detail;
     const std::size_t per_fine = triangle_samples(fine_n), per_coarse = triangle_samples(coarse_n);
     const std::vector<glm::vec4> coarse = coarser(albedo, faces, n, fine_detail, detail);
     const std::vector<std::uint8_t> coarse_coverage = coverage.empty() ? coverage : coarser(coverage, faces, n, fine_detail, detail);
     double sum = 0.0;
-    for (std::size_t f = 0; f < faces; ++f)
+    std::size_t counted = 0;
+    for (std::size_t f = 0; f < faces; ++f) {
+        if (f < drawn_from_source.size() && drawn_from_source[f]) continue; // their samples' colour is not drawn
+        ++counted;
         for (int a = 0; a <= fine_n; ++a)
             for (int b = 0; b <= fine_n - a; ++b) {
                 const PatternTriangle cell = pattern_triangle(coarse_n, double(b) / ratio, double(a) / ratio);
@@ -154,7 +170,47 @@ double albedo_residual(const std::vector<glm::vec4>& albedo, const std::vector<s
                 const bool outline_moved = !coverage.empty() && (blend_coverage >= 0.5) != (coverage[at] != 0);
                 sum += outline_moved ? 1.0 : double(std::max({d.x, d.y, d.z}));
             }
-    return sum / double(faces * per_fine);
+    }
+    return counted > 0 ? sum / double(counted * per_fine) : 0.0;
+}
+
+// Per control face, whether it draws colour and cut-outs from the source's texture
+// (k_drawn_from_source, k_drawn_from_source_cut_out) or its samples (0): empty where the samples
+// carry maps of the source besides colour (normal, ORM, emission textures: the renderer reads
+// those from the samples, whose detail they then need).
+std::vector<std::uint8_t> faces_drawn_from_source(const Mesh& mesh, const SourceTextures& source)
+{
+    for (const Material& m : mesh.materials)
+        if (m.normal_texture >= 0 || m.metallic_roughness_texture >= 0 || m.occlusion_texture >= 0 || m.emissive_texture >= 0) return {};
+    std::vector<std::uint8_t> drawn(source.faces.size(), 0);
+    for (std::size_t f = 0; f < drawn.size(); ++f)
+        if (source.faces[f].layer != k_no_texture)
+            drawn[f] = source.faces[f].cutoff > 0.0f ? k_drawn_from_source_cut_out : k_drawn_from_source;
+    return drawn;
+}
+
+// The shading normals of faces drawn from the source's texture, from the source triangle they are:
+// its vertex normals interpolated at each sample, where sampling had found the nearest surface,
+// which near the line where crossed cards meet is the other card (the 2,000-face bush's leaves
+// shaded in stripes along their sprigs' stems at shading detail 1: Luv 1.08 against 0.07 drawn
+// from the source's normals). Only where faces_drawn_from_source marks them (no normal maps).
+void exact_source_normals(const Mesh& mesh, const SourceTextures& source, const std::vector<std::uint8_t>& drawn_from_source,
+                          int shading_segments, std::vector<glm::vec3>& normals)
+{
+    const std::size_t per_face = triangle_samples(shading_segments);
+    for (std::size_t f = 0; f < drawn_from_source.size() && f < source.source_corners.size(); ++f) {
+        if (!drawn_from_source[f] || normals.size() < (f + 1) * per_face) continue;
+        const std::array<std::uint32_t, 3>& v = source.source_corners[f];
+        const glm::dvec3 n0(mesh.normals[v[0]]), n1(mesh.normals[v[1]]), n2(mesh.normals[v[2]]);
+        // sample (i, j) has weights j / n on corner 1 and i / n on corner 2
+        for (int i = 0; i <= shading_segments; ++i)
+            for (int j = 0; j <= shading_segments - i; ++j) {
+                const double w1 = double(j) / shading_segments, w2 = double(i) / shading_segments;
+                const glm::dvec3 n = (1.0 - w1 - w2) * n0 + w1 * n1 + w2 * n2;
+                const double length = glm::length(n);
+                if (length > 1e-12) normals[f * per_face + triangle_index(shading_segments, i, j)] = glm::vec3(n / length);
+            }
+    }
 }
 
 } // namespace
@@ -301,8 +357,9 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
     // the shading detail: given, or for auto the finest that shows (finest_useful_detail), then the
     // coarsest whose colours stay within k_shading_residual of it (after sampling, below)
     const bool auto_detail = effective.choice("shading-detail") == "auto";
-    const int sampled_detail =
-        auto_detail ? finest_useful_detail(mesh, package->positions, package->indices, settings.degree) : settings.shading_detail;
+    const std::vector<std::uint8_t> drawn_from_source = faces_drawn_from_source(mesh, package->source_textures);
+    const int sampled_detail = auto_detail ? finest_useful_detail(mesh, package->positions, package->indices, settings.degree, drawn_from_source)
+                                           : settings.shading_detail;
 
     // sample the original, then the levels
     Result<std::unique_ptr<RayScene>> scene = RayScene::create(mesh.positions, mesh.indices);
@@ -345,7 +402,8 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
         if (auto_detail) {
             shading_detail = 1;
             while (shading_detail < sampled_detail &&
-                   albedo_residual(fine.albedo, fine.coverage, package->face_count(), layout.segments, sampled_detail, shading_detail) >
+                   albedo_residual(fine.albedo, fine.coverage, package->face_count(), layout.segments, sampled_detail, shading_detail,
+                                   drawn_from_source) >
                        k_shading_residual)
                 shading_detail *= 2;
             if (shading_detail < sampled_detail) {
@@ -363,6 +421,7 @@ Result<std::unique_ptr<DisplacedMeshPackage>> bake_displaced(const Mesh& mesh, c
             sampled->coverage = std::move(fine.coverage);
         }
     }
+    exact_source_normals(mesh, package->source_textures, drawn_from_source, layout.segments * shading_detail, sampled->normal);
     // textures finer than the shading samples chosen: their colours averaged over each sample's cell
     prefilter_texture_colour(mesh, **scene, geometry, layout.segments * shading_detail, sample_options.ray_range, *sampled);
     if (auto_detail) {

@@ -101,8 +101,11 @@ constexpr std::size_t k_max_shading_samples = 8'000'000;
 // samples: 122 MiB, under the 128 MiB that llvmpipe allows a storage buffer); the package's gzip arrays a fraction (3.2 MB).
 constexpr std::size_t k_max_outline_shading_samples = 16'000'000;
 // The finest shading detail auto samples for `mesh` over a control mesh (positions, indices).
+// Control faces `drawn_from_source` marks draw colour and cut-outs from the source's own texture
+// (source_textures.h): their samples' colour is not shown, so they ask for no detail (empty: none).
+constexpr std::uint8_t k_drawn_from_source = 1, k_drawn_from_source_cut_out = 2;
 int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positions, const std::vector<std::uint32_t>& indices,
-                         int degree);
+                         int degree, const std::vector<std::uint8_t>& drawn_from_source = {});
 // Vertices a boundary loop of the control mesh keeps (ControlMeshOptions::min_loop_vertices): a
 // round rim or hole as a 12-gon is within 3.5% of its radius, where a triangle (what the quadrics
 // alone reach on a model of many small open parts) is 50% off.

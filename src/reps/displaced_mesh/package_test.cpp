@@ -87,9 +87,10 @@ TEST(DisplacedMeshPackage, ByteIdenticalAtOneAndTwoThreadsAndRoundTrips)
               dynamic_cast<const DisplacedMeshPackage&>(**floats).elevations);
 }
 
-// Shading finer than the pattern (a textured low-poly model, auto resolves to 4): the arrays hold
-// (k - 1) x 4 segments per face, the manifest records the detail, the bytes are the same at 1 and 2
-// threads, and the package reads back; an alpha-masked model refuses a detail above 1.
+// Shading finer than the pattern (a textured low-poly model drawn from its samples, auto resolves to
+// 4): the arrays hold (k - 1) x 4 segments per face, the manifest records the detail, the bytes are
+// the same at 1 and 2 threads, and the package reads back; an alpha-masked model refuses a detail
+// above 1. (With the source's texture, the default, the box's faces draw it and take detail 1.)
 TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
 {
     Result<Mesh> box = import_mesh(test::source_dir() + "/data/box_textured.glb");
@@ -97,8 +98,10 @@ TEST(DisplacedMeshPackage, FinerShadingRoundTripsAndIsRecorded)
     SourceInfo source;
     source.bounds = box->bounds();
     const Representation& r = *find_representation("displaced-mesh");
-    Result<std::unique_ptr<Package>> one = bake_package(r, *box, source, {}, {}, 1);
-    Result<std::unique_ptr<Package>> two = bake_package(r, *box, source, {}, {}, 2);
+    OptionValues sampled;
+    sampled.set("source-textures", "off");
+    Result<std::unique_ptr<Package>> one = bake_package(r, *box, source, sampled, {}, 1);
+    Result<std::unique_ptr<Package>> two = bake_package(r, *box, source, sampled, {}, 2);
     ASSERT_TRUE(one.is_ok() && two.is_ok()) << one.status().message();
     const auto& p = dynamic_cast<const DisplacedMeshPackage&>(**one);
     EXPECT_EQ(p.settings.degree, 33); // 12 faces, every one a control face (default_control_plan)
@@ -493,6 +496,30 @@ TEST(DisplacedMeshPackage, CutOutCardsAreShadedFinerWhileTheirStepIsOverAPixel)
     cards.materials[0].alpha_mode = AlphaMode::opaque;
     EXPECT_EQ(finest_useful_detail(cards, cards.positions, cards.indices, 17), 4);
     EXPECT_EQ(finest_useful_detail(cards, cards.positions, control, 17), 1);
+}
+
+// Cards drawn with the source's own texture (session 46) show neither their samples' colour nor
+// their coverage: they ask for no shading detail (the 2,000-face bush took 2 for its cards'
+// outlines), while faces drawn from samples still do, and --source-textures off keeps the old rule.
+TEST(DisplacedMeshPackage, CardsDrawnWithTheSourceTextureAskForNoShadingDetail)
+{
+    const Mesh cards = tiled_cards(3); // 4.7 px a step at degree 33: detail 4 from samples
+    const std::size_t faces = cards.triangle_count();
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, cards.indices, 33, std::vector<std::uint8_t>(faces, k_drawn_from_source_cut_out)), 1);
+    // half the cards drawn from samples: their step and outlines still ask for 4
+    std::vector<std::uint8_t> half(faces, 0);
+    for (std::size_t f = 0; f < faces / 2; ++f) half[f] = k_drawn_from_source_cut_out;
+    EXPECT_EQ(finest_useful_detail(cards, cards.positions, cards.indices, 33, half), 4);
+
+    std::unique_ptr<Package> textured = test::bake(cards, "displaced-mesh", {{"degree", "33"}});
+    std::unique_ptr<Package> sampled = test::bake(cards, "displaced-mesh", {{"degree", "33"}, {"source-textures", "off"}});
+    ASSERT_TRUE(textured && sampled);
+    const auto& t = dynamic_cast<const DisplacedMeshPackage&>(*textured);
+    const auto& s = dynamic_cast<const DisplacedMeshPackage&>(*sampled);
+    EXPECT_EQ(t.source_textures.matched_faces(), faces);
+    EXPECT_EQ(t.settings.shading_detail, 1);
+    EXPECT_GT(s.settings.shading_detail, 1);
+    EXPECT_LT(t.shading_samples_per_face(), s.shading_samples_per_face());
 }
 
 TEST(DisplacedMeshPackage, DamagedPackagesAreRefusedNamingTheFile)

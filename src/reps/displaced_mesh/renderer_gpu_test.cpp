@@ -336,7 +336,7 @@ TEST(DisplacedMeshRenderer, ErrorCountersMeasureTheTolerance)
 // lives in the shading samples, which auto takes 4 times finer than the pattern there (thesis
 // protocol: Luv 5.27 at 1, 1.08 at 4, docs/RESULTS.md "Shading finer than the pattern"), with the
 // source's texture left out (--source-textures off); with it, every face of the box kept whole
-// reads the texture itself (source_textures.h), closer still.
+// reads the texture itself (source_textures.h), closer still, at shading detail 1.
 TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
 {
     test::gpu_context();
@@ -352,7 +352,8 @@ TEST(DisplacedMeshRenderer, ATexturedLowPolyModelIsShadedFinerThanItsPattern)
         ASSERT_TRUE(parameters.is_ok());
         Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(*box, SourceInfo{}, *parameters, Progress());
         ASSERT_TRUE(package.is_ok()) << package.status().message();
-        EXPECT_EQ((*package)->settings.shading_detail, k == 0 ? 1 : 4);
+        // (drawn from the source's texture, the faces ask for no finer shading: detail 1)
+        EXPECT_EQ((*package)->settings.shading_detail, k == 1 ? 4 : 1);
         EXPECT_EQ((*package)->source_textures.matched_faces(), k < 2 ? 0u : (*package)->face_count());
         EXPECT_EQ((*package)->albedo.size(), (*package)->face_count() * (*package)->shading_samples_per_face());
         std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
@@ -401,8 +402,8 @@ Mesh perforated_cube()
 }
 
 // A low-poly model with cut-outs: its coverage is sampled as finely as its shading (auto detail 4
-// on a cube of 12 faces), so the holes are round where the pattern drew polygons a pattern step
-// wide; and through them the eye sees the far walls' insides, which the closed part's back-face
+// on a cube of 12 faces, drawn from its samples), so the holes are round where the pattern drew
+// polygons a pattern step wide; drawn from the source's texture, at detail 1, rounder still; and through them the eye sees the far walls' insides, which the closed part's back-face
 // cull used to remove (the holes showed the background).
 TEST(DisplacedMeshRenderer, CutOutsOfALowPolyModelAreOutlinedFinerAndSeenInto)
 {
@@ -419,7 +420,8 @@ TEST(DisplacedMeshRenderer, CutOutsOfALowPolyModelAreOutlinedFinerAndSeenInto)
         ASSERT_TRUE(package.is_ok()) << package.status().message();
         ASSERT_EQ((*package)->coverage.size(), (*package)->albedo.size());
         if (k >= 1) {
-            EXPECT_EQ((*package)->settings.shading_detail, 4);
+            // with the source's texture (k = 2) the faces draw it and ask for no finer samples
+            EXPECT_EQ((*package)->settings.shading_detail, k == 1 ? 4 : 1);
         }
         std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
         ASSERT_TRUE(renderer);

@@ -106,6 +106,7 @@ SourceTextures match_source_textures(const Mesh& mesh, const std::vector<glm::ve
         out.layers.push_back(mesh.textures[std::size_t(texture)]);
     }
     out.faces.resize(faces);
+    out.source_corners.resize(faces, {0u, 0u, 0u});
     for (std::size_t f = 0; f < faces; ++f) {
         if (matched[f] < 0) continue;
         const std::size_t t = std::size_t(matched[f]);
@@ -117,6 +118,7 @@ SourceTextures match_source_textures(const Mesh& mesh, const std::vector<glm::ve
             const std::uint32_t v = mesh.indices[3 * t + std::size_t((k + shift[f]) % 3)];
             record.uv[k] = mesh.uvs[v];
             record.color[k] = pack_rgba8(mesh.colors[v]);
+            out.source_corners[f][std::size_t(k)] = v;
         }
     }
     return out;

@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct SourceTextures {
     // one record per control face (layer k_no_texture where the face is not a source triangle or
     // has no texture), or empty when no face is matched
     std::vector<FaceTexture> faces;
+    // the bake's, not stored: the source vertices at a matched face's corners, in its corner order
+    // (its exact shading normals: bake.cpp exact_source_normals)
+    std::vector<std::array<std::uint32_t, 3>> source_corners;
 
     std::size_t matched_faces() const;
 };
