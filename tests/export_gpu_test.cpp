@@ -330,6 +330,60 @@ TEST(Export, DisplacedMeshExportsSourceTrianglesWithTheSourceTexture)
     }
 }
 
+// A model kept whole exports as its own triangles with their own normals: the bundled textured box's
+// corners are welded only where the stored normal agrees too, so its edges stay hard (welded by
+// position and UV alone, 21 vertices and rounded edges, Luv 3.6 against the box); and so does the
+// same box untextured, whose flat sides of one colour are not refined.
+TEST(Export, DisplacedMeshKeepsHardEdgesHard)
+{
+    Result<Mesh> box = import_mesh(test::source_dir() + "/data/box_textured.glb");
+    ASSERT_TRUE(box.is_ok());
+    auto package = bake_small(*box, "displaced-mesh", {});
+    ASSERT_TRUE(package);
+    ParsedGlb glb = export_and_parse(*package, {}, test::fresh_directory("export_displaced_box") + "/box.glb", 0.05f);
+    ASSERT_EQ(glb.json["meshes"].size(), 1u);
+    const auto& attributes = glb.json["meshes"][0]["primitives"][0]["attributes"];
+    std::vector<glm::vec3> normals = read_accessor<glm::vec3>(glb, attributes["NORMAL"].get<int>());
+    EXPECT_EQ(normals.size(), 24u) << "four corners a side";
+    for (const glm::vec3& n : normals) {
+        const glm::vec3 a = glm::abs(n);
+        EXPECT_NEAR(std::max({a.x, a.y, a.z}), 1.0f, 1e-3f) << "a side's normal, not a blend of sides";
+    }
+
+    // untextured, drawn from its samples: flat sides of one colour stay whole too (the vertex
+    // colours need no vertex per sample; refined, the 12 faces were 18,432 triangles)
+    Mesh plain = *box;
+    for (Material& m : plain.materials) m.base_color_texture = -1;
+    plain.textures.clear();
+    auto untextured = bake_small(plain, "displaced-mesh", {});
+    ASSERT_TRUE(untextured);
+    ParsedGlb flat = export_and_parse(*untextured, {}, test::fresh_directory("export_displaced_plain_box") + "/box.glb", 0.05f);
+    const auto& primitive = flat.json["meshes"][0]["primitives"][0];
+    EXPECT_EQ(flat.json["accessors"][primitive["indices"].get<std::size_t>()]["count"].get<std::size_t>(), 36u) << "the box's 12 triangles";
+    EXPECT_EQ(read_accessor<glm::vec3>(flat, primitive["attributes"]["NORMAL"].get<int>()).size(), 24u);
+}
+
+// A PBR package's displaced mesh exports its material's factors (the mean of its samples, one per
+// mesh as glTF has them): metallic, roughness and emission as baked, which a rough dielectric
+// without emission (the old export, whatever the model) is far from.
+TEST(Export, DisplacedMeshCarriesItsMaterialsFactors)
+{
+    Mesh torus = export_torus();
+    for (Material& m : torus.materials) m.metallic = 0.7f, m.roughness = 0.4f, m.emissive = glm::vec3(0.2f, 0.1f, 0.0f);
+    auto package = bake_small(torus, "displaced-mesh", {{"degree", "5"}});
+    ASSERT_TRUE(package);
+    ParsedGlb glb = export_and_parse(*package, {}, test::fresh_directory("export_displaced_pbr") + "/torus.glb", 0.05f);
+    ASSERT_EQ(glb.json["materials"].size(), 1u);
+    const auto& material = glb.json["materials"][0];
+    EXPECT_NEAR(material["pbrMetallicRoughness"]["metallicFactor"].get<double>(), 0.7, 1.0 / 255.0);
+    EXPECT_NEAR(material["pbrMetallicRoughness"]["roughnessFactor"].get<double>(), 0.4, 1.0 / 255.0);
+    ASSERT_TRUE(material.contains("emissiveFactor"));
+    // (emission is stored sRGB-encoded in 8 bits: 0.1 comes back within a code's step)
+    EXPECT_NEAR(material["emissiveFactor"][0].get<double>(), 0.2, 0.01);
+    EXPECT_NEAR(material["emissiveFactor"][1].get<double>(), 0.1, 0.01);
+    EXPECT_NEAR(material["emissiveFactor"][2].get<double>(), 0.0, 0.01);
+}
+
 // glTF's COLOR_0 and baseColorFactor are linear: an export's vertex colours (linear, as written
 // from standin's sRGB-encoded albedo) read back as the albedo they came from, the factor too.
 TEST(Export, LinearColoursReadBackAsTheAlbedoTheyCameFrom)

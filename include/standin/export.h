@@ -43,6 +43,10 @@ struct ExportMesh {
     std::vector<glm::vec4> colors;      // empty, or one linear RGBA per vertex (glTF COLOR_0)
     std::vector<std::uint32_t> indices; // three per triangle, counter-clockwise from outside
     glm::vec4 base_color{1.0f};         // linear
+    // glTF's metallicFactor, roughnessFactor and emissiveFactor (linear, at most 1): one value for
+    // the mesh (an engine's material), the defaults a rough dielectric without emission
+    float metallic = 0.0f, roughness = 1.0f;
+    glm::vec3 emissive{0.0f};
     int base_color_texture = -1;        // index into ExportScene::textures, or -1
     std::string alpha_mode = "OPAQUE";  // OPAQUE, MASK (cut-off alpha_cutoff) or BLEND
     float alpha_cutoff = 0.5f;          // MASK only: glTF's alphaCutoff

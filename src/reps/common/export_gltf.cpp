@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace standin {
@@ -85,6 +87,14 @@ std::vector<glm::vec3> glb_unit_normals(const std::vector<glm::vec3>& normals)
 }
 
 nlohmann::json glb_vec(glm::vec3 v) { return {v.x, v.y, v.z}; }
+
+// A material factor to six decimals: a float's 0.3 prints as 0.30000001192092896 through double.
+double short_number(float value)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6f", double(value));
+    return std::strtod(text, nullptr);
+}
 
 } // namespace
 
@@ -167,12 +177,15 @@ Result<std::string> encode_glb(const ExportScene& scene, const std::string& gene
         int indices = b.add_accessor(index_view, k_gltf_unsigned_int, mesh.indices.size(), "SCALAR");
 
         nlohmann::json pbr = {{"baseColorFactor", {mesh.base_color.x, mesh.base_color.y, mesh.base_color.z, mesh.base_color.w}},
-                              {"metallicFactor", 0.0},
-                              {"roughnessFactor", 1.0}};
+                              {"metallicFactor", short_number(mesh.metallic)},
+                              {"roughnessFactor", short_number(mesh.roughness)}};
         if (mesh.base_color_texture >= 0) pbr["baseColorTexture"] = {{"index", mesh.base_color_texture}};
         nlohmann::json material = {{"name", mesh.name}, {"pbrMetallicRoughness", pbr}, {"alphaMode", mesh.alpha_mode}};
-        // (as its shortest decimal: a float's 0.3 prints as 0.30000001192092896 through double)
-        if (mesh.alpha_mode == "MASK") material["alphaCutoff"] = std::stod(std::to_string(mesh.alpha_cutoff));
+        if (mesh.emissive != glm::vec3(0.0f)) {
+            const glm::vec3 e = glm::clamp(mesh.emissive, 0.0f, 1.0f);
+            material["emissiveFactor"] = {short_number(e.x), short_number(e.y), short_number(e.z)};
+        }
+        if (mesh.alpha_mode == "MASK") material["alphaCutoff"] = short_number(mesh.alpha_cutoff);
         if (mesh.double_sided) material["doubleSided"] = true;
         materials.push_back(material);
         meshes.push_back({{"name", mesh.name},

@@ -131,6 +131,17 @@ std::vector<std::uint8_t> flat_faces(const DisplacedMeshPackage& p, float flat_b
     return flat;
 }
 
+// Whether every shading sample of face f holds the same normal, albedo and PBR inputs.
+bool uniform_samples(const DisplacedMeshPackage& p, std::size_t f)
+{
+    const std::size_t per_face = p.shading_samples_per_face(), first = f * per_face;
+    for (std::size_t k = first + 1; k < first + per_face; ++k) {
+        if (p.shading_normals[k] != p.shading_normals[first] || p.albedo[k] != p.albedo[first]) return false;
+        if (!p.orm.empty() && (p.orm[k] != p.orm[first] || p.emission[k] != p.emission[first])) return false;
+    }
+    return true;
+}
+
 } // namespace
 
 Result<ExportScene> export_scene(const Package& base, const Options& options)
@@ -152,12 +163,13 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     refine_options.mip = true;
     // faces drawn with the source's texture (source triangles: never split) and, with the atlas,
     // flat faces, whose colours and outlines need no vertices: within tau / 8 of their control
-    // triangle they stay whole
     std::vector<std::uint8_t> drawn_from_source(p.face_count(), 0);
     for (std::size_t f = 0; f < source.faces.size() && f < p.face_count(); ++f) drawn_from_source[f] = source.faces[f].layer != k_no_texture;
-    std::vector<std::uint8_t> kept_whole =
-        textured ? flat_faces(p, 0.125f * float(refine_options.tau) / view.pixels_per_unit) : std::vector<std::uint8_t>(p.face_count(), 0);
-    for (std::size_t f = 0; f < kept_whole.size(); ++f) kept_whole[f] |= drawn_from_source[f];
+    // triangle they stay whole; without the atlas, also flat faces whose samples are all alike
+    // (a box's sides: its vertex colours need no vertex per sample either)
+    std::vector<std::uint8_t> kept_whole = flat_faces(p, 0.125f * float(refine_options.tau) / view.pixels_per_unit);
+    for (std::size_t f = 0; f < kept_whole.size(); ++f)
+        kept_whole[f] = (kept_whole[f] && (textured || uniform_samples(p, f))) || drawn_from_source[f];
     std::vector<FaceRefineData> faces =
         prepare_faces(p.positions, p.normals, p.indices, p.topology, layout, p.elevations, p.face_error, {}, kept_whole);
     RefineSurface surface;
@@ -187,6 +199,14 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     using WeldKey = std::array<std::uint32_t, 8>;
     std::vector<std::map<WeldKey, std::uint32_t>> welded(1);
     std::vector<std::uint8_t> any_color(1, 0); // a source mesh's corners are not all white
+    // PBR packages: each mesh's factors, the mean of its vertices' samples (glTF's factors are one
+    // per material; the samples' variation over a mesh is not exported)
+    struct PbrSum {
+        double roughness = 0.0, metallic = 0.0;
+        glm::dvec3 emission{0.0};
+        std::size_t count = 0;
+    };
+    std::vector<PbrSum> pbr_sums(1);
     for (const RefinedTriangle& t : triangles) {
         const bool from_source = drawn_from_source[t.face] != 0;
         std::size_t m = 0;
@@ -200,6 +220,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 meshes.back().name = name;
                 welded.emplace_back();
                 any_color.push_back(0);
+                pbr_sums.emplace_back();
             }
             m = it->second;
         }
@@ -235,6 +256,14 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             key[7] = p.shading_normals[sample];
             auto [it, inserted] = welded[m].try_emplace(key, std::uint32_t(mesh.positions.size()));
             if (inserted) {
+                if (!p.orm.empty()) {
+                    PbrSum& sum = pbr_sums[m];
+                    sum.roughness += double((p.orm[sample] >> 8) & 0xffu) / 255.0;
+                    sum.metallic += double((p.orm[sample] >> 16) & 0xffu) / 255.0;
+                    sum.emission += glm::dvec3(export_srgb_to_linear(p.emission[sample]), export_srgb_to_linear(p.emission[sample] >> 8),
+                                               export_srgb_to_linear(p.emission[sample] >> 16));
+                    ++sum.count;
+                }
                 mesh.positions.push_back(position);
                 mesh.normals.push_back(decode_normal(p.shading_normals[sample]));
                 if (from_source) {
@@ -317,8 +346,15 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                       source_triangles, texture_of_layer.size(), texture_of_layer.size() == 1 ? "" : "s");
         scene.notes.push_back(line);
     }
-    for (ExportMesh& mesh : meshes)
-        if (!mesh.indices.empty()) scene.meshes.push_back(std::move(mesh));
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        if (meshes[m].indices.empty()) continue;
+        if (const PbrSum& sum = pbr_sums[m]; sum.count > 0) {
+            meshes[m].roughness = float(sum.roughness / double(sum.count));
+            meshes[m].metallic = float(sum.metallic / double(sum.count));
+            meshes[m].emissive = glm::vec3(sum.emission / double(sum.count));
+        }
+        scene.meshes.push_back(std::move(meshes[m]));
+    }
     return scene;
 }
 
