@@ -208,12 +208,17 @@ void main()
     uint debug_view = refine.options.w;
     bool want_error = DM_MEASURE_ERROR != 0 && (debug_view == DEBUG_VIEW_ERROR || counting != 0);
     float error_px = want_error ? error_pixels(world_from_object) : 0.0;
+#if DM_MEASURE_ERROR
+    // only in the measuring program (renderer.cpp chooses it while counting): on llvmpipe this
+    // branch cost every fragment of every frame whatever the uniform (the 4,000-face tree at 800 x
+    // 600: 152 ms a frame with it, 38 without; docs/RESULTS.md)
     if (counting != 0) {
         count_fragment(3u);
         uint e = uint(min(error_px * DM_ERROR_UNITS, 1.0e9));
         atomicAdd(counters[DM_COUNTER_ERROR_SUM], e);
         atomicMax(counters[DM_COUNTER_ERROR_MAX], e);
     }
+#endif
     if (debug_view == DEBUG_VIEW_PARTS) color = index_color(int(v_face));
     else if (debug_view == DEBUG_VIEW_LEVEL) color = heat(float(v_depth) / float(3u * refine.counts.w + 6u));
     else if (debug_view == DEBUG_VIEW_ERROR) color = heat(error_px / refine.error_terms.x);
