@@ -33,6 +33,23 @@ standin::Texture resampled(const standin::Texture& texture, int width, int heigh
     return out;
 }
 
+// `texture` repeated kx x ky times: what reads the copy at uv / k (repeating) sees the texture at
+// uv, texel for texel, and at every mip level down to where the texture's size turns odd.
+standin::Texture tiled(const standin::Texture& texture, int kx, int ky)
+{
+    standin::Texture out;
+    out.name = texture.name;
+    out.width = texture.width * kx;
+    out.height = texture.height * ky;
+    out.rgba.resize(std::size_t(out.width) * std::size_t(out.height) * 4);
+    const std::size_t row = std::size_t(texture.width) * 4;
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < kx; ++x)
+            std::copy_n(&texture.rgba[std::size_t(y % texture.height) * row], row,
+                        &out.rgba[(std::size_t(y) * std::size_t(out.width) + std::size_t(x) * std::size_t(texture.width)) * 4]);
+    return out;
+}
+
 int level_count(int width, int height) { return 1 + int(std::floor(std::log2(std::max(width, height)))); }
 
 void set_sampling(GLuint handle)
@@ -120,16 +137,24 @@ Texture upload_source_texture(const standin::Texture& texture)
     return handle;
 }
 
-Texture upload_source_texture_array(const std::vector<standin::Texture>& sources)
+Texture upload_source_texture_array(const std::vector<standin::Texture>& sources, std::vector<glm::vec2>* uv_scale)
 {
     int width = 0, height = 0;
     for (const standin::Texture& t : sources) width = std::max(width, t.width), height = std::max(height, t.height);
-    // (only layers of another size are copied, resampled)
+    // (only layers of another size are copied: tiled where they divide the array's size, else
+    // resampled)
     std::vector<standin::Texture> resized(sources.size());
     std::vector<const standin::Texture*> layers;
+    if (uv_scale) uv_scale->assign(sources.size(), glm::vec2(1.0f));
     for (std::size_t k = 0; k < sources.size(); ++k) {
-        const bool same = sources[k].width == width && sources[k].height == height;
-        if (!same) resized[k] = resampled(sources[k], width, height);
+        const standin::Texture& t = sources[k];
+        const bool same = t.width == width && t.height == height;
+        if (!same && uv_scale && width % t.width == 0 && height % t.height == 0) {
+            resized[k] = tiled(t, width / t.width, height / t.height);
+            (*uv_scale)[k] = glm::vec2(float(t.width) / float(width), float(t.height) / float(height));
+        } else if (!same) {
+            resized[k] = resampled(t, width, height);
+        }
         layers.push_back(same ? &sources[k] : &resized[k]);
     }
     const int levels = level_count(width, height);

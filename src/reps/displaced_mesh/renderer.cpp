@@ -320,8 +320,15 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     }
     if (!source_textures.faces.empty()) {
         STANDIN_RETURN_IF_ERROR(check_source_texture_size(source_textures));
-        face_textures_ = gpu::make_buffer(source_textures.faces);
-        source_textures_ = gpu::upload_source_texture_array(source_textures.layers);
+        // layers repeated across an array layer (their size divides the largest) read at their
+        // UVs times the layer's scale: the records' UVs are scaled here, derivatives follow
+        std::vector<glm::vec2> uv_scale;
+        source_textures_ = gpu::upload_source_texture_array(source_textures.layers, &uv_scale);
+        std::vector<FaceTexture> records = source_textures.faces;
+        for (FaceTexture& r : records)
+            if (r.layer < uv_scale.size())
+                for (glm::vec2& uv : r.uv) uv *= uv_scale[r.layer];
+        face_textures_ = gpu::make_buffer(records);
     }
     STANDIN_RETURN_IF_ERROR(compile_draw_programs());
     refine_block_ = gpu::make_buffer(nullptr, sizeof(RefineBlock), GL_DYNAMIC_STORAGE_BIT);

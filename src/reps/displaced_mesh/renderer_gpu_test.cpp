@@ -202,6 +202,53 @@ TEST(DisplacedMeshRenderer, SourceTexturesOverTheArrayLimitsAreRefused)
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
+// Source textures of different sizes share one texture array of the largest: one whose size
+// divides it is repeated across its layer and read at scaled UVs, so the faces show its own texels
+// and mip levels, as the truth does (resampled to the largest, a 32-texel checker of one-texel
+// squares blurred at its edges). Two opaque cards side by side: a 32- and a 128-texel checker;
+// measured Luv 0.007 against the truth, 1.356 resampled.
+TEST(DisplacedMeshRenderer, SmallerSourceTexturesKeepTheirOwnTexels)
+{
+    test::gpu_context();
+    Mesh cards;
+    for (int k = 0; k < 2; ++k) {
+        Mesh card = test::alpha_quad(AlphaMode::opaque, 0.5f, true);
+        const int size = k == 0 ? 32 : 128;
+        card.textures[0] = test::painted_texture(k == 0 ? "small" : "large", size, [k](int x, int y, std::uint8_t* t) {
+            const bool dark = (x + y) % 2 == 0;
+            t[0] = dark ? 30 : 230, t[1] = dark ? 60 : std::uint8_t(k == 0 ? 120 : 210), t[2] = dark ? 90 : 40, t[3] = 255;
+        });
+        card.materials[0].base_color_texture = int(cards.textures.size());
+        for (glm::vec3& p : card.positions) p.x += k == 0 ? -0.55f : 0.55f;
+        const std::uint32_t first = std::uint32_t(cards.positions.size());
+        cards.positions.insert(cards.positions.end(), card.positions.begin(), card.positions.end());
+        cards.normals.insert(cards.normals.end(), card.normals.begin(), card.normals.end());
+        cards.colors.insert(cards.colors.end(), card.colors.begin(), card.colors.end());
+        cards.uvs.insert(cards.uvs.end(), card.uvs.begin(), card.uvs.end());
+        for (std::uint32_t i : card.indices) cards.indices.push_back(first + i);
+        for (std::size_t t = 0; t < card.triangle_count(); ++t) cards.face_materials.push_back(std::uint32_t(cards.materials.size()));
+        cards.textures.push_back(card.textures[0]);
+        cards.materials.push_back(card.materials[0]);
+    }
+    Result<Options> parameters = bake_parameters({{"degree", "5"}});
+    ASSERT_TRUE(parameters.is_ok());
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(cards, SourceInfo{}, *parameters, Progress());
+    ASSERT_TRUE(package.is_ok()) << package.status().message();
+    ASSERT_EQ((*package)->source_textures.layers.size(), 2u);
+    ASSERT_EQ((*package)->source_textures.matched_faces(), 4u);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(cards);
+    ASSERT_TRUE(truth.is_ok());
+    std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
+    ASSERT_TRUE(renderer);
+    double luv = 0.0;
+    for (float azimuth : {0.0f, 25.0f}) {
+        Camera camera = camera_for(cards, azimuth, 1.0f, 400, 300);
+        luv += 0.5 * compare_images(render(**truth, camera, 400, 300).color, render(*renderer, camera, 400, 300).color).luv_mean;
+    }
+    std::printf("[displaced source texture sizes] Luv %.3f\n", luv);
+    EXPECT_LT(luv, 0.05);
+}
+
 TEST(DisplacedMeshRenderer, FewerTrianglesAsTauGrowsAndCullingHelps)
 {
     const Subject& s = noisy_sphere();
