@@ -3,8 +3,10 @@
 // triangle mesh that any glTF viewer shows. Steps: a view-independent refinement (orthographic,
 // the bounding sphere's diameter spanning --pixels pixels, no culling, the paper's weighted split
 // rule so that no facing term enters), each refined corner displaced as the vertex stage does,
-// corners welded by exact position (the refinement evaluates shared edges bit-identically), and
-// shading normal + albedo from the nearest finest-level sample. Departs from the renderer in the
+// corners welded by exact position and stored normal (the refinement evaluates shared edges
+// bit-identically; hard edges keep a vertex per side), shading normal + albedo from the nearest
+// finest-level sample, flat faces of uniform samples left whole, and PBR factors per mesh the
+// mean of its samples'. Departs from the renderer in the
 // criterion (the renderer's default "error" weighs edges by how they face the camera; an export
 // has no camera) and in having no per-frame view.
 // Packages of alpha-masked models (issue #14) export their shading samples as a texture instead:
