@@ -211,7 +211,7 @@ void main()
 #if DM_MEASURE_ERROR
     // only in the measuring program (renderer.cpp chooses it while counting): on llvmpipe this
     // branch cost every fragment of every frame whatever the uniform (the 4,000-face tree at 800 x
-    // 600: 152 ms a frame with it, 38 without; docs/RESULTS.md)
+    // 600: 72 ms a frame with it, 39 without; docs/RESULTS.md)
     if (counting != 0) {
         count_fragment(3u);
         uint e = uint(min(error_px * DM_ERROR_UNITS, 1.0e9));
