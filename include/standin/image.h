@@ -3,11 +3,17 @@
 
 #include <standin/status.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace standin {
+
+// The sRGB transfer function (IEC 61966-2-1) per channel in [0, 1]: an encoded value's linear
+// one, and back. Colours are stored encoded (textures, vertex colours, maps), shaded linear.
+inline float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+inline float linear_to_srgb(float c) { return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f; }
 
 // 8 bits per channel, RGBA, sRGB-encoded colour and linear alpha.
 struct ImageRGBA8 {

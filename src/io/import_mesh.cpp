@@ -12,6 +12,7 @@
 #include "io/read_ply.h"
 
 #include <standin/files.h>
+#include <standin/image.h>
 #include <standin/limits.h>
 #include <standin/mesh.h>
 
@@ -648,15 +649,10 @@ static bool paints_vertex_colors(const aiMesh& source)
     return false;
 }
 
-static float srgb_encode(float linear)
-{
-    linear = std::clamp(linear, 0.0f, 1.0f);
-    return linear <= 0.0031308f ? 12.92f * linear : 1.055f * std::pow(linear, 1.0f / 2.4f) - 0.055f;
-}
-
 static glm::vec4 srgb_encode(glm::vec4 linear)
 {
-    return {srgb_encode(linear.x), srgb_encode(linear.y), srgb_encode(linear.z), linear.w};
+    auto encode = [](float c) { return linear_to_srgb(std::clamp(c, 0.0f, 1.0f)); };
+    return {encode(linear.x), encode(linear.y), encode(linear.z), linear.w};
 }
 
 static glm::vec4 material_color(const aiMaterial& material, bool has_vertex_colors)

@@ -97,8 +97,7 @@ Status write_gltf(const Mesh& mesh, const std::string& path)
     nlohmann::json materials = nlohmann::json::array();
     for (const Material& m : mesh.materials) {
         // glTF's factor is linear; Mesh's colours are sRGB-encoded (import encodes it back)
-        auto linear = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
-        nlohmann::json pbr = {{"baseColorFactor", {linear(m.base_color.x), linear(m.base_color.y), linear(m.base_color.z), m.base_color.w}},
+        nlohmann::json pbr = {{"baseColorFactor", {srgb_to_linear(m.base_color.x), srgb_to_linear(m.base_color.y), srgb_to_linear(m.base_color.z), m.base_color.w}},
                               {"metallicFactor", 0.0},
                               {"roughnessFactor", 1.0}};
         if (m.base_color_texture >= 0) pbr["baseColorTexture"] = {{"index", m.base_color_texture}};

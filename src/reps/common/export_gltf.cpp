@@ -8,6 +8,7 @@
 // with its exact min/max as the validator requires) and one for 32-bit indices; per texture a
 // buffer view holding the PNG; one material per mesh; a root node with one child node per mesh.
 #include <standin/export.h>
+#include <standin/image.h>
 
 #include <algorithm>
 #include <cmath>
@@ -120,10 +121,9 @@ ExportMesh export_vertex_colored_mesh(const Mesh& mesh, const std::string& name)
     out.normals = mesh.normals;
     out.indices = mesh.indices;
     out.colors.resize(mesh.colors.size());
-    auto linear = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
     for (std::size_t i = 0; i < mesh.colors.size(); ++i) {
         const glm::vec4& c = mesh.colors[i];
-        out.colors[i] = {linear(c.x), linear(c.y), linear(c.z), c.w};
+        out.colors[i] = {srgb_to_linear(c.x), srgb_to_linear(c.y), srgb_to_linear(c.z), c.w};
     }
     return out;
 }

@@ -31,8 +31,7 @@ const std::array<float, 256>& grid_srgb_to_linear_table()
     static const std::array<float, 256> table = [] {
         std::array<float, 256> t{};
         for (int k = 0; k < 256; ++k) {
-            float c = float(k) / 255.0f;
-            t[std::size_t(k)] = c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+            t[std::size_t(k)] = srgb_to_linear(float(k) / 255.0f);
         }
         return t;
     }();
@@ -41,9 +40,7 @@ const std::array<float, 256>& grid_srgb_to_linear_table()
 
 std::uint8_t grid_linear_to_srgb8(float c)
 {
-    c = std::clamp(c, 0.0f, 1.0f);
-    float s = c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-    return std::uint8_t(std::lround(s * 255.0f));
+    return std::uint8_t(std::lround(linear_to_srgb(std::clamp(c, 0.0f, 1.0f)) * 255.0f));
 }
 
 std::uint8_t grid_unorm8(float v) { return std::uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }

@@ -47,8 +47,7 @@ inline void write_pbr_texel(ImageRGBA8& orm, ImageRGBA8& emission, int x, int y,
     o[0] = unorm8(occlusion), o[1] = unorm8(roughness), o[2] = unorm8(metallic), o[3] = 255;
     std::uint8_t* e = emission.at(x, y);
     for (int c = 0; c < 3; ++c) {
-        float v = std::clamp(emissive_linear[c], 0.0f, 1.0f);
-        e[c] = unorm8(v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f);
+        e[c] = unorm8(linear_to_srgb(std::clamp(emissive_linear[c], 0.0f, 1.0f)));
     }
     e[3] = 255;
 }

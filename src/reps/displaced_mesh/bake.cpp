@@ -93,8 +93,8 @@ int finest_useful_detail(const Mesh& mesh, const std::vector<glm::vec3>& positio
             cutout_faces_from_source += drawn_from_source[f] == k_drawn_from_source_cut_out;
             continue;
         }
-        for (std::size_t k = 3 * f; k < 3 * f + 3; ++k)
-            edges += glm::length(glm::dvec3(positions[indices[k]]) - glm::dvec3(positions[indices[k - k % 3 + (k + 1) % 3]]));
+        for (std::size_t k = 0; k < 3; ++k)
+            edges += glm::length(glm::dvec3(positions[indices[3 * f + k]]) - glm::dvec3(positions[indices[3 * f + (k + 1) % 3]]));
         ++sampled_faces;
     }
     const double step = sampled_faces > 0 ? edges / double(3 * sampled_faces) / double(degree - 1) : 0.0; // the mean pattern step

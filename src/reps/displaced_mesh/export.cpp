@@ -27,6 +27,7 @@
 #include "reps/common/package_cast.h"
 
 #include <standin/export.h>
+#include <standin/image.h>
 
 #include <algorithm>
 #include <array>
@@ -52,8 +53,7 @@ namespace {
 
 float export_srgb_to_linear(std::uint32_t code)
 {
-    float c = float(code & 0xffu) / 255.0f;
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+    return srgb_to_linear(float(code & 0xffu) / 255.0f);
 }
 
 // Widest atlas an export writes: glTF loaders and engines take 8192 texels everywhere.

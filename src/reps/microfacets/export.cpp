@@ -49,6 +49,7 @@
 #include "reps/common/surface_image.h"
 
 #include <standin/files.h>
+#include <standin/image.h>
 
 #include <tbb/parallel_for.h>
 
@@ -343,9 +344,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     const float r = package.radius, texel = 2.0f * r / float(s.resolution);
     std::array<std::int64_t, 256> linear_code{};
     for (int c = 0; c < 256; ++c) {
-        float v = float(c) / 255.0f;
-        v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-        linear_code[std::size_t(c)] = std::lround(v * k_export_color_scale);
+        linear_code[std::size_t(c)] = std::lround(srgb_to_linear(float(c) / 255.0f) * k_export_color_scale);
     }
     std::vector<ExportFaceSums> sums(faces.size());
     const bool planes = options.flag("planes");
