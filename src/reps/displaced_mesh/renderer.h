@@ -21,6 +21,7 @@ struct RendererSettings {
     bool mip = true;                  // elevations from the level whose spacing projects to about tau
     float outline = 2.0f;             // error criterion: how much more error counts near the silhouette
     std::string subdivision = "leb";  // "leb": compute-shader bisection; "tess": tessellation-shader baseline
+    bool cut_out_pre_pass = true;     // packages with cut-outs: depth first, then one shaded fragment per pixel (leb only)
     int max_depth = 0;                // bisection passes; 0: refinement_passes()
     DebugView debug_view = DebugView::none; // none, parts, level, error, depth, normal
     float error_scale = 0.0f;         // full scale of the "error" view, pixels; 0: tau

@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <string>
 
 namespace standin::displaced_mesh {
 namespace {
@@ -46,6 +47,24 @@ const Subject& noisy_sphere()
         return s;
     }();
     return subject;
+}
+
+// Appends a card of test::alpha_quad's kind (one material, its one texture) to `cards`: with its
+// own material and texture, or drawn with the material of the card before it.
+void append_card(Mesh& cards, const Mesh& card, bool own_material)
+{
+    if (own_material || cards.materials.empty()) {
+        cards.materials.push_back(card.materials[0]);
+        cards.materials.back().base_color_texture = int(cards.textures.size());
+        cards.textures.push_back(card.textures[0]);
+    }
+    const std::uint32_t first = std::uint32_t(cards.positions.size());
+    cards.positions.insert(cards.positions.end(), card.positions.begin(), card.positions.end());
+    cards.normals.insert(cards.normals.end(), card.normals.begin(), card.normals.end());
+    cards.colors.insert(cards.colors.end(), card.colors.begin(), card.colors.end());
+    cards.uvs.insert(cards.uvs.end(), card.uvs.begin(), card.uvs.end());
+    for (std::uint32_t i : card.indices) cards.indices.push_back(first + i);
+    cards.face_materials.insert(cards.face_materials.end(), card.triangle_count(), std::uint32_t(cards.materials.size() - 1));
 }
 
 std::unique_ptr<DisplacedRenderer> make(const DisplacedMeshPackage& package, const RendererSettings& settings)
@@ -218,17 +237,8 @@ TEST(DisplacedMeshRenderer, SmallerSourceTexturesKeepTheirOwnTexels)
             const bool dark = (x + y) % 2 == 0;
             t[0] = dark ? 30 : 230, t[1] = dark ? 60 : std::uint8_t(k == 0 ? 120 : 210), t[2] = dark ? 90 : 40, t[3] = 255;
         });
-        card.materials[0].base_color_texture = int(cards.textures.size());
         for (glm::vec3& p : card.positions) p.x += k == 0 ? -0.55f : 0.55f;
-        const std::uint32_t first = std::uint32_t(cards.positions.size());
-        cards.positions.insert(cards.positions.end(), card.positions.begin(), card.positions.end());
-        cards.normals.insert(cards.normals.end(), card.normals.begin(), card.normals.end());
-        cards.colors.insert(cards.colors.end(), card.colors.begin(), card.colors.end());
-        cards.uvs.insert(cards.uvs.end(), card.uvs.begin(), card.uvs.end());
-        for (std::uint32_t i : card.indices) cards.indices.push_back(first + i);
-        for (std::size_t t = 0; t < card.triangle_count(); ++t) cards.face_materials.push_back(std::uint32_t(cards.materials.size()));
-        cards.textures.push_back(card.textures[0]);
-        cards.materials.push_back(card.materials[0]);
+        append_card(cards, card, true);
     }
     Result<Options> parameters = bake_parameters({{"degree", "5"}});
     ASSERT_TRUE(parameters.is_ok());
@@ -490,6 +500,83 @@ TEST(DisplacedMeshRenderer, CutOutsOfALowPolyModelAreOutlinedFinerAndSeenInto)
     // the faces read the texture's own cut-outs (source_textures.h): measured Luv 0.003, IoU 1.0000
     EXPECT_GT(iou[2], 0.999);
     EXPECT_LT(luv[2], 0.1);
+}
+
+// Leaf cards one behind another: disc-shaped cut-outs (alpha-masked quads) in a stack, each a
+// little higher and further right, so from the front every pixel sees several cards' fragments.
+Mesh stacked_cards(int count)
+{
+    Mesh cards;
+    for (int k = 0; k < count; ++k) {
+        Mesh card = test::alpha_quad(AlphaMode::mask, 0.5f, true);
+        for (glm::vec3& p : card.positions) p += glm::vec3(0.08f * float(k), 0.05f * float(k), -0.1f * float(k));
+        append_card(cards, card, k == 0);
+    }
+    return cards;
+}
+
+// Packages with cut-outs draw depth through the cut-out test first and then shade only the nearest
+// fragments (--cut-out-pre-pass, renderer.cpp draw): the same picture as one pass with late depth
+// tests, for cut-outs read from the source's texture and from the coverage samples alike, with
+// one shaded fragment per covered pixel where one pass shades every card's. A package whose
+// coverage array is missing (damaged) draws its textured cut-outs without reading past it.
+TEST(DisplacedMeshRenderer, CutOutPrePassShadesEachPixelOnceWithTheSamePicture)
+{
+    test::gpu_context();
+    const Mesh cards = stacked_cards(6);
+    Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(cards);
+    ASSERT_TRUE(truth.is_ok());
+    OrbitView face_on; // from +z, down the stack
+    face_on.elevation_degrees = 0.0f;
+    const Camera camera = orbit_camera(cards.bounding_sphere(), face_on, 320.0f / 240.0f);
+    const RenderedImage truth_image = render(**truth, camera, 320, 240);
+    for (const char* source_textures : {"auto", "off"}) {
+        SCOPED_TRACE(source_textures);
+        Result<Options> parameters = bake_parameters({{"degree", "5"}, {"source-textures", source_textures}});
+        ASSERT_TRUE(parameters.is_ok());
+        Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(cards, SourceInfo{}, *parameters, Progress());
+        ASSERT_TRUE(package.is_ok()) << package.status().message();
+        ASSERT_FALSE((*package)->coverage.empty());
+        RenderedImage image[2];
+        std::uint64_t fragments[2] = {0, 0};
+        for (int pre_pass = 0; pre_pass < 2; ++pre_pass) {
+            RendererSettings settings;
+            settings.cut_out_pre_pass = pre_pass == 1;
+            std::unique_ptr<DisplacedRenderer> renderer = make(**package, settings);
+            ASSERT_TRUE(renderer);
+            renderer->set_counting(true);
+            image[pre_pass] = render(*renderer, camera, 320, 240);
+            fragments[pre_pass] = renderer->read_counter(Counter::fragments);
+        }
+        std::size_t covered = 0, differing = 0;
+        const std::vector<std::uint8_t>& a = image[0].color.pixels;
+        const std::vector<std::uint8_t>& b = image[1].color.pixels;
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); i += 4) {
+            covered += b[i + 3] != 0;
+            differing += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2] || a[i + 3] != b[i + 3];
+        }
+        const ImageMetrics m = compare_images(truth_image.color, image[1].color);
+        std::printf("[displaced cut-out pre-pass, source textures %s] fragments %llu in one pass, %llu after the pre-pass, "
+                    "%zu covered pixels, %zu differing; Luv %.3f IoU %.4f\n",
+                    source_textures, (unsigned long long)fragments[0], (unsigned long long)fragments[1], covered, differing,
+                    m.luv_mean, m.iou);
+        ASSERT_GT(covered, 4000u);
+        EXPECT_LE(differing, covered / 1000) << "the same nearest fragments";
+        EXPECT_GT(double(fragments[0]), 2.0 * double(covered)) << "one pass shades the cards behind";
+        EXPECT_LE(double(fragments[1]), 1.01 * double(covered)) << "once per pixel after the pre-pass";
+        // measured: the texture's own discs 1.0000; the samples' coverage, interpolated over
+        // degree 5's pattern, 0.945
+        EXPECT_GT(m.iou, std::string(source_textures) == "auto" ? 0.999 : 0.9);
+    }
+    Result<Options> parameters = bake_parameters({{"degree", "5"}});
+    ASSERT_TRUE(parameters.is_ok());
+    Result<std::unique_ptr<DisplacedMeshPackage>> damaged = bake_displaced(cards, SourceInfo{}, *parameters, Progress());
+    ASSERT_TRUE(damaged.is_ok());
+    (*damaged)->coverage.clear();
+    std::unique_ptr<DisplacedRenderer> renderer = make(**damaged, RendererSettings{});
+    ASSERT_TRUE(renderer);
+    EXPECT_GT(compare_images(truth_image.color, render(*renderer, camera, 320, 240).color).iou, 0.99);
 }
 
 TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)

@@ -22,6 +22,7 @@
 #define DM_STATE_SSBO (BINDING_FIRST_RENDERER_SSBO + 9)      // refinement state and indirect arguments (DM_STATE_*)
 #define DM_PBR_SSBO (BINDING_FIRST_RENDERER_SSBO + 10)       // uvec2 per finest sample: RGBA8 ORM, RGBA8 emission (PBR packages)
 #define DM_FACE_TEXTURE_SSBO (BINDING_FIRST_RENDERER_SSBO + 11) // FaceTexture per control face (source_textures.h; packages with them)
+#define DM_DISPLACED_SSBO (BINDING_FIRST_RENDERER_SSBO + 12)    // vec4 world position per final-list vertex (displace.comp)
 
 // texture units
 #define DM_SOURCE_TEXTURE_UNIT (BINDING_FIRST_RENDERER_TEXTURE + 0) // the source textures, one layer each

@@ -52,6 +52,12 @@ uniform int counting; // 1: add this fragment, its reads and its error to the co
 #ifndef DM_SOURCE_TEXTURES
 #define DM_SOURCE_TEXTURES 1 // the package has faces drawn with the source's textures (source_textures.h)
 #endif
+// The cut-out pre-pass of packages with coverage (renderer.cpp draw): only the tests that decide
+// whether the fragment is there (cut-out, cross-fade, culling), writing depth and no colour; the
+// shading pass after it shades only the fragments whose depth equals the nearest.
+#ifndef DM_DEPTH_ONLY
+#define DM_DEPTH_ONLY 0
+#endif
 
 #if DM_SOURCE_TEXTURES
 // A control face that is a source triangle (source_textures.h FaceTexture, 48 bytes): its corners'
@@ -161,9 +167,11 @@ void main()
     // (the UV's derivatives from the barycentrics', a varying's: derived implicitly from the
     // records' storage reads, llvmpipe's came out near zero, and the minigun's texture was
     // point-sampled at level 0, Luv 0.59 -> 5.8)
+#if !DM_DEPTH_ONLY
     const vec2 d_bary_x = dFdx(v_face_bary), d_bary_y = dFdy(v_face_bary);
     const mat2 uv_from_bary = mat2(source.uv[1] - source.uv[0], source.uv[2] - source.uv[0]);
     const vec4 source_texel = textureGrad(source_textures, source_uv, uv_from_bary * d_bary_x, uv_from_bary * d_bary_y);
+#endif
     const float source_alpha = textureLod(source_textures, source_uv, 0.0).a;
 #endif
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
@@ -174,7 +182,9 @@ void main()
     vec4 albedo = vec4(0.0);
     for (int k = 0; k < 3; ++k) {
         uvec2 s = shading[index[k]];
+#if !DM_DEPTH_ONLY
         normal += weight[k] * decode_normal(s.x);
+#endif
         albedo += weight[k] * unpackUnorm4x8(s.y);
     }
     bool cut_out = has_coverage != 0 && albedo.a < 0.5;
@@ -182,11 +192,16 @@ void main()
     if (source.layer != DM_NO_TEXTURE) {
         vec4 corners = w0 * unpackUnorm4x8(source.color[0]) + v_face_bary.x * unpackUnorm4x8(source.color[1]) +
                        v_face_bary.y * unpackUnorm4x8(source.color[2]);
+#if !DM_DEPTH_ONLY
         albedo = vec4(corners.rgb * source_texel.rgb, 1.0);
+#endif
         cut_out = source.cutoff > 0.0 && corners.a * source_alpha < source.cutoff;
     }
 #endif
     if (cut_out) discard;
+#if DM_DEPTH_ONLY
+    if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(instances.world_from_object[v_instance])) < 0.0)) discard;
+#else
     if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(world_from_object)) < 0.0)) discard;
@@ -225,4 +240,5 @@ void main()
     else if (debug_view == DEBUG_VIEW_DEPTH) color = vec3(1.0 - gl_FragCoord.z);
     else if (debug_view == DEBUG_VIEW_NORMAL) color = normalize(normal_world) * 0.5 + 0.5;
     out_color = vec4(color, 1.0);
+#endif
 }
