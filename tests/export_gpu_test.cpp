@@ -413,6 +413,75 @@ TEST(Export, LinearColoursReadBackAsTheAlbedoTheyCameFrom)
     }
 }
 
+// A PBR package's billboards and view atlas export their ORM and emission maps as glTF's
+// metallicRoughnessTexture, occlusionTexture and emissiveTexture (factors 1: the maps as they are),
+// so an engine relights them as the model's metal; covered texels hold the model's metallic 0.7,
+// roughness 0.4 and emission. Without PBR maps, the materials stay rough dielectrics.
+TEST(Export, BillboardsAndViewAtlasCarryTheirPbrMaps)
+{
+    Mesh torus = export_torus();
+    for (Material& m : torus.materials) m.metallic = 0.7f, m.roughness = 0.4f, m.emissive = glm::vec3(0.2f, 0.1f, 0.0f);
+    const std::string dir = test::fresh_directory("export_pbr_maps");
+    const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> bakes = {
+        {"enhanced-billboards", {{"resolution", "128"}}},
+        {"view-atlas", {{"layout", "octahedral"}, {"frames", "4"}, {"resolution", "64"}, {"page-size", "512"}}}};
+    for (const auto& [representation, values] : bakes) {
+        SCOPED_TRACE(representation);
+        auto package = bake_small(torus, representation, values);
+        ASSERT_TRUE(package);
+        ExportScene scene;
+        ParsedGlb glb = export_and_parse(*package, {}, dir + "/" + representation + ".glb", 0.8f, &scene);
+        std::size_t checked = 0;
+        for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+            const ExportMesh& mesh = scene.meshes[m];
+            if (mesh.base_color_texture < 0) continue; // the billboards' coarse mesh: vertex colours
+            ASSERT_GE(mesh.orm_texture, 0) << mesh.name;
+            ASSERT_GE(mesh.emissive_texture, 0) << mesh.name;
+            const auto& material = glb.json["materials"][glb.json["meshes"][m]["primitives"][0]["material"].get<std::size_t>()];
+            EXPECT_EQ(material["pbrMetallicRoughness"]["metallicRoughnessTexture"]["index"], mesh.orm_texture);
+            EXPECT_EQ(material["occlusionTexture"]["index"], mesh.orm_texture);
+            EXPECT_EQ(material["emissiveTexture"]["index"], mesh.emissive_texture);
+            EXPECT_EQ(material["pbrMetallicRoughness"]["metallicFactor"].get<double>(), 1.0);
+            EXPECT_EQ(material["pbrMetallicRoughness"]["roughnessFactor"].get<double>(), 1.0);
+            EXPECT_EQ(material["emissiveFactor"], nlohmann::json::array({1, 1, 1}));
+            // the maps' texels where the colour is covered
+            auto decoded = [&](int texture) {
+                const std::string path = dir + "/" + scene.textures[std::size_t(texture)].name + ".png";
+                EXPECT_TRUE(write_file_atomic(path, scene.textures[std::size_t(texture)].png).is_ok());
+                Result<ImageRGBA8> image = read_png_rgba8(path);
+                EXPECT_TRUE(image.is_ok());
+                return image.is_ok() ? *image : ImageRGBA8{};
+            };
+            const ImageRGBA8 color = decoded(mesh.base_color_texture), orm = decoded(mesh.orm_texture),
+                             emission = decoded(mesh.emissive_texture);
+            ASSERT_EQ(orm.pixels.size(), color.pixels.size());
+            ASSERT_EQ(emission.pixels.size(), color.pixels.size());
+            double roughness = 0.0, metallic = 0.0, red = 0.0;
+            std::size_t covered = 0;
+            for (std::size_t i = 0; i < color.pixels.size(); i += 4) {
+                if (color.pixels[i + 3] < 255) continue;
+                roughness += orm.pixels[i + 1] / 255.0, metallic += orm.pixels[i + 2] / 255.0;
+                red += srgb_to_linear(emission.pixels[i] / 255.0f);
+                ++covered;
+            }
+            ASSERT_GT(covered, 100u) << mesh.name;
+            EXPECT_NEAR(roughness / double(covered), 0.4, 0.01) << mesh.name;
+            EXPECT_NEAR(metallic / double(covered), 0.7, 0.01) << mesh.name;
+            EXPECT_NEAR(red / double(covered), 0.2, 0.01) << mesh.name;
+            ++checked;
+        }
+        EXPECT_GT(checked, 0u);
+    }
+    // the same torus without PBR materials: no maps, the default material
+    auto plain = bake_small(export_torus(), "enhanced-billboards", {{"resolution", "128"}});
+    ASSERT_TRUE(plain);
+    ParsedGlb glb = export_and_parse(*plain, {}, dir + "/plain.glb", 0.25f);
+    for (const auto& material : glb.json["materials"]) {
+        EXPECT_FALSE(material["pbrMetallicRoughness"].contains("metallicRoughnessTexture"));
+        EXPECT_FALSE(material.contains("emissiveTexture"));
+    }
+}
+
 TEST(Export, BillboardsExportTheirBoxesAndCoarseMesh)
 {
     Mesh mesh = export_torus();

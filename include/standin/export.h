@@ -48,6 +48,12 @@ struct ExportMesh {
     float metallic = 0.0f, roughness = 1.0f;
     glm::vec3 emissive{0.0f};
     int base_color_texture = -1;        // index into ExportScene::textures, or -1
+    // glTF's ORM maps (issue #14's PBR channels), indices into ExportScene::textures or -1: one
+    // texture of R occlusion, G roughness, B metallic (linear) as metallicRoughnessTexture and
+    // occlusionTexture (the factors above multiply it: 1 to take it as it is), and an sRGB
+    // emissive texture (emissive then multiplies it: (1, 1, 1) to take it as it is)
+    int orm_texture = -1;
+    int emissive_texture = -1;
     std::string alpha_mode = "OPAQUE";  // OPAQUE, MASK (cut-off alpha_cutoff) or BLEND
     float alpha_cutoff = 0.5f;          // MASK only: glTF's alphaCutoff
     bool double_sided = false;

@@ -70,7 +70,8 @@ Status glb_check_mesh(const ExportMesh& mesh, std::size_t textures)
         if (i >= n) return bad("index out of range");
     for (const glm::vec3& p : mesh.positions)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return bad("position not finite");
-    if (mesh.base_color_texture >= int(textures)) return bad("texture index out of range");
+    for (int texture : {mesh.base_color_texture, mesh.orm_texture, mesh.emissive_texture})
+        if (texture >= int(textures)) return bad("texture index out of range");
     return Status::ok();
 }
 
@@ -180,7 +181,10 @@ Result<std::string> encode_glb(const ExportScene& scene, const std::string& gene
                               {"metallicFactor", short_number(mesh.metallic)},
                               {"roughnessFactor", short_number(mesh.roughness)}};
         if (mesh.base_color_texture >= 0) pbr["baseColorTexture"] = {{"index", mesh.base_color_texture}};
+        if (mesh.orm_texture >= 0) pbr["metallicRoughnessTexture"] = {{"index", mesh.orm_texture}};
         nlohmann::json material = {{"name", mesh.name}, {"pbrMetallicRoughness", pbr}, {"alphaMode", mesh.alpha_mode}};
+        if (mesh.orm_texture >= 0) material["occlusionTexture"] = {{"index", mesh.orm_texture}};
+        if (mesh.emissive_texture >= 0) material["emissiveTexture"] = {{"index", mesh.emissive_texture}};
         if (mesh.emissive != glm::vec3(0.0f)) {
             const glm::vec3 e = glm::clamp(mesh.emissive, 0.0f, 1.0f);
             material["emissiveFactor"] = {short_number(e.x), short_number(e.y), short_number(e.z)};

@@ -129,7 +129,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                     const std::uint8_t* c = (*in.color_pages)[std::size_t(v.page)].at(tx, ty);
                     if (c[3] == 0) continue;
                     const float pixel_coverage = float(c[3]) / 255.0f;
-                    for (int k = 0; k < 3; ++k) rgb[k] += pixel_coverage * to_linear[c[k]];
+                    for (int k = 0; k < 3; ++k) rgb[k] += pixel_coverage * (in.color_srgb ? to_linear[c[k]] : float(c[k]) / 255.0f);
                     coverage += pixel_coverage;
                     if (with_normals) {
                         const std::uint8_t* n = (*in.normal_depth_pages)[std::size_t(v.page)].at(tx, ty);
@@ -149,7 +149,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                 continue;
             }
             filled[std::size_t(y) * size + x] = 1;
-            for (int k = 0; k < 3; ++k) out[k] = grid_linear_to_srgb8(rgb[k] / coverage);
+            for (int k = 0; k < 3; ++k) out[k] = in.color_srgb ? grid_linear_to_srgb8(rgb[k] / coverage) : grid_unorm8(rgb[k] / coverage);
             // at least 1: a texel with a surface in it has alpha > 0 (readers walk it as covered)
             out[3] = std::uint8_t(std::clamp(std::lround(coverage * 255.0f / float(box * box)), 1L, 255L));
             if (with_normals) {

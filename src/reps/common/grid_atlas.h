@@ -20,6 +20,9 @@ struct GridAtlasInput {
     const std::vector<ImageRGBA8>* normal_depth_pages = nullptr; // may be null: colour only
     int resolution = 0; // capture size, pixels
     int frames = 0;
+    // the colour pages' RGB is sRGB-encoded (albedo, emission), averaged in linear light; false:
+    // linear data (ORM pages: occlusion, roughness, metallic), averaged as it is
+    bool color_srgb = true;
 };
 
 struct GridAtlas {

@@ -70,6 +70,28 @@ ExportMesh billboard_box(const Billboard& b, const std::string& name)
     return mesh;
 }
 
+// A PBR package's maps (issue #14) as the box's glTF material reads them: the ORM map (occlusion,
+// roughness, metallic; its alpha, the coverage, unread) and the sRGB emission, padded as the colour.
+// Packages without them keep the default material, a rough dielectric without emission.
+Status add_pbr_maps(ExportScene& scene, ExportMesh& box, const Billboard& b, const std::string& name)
+{
+    if (!b.orm.empty()) {
+        Result<ExportTexture> orm = make_export_texture(name + "_orm", billboard_padded_map(b.orm));
+        if (!orm) return orm.status();
+        box.orm_texture = int(scene.textures.size());
+        box.metallic = box.roughness = 1.0f;
+        scene.textures.push_back(std::move(*orm));
+    }
+    if (!b.emission.empty()) {
+        Result<ExportTexture> emission = make_export_texture(name + "_emission", billboard_padded_map(b.emission));
+        if (!emission) return emission.status();
+        box.emissive_texture = int(scene.textures.size());
+        box.emissive = glm::vec3(1.0f);
+        scene.textures.push_back(std::move(*emission));
+    }
+    return Status::ok();
+}
+
 } // namespace
 
 Result<ExportScene> export_scene(const Package& base, const Options&)
@@ -89,6 +111,7 @@ Result<ExportScene> export_scene(const Package& base, const Options&)
         scene.textures.push_back(std::move(*normal_depth));
         ExportMesh box = billboard_box(b, name);
         box.base_color_texture = color_index;
+        STANDIN_RETURN_IF_ERROR(add_pbr_maps(scene, box, b, name));
         box.extras["standin"] = {{"role", "billboard"},
                                  {"color_texture", color_index},
                                  {"normal_depth_texture", color_index + 1},
@@ -110,8 +133,9 @@ Result<ExportScene> export_scene(const Package& base, const Options&)
     std::uint64_t texture_bytes = 0;
     for (const ExportTexture& t : scene.textures) texture_bytes += export_texture_bytes(t);
     char line[200];
-    std::snprintf(line, sizeof line, "%zu billboard boxes with colour + coverage (8-bit) and normal + depth (16-bit) maps%s: %.1f MiB of textures on the GPU",
-                  package.billboards.size(), package.coarse_mesh.indices.empty() ? "" : ", coarse mesh",
+    const bool pbr = !package.billboards.empty() && !package.billboards[0].orm.empty();
+    std::snprintf(line, sizeof line, "%zu billboard boxes with colour + coverage (8-bit)%s and normal + depth (16-bit) maps%s: %.1f MiB of textures on the GPU",
+                  package.billboards.size(), pbr ? ", ORM, emission" : "", package.coarse_mesh.indices.empty() ? "" : ", coarse mesh",
                   double(texture_bytes) / (1 << 20));
     scene.notes.push_back(line);
     return scene;

@@ -113,6 +113,23 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         scene.textures.push_back(std::move(*nd));
         normal_depth_texture = 1;
     }
+    // a PBR package's ORM (linear) and emission (sRGB) pages in the same grid (issue #14), read by
+    // the quad's glTF material; the reference shader takes them from the extras
+    int orm_texture = -1, emission_texture = -1;
+    if (package.has_pbr()) {
+        for (bool orm : {true, false}) {
+            reps::GridAtlasInput pbr_input = input;
+            pbr_input.color_pages = orm ? &package.orm_pages : &package.emission_pages;
+            pbr_input.normal_depth_pages = nullptr;
+            pbr_input.color_srgb = !orm;
+            Result<reps::GridAtlas> grid = reps::make_grid_atlas(pbr_input, size);
+            if (!grid) return grid.status();
+            Result<ExportTexture> texture = make_export_texture(orm ? "grid_orm" : "grid_emission", grid->color);
+            if (!texture) return texture.status();
+            (orm ? orm_texture : emission_texture) = int(scene.textures.size());
+            scene.textures.push_back(std::move(*texture));
+        }
+    }
 
     // the quad through the centre facing +Z, showing the frame that looks along +Z (camera right +X,
     // image down -Y there), so that a viewer without the impostor shader still shows the model
@@ -133,6 +150,10 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     quad.base_color_texture = 0;
     quad.alpha_mode = "MASK";
     quad.double_sided = true;
+    if (orm_texture >= 0) {
+        quad.orm_texture = orm_texture, quad.metallic = quad.roughness = 1.0f;
+        quad.emissive_texture = emission_texture, quad.emissive = glm::vec3(1.0f);
+    }
     nlohmann::json axes = nlohmann::json::array();
     for (const View& v : package.views)
         axes.push_back({v.axis_u.x, v.axis_u.y, v.axis_u.z, v.axis_v.x, v.axis_v.y, v.axis_v.z, v.direction.x, v.direction.y, v.direction.z});
@@ -153,6 +174,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         block["fov"] = s.fov;
         block["capture_distance"] = package.capture_distance();
     }
+    if (orm_texture >= 0) block["orm_texture"] = orm_texture, block["emission_texture"] = emission_texture;
     if (normal_depth_texture >= 0) {
         block["normal_depth_texture"] = normal_depth_texture;
         block["depth_near"] = package.radius;        // depth 0: this far in front of the centre
@@ -172,6 +194,10 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     ConvexPolytope hull = baked_proxy ? proxy_polytope(package, atlas_texel) : atlas_hull(package, &stats);
     if (!hull.empty()) {
         ExportMesh mesh = hull_mesh(package, hull, front, fi, fj);
+        if (orm_texture >= 0) {
+            mesh.orm_texture = orm_texture, mesh.metallic = mesh.roughness = 1.0f;
+            mesh.emissive_texture = emission_texture, mesh.emissive = glm::vec3(1.0f);
+        }
         block["role"] = "grid-impostor-hull";
         block["quad_node"] = "impostor";
         mesh.extras["standin"] = block;
@@ -199,7 +225,9 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     char line[240];
     std::snprintf(line, sizeof line, "grid atlas %dx%d, %dx%d %s frames of %.1f texels, %s: %.1f MiB on the GPU (RGBA8 with mips)",
                   size, size, s.frames, s.frames, s.layout.c_str(), double(size) / s.frames,
-                  normal_depth_texture >= 0 ? "colour+alpha and normal+depth" : "colour+alpha", double(texture_bytes) / (1 << 20));
+                  normal_depth_texture >= 0 ? (orm_texture >= 0 ? "colour+alpha, normal+depth, ORM and emission" : "colour+alpha and normal+depth")
+                                            : "colour+alpha",
+                  double(texture_bytes) / (1 << 20));
     scene.notes.push_back(line);
     return scene;
 }
