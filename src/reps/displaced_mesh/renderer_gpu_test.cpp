@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <deque>
 #include <string>
 
@@ -577,6 +578,65 @@ TEST(DisplacedMeshRenderer, CutOutPrePassShadesEachPixelOnceWithTheSamePicture)
     std::unique_ptr<DisplacedRenderer> renderer = make(**damaged, RendererSettings{});
     ASSERT_TRUE(renderer);
     EXPECT_GT(compare_images(truth_image.color, render(*renderer, camera, 320, 240).color).iou, 0.99);
+}
+
+// The pre-pass keeps what depth-writing draws promise: faded out at 1/2 (a screen-door
+// cross-fade to nothing), the package draws its plain picture at its own pixels and leaves the
+// others empty, depth included (the pre-pass writes no depth where the fade drops a fragment);
+// and the cards' shadows on each other (the shadow map drawn through the pre-pass alone) are
+// those of one pass.
+TEST(DisplacedMeshRenderer, CutOutPrePassCrossFadesAndCastsShadowsAsOnePass)
+{
+    test::gpu_context();
+    const Mesh cards = stacked_cards(6);
+    Result<Options> parameters = bake_parameters({{"degree", "5"}});
+    ASSERT_TRUE(parameters.is_ok());
+    Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(cards, SourceInfo{}, *parameters, Progress());
+    ASSERT_TRUE(package.is_ok()) << package.status().message();
+    OrbitView view;
+    view.azimuth_degrees = 20.0f;
+    view.elevation_degrees = 10.0f;
+    const Camera camera = orbit_camera(cards.bounding_sphere(), view, 1.0f);
+    ShadowOptions shadows;
+    shadows.enabled = true;
+    shadows.scene = cards.bounding_sphere();
+    shadows.resolution = 1024;
+    RenderedImage shadowed[2], plain, faded;
+    for (int pre_pass = 0; pre_pass < 2; ++pre_pass) {
+        RendererSettings settings;
+        settings.cut_out_pre_pass = pre_pass == 1;
+        std::unique_ptr<DisplacedRenderer> renderer = make(**package, settings);
+        ASSERT_TRUE(renderer);
+        Result<RenderedImage> image = render_offscreen(*renderer, camera, default_light(camera), 200, 200, {}, shadows);
+        ASSERT_TRUE(image.is_ok()) << image.status().message();
+        shadowed[pre_pass] = std::move(*image);
+        if (!settings.cut_out_pre_pass) continue;
+        plain = render(*renderer, camera, 200, 200);
+        struct Nothing final : Renderer {
+            DrawStats draw(const DrawParams&) override { return {}; }
+        } nothing;
+        CrossFade to_nothing(*renderer, nothing);
+        to_nothing.set_amount(0.5f);
+        faded = render(to_nothing, camera, 200, 200);
+    }
+    std::size_t covered = 0, kept = 0, wrong = 0;
+    for (std::size_t i = 0; i < plain.depth.size(); ++i) {
+        covered += plain.depth[i] < 1.0f;
+        const bool same = faded.depth[i] == plain.depth[i] && std::memcmp(&faded.color.pixels[4 * i], &plain.color.pixels[4 * i], 4) == 0;
+        const bool empty = faded.depth[i] == 1.0f && faded.color.pixels[4 * i + 3] == 0;
+        kept += plain.depth[i] < 1.0f && same;
+        wrong += !same && !empty;
+    }
+    ASSERT_GT(covered, 2000u);
+    EXPECT_EQ(wrong, 0u) << "each pixel the plain picture's or empty";
+    EXPECT_NEAR(double(kept) / double(covered), 0.5, 0.05) << "half the picture kept";
+    std::size_t differing = 0, darker = 0;
+    for (std::size_t i = 0; i < shadowed[0].color.pixels.size(); i += 4) {
+        differing += std::memcmp(&shadowed[0].color.pixels[i], &shadowed[1].color.pixels[i], 4) != 0;
+        darker += shadowed[1].color.pixels[i + 1] + 8 < plain.color.pixels[i + 1];
+    }
+    EXPECT_LE(differing, covered / 1000) << "the same shadows";
+    EXPECT_GT(darker, covered / 20) << "the cards shade each other";
 }
 
 TEST(DisplacedMeshRenderer, SingleSidedSheetsShowNothingFromBehind)
