@@ -79,8 +79,8 @@ std::vector<OptionSpec> render_options()
         flag_option("cut-out-pre-pass", true,
                     "Draw packages with cut-outs (alpha-masked leaves) in two passes: depth through the cut-out test, "
                     "then shading of the nearest fragments alone, once per pixel (the same picture; dense foliage "
-                    "25-30% faster on llvmpipe, 5-10% slower where cards are a pixel or two across: docs/RESULTS.md; "
-                    "--subdivision tess draws one pass)"),
+                    "25-30% faster on llvmpipe, sparse crowns and cards a pixel or two across within the noise: "
+                    "docs/RESULTS.md; --subdivision tess draws one pass)"),
     };
 }
 
