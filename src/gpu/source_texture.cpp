@@ -137,17 +137,19 @@ Texture upload_source_texture(const standin::Texture& texture)
     return handle;
 }
 
-Texture upload_source_texture_array(const std::vector<standin::Texture>& sources, std::vector<glm::vec2>* uv_scale)
+namespace {
+
+Texture upload_array(const std::vector<const standin::Texture*>& sources, std::vector<glm::vec2>* uv_scale)
 {
     int width = 0, height = 0;
-    for (const standin::Texture& t : sources) width = std::max(width, t.width), height = std::max(height, t.height);
+    for (const standin::Texture* t : sources) width = std::max(width, t->width), height = std::max(height, t->height);
     // (only layers of another size are copied: tiled where they divide the array's size, else
     // resampled)
     std::vector<standin::Texture> resized(sources.size());
     std::vector<const standin::Texture*> layers;
     if (uv_scale) uv_scale->assign(sources.size(), glm::vec2(1.0f));
     for (std::size_t k = 0; k < sources.size(); ++k) {
-        const standin::Texture& t = sources[k];
+        const standin::Texture& t = *sources[k];
         const bool same = t.width == width && t.height == height;
         if (!same && uv_scale && width % t.width == 0 && height % t.height == 0) {
             resized[k] = tiled(t, width / t.width, height / t.height);
@@ -155,7 +157,7 @@ Texture upload_source_texture_array(const std::vector<standin::Texture>& sources
         } else if (!same) {
             resized[k] = resampled(t, width, height);
         }
-        layers.push_back(same ? &sources[k] : &resized[k]);
+        layers.push_back(same ? sources[k] : &resized[k]);
     }
     const int levels = level_count(width, height);
     GLuint name = 0;
@@ -173,6 +175,58 @@ Texture upload_source_texture_array(const std::vector<standin::Texture>& sources
             });
     set_sampling(name);
     return handle;
+}
+
+} // namespace
+
+Texture upload_source_texture_array(const std::vector<standin::Texture>& sources, std::vector<glm::vec2>* uv_scale)
+{
+    std::vector<const standin::Texture*> pointers;
+    for (const standin::Texture& t : sources) pointers.push_back(&t);
+    return upload_array(pointers, uv_scale);
+}
+
+std::vector<std::uint32_t> source_texture_array_of(const std::vector<standin::Texture>& textures, int max_arrays)
+{
+    std::vector<std::size_t> order(textures.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    auto area = [&](std::size_t k) { return std::uint64_t(textures[k].width) * std::uint64_t(textures[k].height); };
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (area(a) != area(b)) return area(a) > area(b);
+        return textures[a].width > textures[b].width;
+    });
+    std::vector<glm::ivec2> array_size; // each array's first (largest) size
+    std::vector<std::uint32_t> array_of(textures.size(), 0u);
+    for (std::size_t k : order) {
+        const glm::ivec2 size(std::max(1, textures[k].width), std::max(1, textures[k].height));
+        std::size_t a = 0;
+        while (a < array_size.size() && (array_size[a].x % size.x != 0 || array_size[a].y % size.y != 0)) ++a;
+        if (a == array_size.size()) {
+            if (int(array_size.size()) < std::max(1, max_arrays)) array_size.push_back(size);
+            else a = 0;
+        }
+        array_of[k] = std::uint32_t(a);
+    }
+    return array_of;
+}
+
+SourceTextureArrays upload_source_texture_arrays(const std::vector<standin::Texture>& textures, int max_arrays)
+{
+    SourceTextureArrays out;
+    out.array_of = source_texture_array_of(textures, max_arrays);
+    out.layer_of.assign(textures.size(), 0u);
+    out.uv_scale.assign(textures.size(), glm::vec2(1.0f));
+    const std::uint32_t arrays = textures.empty() ? 0u : *std::max_element(out.array_of.begin(), out.array_of.end()) + 1u;
+    for (std::uint32_t a = 0; a < arrays; ++a) {
+        std::vector<const standin::Texture*> members;
+        std::vector<std::size_t> index;
+        for (std::size_t k = 0; k < textures.size(); ++k)
+            if (out.array_of[k] == a) out.layer_of[k] = std::uint32_t(members.size()), members.push_back(&textures[k]), index.push_back(k);
+        std::vector<glm::vec2> scale;
+        out.arrays.push_back(upload_array(members, &scale));
+        for (std::size_t m = 0; m < index.size(); ++m) out.uv_scale[index[m]] = scale[m];
+    }
+    return out;
 }
 
 } // namespace standin::gpu

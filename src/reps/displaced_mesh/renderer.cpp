@@ -112,19 +112,38 @@ Status check_buffer_sizes(const DisplacedMeshPackage& package, std::uint64_t lim
     return Status::ok();
 }
 
-// The source textures' array (every layer at the largest width and height, with its mip levels)
-// must be one the GL can make and not a memory bomb: a package may name 256 layers of up to 16384².
+// Source textures go to at most this many texture arrays, one per size class (textures whose sizes
+// divide each other share one, repeated: gpu::source_texture_array_of), so that a texture keeps its
+// own texels; any further size is resampled into the first. Each array is a texture read in every
+// fragment on llvmpipe (draw.frag reads them all, masked), so few: assimp's spider (249 x 250, 250,
+// 768 and 128 texels) takes 3, thesis Luv 0.603 -> 0.035 against its model (docs/RESULTS.md).
+constexpr int k_max_source_arrays = 4;
+
+// The source textures' arrays (every layer of one at its largest width and height, with its mip
+// levels) must be ones the GL can make and not a memory bomb: a package may name 256 layers of up
+// to 16384².
 Status check_source_texture_size(const SourceTextures& textures)
 {
-    int width = 0, height = 0;
-    for (const Texture& t : textures.layers) width = std::max(width, t.width), height = std::max(height, t.height);
+    const std::vector<std::uint32_t> array_of = gpu::source_texture_array_of(textures.layers, k_max_source_arrays);
+    std::vector<glm::ivec2> size(k_max_source_arrays, glm::ivec2(0));
+    std::vector<std::uint64_t> layers(k_max_source_arrays, 0);
+    for (std::size_t k = 0; k < textures.layers.size(); ++k) {
+        glm::ivec2& s = size[array_of[k]];
+        s = glm::max(s, glm::ivec2(textures.layers[k].width, textures.layers[k].height));
+        ++layers[array_of[k]];
+    }
     GLint max_size = 0, max_layers = 0;
     glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-    const std::uint64_t bytes = std::uint64_t(width) * std::uint64_t(height) * textures.layers.size() * 4u * 4u / 3u;
-    if (width > max_size || height > max_size || GLint(textures.layers.size()) > max_layers || bytes > k_max_source_texture_bytes)
-        return error(StatusCode::unsupported, "displaced mesh: its " + std::to_string(textures.layers.size()) + " source textures take " +
-                                                  std::to_string(width) + "x" + std::to_string(height) + " texels each on the GPU (" +
+    std::uint64_t bytes = 0;
+    bool fits = true;
+    for (int a = 0; a < k_max_source_arrays; ++a) {
+        bytes += std::uint64_t(size[a].x) * std::uint64_t(size[a].y) * layers[a] * 4u * 4u / 3u;
+        fits = fits && size[a].x <= max_size && size[a].y <= max_size && layers[a] <= std::uint64_t(max_layers);
+    }
+    if (!fits || bytes > k_max_source_texture_bytes)
+        return error(StatusCode::unsupported, "displaced mesh: its " + std::to_string(textures.layers.size()) + " source textures take up to " +
+                                                  std::to_string(size[0].x) + "x" + std::to_string(size[0].y) + " texels each on the GPU (" +
                                                   std::to_string(bytes >> 20) + " MiB), over what this OpenGL or standin allows (" +
                                                   std::to_string(max_size) + " texels a side, " + std::to_string(max_layers) + " layers, " +
                                                   std::to_string(k_max_source_texture_bytes >> 20) +
@@ -219,7 +238,7 @@ private:
     gpu::Buffer pbr_; // PBR packages only (issue #14)
     // faces drawn with the source's textures (source_textures.h): their records and the textures
     gpu::Buffer face_textures_;
-    gpu::Texture source_textures_;
+    std::vector<gpu::Texture> source_textures_; // one array per size class, at most k_max_source_arrays
     gpu::Buffer vertices_, faces_, elevations_, shading_, refine_block_, state_, scan_, groups_, final_;
     gpu::Buffer displaced_; // the final list's vertices, displaced (displace.comp): a vec4 each
     gpu::Buffer lists_[2];
@@ -329,14 +348,17 @@ Status Impl::init(const DisplacedMeshPackage& package, const RendererSettings& s
     }
     if (!source_textures.faces.empty()) {
         STANDIN_RETURN_IF_ERROR(check_source_texture_size(source_textures));
-        // layers repeated across an array layer (their size divides the largest) read at their
-        // UVs times the layer's scale: the records' UVs are scaled here, derivatives follow
-        std::vector<glm::vec2> uv_scale;
-        source_textures_ = gpu::upload_source_texture_array(source_textures.layers, &uv_scale);
+        // a record names its array in the layer's top bits (draw.frag); layers repeated across an
+        // array layer (their size divides the array's) read at their UVs times the layer's scale:
+        // the records' UVs are scaled here, derivatives follow
+        gpu::SourceTextureArrays arrays = gpu::upload_source_texture_arrays(source_textures.layers, k_max_source_arrays);
         std::vector<FaceTexture> records = source_textures.faces;
-        for (FaceTexture& r : records)
-            if (r.layer < uv_scale.size())
-                for (glm::vec2& uv : r.uv) uv *= uv_scale[r.layer];
+        for (FaceTexture& r : records) {
+            if (r.layer >= arrays.uv_scale.size()) continue;
+            for (glm::vec2& uv : r.uv) uv *= arrays.uv_scale[r.layer];
+            r.layer = (arrays.array_of[r.layer] << DM_SOURCE_ARRAY_SHIFT) | arrays.layer_of[r.layer];
+        }
+        source_textures_ = std::move(arrays.arrays);
         face_textures_ = gpu::make_buffer(records);
     }
     STANDIN_RETURN_IF_ERROR(compile_draw_programs());
@@ -357,7 +379,8 @@ Status Impl::compile_draw_programs()
         for (int measuring = 0; measuring < 2; ++measuring) {
             std::vector<std::pair<std::string, std::string>> defines = {
                 {"DM_MEASURE_ERROR", measuring ? "1" : "0"}, {"DM_FOLLOW_CONTROL", moved_ ? "1" : "0"}, {"DM_PBR", pbr_ ? "1" : "0"},
-                {"DM_SOURCE_TEXTURES", face_textures_ ? "1" : "0"}};
+                {"DM_SOURCE_TEXTURES", face_textures_ ? "1" : "0"},
+                {"DM_SOURCE_ARRAYS", std::to_string(std::max<std::size_t>(1, source_textures_.size()))}};
             if (faded) defines.push_back({"DM_FADED", "1"});
             Result<gpu::Program> draw =
                 gpu::Program::create({"reps/displaced_mesh/shaders/draw.vert", "reps/displaced_mesh/shaders/draw.frag"}, defines);
@@ -439,7 +462,8 @@ void Impl::upload_block(const DrawParams& params, std::uint32_t instances)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_SHADING_SSBO, shading_.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_PBR_SSBO, pbr_ ? pbr_.get() : 0u);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_FACE_TEXTURE_SSBO, face_textures_ ? face_textures_.get() : 0u);
-    glBindTextureUnit(DM_SOURCE_TEXTURE_UNIT, source_textures_ ? source_textures_.get() : 0u);
+    for (int a = 0; a < k_max_source_arrays; ++a)
+        glBindTextureUnit(DM_SOURCE_TEXTURE_UNIT + a, std::size_t(a) < source_textures_.size() ? source_textures_[std::size_t(a)].get() : 0u);
 }
 
 void Impl::run_passes(const DrawParams& params, std::uint32_t instances)
@@ -515,10 +539,10 @@ DrawStats Impl::draw(const DrawParams& params)
     // draw the final list; packages with coverage first draw it to depth alone through the cut-out
     // test, then shade only the fragments at that depth (GL_EQUAL, early tests, no depth writes):
     // one shaded fragment per pixel instead of one per overlapping leaf card. Same pictures (the
-    // nearest fragment that is not cut out). Draws every triangle twice: on llvmpipe at 800x600 the
-    // bushes' frames -25-30%, a 100,000-card tree's +5-10% (cards a pixel or two across; GPUs,
-    // which lose early depth tests to the cut-out's discard, gain most): docs/RESULTS.md.
-    // (--cut-out-pre-pass off draws one pass.)
+    // nearest fragment that is not cut out). Draws every triangle twice (displaced once, before:
+    // displace.comp): on llvmpipe at 800x600 the bushes' frames -25-30%, the trees' within the
+    // noise (cards a pixel or two across, or few behind each other); docs/RESULTS.md.
+    // (--no-cut-out-pre-pass draws one pass.)
     const void* draw_record = reinterpret_cast<const void*>(std::uintptr_t(DM_STATE_DRAW * sizeof(std::uint32_t)));
     const std::uint32_t vertex_count = state[DM_STATE_DRAW];
     glProgramUniform1ui(displace_.id(), displace_.uniform("vertex_count"), vertex_count);

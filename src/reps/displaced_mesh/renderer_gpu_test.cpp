@@ -7,6 +7,7 @@
 
 #include "reps/displaced_mesh/displaced_mesh.h"
 #include "reps/displaced_mesh/renderer.h"
+#include "gpu/source_texture.h"
 
 #include <standin/assembly.h>
 #include <standin/eval.h>
@@ -222,39 +223,42 @@ TEST(DisplacedMeshRenderer, SourceTexturesOverTheArrayLimitsAreRefused)
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
-// Source textures of different sizes share one texture array of the largest: one whose size
-// divides it is repeated across its layer and read at scaled UVs, so the faces show its own texels
-// and mip levels, as the truth does (resampled to the largest, a 32-texel checker of one-texel
-// squares blurred at its edges). Two opaque cards side by side: a 32- and a 128-texel checker;
-// measured Luv 0.007 against the truth, 1.356 resampled.
+// Source textures of different sizes keep their own texels: one whose size divides the largest's
+// is repeated across a layer of its array and read at scaled UVs (its own texels and mip levels, as
+// the truth reads them; resampled to the largest, a 32-texel checker of one-texel squares blurred
+// at its edges), and one whose size does not goes to an array of its own size
+// (gpu::source_texture_array_of). Three opaque cards side by side: a 32-, a 128- and a 48-texel
+// checker; measured Luv 0.007 against the truth for the first two, 1.356 with the 32 resampled;
+// with the 48 too, 0.001 in its own array, 3.662 resampled to 128 (one array).
 TEST(DisplacedMeshRenderer, SmallerSourceTexturesKeepTheirOwnTexels)
 {
     test::gpu_context();
     Mesh cards;
-    for (int k = 0; k < 2; ++k) {
+    const int sizes[3] = {32, 128, 48};
+    for (int k = 0; k < 3; ++k) {
         Mesh card = test::alpha_quad(AlphaMode::opaque, 0.5f, true);
-        const int size = k == 0 ? 32 : 128;
-        card.textures[0] = test::painted_texture(k == 0 ? "small" : "large", size, [k](int x, int y, std::uint8_t* t) {
+        card.textures[0] = test::painted_texture("checker_" + std::to_string(sizes[k]), sizes[k], [k](int x, int y, std::uint8_t* t) {
             const bool dark = (x + y) % 2 == 0;
-            t[0] = dark ? 30 : 230, t[1] = dark ? 60 : std::uint8_t(k == 0 ? 120 : 210), t[2] = dark ? 90 : 40, t[3] = 255;
+            t[0] = dark ? 30 : 230, t[1] = dark ? 60 : std::uint8_t(120 + 45 * k), t[2] = dark ? 90 : 40, t[3] = 255;
         });
-        for (glm::vec3& p : card.positions) p.x += k == 0 ? -0.55f : 0.55f;
+        for (glm::vec3& p : card.positions) p.x += 1.1f * float(k - 1);
         append_card(cards, card, true);
     }
     Result<Options> parameters = bake_parameters({{"degree", "5"}});
     ASSERT_TRUE(parameters.is_ok());
     Result<std::unique_ptr<DisplacedMeshPackage>> package = bake_displaced(cards, SourceInfo{}, *parameters, Progress());
     ASSERT_TRUE(package.is_ok()) << package.status().message();
-    ASSERT_EQ((*package)->source_textures.layers.size(), 2u);
-    ASSERT_EQ((*package)->source_textures.matched_faces(), 4u);
+    ASSERT_EQ((*package)->source_textures.layers.size(), 3u);
+    ASSERT_EQ((*package)->source_textures.matched_faces(), 6u);
+    EXPECT_EQ(gpu::source_texture_array_of((*package)->source_textures.layers, 4), (std::vector<std::uint32_t>{0u, 0u, 1u}));
     Result<std::unique_ptr<Renderer>> truth = make_mesh_renderer(cards);
     ASSERT_TRUE(truth.is_ok());
     std::unique_ptr<DisplacedRenderer> renderer = make(**package, RendererSettings{});
     ASSERT_TRUE(renderer);
     double luv = 0.0;
     for (float azimuth : {0.0f, 25.0f}) {
-        Camera camera = camera_for(cards, azimuth, 1.0f, 400, 300);
-        luv += 0.5 * compare_images(render(**truth, camera, 400, 300).color, render(*renderer, camera, 400, 300).color).luv_mean;
+        Camera camera = camera_for(cards, azimuth, 1.0f, 480, 240);
+        luv += 0.5 * compare_images(render(**truth, camera, 480, 240).color, render(*renderer, camera, 480, 240).color).luv_mean;
     }
     std::printf("[displaced source texture sizes] Luv %.3f\n", luv);
     EXPECT_LT(luv, 0.05);

@@ -25,7 +25,8 @@
 #define DM_DISPLACED_SSBO (BINDING_FIRST_RENDERER_SSBO + 12)    // vec4 world position per final-list vertex (displace.comp)
 
 // texture units
-#define DM_SOURCE_TEXTURE_UNIT (BINDING_FIRST_RENDERER_TEXTURE + 0) // the source textures, one layer each
+#define DM_SOURCE_TEXTURE_UNIT (BINDING_FIRST_RENDERER_TEXTURE + 0) // the source textures' arrays, one layer each, units +0..+3
+#define DM_SOURCE_ARRAY_SHIFT 24 // a face record's layer: its array << DM_SOURCE_ARRAY_SHIFT | its layer there
 
 // the renderer's own counters (gpu/counters.h), after the shared ones
 #define DM_COUNTER_ERROR_SUM (COUNTER_SHARED_COUNT + 0) // over fragments, the distance to the finest surface, 1/DM_ERROR_UNITS px

@@ -71,7 +71,12 @@ struct FaceTexture {
 };
 #define DM_NO_TEXTURE 0xffffffffu
 layout(std430, binding = DM_FACE_TEXTURE_SSBO) readonly buffer FaceTextureBlock { FaceTexture face_textures[]; };
-layout(binding = DM_SOURCE_TEXTURE_UNIT) uniform sampler2DArray source_textures;
+// the source textures by size class (renderer.cpp k_max_source_arrays): a record's layer names its
+// array in the top bits, and every array is read, the record's kept (masked on llvmpipe anyway)
+#ifndef DM_SOURCE_ARRAYS
+#define DM_SOURCE_ARRAYS 1
+#endif
+layout(binding = DM_SOURCE_TEXTURE_UNIT) uniform sampler2DArray source_textures[DM_SOURCE_ARRAYS];
 #endif
 
 in vec3 v_position_world;
@@ -162,17 +167,25 @@ void main()
     // discard, on every fragment (implicit derivatives want the whole quad)
     FaceTexture source = face_textures[v_face];
     const float w0 = 1.0 - v_face_bary.x - v_face_bary.y;
-    const vec3 source_uv = vec3(w0 * source.uv[0] + v_face_bary.x * source.uv[1] + v_face_bary.y * source.uv[2],
-                                float(source.layer == DM_NO_TEXTURE ? 0u : source.layer));
+    const uint source_array = source.layer == DM_NO_TEXTURE ? 0u : source.layer >> DM_SOURCE_ARRAY_SHIFT;
+    const uint source_layer = source.layer == DM_NO_TEXTURE ? 0u : source.layer & ((1u << DM_SOURCE_ARRAY_SHIFT) - 1u);
+    const vec3 source_uv = vec3(w0 * source.uv[0] + v_face_bary.x * source.uv[1] + v_face_bary.y * source.uv[2], float(source_layer));
     // (the UV's derivatives from the barycentrics', a varying's: derived implicitly from the
     // records' storage reads, llvmpipe's came out near zero, and the minigun's texture was
     // point-sampled at level 0, Luv 0.59 -> 5.8)
 #if !DM_DEPTH_ONLY
     const vec2 d_bary_x = dFdx(v_face_bary), d_bary_y = dFdy(v_face_bary);
     const mat2 uv_from_bary = mat2(source.uv[1] - source.uv[0], source.uv[2] - source.uv[0]);
-    const vec4 source_texel = textureGrad(source_textures, source_uv, uv_from_bary * d_bary_x, uv_from_bary * d_bary_y);
+    vec4 source_texel = vec4(0.0);
 #endif
-    const float source_alpha = textureLod(source_textures, source_uv, 0.0).a;
+    float source_alpha = 0.0;
+    for (int a = 0; a < DM_SOURCE_ARRAYS; ++a) {
+        if (uint(a) != source_array) continue;
+#if !DM_DEPTH_ONLY
+        source_texel = textureGrad(source_textures[a], source_uv, uv_from_bary * d_bary_x, uv_from_bary * d_bary_y);
+#endif
+        source_alpha = textureLod(source_textures[a], source_uv, 0.0).a;
+    }
 #endif
     if (fade_discards()) discard; // a cross-fade's other renderer owns this pixel
     uint index[3];
