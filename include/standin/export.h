@@ -79,6 +79,10 @@ constexpr int k_export_format_version = 1;
 // UVs are left out (coarse meshes carry their albedo in vertex colours).
 ExportMesh export_vertex_colored_mesh(const Mesh& mesh, const std::string& name);
 
+// Gives `mesh` a PBR package's maps as its material (ExportMesh::orm_texture, emissive_texture):
+// either index may be -1 (left out); a map given takes its factors to 1, so it is read as it is.
+void use_pbr_maps(ExportMesh& mesh, int orm_texture, int emissive_texture);
+
 // The .glb bytes of a scene: one JSON chunk, one binary chunk holding every buffer view (vertex
 // attributes, indices, PNG images). Deterministic: the same scene gives the same bytes.
 Result<std::string> encode_glb(const ExportScene& scene, const std::string& generator);

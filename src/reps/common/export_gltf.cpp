@@ -140,6 +140,12 @@ std::uint64_t export_texture_bytes(const ExportTexture& texture)
     return std::uint64_t(texture.width) * std::uint64_t(texture.height) * 4 * std::uint64_t(texture.bits / 8) * 4 / 3;
 }
 
+void use_pbr_maps(ExportMesh& mesh, int orm_texture, int emissive_texture)
+{
+    if (orm_texture >= 0) mesh.orm_texture = orm_texture, mesh.metallic = mesh.roughness = 1.0f;
+    if (emissive_texture >= 0) mesh.emissive_texture = emissive_texture, mesh.emissive = glm::vec3(1.0f);
+}
+
 Result<std::string> encode_glb(const ExportScene& scene, const std::string& generator)
 {
     GlbBuilder b;

@@ -38,6 +38,17 @@ const std::array<float, 256>& grid_srgb_to_linear_table()
     return table;
 }
 
+// the identity on unorm8 codes, for linear data (GridAtlasInput::color_srgb false)
+const std::array<float, 256>& grid_unorm_table()
+{
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int k = 0; k < 256; ++k) t[std::size_t(k)] = float(k) / 255.0f;
+        return t;
+    }();
+    return table;
+}
+
 std::uint8_t grid_linear_to_srgb8(float c)
 {
     return std::uint8_t(std::lround(linear_to_srgb(std::clamp(c, 0.0f, 1.0f)) * 255.0f));
@@ -93,7 +104,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
         return error(StatusCode::invalid_argument, "grid atlas: the views are not a frames x frames grid");
     if (size < frames) return error(StatusCode::invalid_argument, "--atlas-size: must hold one texel per frame at least");
     const bool with_normals = in.normal_depth_pages && !in.normal_depth_pages->empty();
-    const auto& to_linear = grid_srgb_to_linear_table();
+    const auto& to_linear = in.color_srgb ? grid_srgb_to_linear_table() : grid_unorm_table();
     GridAtlas atlas;
     atlas.color = ImageRGBA8(size, size);
     if (with_normals) atlas.normal_depth = ImageRGBA8(size, size);
@@ -129,7 +140,7 @@ Result<GridAtlas> make_grid_atlas(const GridAtlasInput& in, int size)
                     const std::uint8_t* c = (*in.color_pages)[std::size_t(v.page)].at(tx, ty);
                     if (c[3] == 0) continue;
                     const float pixel_coverage = float(c[3]) / 255.0f;
-                    for (int k = 0; k < 3; ++k) rgb[k] += pixel_coverage * (in.color_srgb ? to_linear[c[k]] : float(c[k]) / 255.0f);
+                    for (int k = 0; k < 3; ++k) rgb[k] += pixel_coverage * to_linear[c[k]];
                     coverage += pixel_coverage;
                     if (with_normals) {
                         const std::uint8_t* n = (*in.normal_depth_pages)[std::size_t(v.page)].at(tx, ty);

@@ -547,8 +547,7 @@ DrawStats Impl::draw(const DrawParams& params)
     const std::uint32_t vertex_count = state[DM_STATE_DRAW];
     glProgramUniform1ui(displace_.id(), displace_.uniform("vertex_count"), vertex_count);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, DM_DISPLACED_SSBO, displaced_.get());
-    dispatch(displace_, GLuint((std::uint64_t(vertex_count) + DM_GROUP_SIZE - 1) / DM_GROUP_SIZE));
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    dispatch(displace_, GLuint((std::uint64_t(vertex_count) + DM_GROUP_SIZE - 1) / DM_GROUP_SIZE)); // (its barrier covers the draw's reads)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, state_.get());
     glBindVertexArray(empty_vertex_array_.get());
     glEnable(GL_DEPTH_TEST);

@@ -75,20 +75,20 @@ ExportMesh billboard_box(const Billboard& b, const std::string& name)
 // Packages without them keep the default material, a rough dielectric without emission.
 Status add_pbr_maps(ExportScene& scene, ExportMesh& box, const Billboard& b, const std::string& name)
 {
+    int orm_texture = -1, emissive_texture = -1;
     if (!b.orm.empty()) {
         Result<ExportTexture> orm = make_export_texture(name + "_orm", billboard_padded_map(b.orm));
         if (!orm) return orm.status();
-        box.orm_texture = int(scene.textures.size());
-        box.metallic = box.roughness = 1.0f;
+        orm_texture = int(scene.textures.size());
         scene.textures.push_back(std::move(*orm));
     }
     if (!b.emission.empty()) {
         Result<ExportTexture> emission = make_export_texture(name + "_emission", billboard_padded_map(b.emission));
         if (!emission) return emission.status();
-        box.emissive_texture = int(scene.textures.size());
-        box.emissive = glm::vec3(1.0f);
+        emissive_texture = int(scene.textures.size());
         scene.textures.push_back(std::move(*emission));
     }
+    use_pbr_maps(box, orm_texture, emissive_texture);
     return Status::ok();
 }
 

@@ -150,10 +150,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     quad.base_color_texture = 0;
     quad.alpha_mode = "MASK";
     quad.double_sided = true;
-    if (orm_texture >= 0) {
-        quad.orm_texture = orm_texture, quad.metallic = quad.roughness = 1.0f;
-        quad.emissive_texture = emission_texture, quad.emissive = glm::vec3(1.0f);
-    }
+    use_pbr_maps(quad, orm_texture, emission_texture);
     nlohmann::json axes = nlohmann::json::array();
     for (const View& v : package.views)
         axes.push_back({v.axis_u.x, v.axis_u.y, v.axis_u.z, v.axis_v.x, v.axis_v.y, v.axis_v.z, v.direction.x, v.direction.y, v.direction.z});
@@ -194,10 +191,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     ConvexPolytope hull = baked_proxy ? proxy_polytope(package, atlas_texel) : atlas_hull(package, &stats);
     if (!hull.empty()) {
         ExportMesh mesh = hull_mesh(package, hull, front, fi, fj);
-        if (orm_texture >= 0) {
-            mesh.orm_texture = orm_texture, mesh.metallic = mesh.roughness = 1.0f;
-            mesh.emissive_texture = emission_texture, mesh.emissive = glm::vec3(1.0f);
-        }
+        use_pbr_maps(mesh, orm_texture, emission_texture);
         block["role"] = "grid-impostor-hull";
         block["quad_node"] = "impostor";
         mesh.extras["standin"] = block;

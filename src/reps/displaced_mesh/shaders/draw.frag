@@ -212,12 +212,10 @@ void main()
     }
 #endif
     if (cut_out) discard;
-#if DM_DEPTH_ONLY
-    if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(instances.world_from_object[v_instance])) < 0.0)) discard;
-#else
-    if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     mat4 world_from_object = instances.world_from_object[v_instance];
     if (cull_in_shader != 0 && gl_FrontFacing == (determinant(mat3(world_from_object)) < 0.0)) discard;
+#if !DM_DEPTH_ONLY // the pre-pass ends here: depth only
+    if (DM_FOLLOW_CONTROL != 0 && refine.error_terms.y > 0.5) normal = follow_control_mesh(normalize(normal));
     vec3 normal_world = mat3(world_from_object) * normal; // similarity transforms
     vec3 to_eye = frame.forward_world.w > 0.5 ? -frame.forward_world.xyz : normalize(frame.eye_world.xyz - v_position_world);
     vec3 orm = SHADING_DEFAULT_ORM, emissive = vec3(0.0);
