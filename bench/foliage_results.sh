@@ -3,6 +3,8 @@
 # by every stand-in, evaluated with the thesis protocol (distance 1) and the foliage protocol
 # (distances 1, 4, 8); a table per representation of silhouette IoU and Luv at distance 1 and the
 # leaf coverage ratio (stand-in pixels / truth pixels, summed over the 14 directions) at 4 and 8.
+# The foliage protocol renders 4 x 4 samples a pixel (docs/EVAL.md; before session 49 one: add
+# --supersample 1 to its eval line for those figures).
 # Usage: bench/foliage_results.sh BUILD_DIR OUT_DIR [BEFORE_STANDIN]
 #   BEFORE_STANDIN: a `standin` built without alpha support (e.g. main before issue #14): its bakes
 #   (solid cards) are evaluated against this build's truth (cut-outs), the "before" rows.

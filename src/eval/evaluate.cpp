@@ -58,6 +58,19 @@ Result<gpu::FrameTimes> time_view(Renderer& renderer, const Camera& camera, cons
     return gpu::time_frames(renderer, params, 1, frames);
 }
 
+// One view's picture at `n` x `n` samples a pixel, resolved (resolve_supersampled): its sample
+// masks appended to `sample_coverage`. n = 1 is the picture as rendered, nothing appended.
+Result<RenderedImage> render_view(Renderer& renderer, const Camera& camera, const Light& light, const EvalView& view,
+                                  const ShadowOptions& shadows, int n, const MetricOptions& metrics,
+                                  std::vector<std::vector<std::uint64_t>>& sample_coverage)
+{
+    Result<RenderedImage> image = render_offscreen(renderer, camera, light, view.width * n, view.height * n, {}, shadows);
+    if (!image || n == 1) return image;
+    ResolvedImage resolved = resolve_supersampled(image->color, n, metrics);
+    sample_coverage.push_back(std::move(resolved.sample_coverage));
+    return RenderedImage{std::move(resolved.color), {}};
+}
+
 // Views grouped by a key, in order of first appearance.
 template <typename Key>
 std::vector<std::pair<Key, std::vector<const ViewResult*>>> group_views(const EvalResult& result,
@@ -101,8 +114,14 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
 {
     TruthViews own;
     TruthViews& kept = truth_views ? *truth_views : own;
+    if (options.supersample < 1 || options.supersample > k_max_supersample)
+        return error(StatusCode::invalid_argument, "supersample: " + std::to_string(options.supersample) +
+                                                       " samples a pixel along each axis is outside 1.." +
+                                                       std::to_string(k_max_supersample));
+    const int n = options.supersample;
     EvalResult result;
     result.protocol = protocol.name;
+    result.supersample = n;
     for (std::size_t i = 0; i < protocol.views.size(); ++i) {
         progress.report("eval", double(i) / double(protocol.views.size()));
         const EvalView& view = protocol.views[i];
@@ -117,21 +136,27 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
         shadows.resolution = options.shadow_resolution;
         const bool truth_kept = kept.images.size() > i;
         if (!truth_kept) {
-            Result<RenderedImage> truth_image = render_offscreen(truth, camera, light, view.width, view.height, {}, shadows);
+            Result<RenderedImage> truth_image = render_view(truth, camera, light, view, shadows, n,
+                                                            options.metrics, kept.sample_coverage);
             if (!truth_image) return truth_image.status();
             kept.images.push_back(std::move(*truth_image));
             kept.gpu_ms.push_back(0.0);
             kept.wall_ms.push_back(0.0);
         }
+        if (n > 1 && kept.sample_coverage.size() != kept.images.size())
+            return error(StatusCode::invalid_argument, "evaluate: the kept truth views were not supersampled as asked");
         const RenderedImage& truth_image = kept.images[i];
+        std::vector<std::vector<std::uint64_t>> standin_coverage;
         Result<RenderedImage> standin_image =
-            render_offscreen(standin, camera, light, view.width, view.height, {}, shadows);
+            render_view(standin, camera, light, view, shadows, n, options.metrics, standin_coverage);
         if (!standin_image) return standin_image.status();
 
         // compare, time, hand the images on
         ViewResult view_result;
         view_result.view = view;
         view_result.metrics = compare_images(truth_image.color, standin_image->color, options.metrics);
+        if (n > 1)
+            count_silhouette_over_samples(view_result.metrics, kept.sample_coverage[i], standin_coverage.front(), n);
         if (options.timed_frames > 0) {
             if (!truth_kept) {
                 Result<gpu::FrameTimes> truth_ms = time_view(truth, camera, light, view, options.timed_frames);
@@ -270,6 +295,7 @@ nlohmann::json eval_to_json(const EvalResult& result, const nlohmann::json& iden
     if (identity.is_object())
         for (auto it = identity.begin(); it != identity.end(); ++it) doc[it.key()] = it.value();
     doc["protocol"] = result.protocol;
+    doc["supersample"] = result.supersample;
     doc["device"] = result.device;
 
     // summary: means over views, plus the worst view of the Luv difference

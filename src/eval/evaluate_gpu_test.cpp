@@ -58,6 +58,64 @@ TEST(Evaluate, TruthAgainstItselfHasNoError)
     }
 }
 
+// Supersampled: pictures at the view's size, silhouettes over samples; the truth still scores zero
+// against itself, a mesh a quarter of a pixel off loses about its shifted area, and a truth kept
+// for a second stand-in keeps its sample masks.
+TEST(Evaluate, SupersampledViewsResolveToTheViewSize)
+{
+    test::gpu_context();
+    Mesh mesh = make_sphere(20000);
+    auto truth_renderer = make_mesh_renderer(mesh);
+    ASSERT_TRUE(truth_renderer.is_ok());
+    EvalOptions options;
+    options.timed_frames = 0;
+    options.supersample = 4;
+    Protocol quick = *make_protocol("quick");
+    quick.views.resize(1);
+    TruthViews kept;
+    std::vector<std::pair<int, int>> sizes;
+    ViewSink sink = [&](std::size_t, const ViewResult&, const RenderedImage& t, const RenderedImage& s) {
+        sizes.push_back({t.color.width, s.color.height});
+        return Status::ok();
+    };
+    Result<EvalResult> same = evaluate(**truth_renderer, **truth_renderer, mesh.bounding_sphere(), quick, options, {}, sink, &kept);
+    ASSERT_TRUE(same.is_ok()) << same.status().message();
+    EXPECT_EQ(same->supersample, 4);
+    EXPECT_EQ(same->views[0].metrics.luv_mean, 0.0);
+    EXPECT_EQ(same->views[0].metrics.iou, 1.0);
+    ASSERT_EQ(sizes.size(), 1u);
+    EXPECT_EQ(sizes[0], std::make_pair(320, 240));
+    ASSERT_EQ(kept.sample_coverage.size(), 1u);
+    EXPECT_EQ(kept.sample_coverage[0].size(), 320u * 240u);
+
+    // the sphere moved right by a quarter of a pixel at its centre's depth: each side loses or
+    // gains a crescent of about 2 r s pixels, r its radius on screen and s the shift
+    const BoundingSphere sphere = mesh.bounding_sphere();
+    const double fov = glm::radians(double(quick.views[0].orbit.fov_y_degrees));
+    const double distance = sphere.radius / std::sin(fov / 2);
+    const double pixel = 2.0 * distance * std::tan(fov / 2) / 240.0;
+    Mesh moved = mesh;
+    for (glm::vec3& p : moved.positions) p.x += float(0.25 * pixel);
+    auto moved_renderer = make_mesh_renderer(moved);
+    ASSERT_TRUE(moved_renderer.is_ok());
+    Result<EvalResult> shifted = evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}, {}, &kept);
+    ASSERT_TRUE(shifted.is_ok()) << shifted.status().message();
+    const ImageMetrics& m = shifted->views[0].metrics;
+    const double radius_px = std::sqrt(double(m.truth_pixels) / 3.14159265);
+    const double expected = 2.0 * radius_px * 0.25 / double(m.truth_pixels);
+    EXPECT_NEAR(m.hole_fraction, expected, 0.3 * expected) << "radius " << radius_px << " px";
+    EXPECT_NEAR(m.spill_fraction, expected, 0.3 * expected);
+
+    // a kept truth without masks cannot serve a supersampled evaluation
+    TruthViews plain;
+    options.supersample = 1;
+    ASSERT_TRUE(evaluate(**truth_renderer, **truth_renderer, sphere, quick, options, {}, {}, &plain).is_ok());
+    options.supersample = 2;
+    EXPECT_FALSE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}, {}, &plain).is_ok());
+    options.supersample = k_max_supersample + 1;
+    EXPECT_FALSE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}).is_ok());
+}
+
 // A renderer that counts its draws, to see what an evaluation draws.
 class CountingRenderer final : public Renderer {
 public:
@@ -197,6 +255,9 @@ TEST(Evaluate, CliRefusesBadArguments)
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("unknown protocol"), std::string::npos);
     EXPECT_EQ(test::run_cli("eval " + bunny + " /no/such.standin").exit_code, 2);
+    r = test::run_cli("eval " + bunny + " " + bunny + " --supersample 9");
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--supersample"), std::string::npos) << r.err;
 }
 
 TEST(Bench, MeshFramesAndCrowd)

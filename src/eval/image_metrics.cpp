@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cassert>
 #include <cmath>
 
@@ -101,6 +102,63 @@ ImageRGBA8 composite_over_background(const ImageRGBA8& image, const MetricOption
         out.pixels[i] = c.x, out.pixels[i + 1] = c.y, out.pixels[i + 2] = c.z, out.pixels[i + 3] = 255;
     }
     return out;
+}
+
+ResolvedImage resolve_supersampled(const ImageRGBA8& image, int factor, const MetricOptions& options)
+{
+    assert(factor >= 1 && factor <= k_max_supersample && image.width % factor == 0 && image.height % factor == 0);
+    const auto& lin = linear_table();
+    const int w = image.width / factor, h = image.height / factor;
+    const glm::dvec3 background{lin[options.background.x], lin[options.background.y], lin[options.background.z]};
+    const double samples = double(factor * factor);
+    ResolvedImage out;
+    out.color = ImageRGBA8(w, h);
+    out.sample_coverage.assign(std::size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            glm::dvec3 sum{0.0};
+            std::uint64_t mask = 0;
+            for (int sy = 0; sy < factor; ++sy)
+                for (int sx = 0; sx < factor; ++sx) {
+                    const std::uint8_t* p = image.at(x * factor + sx, y * factor + sy);
+                    const double alpha = p[3] / 255.0;
+                    // each sample over the background in linear light, as it would be displayed
+                    sum += glm::dvec3{lin[p[0]], lin[p[1]], lin[p[2]]} * alpha + background * (1.0 - alpha);
+                    if (p[3] > 0) mask |= std::uint64_t(1) << (sy * factor + sx);
+                }
+            std::uint8_t* o = out.color.at(x, y);
+            for (int c = 0; c < 3; ++c)
+                o[c] = std::uint8_t(std::lround(255.0 * std::clamp(double(linear_to_srgb(float(sum[c] / samples))), 0.0, 1.0)));
+            o[3] = mask ? 255 : 0;
+            if (!mask) o[0] = options.background.x, o[1] = options.background.y, o[2] = options.background.z;
+            out.sample_coverage[std::size_t(y) * w + x] = mask;
+        }
+    return out;
+}
+
+void count_silhouette_over_samples(ImageMetrics& m, const std::vector<std::uint64_t>& truth_coverage,
+                                   const std::vector<std::uint64_t>& standin_coverage, int factor)
+{
+    assert(truth_coverage.size() == standin_coverage.size());
+    std::size_t t = 0, s = 0, both = 0, either = 0;
+    for (std::size_t i = 0; i < truth_coverage.size(); ++i) {
+        const std::uint64_t a = truth_coverage[i], b = standin_coverage[i];
+        t += std::size_t(std::popcount(a));
+        s += std::size_t(std::popcount(b));
+        both += std::size_t(std::popcount(a & b));
+        either += std::size_t(std::popcount(a | b));
+    }
+    const std::size_t samples = std::size_t(factor) * std::size_t(factor);
+    auto pixels = [&](std::size_t n) { return (n + samples / 2) / samples; };
+    m.truth_pixels = pixels(t);
+    m.standin_pixels = pixels(s);
+    m.intersection_pixels = pixels(both);
+    m.union_pixels = pixels(either);
+    m.hole_pixels = pixels(t - both);
+    m.spill_pixels = pixels(s - both);
+    m.hole_fraction = t ? double(t - both) / double(t) : 0.0;
+    m.spill_fraction = t ? double(s - both) / double(t) : 0.0;
+    m.iou = either ? double(both) / double(either) : 1.0;
 }
 
 ImageMetrics compare_images(const ImageRGBA8& truth, const ImageRGBA8& standin, const MetricOptions& options)

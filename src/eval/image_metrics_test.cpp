@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 
 namespace standin {
@@ -123,6 +124,85 @@ TEST(ImageMetrics, RgbErrorHolesSpillAndRectangle)
     double mse = (2 * 3 * 100.0 * 100 + 2 * (110.0 * 110 + 2 * 100 * 100) + 2 * 100.0) / 18.0;
     EXPECT_NEAR(m.psnr, 10 * std::log10(255.0 * 255.0 / mse), 1e-9);
     EXPECT_EQ(m.differing_pixels, 6u);
+}
+
+// Supersampled views (EvalOptions::supersample): a pixel's colour is the mean of its samples over the
+// background in linear light, its alpha whether any sample is covered; silhouettes count samples.
+TEST(ImageMetrics, SupersampledPixelsAverageTheirSamplesInLinearLight)
+{
+    // 4 x 2 samples at 2 x 2 a pixel: the left pixel half white (its left column), the right empty
+    ImageRGBA8 big = filled(4, 2, {0, 0, 0, 0});
+    set(big, 0, 0, {255, 255, 255, 255});
+    set(big, 0, 1, {255, 255, 255, 255});
+    ResolvedImage resolved = resolve_supersampled(big, 2);
+    ASSERT_EQ(resolved.color.width, 2);
+    ASSERT_EQ(resolved.color.height, 1);
+    // half of linear 1 over black is linear 0.5: sRGB 188 (not 128, the encoded mean)
+    const std::uint8_t* left = resolved.color.at(0, 0);
+    EXPECT_EQ(left[0], 188);
+    EXPECT_EQ(left[1], 188);
+    EXPECT_EQ(left[3], 255);
+    EXPECT_EQ(resolved.color.at(1, 0)[3], 0);
+    EXPECT_EQ(resolved.sample_coverage[0], 0b0101u); // samples (0,0) and (0,1): bits 0 and 2
+    EXPECT_EQ(resolved.sample_coverage[1], 0u);
+    // over a white background the uncovered pixel is white, the left one white too
+    MetricOptions white;
+    white.background = {255, 255, 255};
+    ResolvedImage over_white = resolve_supersampled(big, 2, white);
+    EXPECT_EQ(over_white.color.at(0, 0)[0], 255);
+    EXPECT_EQ(over_white.color.at(1, 0)[0], 255);
+    // a sample with partial alpha blends with the background in linear light too
+    ImageRGBA8 one = filled(1, 1, {255, 255, 255, 51}); // alpha 0.2
+    EXPECT_EQ(resolve_supersampled(one, 1).color.at(0, 0)[0], 124); // linear 0.2
+}
+
+// Why foliage is measured supersampled: stripes finer than a pixel (leaves a fraction of a pixel
+// wide) against a stand-in that draws their mean. One sample a pixel sees only stripes or only
+// gaps, so the mean colour scores as badly as a wrong one; resolved, it is what the truth shows.
+TEST(ImageMetrics, SupersampledTruthRewardsTheMeanOfDetailFinerThanAPixel)
+{
+    const int w = 8, h = 8, n = 4;
+    ImageRGBA8 truth(w * n, h * n), standin(w * n, h * n);
+    for (int y = 0; y < h * n; ++y)
+        for (int x = 0; x < w * n; ++x) {
+            set(truth, x, y, x % 2 ? glm::u8vec4{40, 160, 40, 255} : glm::u8vec4{200, 230, 120, 255});
+            set(standin, x, y, {149, 199, 91, 255}); // sRGB of the two greens' linear mean
+        }
+    ImageMetrics resolved = compare_images(resolve_supersampled(truth, n).color, resolve_supersampled(standin, n).color);
+    EXPECT_LT(resolved.luv_mean, 0.5);
+    // one sample a pixel (the top-left of each, as a pixel centre would fall on one stripe)
+    ImageRGBA8 truth_1(w, h), standin_1(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            std::memcpy(truth_1.at(x, y), truth.at(x * n, y * n), 4);
+            std::memcpy(standin_1.at(x, y), standin.at(x * n, y * n), 4);
+        }
+    EXPECT_GT(compare_images(truth_1, standin_1).luv_mean, 15.0);
+}
+
+TEST(ImageMetrics, SupersampledSilhouettesCountSamples)
+{
+    // one pixel of 4 x 4 samples: the truth covers its left half (8), the stand-in its left
+    // quarter and one sample of the right half (5): 4 shared, 9 in either
+    std::vector<std::uint64_t> truth(1, 0), standin(1, 0);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const std::uint64_t bit = std::uint64_t(1) << (y * 4 + x);
+            if (x < 2) truth[0] |= bit;
+            if (x < 1 || (x == 3 && y == 0)) standin[0] |= bit;
+        }
+    ImageMetrics m;
+    count_silhouette_over_samples(m, truth, standin, 4);
+    EXPECT_DOUBLE_EQ(m.iou, 4.0 / 9.0);
+    EXPECT_DOUBLE_EQ(m.hole_fraction, 4.0 / 8.0);
+    EXPECT_DOUBLE_EQ(m.spill_fraction, 1.0 / 8.0);
+    EXPECT_EQ(m.truth_pixels, 1u);  // 8 samples of 16, rounded
+    EXPECT_EQ(m.standin_pixels, 0u); // 5 of 16
+    // nothing covered at all: IoU 1, no holes
+    std::vector<std::uint64_t> empty(3, 0);
+    count_silhouette_over_samples(m, empty, empty, 2);
+    EXPECT_EQ(m.iou, 1.0);
+    EXPECT_EQ(m.hole_fraction, 0.0);
 }
 
 TEST(ImageMetrics, BackgroundIsConfigurable)

@@ -1,5 +1,6 @@
 // The evaluation protocols: the cameras of Vichitvejpaisal 2005 ch. 4 / appendix A ("thesis"), Saraiva et al. §3
-// ("saraiva"), and a small one for tests and the demo ("quick").
+// ("saraiva"), a small one for tests and the demo ("quick"), and alpha-masked foliage by distance ("foliage",
+// supersampled).
 // Differences from the papers: Vichitvejpaisal 2005 does not say where its cameras were, so "thesis" uses seed
 // 003's 14 directions at distance 1 (the sphere just fills the view).
 #include <standin/eval.h>
@@ -58,7 +59,13 @@ Result<Protocol> make_protocol(const std::string& name)
         // issue #14: alpha-masked leaves must neither vanish nor fatten in the distance, so the
         // thesis' directions and first size are repeated at distances 4 and 8, where a leaf card
         // spans a few pixels and coverage (standin_pixels / truth_pixels) tells the two apart
-        protocol.description = "alpha-masked foliage (issue #14): 14 directions at distances 1, 4 and 8, fov 40, 800x600";
+        // and at 4 x 4 samples a pixel: one alpha-tested sample a pixel makes the truth's leaf edges
+        // a noise that differs from itself by 3.6 Luv on a bush turned by 0.1 degree, more than the
+        // issue's target, so the one-sample figure measures aliasing more than the stand-in; 16
+        // samples bring that floor to 2.1 (docs/EVAL.md). --supersample 1 gives the one-sample figure.
+        protocol.description = "alpha-masked foliage (issue #14): 14 directions at distances 1, 4 and 8, fov 40, 800x600, "
+                               "4 x 4 samples a pixel";
+        protocol.supersample = 4;
         for (float distance : {1.0f, 4.0f, 8.0f})
             for (glm::vec2 d : fourteen_directions()) protocol.views.push_back(make_view(d, distance, 40.0f, 800, 600));
     } else {

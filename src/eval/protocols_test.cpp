@@ -52,6 +52,18 @@ TEST(Protocols, SaraivaCoversDistancesAndFovs)
     EXPECT_EQ(fovs, (std::set<float>{40, 60, 90}));
 }
 
+TEST(Protocols, FoliageIsThreeDistancesSupersampledAndTheSeedsOnesAreNot)
+{
+    Result<Protocol> p = make_protocol("foliage");
+    ASSERT_TRUE(p.is_ok());
+    ASSERT_EQ(p->views.size(), 42u);
+    std::set<float> distances;
+    for (const EvalView& v : p->views) distances.insert(v.orbit.distance_rel);
+    EXPECT_EQ(distances, (std::set<float>{1, 4, 8}));
+    EXPECT_EQ(p->supersample, 4);
+    for (const char* seed : {"thesis", "saraiva", "quick"}) EXPECT_EQ(make_protocol(seed)->supersample, 1) << seed;
+}
+
 TEST(Protocols, QuickIsSmallAndUnknownNamesAreRefused)
 {
     Result<Protocol> p = make_protocol("quick");

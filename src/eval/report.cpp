@@ -308,7 +308,7 @@ Status ReportWriter::finish(const EvalResult& result, const nlohmann::json& json
          << ".caption{font-size:12px}\n</style></head><body>\n";
     html << "<h1>standin eval</h1>\n";
     std::vector<std::vector<std::string>> identity_rows;
-    for (const char* key : {"model", "package", "representation", "protocol", "device", "command"})
+    for (const char* key : {"model", "package", "representation", "protocol", "supersample", "device", "command"})
         if (json.contains(key)) identity_rows.push_back({key, json_text(json[key])});
     html << html_table({"", ""}, identity_rows);
     html << "<h2>Verdict</h2>\n<p><strong>" << escape_html(verdict.line) << "</strong></p>\n";
