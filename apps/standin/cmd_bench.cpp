@@ -33,6 +33,7 @@ struct BenchArgs {
     std::size_t crowd = 0;
     bool no_coverage = false;
     bool no_mesh = false;
+    bool no_variants = false;
     DeclaredOptions render; // the representations' run-time options, as for render and eval
 };
 
@@ -195,7 +196,8 @@ static int run_bench(BenchArgs& args)
         BenchSubjects subjects;
         subjects.package = drawn->get();
         std::vector<std::unique_ptr<Renderer>> variants;
-        for (const OptionValues& variant : representation.bench_variants) {
+        for (const OptionValues& variant :
+             args.no_variants ? std::vector<OptionValues>{} : representation.bench_variants) {
             RenderOptions varied = package_options;
             std::string label = "package";
             for (const auto& [name, value] : variant.items()) {
@@ -284,6 +286,10 @@ CommandRun add_bench_command(CLI::App& root)
     command->add_flag("--no-mesh", args->no_mesh,
                       "Time the packages only, not the mesh (no mesh/package ratios): to compare packages or render "
                       "options quickly (a crowd of 1000 meshes takes a minute on llvmpipe)");
+    command->add_flag("--no-variants", args->no_variants,
+                      "Time each package as drawn, not also its representation's comparison variants (the "
+                      "billboards without their coarse mesh, the displaced mesh's tessellation baseline, whose "
+                      "frame of a large package takes tens of seconds on llvmpipe)");
     command->add_option("--representation", args->representation, "Representation to bake when no package is given")
         ->capture_default_str();
     command->add_option("--param", args->parameters,

@@ -306,14 +306,14 @@ TEST(Bench, CliWritesSchemaForPackages)
     EXPECT_EQ(subjects, (std::set<std::string>{"package", "package coarse=off", "mesh"}));
     ASSERT_EQ(json["crowd"].size(), 2u); // N = 1 and 4
 
-    // --no-mesh: the package rows alone, so no ratios
+    // --no-mesh --no-variants: the package's rows alone, so no ratios
     r = test::run_cli("bench " + bunny + " " + dir + "/b.standin --frames 1 --warmup 0 --no-coverage --crowd 4 --no-mesh "
-                      "--json " + dir + "/bench_no_mesh.json");
+                      "--no-variants --json " + dir + "/bench_no_mesh.json");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     json = read_json(dir + "/bench_no_mesh.json");
     subjects.clear();
     for (const auto& f : json["frames"]) subjects.insert(f["subject"].get<std::string>());
-    EXPECT_EQ(subjects, (std::set<std::string>{"package", "package coarse=off"}));
+    EXPECT_EQ(subjects, (std::set<std::string>{"package"})); // --no-variants: not the billboards without coarse mesh
     EXPECT_TRUE(json["crowd"].empty());
 }
 
