@@ -413,18 +413,20 @@ TEST(Export, LinearColoursReadBackAsTheAlbedoTheyCameFrom)
     }
 }
 
-// A PBR package's billboards and view atlas export their ORM and emission maps as glTF's
-// metallicRoughnessTexture, occlusionTexture and emissiveTexture (factors 1: the maps as they are),
-// so an engine relights them as the model's metal; covered texels hold the model's metallic 0.7,
-// roughness 0.4 and emission. Without PBR maps, the materials stay rough dielectrics.
-TEST(Export, BillboardsAndViewAtlasCarryTheirPbrMaps)
+// A PBR package's billboards, view atlas and microfacets export their ORM and emission maps as
+// glTF's metallicRoughnessTexture, occlusionTexture and emissiveTexture (factors 1: the maps as they
+// are), so an engine relights them as the model's metal; covered texels hold the model's metallic
+// 0.7, roughness 0.4 and emission (microfacets: each plane's mean, in tiles laid out as its
+// coverage's). Without PBR maps, the materials stay rough dielectrics.
+TEST(Export, ImageBasedStandinsCarryTheirPbrMaps)
 {
     Mesh torus = export_torus();
     for (Material& m : torus.materials) m.metallic = 0.7f, m.roughness = 0.4f, m.emissive = glm::vec3(0.2f, 0.1f, 0.0f);
     const std::string dir = test::fresh_directory("export_pbr_maps");
     const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> bakes = {
         {"enhanced-billboards", {{"resolution", "128"}}},
-        {"view-atlas", {{"layout", "octahedral"}, {"frames", "4"}, {"resolution", "64"}, {"page-size", "512"}}}};
+        {"view-atlas", {{"layout", "octahedral"}, {"frames", "4"}, {"resolution", "64"}, {"page-size", "512"}}},
+        {"microfacets", {{"level", "5"}, {"min-level", "3"}, {"subdivisions", "0"}, {"resolution", "128"}, {"page-size", "1024"}}}};
     for (const auto& [representation, values] : bakes) {
         SCOPED_TRACE(representation);
         auto package = bake_small(torus, representation, values);

@@ -142,12 +142,71 @@ ExportGrid export_occupancy(const std::vector<std::uint32_t>& codes, int level)
     return occupied;
 }
 
+// PBR packages (issue #14): the captured occlusion, roughness and metallic (8-bit codes, linear)
+// and the emission (linear, 1/65535), summed like the colour, so that each face or plane exports
+// its mean material (step 5: constant tiles of an ORM and an emission atlas).
+struct ExportMaterialSums {
+    std::int64_t orm[3] = {0, 0, 0};
+    std::int64_t emission[3] = {0, 0, 0};
+};
+
+void export_add_material(ExportMaterialSums& sums, std::int64_t weight, const ExportMaterialSums& texel)
+{
+    for (int c = 0; c < 3; ++c) {
+        std::atomic_ref<std::int64_t>(sums.orm[c]).fetch_add(weight * texel.orm[c], std::memory_order_relaxed);
+        std::atomic_ref<std::int64_t>(sums.emission[c]).fetch_add(weight * texel.emission[c], std::memory_order_relaxed);
+    }
+}
+
+// The mean material of sums over `weight`, as one ORM texel (R occlusion, G roughness, B metallic:
+// glTF's packing) and one sRGB emission texel.
+void export_material_texels(const ExportMaterialSums& sums, double weight, std::uint8_t orm[4], std::uint8_t emission[4])
+{
+    for (int c = 0; c < 3; ++c) {
+        orm[c] = std::uint8_t(std::clamp(std::lround(double(sums.orm[c]) / weight), 0l, 255l));
+        const double linear = std::clamp(double(sums.emission[c]) / weight / double(k_export_color_scale), 0.0, 1.0);
+        emission[c] = std::uint8_t(std::lround(255.0 * double(linear_to_srgb(float(linear)))));
+    }
+    orm[3] = emission[3] = 255;
+}
+
+// The ORM and emission atlases of step 5 (PBR packages): tile k of `texels.size()` (laid out as
+// the coverage atlas: `columns` a row, `tile` texels a side) filled with texel k, border included.
+struct ExportMaterialTexel {
+    std::uint8_t orm[4] = {255, 255, 0, 255}; // the default material: unoccluded, rough, dielectric
+    std::uint8_t emission[4] = {0, 0, 0, 255};
+};
+
+Status export_material_atlases(const std::vector<ExportMaterialTexel>& texels, int columns, int tile, ExportScene& scene,
+                               ExportMesh& mesh)
+{
+    const int rows = (int(texels.size()) + columns - 1) / columns;
+    ImageRGBA8 orm(columns * tile, rows * tile), emission(columns * tile, rows * tile);
+    for (std::size_t k = 0; k < texels.size(); ++k) {
+        const int ox = int(k) % columns * tile, oy = int(k) / columns * tile;
+        for (int y = 0; y < tile; ++y)
+            for (int x = 0; x < tile; ++x) {
+                std::copy(texels[k].orm, texels[k].orm + 4, orm.at(ox + x, oy + y));
+                std::copy(texels[k].emission, texels[k].emission + 4, emission.at(ox + x, oy + y));
+            }
+    }
+    const int first = int(scene.textures.size());
+    for (auto [name, image] : {std::pair{"microfacets_orm", &orm}, std::pair{"microfacets_emission", &emission}}) {
+        Result<ExportTexture> texture = make_export_texture(name, *image);
+        if (!texture) return texture.status();
+        scene.textures.push_back(std::move(*texture));
+    }
+    use_pbr_maps(mesh, first, first + 1);
+    return Status::ok();
+}
+
 // Per exposed face, the integer sums of step 3.
 struct ExportFaceSums {
     std::int64_t weight = 0;
     std::int64_t color[3] = {0, 0, 0};
     std::int64_t normal[3] = {0, 0, 0};
     std::int64_t point[3] = {0, 0, 0}; // surface point in grid units (voxels) * k_export_point_scale
+    ExportMaterialSums material;
 };
 
 // Per voxel, with planes (the default): the samples whose surface point it holds (count, linear colour and point
@@ -158,6 +217,7 @@ struct ExportCellSums {
     std::int64_t color[3] = {0, 0, 0};
     std::int64_t point[3] = {0, 0, 0};
     std::int64_t tensor[6] = {0, 0, 0, 0, 0, 0};
+    ExportMaterialSums material;
 };
 
 void export_add(ExportFaceSums& sums, std::int64_t weight, const std::int64_t color[3], const std::int64_t normal[3],
@@ -350,6 +410,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     const bool planes = options.flag("planes");
     std::vector<ExportCellSums> cell_sums(planes ? codes.size() : 0);
     const ExportWalk walk{outside, grid.origin, voxel};
+    const bool pbr = package.has_pbr();
     tbb::parallel_for(std::size_t(0), package.views.size(), [&](std::size_t k) {
         const View& view = package.views[k];
         if (view.width == 0) return;
@@ -361,6 +422,12 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 const std::uint8_t* rgba = colors.at(view.atlas_x + x, view.atlas_y + y);
                 if (rgba[3] == 0) continue;
                 const std::uint16_t* nd = normal_depth.at(view.atlas_x + x, view.atlas_y + y);
+                ExportMaterialSums material;
+                if (pbr) {
+                    const std::uint8_t* o = package.orm_pages[std::size_t(view.page)].at(view.atlas_x + x, view.atlas_y + y);
+                    const std::uint8_t* e = package.emission_pages[std::size_t(view.page)].at(view.atlas_x + x, view.atlas_y + y);
+                    for (int c = 0; c < 3; ++c) material.orm[c] = o[c], material.emission[c] = linear_code[e[c]];
+                }
                 float h = r - 2.0f * r * reps::decode_depth(nd[3]);
                 glm::vec2 plane = -r + (glm::vec2(float(view.crop_x + x), float(view.crop_y + y)) + 0.5f) * texel;
                 glm::vec3 q = package.center + plane.x * view.axis_u + plane.y * view.axis_v + h * d;
@@ -378,6 +445,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                     const std::int64_t where[3] = {std::llround(g.x), std::llround(g.y), std::llround(g.z)};
                     ExportCellSums& into = cell_sums[std::size_t(at - codes.begin())];
                     std::atomic_ref<std::int64_t>(into.count).fetch_add(1, std::memory_order_relaxed);
+                    if (pbr) export_add_material(into.material, 1, material);
                     for (int a = 0; a < 3; ++a) {
                         std::atomic_ref<std::int64_t>(into.color[a]).fetch_add(colour_code[a], std::memory_order_relaxed);
                         std::atomic_ref<std::int64_t>(into.point[a]).fetch_add(where[a], std::memory_order_relaxed);
@@ -402,6 +470,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                 glm::vec3 g = (q - grid.origin) / voxel * k_export_point_scale;
                 const std::int64_t point_code[3] = {std::llround(g.x), std::llround(g.y), std::llround(g.z)};
                 export_add(sums[std::size_t(f)], weight, color, normal_code, point_code);
+                if (pbr) export_add_material(sums[std::size_t(f)].material, weight, material);
             }
     });
 
@@ -412,7 +481,10 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         const ExportFaceSums& fs = sums[f];
         for (ExportFaceSums* into : {&all, &per_voxel[faces[f].voxel]}) {
             into->weight += fs.weight;
-            for (int c = 0; c < 3; ++c) into->color[c] += fs.color[c], into->normal[c] += fs.normal[c];
+            for (int c = 0; c < 3; ++c) {
+                into->color[c] += fs.color[c], into->normal[c] += fs.normal[c];
+                into->material.orm[c] += fs.material.orm[c], into->material.emission[c] += fs.material.emission[c];
+            }
         }
     }
     std::size_t unseen = 0;
@@ -558,6 +630,14 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         if (!texture) return texture.status();
         ExportScene plane_scene;
         plane_scene.textures.push_back(std::move(*texture));
+        if (pbr) {
+            std::vector<ExportMaterialTexel> plane_material(plane_tiles);
+            for (std::size_t v = 0; v < codes.size(); ++v)
+                if (drawn[v] && cell_sums[v].count > 0)
+                    export_material_texels(cell_sums[v].material, double(cell_sums[v].count), plane_material[plane_tile[v]].orm,
+                                           plane_material[plane_tile[v]].emission);
+            STANDIN_RETURN_IF_ERROR(export_material_atlases(plane_material, columns, tile_side, plane_scene, planes));
+        }
         planes.extras["standin"] = {{"role", "mesh"},          {"level", level},         {"voxel_size", voxel},
                                     {"grid_origin", {grid.origin.x, grid.origin.y, grid.origin.z}},
                                     {"grid_size", grid.size},  {"voxels", codes.size()}, {"planes", plane_tiles},
@@ -568,6 +648,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                       "microfacets level %d (%d^3, %s): %zu voxels as %u surface planes (a %dx%d coverage atlas, %d^2 texels each)", level,
                       n, level_reason.c_str(), codes.size(), plane_tiles, columns * tile_side, rows * tile_side, side);
         plane_scene.notes.push_back(plane_line);
+        if (pbr) plane_scene.notes.push_back("PBR materials: each plane's mean occlusion, roughness, metallic and emission");
         plane_scene.meshes.push_back(std::move(planes));
         return plane_scene;
     }
@@ -640,16 +721,20 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             const bool all_in = std::all_of(a, a + texels, [](std::uint8_t c) { return c >= 128; });
             const bool all_out = std::none_of(a, a + texels, [](std::uint8_t c) { return c >= 128; });
             if (all_out) ++empty_faces;
-            tile_of[f] = all_in ? 0u : (all_out ? 1u : tiles++);
+            // a PBR package's faces each carry their own material, so their own tile
+            tile_of[f] = pbr ? tiles++ : (all_in ? 0u : (all_out ? 1u : tiles++));
             cut_faces += !all_in;
         }
+    } else if (pbr) {
+        for (std::size_t f = 0; f < faces.size(); ++f) tile_of[f] = tiles++;
     }
-    const int tile = cutout + 2;
+    const int tile_inner = std::max(cutout, 1), tile = tile_inner + 2;
     const int atlas_columns = int(std::ceil(std::sqrt(double(tiles))));
     const int atlas_rows = (int(tiles) + atlas_columns - 1) / atlas_columns;
-    const bool textured = cut_faces > 0;
+    const bool cut = cut_faces > 0;
+    const bool textured = cut || pbr; // faces have UVs into the atlases
     ExportScene scene;
-    if (textured) {
+    if (cut) {
         const std::size_t texels = std::size_t(cutout) * std::size_t(cutout);
         ImageRGBA8 atlas_image(atlas_columns * tile, atlas_rows * tile);
         std::vector<const std::uint8_t*> source(tiles, nullptr);
@@ -679,12 +764,13 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     mesh.normals.reserve(faces.size() * 4);
     mesh.colors.reserve(faces.size() * 4);
     mesh.indices.reserve(faces.size() * 6);
-    if (textured) {
-        mesh.uvs.reserve(faces.size() * 4);
+    if (textured) mesh.uvs.reserve(faces.size() * 4);
+    if (cut) {
         mesh.base_color_texture = 0;
         mesh.alpha_mode = "MASK";
         mesh.double_sided = true; // a cut-out leaf's voxel faces are seen from inside through its holes
     }
+    std::vector<ExportMaterialTexel> tile_material(pbr ? tiles : 0);
     for (std::size_t f = 0; f < faces.size(); ++f) {
         const VoxelFace& face = faces[f];
         const int axis = face.side / 2;
@@ -703,6 +789,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
             for (int c = 0; c < 3; ++c) color[c] = float(double(source->color[c]) / w / double(k_export_color_scale));
             glm::vec3 sum(float(source->normal[0]), float(source->normal[1]), float(source->normal[2]));
             if (source == &sums[f] && glm::length(sum) > 0.0f) normal = glm::normalize(sum);
+            if (pbr) export_material_texels(source->material, w, tile_material[tile_of[f]].orm, tile_material[tile_of[f]].emission);
         }
         // corners: u, v the other two axes in cyclic order, so that u x v is +axis and the loop
         // (0,0) (1,0) (1,1) (0,1) is counter-clockwise seen from the +axis side; positions from
@@ -718,7 +805,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
         }
         if (textured) {
             const int ox = int(tile_of[f]) % atlas_columns * tile + 1, oy = int(tile_of[f]) / atlas_columns * tile + 1;
-            const float w = float(atlas_columns * tile), h = float(atlas_rows * tile), t = float(cutout);
+            const float w = float(atlas_columns * tile), h = float(atlas_rows * tile), t = float(tile_inner);
             for (glm::vec2 corner_uv : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)})
                 mesh.uvs.push_back({(float(ox) + corner_uv.x * t) / w, (float(oy) + corner_uv.y * t) / h});
         }
@@ -753,7 +840,7 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
                   "faces no view saw",
                   level, n, level_reason.c_str(), codes.size(), faces.size(), mesh.indices.size() / 3, mesh.positions.size(), unseen);
     scene.notes.push_back(line);
-    if (textured) {
+    if (cut) {
         std::snprintf(line, sizeof line,
                       "cut-outs: %zu of %zu faces not fully covered (%zu empty), a %dx%d coverage atlas of %u tiles of %d^2 texels",
                       cut_faces, faces.size(), empty_faces, atlas_columns * tile, atlas_rows * tile, tiles, cutout);
@@ -761,6 +848,12 @@ Result<ExportScene> export_scene(const Package& base, const Options& options)
     }
     if (sphere_pixels > 0.0f) {
         std::snprintf(line, sizeof line, "a voxel spans %.2f px when the bounding sphere spans %d px", double(sphere_pixels * voxel / (2.0f * r)), pixels);
+        scene.notes.push_back(line);
+    }
+    if (pbr) {
+        STANDIN_RETURN_IF_ERROR(export_material_atlases(tile_material, atlas_columns, tile, scene, mesh));
+        std::snprintf(line, sizeof line, "PBR materials: each face's mean occlusion, roughness, metallic and emission, a %dx%d tile each",
+                      tile_inner, tile_inner);
         scene.notes.push_back(line);
     }
     scene.meshes.push_back(std::move(mesh));

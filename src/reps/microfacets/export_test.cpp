@@ -205,5 +205,98 @@ TEST(MicrofacetsExport, PlanesLieOnTheLeafAndKeepItsHalf)
     EXPECT_GT(outside, 0);
 }
 
+// The leaf captured with a PBR material: an ORM and an emission page per view, the material's values
+// wherever the colour is covered (as the bake writes them: zero elsewhere).
+constexpr std::uint8_t k_leaf_orm[3] = {200, 60, 230}, k_leaf_emission[3] = {128, 0, 64};
+
+MicrofacetsPackage export_pbr_leaf_package()
+{
+    MicrofacetsPackage package = export_leaf_package();
+    for (const ImageRGBA8& color : package.color_pages) {
+        ImageRGBA8 orm(color.width, color.height), emission(color.width, color.height);
+        for (int y = 0; y < color.height; ++y)
+            for (int x = 0; x < color.width; ++x) {
+                if (color.at(x, y)[3] == 0) continue;
+                std::uint8_t *o = orm.at(x, y), *e = emission.at(x, y);
+                for (int c = 0; c < 3; ++c) o[c] = k_leaf_orm[c], e[c] = k_leaf_emission[c];
+                o[3] = e[3] = 255;
+            }
+        package.orm_pages.push_back(std::move(orm));
+        package.emission_pages.push_back(std::move(emission));
+    }
+    return package;
+}
+
+// A texture of the scene decoded, and its texel under a face's UV quad at (s, t).
+ImageRGBA8 decoded(const ExportScene& scene, int texture, const std::string& name)
+{
+    const std::string png = test::fresh_directory("microfacets_export_pbr") + "/" + name + ".png";
+    EXPECT_TRUE(write_file_atomic(png, scene.textures[std::size_t(texture)].png));
+    Result<ImageRGBA8> image = read_png_rgba8(png);
+    EXPECT_TRUE(image);
+    return image ? *image : ImageRGBA8();
+}
+
+const std::uint8_t* texel_under(const ImageRGBA8& image, const ExportMesh& mesh, std::size_t quad, float s, float t)
+{
+    const glm::vec2* uv = &mesh.uvs[quad * 4];
+    const glm::vec2 at = uv[0] + s * (uv[1] - uv[0]) + t * (uv[3] - uv[0]);
+    return image.at(int(at.x * float(image.width)), int(at.y * float(image.height)));
+}
+
+// Issue #14: a PBR package's export carries its material (glTF metallicRoughnessTexture,
+// occlusionTexture, emissiveTexture), for the planes and for the voxel faces, cut out or opaque.
+TEST(MicrofacetsExport, PbrPackagesExportTheirMaterialPerPlaneAndFace)
+{
+    const MicrofacetsPackage package = export_pbr_leaf_package();
+    const std::vector<OptionSpec> specs = export_options();
+    struct Case {
+        const char* planes;
+        const char* cutout;
+        bool cut;
+    };
+    for (const Case& c : {Case{"true", "4", true}, Case{"false", "4", true}, Case{"false", "0", false}}) {
+        SCOPED_TRACE(std::string("planes ") + c.planes + ", cutout " + c.cutout);
+        OptionValues given;
+        given.set("planes", c.planes);
+        given.set("cutout", c.cutout);
+        given.set("snap", "false");
+        Result<Options> options = Options::parse(specs, given, "microfacets export");
+        ASSERT_TRUE(options) << options.status().message();
+        Result<ExportScene> scene = export_scene(package, *options);
+        ASSERT_TRUE(scene) << scene.status().message();
+        const ExportMesh& mesh = scene->meshes[0];
+        EXPECT_EQ(mesh.alpha_mode, c.cut ? "MASK" : "OPAQUE");
+        EXPECT_EQ(mesh.base_color_texture, c.cut ? 0 : -1);
+        ASSERT_GE(mesh.orm_texture, 0);
+        ASSERT_EQ(mesh.emissive_texture, mesh.orm_texture + 1);
+        ASSERT_EQ(int(scene->textures.size()), mesh.emissive_texture + 1);
+        EXPECT_EQ(mesh.metallic, 1.0f); // the maps are read as they are
+        EXPECT_EQ(mesh.roughness, 1.0f);
+        EXPECT_EQ(mesh.emissive, glm::vec3(1.0f));
+        ASSERT_EQ(mesh.uvs.size(), mesh.positions.size());
+        const ImageRGBA8 orm = decoded(*scene, mesh.orm_texture, "orm");
+        const ImageRGBA8 emission = decoded(*scene, mesh.emissive_texture, "emission");
+        // every quad (the plane; the six faces, the edge-on ones taking their voxel's seen faces')
+        for (std::size_t quad = 0; quad < mesh.positions.size() / 4; ++quad)
+            for (float s : {0.1f, 0.5f, 0.9f})
+                for (float t : {0.1f, 0.5f, 0.9f})
+                    for (int k = 0; k < 3; ++k) {
+                        EXPECT_EQ(texel_under(orm, mesh, quad, s, t)[k], k_leaf_orm[k]) << "quad " << quad << " channel " << k;
+                        EXPECT_NEAR(texel_under(emission, mesh, quad, s, t)[k], k_leaf_emission[k], 1) << "quad " << quad;
+                    }
+    }
+
+    // without PBR pages: no maps, the default material
+    OptionValues given;
+    Result<Options> options = Options::parse(specs, given, "microfacets export");
+    ASSERT_TRUE(options);
+    Result<ExportScene> plain = export_scene(export_leaf_package(), *options);
+    ASSERT_TRUE(plain) << plain.status().message();
+    EXPECT_EQ(plain->meshes[0].orm_texture, -1);
+    EXPECT_EQ(plain->meshes[0].emissive_texture, -1);
+    EXPECT_EQ(plain->textures.size(), 1u);
+}
+
 } // namespace
 } // namespace standin::microfacets
