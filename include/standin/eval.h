@@ -214,6 +214,7 @@ using ViewSink = std::function<Status(std::size_t index, const ViewResult& resul
 struct TruthViews {
     std::vector<RenderedImage> images;             // resolved when supersampled
     std::vector<std::vector<std::uint64_t>> sample_coverage; // per view, empty when not supersampled
+    int supersample = 0;                           // the evaluation's that filled it; 0 while empty
     std::vector<double> gpu_ms, wall_ms; // 0 when not timed
 };
 

@@ -119,6 +119,10 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
                                                        " samples a pixel along each axis is outside 1.." +
                                                        std::to_string(k_max_supersample));
     const int n = options.supersample;
+    if (kept.supersample == 0) kept.supersample = n;
+    if (kept.supersample != n)
+        return error(StatusCode::invalid_argument, "evaluate: the kept truth views have " + std::to_string(kept.supersample) +
+                                                       " samples a pixel along each axis, not " + std::to_string(n));
     EvalResult result;
     result.protocol = protocol.name;
     result.supersample = n;
@@ -143,8 +147,6 @@ Result<EvalResult> evaluate(Renderer& truth, Renderer& standin, const BoundingSp
             kept.gpu_ms.push_back(0.0);
             kept.wall_ms.push_back(0.0);
         }
-        if (n > 1 && kept.sample_coverage.size() != kept.images.size())
-            return error(StatusCode::invalid_argument, "evaluate: the kept truth views were not supersampled as asked");
         const RenderedImage& truth_image = kept.images[i];
         std::vector<std::vector<std::uint64_t>> standin_coverage;
         Result<RenderedImage> standin_image =

@@ -106,12 +106,16 @@ TEST(Evaluate, SupersampledViewsResolveToTheViewSize)
     EXPECT_NEAR(m.hole_fraction, expected, 0.3 * expected) << "radius " << radius_px << " px";
     EXPECT_NEAR(m.spill_fraction, expected, 0.3 * expected);
 
-    // a kept truth without masks cannot serve a supersampled evaluation
+    // a kept truth serves evaluations of its own samples a pixel only
     TruthViews plain;
     options.supersample = 1;
     ASSERT_TRUE(evaluate(**truth_renderer, **truth_renderer, sphere, quick, options, {}, {}, &plain).is_ok());
     options.supersample = 2;
     EXPECT_FALSE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}, {}, &plain).is_ok());
+    options.supersample = 1;
+    EXPECT_FALSE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}, {}, &kept).is_ok());
+    options.supersample = 4;
+    EXPECT_TRUE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}, {}, &kept).is_ok());
     options.supersample = k_max_supersample + 1;
     EXPECT_FALSE(evaluate(**truth_renderer, **moved_renderer, sphere, quick, options, {}).is_ok());
 }
