@@ -196,8 +196,8 @@ static int run_bench(BenchArgs& args)
         BenchSubjects subjects;
         subjects.package = drawn->get();
         std::vector<std::unique_ptr<Renderer>> variants;
-        for (const OptionValues& variant :
-             args.no_variants ? std::vector<OptionValues>{} : representation.bench_variants) {
+        static const std::vector<OptionValues> no_variants;
+        for (const OptionValues& variant : args.no_variants ? no_variants : representation.bench_variants) {
             RenderOptions varied = package_options;
             std::string label = "package";
             for (const auto& [name, value] : variant.items()) {
@@ -286,10 +286,15 @@ CommandRun add_bench_command(CLI::App& root)
     command->add_flag("--no-mesh", args->no_mesh,
                       "Time the packages only, not the mesh (no mesh/package ratios): to compare packages or render "
                       "options quickly (a crowd of 1000 meshes takes a minute on llvmpipe)");
+    std::string variants; // the registry's, as the frames label them
+    for (const Representation& r : representations())
+        for (const OptionValues& variant : r.bench_variants) {
+            variants += (variants.empty() ? "" : "; ") + r.name + ":";
+            for (const auto& [name, value] : variant.items()) variants += " " + name + "=" + value;
+        }
     command->add_flag("--no-variants", args->no_variants,
-                      "Time each package as drawn, not also its representation's comparison variants (the "
-                      "billboards without their coarse mesh, the displaced mesh's tessellation baseline, whose "
-                      "frame of a large package takes tens of seconds on llvmpipe)");
+                      "Time each package as drawn, not also its representation's comparison variants (" + variants +
+                          "), which on a large package can take minutes on llvmpipe");
     command->add_option("--representation", args->representation, "Representation to bake when no package is given")
         ->capture_default_str();
     command->add_option("--param", args->parameters,
